@@ -99,11 +99,115 @@ impl<const N: usize> WavelengthSet<N> {
     /// gives NaN in every channel whose weight for it is non-zero; ±Inf gives ±Inf or NaN (when
     /// infinities of both signs meet); subnormal and negative samples are used as they are;
     /// products beyond `f32::MAX` overflow to ±Inf.
+    ///
+    /// # Accuracy
+    /// For finite samples whose products do not overflow, each channel is within
+    /// [`f32_budget`](crate::f32_budget)`(N, Σ_i |w_i · s_i|)` of the exact sum with the f64
+    /// weights of the derivation: the weights' rounding to f32 (½ ε each), N products (½ ε
+    /// each) and N − 1 additions (½ ε each, times the running sum), ε = `f32::EPSILON`, plus
+    /// N half-units of the smallest subnormal for products that underflow.
+    #[inline]
     pub fn ac1c2(&self, samples: &[f32; N]) -> [f32; 3] {
-        let mut out = [0.0f32; 3];
-        for (o, row) in out.iter_mut().zip(&self.weights) {
-            *o = row.iter().zip(samples).map(|(w, s)| w * s).sum();
-        }
-        out
+        mat_vec(&self.weights, samples)
     }
+
+    /// `[X, Y, Z]` from samples: [`ac1c2`](Self::ac1c2) followed by
+    /// [`AC1C2_TO_XYZ`](crate::tables::AC1C2_TO_XYZ). XYZ are in the units of the weights (dλ in
+    /// nm): a spectrum of constant 1 has Y ≈ [`UNIT_SPECTRUM_Y`](crate::tables::UNIT_SPECTRUM_Y).
+    /// IEEE arithmetic, as [`ac1c2`](Self::ac1c2).
+    #[inline]
+    pub fn xyz(&self, samples: &[f32; N]) -> [f32; 3] {
+        crate::xyz_from_ac1c2(self.ac1c2(samples))
+    }
+
+    /// Folds AC1C2 → XYZ → the display's linear RGB and a `scale` into the weights, in f32, so
+    /// that [`FoldedSet::linear_rgb`] is one 3×N product. The baked
+    /// [`folded`](crate::tables::folded) sets do the same in f64 at build time with
+    /// `scale = 1 / UNIT_SPECTRUM_Y`. Non-finite weights or scale propagate into the result.
+    pub fn fold(&self, display: &crate::Display, scale: f32) -> FoldedSet<N> {
+        let m = crate::mat3_mul(&display.xyz_to_rgb, &crate::tables::AC1C2_TO_XYZ);
+        let mut weights = [[0.0f32; N]; 3];
+        for (r, row) in weights.iter_mut().enumerate() {
+            for (i, w) in row.iter_mut().enumerate() {
+                *w = scale
+                    * (m[r][0] * self.weights[0][i]
+                        + m[r][1] * self.weights[1][i]
+                        + m[r][2] * self.weights[2][i]);
+            }
+        }
+        FoldedSet {
+            wavelengths_nm: self.wavelengths_nm,
+            weights,
+        }
+    }
+}
+
+/// A wavelength set with a display's colour matrix folded into its weights: samples → linear
+/// RGB is one 3×N product.
+///
+/// The baked sets ([`tables::folded`](crate::tables::folded)) take samples in units where a
+/// spectrum of constant 1 is the display's white (Y = 1).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FoldedSet<const N: usize> {
+    /// Wavelengths in nm, ascending and distinct.
+    pub wavelengths_nm: [f32; N],
+    /// `weights[channel][i]`, rows R, G, B.
+    pub weights: [[f32; N]; 3],
+}
+
+impl<const N: usize> FoldedSet<N> {
+    /// Linear RGB from samples at [`wavelengths_nm`](Self::wavelengths_nm).
+    ///
+    /// Never panics. IEEE arithmetic: NaN samples give NaN channels, ±Inf gives ±Inf or NaN,
+    /// subnormal and negative samples are used as they are, products beyond `f32::MAX` overflow
+    /// to ±Inf. Out-of-gamut colours have channels below 0 or above 1; see
+    /// [`Display::map_gamut`](crate::Display::map_gamut).
+    ///
+    /// # Accuracy
+    /// As [`WavelengthSet::ac1c2`]: each channel within
+    /// [`f32_budget`](crate::f32_budget)`(N, Σ_i |w_i · s_i|)` of the exact product with the f64
+    /// folded weights. The colour matrices were multiplied into the weights in f64, so they add
+    /// no f32 error of their own.
+    #[inline]
+    pub fn linear_rgb(&self, samples: &[f32; N]) -> [f32; 3] {
+        mat_vec(&self.weights, samples)
+    }
+
+    /// Samples → gamut-mapped, encoded 8-bit RGB for `display` (whose transfer function is
+    /// used; the weights must have been folded for it). NaN anywhere → black; see
+    /// [`Display::encode_u8`](crate::Display::encode_u8).
+    #[inline]
+    pub fn encode_u8(
+        &self,
+        display: &crate::Display,
+        mapping: crate::GamutMapping,
+        samples: &[f32; N],
+    ) -> [u8; 3] {
+        display.encode_u8(self.linear_rgb(samples), mapping)
+    }
+
+    /// As [`encode_u8`](Self::encode_u8), 16 bits.
+    #[inline]
+    pub fn encode_u16(
+        &self,
+        display: &crate::Display,
+        mapping: crate::GamutMapping,
+        samples: &[f32; N],
+    ) -> [u16; 3] {
+        display.encode_u16(self.linear_rgb(samples), mapping)
+    }
+}
+
+/// `weights · samples` for a 3×N matrix, accumulated in index order in f32.
+#[inline]
+pub(crate) fn mat_vec<const N: usize>(weights: &[[f32; N]; 3], samples: &[f32; N]) -> [f32; 3] {
+    let mut out = [0.0f32; 3];
+    for (o, row) in out.iter_mut().zip(weights) {
+        let mut acc = 0.0f32;
+        for (w, s) in row.iter().zip(samples) {
+            acc += w * s;
+        }
+        *o = acc;
+    }
+    out
 }

@@ -4,7 +4,7 @@
 //! round-trip formatting, so the baked constant is exactly `value as f32`.
 
 use std::fmt::Write as _;
-use std::string::String;
+use std::string::{String, ToString};
 use std::vec::Vec;
 
 use super::quadrature::Rule;
@@ -46,6 +46,17 @@ fn set_literal(set: &WavelengthSet) -> Result<String, String> {
         list(&set.weights[1])?,
         list(&set.weights[2])?,
     ))
+}
+
+/// The display's human name for its const name.
+fn display_name(const_name: &str) -> &str {
+    match const_name {
+        "SRGB" => "sRGB",
+        "DISPLAY_P3" => "Display P3",
+        "REC2020" => "Rec. 2020",
+        "MEYER_1987" => "Meyer 1987 monitor",
+        other => other,
+    }
 }
 
 fn rule_const_name(channel: usize, order: usize) -> String {
@@ -247,5 +258,86 @@ pub fn tables_rs(d: &Derivation, inputs: &[(String, String)]) -> Result<String, 
         )
         .ok();
     }
+    writeln!(o, "\n/// ∫ ȳ dλ over the grid (dλ in nm): the luminance Y of a spectrum of constant 1 with these weights' units. The [`folded`] sets divide by it.").ok();
+    writeln!(
+        o,
+        "pub const UNIT_SPECTRUM_Y: f32 = {};\n",
+        f32_literal(d.unit_spectrum_y)?
+    )
+    .ok();
+
+    writeln!(o, "/// Displays: primaries, white and transfer function, with matrices derived in f64 (white at Y = 1).").ok();
+    writeln!(
+        o,
+        "pub mod displays {{\n    use crate::{{Display, TransferFunction}};"
+    )
+    .ok();
+    let mut names = Vec::new();
+    for (spec, m) in &d.displays {
+        let a_from_rgb: Vec<f64> = (0..3)
+            .map(|j| {
+                (0..3)
+                    .map(|k| d.opponent.xyz_to_ac1c2[0][k] * m.rgb_to_xyz[k][j])
+                    .sum()
+            })
+            .collect();
+        let transfer = match spec.transfer {
+            super::display::Transfer::Srgb => "TransferFunction::Srgb".to_string(),
+            super::display::Transfer::Gamma(g) => {
+                std::format!("TransferFunction::Gamma({})", f32_literal(g)?)
+            }
+        };
+        writeln!(o, "    /// {} White balance Y_r : Y_g : Y_b = {:.4} : {:.4} : {:.4}; matrix condition number {:.2}.", spec.doc, m.luminance[0], m.luminance[1], m.luminance[2], m.condition).ok();
+        writeln!(
+            o,
+            "    pub const {}: Display = Display {{\n        name: {:?},\n        primaries_xy: [{}, {}, {}],\n        white_xy: {},\n        rgb_to_xyz: {},\n        xyz_to_rgb: {},\n        a_from_rgb: {},\n        transfer: {transfer},\n    }};",
+            spec.name,
+            display_name(&spec.name),
+            list(&spec.primaries_xy[0])?,
+            list(&spec.primaries_xy[1])?,
+            list(&spec.primaries_xy[2])?,
+            list(&spec.white_xy)?,
+            matrix(&m.rgb_to_xyz)?,
+            matrix(&m.xyz_to_rgb)?,
+            list(&a_from_rgb)?,
+        )
+        .ok();
+        names.push(spec.name.clone());
+    }
+    writeln!(o, "    /// Every display above.").ok();
+    writeln!(
+        o,
+        "    pub const ALL: [Display; {}] = [{}];\n}}\n",
+        names.len(),
+        names.join(", ")
+    )
+    .ok();
+
+    writeln!(o, "/// Each merged wavelength set folded for each display: samples → linear RGB in one 3×N product, a spectrum of constant 1 at Y = 1. Named `<SET>_<DISPLAY>`.").ok();
+    writeln!(o, "pub mod folded {{\n    use crate::FoldedSet;").ok();
+    for set in d.merged_sets() {
+        for (spec, m) in &d.displays {
+            let w = d.folded(set, m);
+            writeln!(
+                o,
+                "    /// [`{}`](super::{}) folded for [`{}`](super::displays::{}).",
+                set.name, set.name, spec.name, spec.name
+            )
+            .ok();
+            writeln!(
+                o,
+                "    pub const {}_{}: FoldedSet<{}> = FoldedSet {{\n        wavelengths_nm: {},\n        weights: [\n            {},\n            {},\n            {},\n        ],\n    }};",
+                set.name,
+                spec.name,
+                set.len(),
+                list(&set.wavelengths_nm)?,
+                list(&w[0])?,
+                list(&w[1])?,
+                list(&w[2])?,
+            )
+            .ok();
+        }
+    }
+    writeln!(o, "}}").ok();
     Ok(o)
 }

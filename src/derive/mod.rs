@@ -19,6 +19,7 @@
 //! into wavelength sets (Table 2); [`codegen`] writes the tables the runtime includes.
 
 pub mod codegen;
+pub mod display;
 pub mod observer;
 pub mod opponent;
 pub mod quadrature;
@@ -128,6 +129,30 @@ pub struct Derivation {
     pub rules: [Vec<Rule>; 3],
     /// Table 2's two sets: row 1 (A 3, C1 2, C2 1) and row 2 (A on C1's nodes).
     pub table2: [WavelengthSet; 2],
+    /// ∫ ȳ dλ on the grid: the luminance Y of a spectrum of constant value 1. Folded sets divide
+    /// by it, so that such a spectrum has Y = 1 (display white).
+    pub unit_spectrum_y: f64,
+    /// The displays and their derived matrices.
+    pub displays: Vec<(display::DisplaySpec, display::DisplayMatrices)>,
+}
+
+impl Derivation {
+    /// The wavelength sets that serve all three channels (folded into display weights).
+    pub fn merged_sets(&self) -> Vec<&WavelengthSet> {
+        self.table2.iter().collect()
+    }
+
+    /// A set folded for a display: `rgb = weights · samples` gives linear RGB, with a constant
+    /// spectrum of 1 at Y = 1 (AC1C2 → XYZ → RGB and 1 / [`unit_spectrum_y`](Self::unit_spectrum_y)
+    /// multiplied into the weights in f64).
+    pub fn folded(
+        &self,
+        set: &WavelengthSet,
+        matrices: &display::DisplayMatrices,
+    ) -> [Vec<f64>; 3] {
+        let m = display::mul3(&matrices.xyz_to_rgb, &self.opponent.ac1c2_to_xyz);
+        display::fold(&m, &set.weights, 1.0 / self.unit_spectrum_y)
+    }
 }
 
 /// An error of the derivation: bad data or settings it cannot honour.
@@ -228,7 +253,15 @@ pub fn derive_with(settings: &Settings, mut observer: Observer) -> Result<Deriva
         &measures[0],
         TABLE2_SNAP_NM,
     );
+    let unit_spectrum_y = xyz.iter().map(|v| v[1]).sum::<f64>() * settings.step_nm;
+    let displays = display::standard_displays()
+        .into_iter()
+        .map(|spec| display::display_matrices(&spec).map(|m| (spec, m)))
+        .collect::<Result<Vec<_>, String>>()
+        .map_err(Error::Settings)?;
     Ok(Derivation {
+        unit_spectrum_y,
+        displays,
         settings: settings.clone(),
         observer,
         grid_nm,

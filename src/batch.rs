@@ -1,0 +1,78 @@
+//! Batch conversion over caller-provided slices: one pixel's samples per `[f32; N]`, one
+//! output per pixel. Nothing allocates; a length mismatch is an [`Error`], checked before any
+//! output is written.
+
+use crate::{Display, Error, FoldedSet, GamutMapping, WavelengthSet};
+
+fn check(inputs: usize, outputs: usize) -> Result<(), Error> {
+    if inputs == outputs {
+        Ok(())
+    } else {
+        Err(Error::LengthMismatch { inputs, outputs })
+    }
+}
+
+impl<const N: usize> WavelengthSet<N> {
+    /// [`ac1c2`](Self::ac1c2) for every pixel: `out[p] = ac1c2(&samples[p])`.
+    ///
+    /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless
+    /// `samples.len() == out.len()`. Per-pixel input handling as [`ac1c2`](Self::ac1c2).
+    pub fn ac1c2_batch(&self, samples: &[[f32; N]], out: &mut [[f32; 3]]) -> Result<(), Error> {
+        check(samples.len(), out.len())?;
+        for (o, s) in out.iter_mut().zip(samples) {
+            *o = self.ac1c2(s);
+        }
+        Ok(())
+    }
+}
+
+impl<const N: usize> FoldedSet<N> {
+    /// [`linear_rgb`](Self::linear_rgb) for every pixel.
+    ///
+    /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless the lengths agree.
+    pub fn linear_rgb_batch(
+        &self,
+        samples: &[[f32; N]],
+        out: &mut [[f32; 3]],
+    ) -> Result<(), Error> {
+        check(samples.len(), out.len())?;
+        for (o, s) in out.iter_mut().zip(samples) {
+            *o = self.linear_rgb(s);
+        }
+        Ok(())
+    }
+
+    /// [`encode_u8`](Self::encode_u8) for every pixel (NaN anywhere in a pixel → black).
+    ///
+    /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless the lengths agree.
+    pub fn encode_u8_batch(
+        &self,
+        display: &Display,
+        mapping: GamutMapping,
+        samples: &[[f32; N]],
+        out: &mut [[u8; 3]],
+    ) -> Result<(), Error> {
+        check(samples.len(), out.len())?;
+        for (o, s) in out.iter_mut().zip(samples) {
+            *o = self.encode_u8(display, mapping, s);
+        }
+        Ok(())
+    }
+
+    /// [`encode_u16`](Self::encode_u16) for every pixel (NaN anywhere in a pixel → black).
+    ///
+    /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless the lengths agree.
+    pub fn encode_u16_batch(
+        &self,
+        display: &Display,
+        mapping: GamutMapping,
+        samples: &[[f32; N]],
+        out: &mut [[u16; 3]],
+    ) -> Result<(), Error> {
+        check(samples.len(), out.len())?;
+        for (o, s) in out.iter_mut().zip(samples) {
+            *o = self.encode_u16(display, mapping, s);
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,295 @@
+//! Displays: primaries, white point and transfer function; gamut mapping and encoding.
+
+use crate::Error;
+
+/// Per-channel lookup tables for a measured display: `tables[c][i]` is the encoded drive
+/// (0..=1) that produces the linear light `i / (len − 1)` on channel c (R, G, B). Values
+/// between entries are interpolated linearly.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ChannelLuts {
+    tables: [&'static [f32]; 3],
+}
+
+impl ChannelLuts {
+    /// Checks the tables: each needs at least 2 entries, all finite, in 0..=1 and
+    /// non-decreasing. Usable in consts:
+    ///
+    /// ```
+    /// use spectral_quadrature::ChannelLuts;
+    /// const LUTS: ChannelLuts = match ChannelLuts::new([&[0.0, 0.7, 1.0], &[0.0, 0.6, 1.0], &[0.0, 0.5, 1.0]]) {
+    ///     Ok(l) => l,
+    ///     Err(_) => panic!("bad table"),
+    /// };
+    /// assert_eq!(LUTS.table(1).len(), 3);
+    /// ```
+    pub const fn new(tables: [&'static [f32]; 3]) -> Result<ChannelLuts, Error> {
+        let mut c = 0;
+        while c < 3 {
+            let t = tables[c];
+            if t.len() < 2 {
+                return Err(Error::InvalidLut { channel: c as u8 });
+            }
+            let mut i = 0;
+            while i < t.len() {
+                let v = t[i];
+                if !v.is_finite() || v < 0.0 || v > 1.0 || (i > 0 && v < t[i - 1]) {
+                    return Err(Error::InvalidLut { channel: c as u8 });
+                }
+                i += 1;
+            }
+            c += 1;
+        }
+        Ok(ChannelLuts { tables })
+    }
+
+    /// Channel c's table (c = 0, 1, 2; any other c gives blue's).
+    pub const fn table(&self, c: usize) -> &'static [f32] {
+        if c < 3 {
+            self.tables[c]
+        } else {
+            self.tables[2]
+        }
+    }
+}
+
+/// How linear light in 0..=1 becomes the value sent to the display.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum TransferFunction {
+    /// No encoding: the output is linear.
+    Linear,
+    /// The sRGB curve (IEC 61966-2-1): linear segment below 0.0031308, then 1.055·x^(1/2.4) − 0.055.
+    Srgb,
+    /// A pure power law: encoded = linear^(1/γ). A γ that is not finite and positive encodes as
+    /// [`Linear`](Self::Linear).
+    Gamma(f32),
+    /// Measured per-channel tables.
+    Lut(ChannelLuts),
+}
+
+impl TransferFunction {
+    /// Encodes linear light on channel `c` (0, 1, 2: only lookup tables differ per channel).
+    ///
+    /// Input handling, for every variant: NaN gives 0; values ≤ 0 (negative, −0, −Inf) give 0;
+    /// values ≥ 1 (huge, +Inf) give 1; subnormals give 0 or their linear-segment image (sRGB),
+    /// both below 1e-37. The output is always in 0..=1. Never panics.
+    pub fn encode(&self, c: usize, linear: f32) -> f32 {
+        let x = clamp01(linear);
+        let e = match *self {
+            TransferFunction::Linear => x,
+            TransferFunction::Srgb => {
+                if x <= 0.003_130_8 {
+                    12.92 * x
+                } else {
+                    1.055 * libm::powf(x, 1.0 / 2.4) - 0.055
+                }
+            }
+            TransferFunction::Gamma(g) => {
+                if g.is_finite() && g > 0.0 {
+                    libm::powf(x, 1.0 / g)
+                } else {
+                    x
+                }
+            }
+            TransferFunction::Lut(l) => interpolate(l.table(c), x),
+        };
+        clamp01(e)
+    }
+
+    /// Decodes a display value on channel `c` back to linear light: the inverse of
+    /// [`encode`](Self::encode). Same input handling: NaN → 0, ≤ 0 → 0, ≥ 1 → 1; output in
+    /// 0..=1. For a table with flat stretches, the lowest linear value of the stretch.
+    pub fn decode(&self, c: usize, encoded: f32) -> f32 {
+        let e = clamp01(encoded);
+        let x = match *self {
+            TransferFunction::Linear => e,
+            TransferFunction::Srgb => {
+                if e <= 0.040_45 {
+                    e / 12.92
+                } else {
+                    libm::powf((e + 0.055) / 1.055, 2.4)
+                }
+            }
+            TransferFunction::Gamma(g) => {
+                if g.is_finite() && g > 0.0 {
+                    libm::powf(e, g)
+                } else {
+                    e
+                }
+            }
+            TransferFunction::Lut(l) => inverse_interpolate(l.table(c), e),
+        };
+        clamp01(x)
+    }
+}
+
+/// Clamps to 0..=1 with NaN → 0.
+#[inline]
+pub(crate) fn clamp01(x: f32) -> f32 {
+    if x > 0.0 {
+        if x < 1.0 {
+            x
+        } else {
+            1.0
+        }
+    } else {
+        0.0
+    }
+}
+
+fn interpolate(t: &[f32], x: f32) -> f32 {
+    if t.len() < 2 {
+        return t.first().copied().unwrap_or(x);
+    }
+    let pos = x * (t.len() - 1) as f32;
+    let i = (pos as usize).min(t.len() - 2);
+    let f = pos - i as f32;
+    t[i] + (t[i + 1] - t[i]) * f
+}
+
+fn inverse_interpolate(t: &[f32], e: f32) -> f32 {
+    if t.len() < 2 {
+        return e;
+    }
+    let last = t.len() - 1;
+    if e <= t[0] {
+        return 0.0;
+    }
+    if e >= t[last] {
+        return 1.0;
+    }
+    // First index with t[i] ≥ e; then t[i - 1] < e ≤ t[i].
+    let i = t.partition_point(|&v| v < e).clamp(1, last);
+    let (a, b) = (t[i - 1], t[i]);
+    let f = if b > a { (e - a) / (b - a) } else { 0.0 };
+    ((i - 1) as f32 + f) / last as f32
+}
+
+/// What to do with colours the display cannot show (a linear channel below 0 or above 1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum GamutMapping {
+    /// Clamp each channel to 0..=1. Hue and luminance may shift.
+    #[default]
+    Clip,
+    /// Keep the achromatic coordinate A and move the colour straight toward the display's white
+    /// axis (same A, C1 and C2 shrunk by one common factor relative to the white of that A) until
+    /// it fits. The AC1C2 opponent axes make this a one-parameter problem. Only a colour whose A
+    /// lies between black and the display's white can keep its A: brighter colours become white,
+    /// colours with A ≤ 0 become black.
+    PreserveA,
+}
+
+/// A display: primaries, white point (CIE 1931 xy), the matrices between linear RGB and XYZ
+/// (white at Y = 1), and a transfer function.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Display {
+    /// A short name, e.g. `"sRGB"`.
+    pub name: &'static str,
+    /// Chromaticities of red, green, blue.
+    pub primaries_xy: [[f32; 2]; 3],
+    /// Chromaticity of white (RGB = 1, 1, 1).
+    pub white_xy: [f32; 2],
+    /// Linear RGB → XYZ.
+    pub rgb_to_xyz: [[f32; 3]; 3],
+    /// XYZ → linear RGB.
+    pub xyz_to_rgb: [[f32; 3]; 3],
+    /// The achromatic coordinate A of one unit of linear R, G and B (used by
+    /// [`GamutMapping::PreserveA`]).
+    pub a_from_rgb: [f32; 3],
+    /// How linear light is encoded.
+    pub transfer: TransferFunction,
+}
+
+impl Display {
+    /// The same display with another transfer function (for example measured lookup tables).
+    pub const fn with_transfer(mut self, transfer: TransferFunction) -> Display {
+        self.transfer = transfer;
+        self
+    }
+
+    /// Linear RGB of an XYZ colour (Y = 1 is the display's white). IEEE arithmetic: NaN and
+    /// ±Inf propagate, out-of-gamut colours give components below 0 or above 1.
+    pub fn linear_from_xyz(&self, xyz: [f32; 3]) -> [f32; 3] {
+        crate::mat3_vec(&self.xyz_to_rgb, xyz)
+    }
+
+    /// XYZ of a linear RGB colour. IEEE arithmetic, as [`linear_from_xyz`](Self::linear_from_xyz).
+    pub fn xyz_from_linear(&self, rgb: [f32; 3]) -> [f32; 3] {
+        crate::mat3_vec(&self.rgb_to_xyz, rgb)
+    }
+
+    /// Brings a linear colour into 0..=1 per channel.
+    ///
+    /// Any NaN channel gives black `[0, 0, 0]`. With `PreserveA`, a colour with an infinite
+    /// channel is clipped as with `Clip` (+Inf → 1, −Inf → 0). Never panics; the output is
+    /// always in 0..=1.
+    pub fn map_gamut(&self, rgb: [f32; 3], mapping: GamutMapping) -> [f32; 3] {
+        if rgb.iter().any(|v| v.is_nan()) {
+            return [0.0; 3];
+        }
+        match mapping {
+            GamutMapping::Clip => rgb.map(clamp01),
+            GamutMapping::PreserveA => {
+                if rgb.iter().any(|v| v.is_infinite()) {
+                    return rgb.map(clamp01);
+                }
+                preserve_a(self.a_from_rgb, rgb)
+            }
+        }
+    }
+
+    /// Gamut-maps and encodes a linear colour: values in 0..=1 ready to quantize. Input handling
+    /// as [`map_gamut`](Self::map_gamut) (NaN anywhere → black).
+    pub fn encode(&self, rgb: [f32; 3], mapping: GamutMapping) -> [f32; 3] {
+        let m = self.map_gamut(rgb, mapping);
+        [
+            self.transfer.encode(0, m[0]),
+            self.transfer.encode(1, m[1]),
+            self.transfer.encode(2, m[2]),
+        ]
+    }
+
+    /// [`encode`](Self::encode) quantized to 8 bits (round to nearest). NaN anywhere → black.
+    pub fn encode_u8(&self, rgb: [f32; 3], mapping: GamutMapping) -> [u8; 3] {
+        self.encode(rgb, mapping).map(quantize_u8)
+    }
+
+    /// [`encode`](Self::encode) quantized to 16 bits (round to nearest). NaN anywhere → black.
+    pub fn encode_u16(&self, rgb: [f32; 3], mapping: GamutMapping) -> [u16; 3] {
+        self.encode(rgb, mapping).map(quantize_u16)
+    }
+}
+
+/// 0..=1 → 0..=255, round to nearest; NaN → 0, out of range clamped.
+#[inline]
+pub fn quantize_u8(e: f32) -> u8 {
+    (clamp01(e) * 255.0 + 0.5) as u8
+}
+
+/// 0..=1 → 0..=65535, round to nearest; NaN → 0, out of range clamped.
+#[inline]
+pub fn quantize_u16(e: f32) -> u16 {
+    (clamp01(e) * 65535.0 + 0.5) as u16
+}
+
+fn preserve_a(a_rgb: [f32; 3], rgb: [f32; 3]) -> [f32; 3] {
+    let a_white = a_rgb[0] + a_rgb[1] + a_rgb[2];
+    let a = a_rgb[0] * rgb[0] + a_rgb[1] * rgb[1] + a_rgb[2] * rgb[2];
+    let level = a / a_white;
+    if level.is_nan() || level <= 0.0 {
+        return [0.0; 3];
+    }
+    if level >= 1.0 {
+        return [1.0; 3];
+    }
+    // rgb(t) = level·(1, 1, 1) + t·d keeps A for every t, since a_rgb · d = 0.
+    let d = rgb.map(|v| v - level);
+    let mut t = 1.0f32;
+    for dc in d {
+        if dc > 0.0 {
+            t = t.min((1.0 - level) / dc);
+        } else if dc < 0.0 {
+            t = t.min(level / -dc);
+        }
+    }
+    d.map(|dc| clamp01(level + t * dc))
+}

@@ -1,0 +1,58 @@
+//! The runtime's error type.
+
+use core::fmt;
+
+/// What went wrong in a runtime call. Runtime functions return this instead of panicking.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum Error {
+    /// A batch call got input and output slices of different lengths.
+    LengthMismatch {
+        /// Number of pixels in the input.
+        inputs: usize,
+        /// Number of pixels in the output.
+        outputs: usize,
+    },
+    /// A run-time set would need more wavelengths than its capacity.
+    Capacity {
+        /// The capacity of the set.
+        capacity: usize,
+    },
+    /// A rule that is not `Defined` was asked to contribute to a set.
+    UndefinedRule {
+        /// The rule's channel row (0 = A, 1 = C1, 2 = C2).
+        channel: u8,
+        /// The rule's order.
+        order: u8,
+    },
+    /// A lookup table is too short, not finite, outside 0..=1 or decreasing.
+    InvalidLut {
+        /// The offending channel (0 = R, 1 = G, 2 = B).
+        channel: u8,
+    },
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            Error::LengthMismatch { inputs, outputs } => write!(
+                f,
+                "batch length mismatch: {inputs} input pixels, {outputs} output pixels"
+            ),
+            Error::Capacity { capacity } => {
+                write!(f, "the set would need more than its {capacity} wavelengths")
+            }
+            Error::UndefinedRule { channel, order } => write!(
+                f,
+                "channel {} order {order} is not a defined rule",
+                ["A", "C1", "C2"].get(channel as usize).unwrap_or(&"?")
+            ),
+            Error::InvalidLut { channel } => write!(
+                f,
+                "lookup table for channel {channel} needs 2 or more finite, non-decreasing entries in 0..=1"
+            ),
+        }
+    }
+}
+
+impl core::error::Error for Error {}
