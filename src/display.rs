@@ -69,11 +69,16 @@ pub enum TransferFunction {
 impl TransferFunction {
     /// Encodes linear light on channel `c` (0, 1, 2: only lookup tables differ per channel).
     ///
-    /// Input handling, for every variant: NaN gives 0; values ≤ 0 (negative, −0, −Inf) give 0;
-    /// values ≥ 1 (huge, +Inf) give 1; subnormals give 0 or their linear-segment image (sRGB),
-    /// both below 1e-37. The output is always in 0..=1. Never panics.
+    /// Input handling, for every variant: NaN gives exactly 0; values ≤ 0 (negative, −0, −Inf)
+    /// give exactly 0; values ≥ 1 (huge, +Inf) give exactly 1 (also for a lookup table whose
+    /// ends are not 0 and 1: zero drive is black, full drive is the brightest). Subnormal inputs
+    /// are the tiny positive numbers they are: sRGB gives 12.92·x, `Gamma(γ)` gives x^(1/γ)
+    /// (4e-21 for 1e-45 at γ = 2.2). The output is always in 0..=1. Never panics.
     pub fn encode(&self, c: usize, linear: f32) -> f32 {
         let x = clamp01(linear);
+        if x == 0.0 || x == 1.0 {
+            return x;
+        }
         let e = match *self {
             TransferFunction::Linear => x,
             TransferFunction::Srgb => {
@@ -96,10 +101,14 @@ impl TransferFunction {
     }
 
     /// Decodes a display value on channel `c` back to linear light: the inverse of
-    /// [`encode`](Self::encode). Same input handling: NaN → 0, ≤ 0 → 0, ≥ 1 → 1; output in
-    /// 0..=1. For a table with flat stretches, the lowest linear value of the stretch.
+    /// [`encode`](Self::encode). Same input handling: NaN → 0, ≤ 0 → exactly 0, ≥ 1 →
+    /// exactly 1; output in 0..=1. For a table with flat stretches, the lowest linear value of
+    /// the stretch.
     pub fn decode(&self, c: usize, encoded: f32) -> f32 {
         let e = clamp01(encoded);
+        if e == 0.0 || e == 1.0 {
+            return e;
+        }
         let x = match *self {
             TransferFunction::Linear => e,
             TransferFunction::Srgb => {

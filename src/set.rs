@@ -95,10 +95,11 @@ impl<const N: usize> WavelengthSet<N> {
     /// `[A, C1, C2]` from samples of a spectrum at [`wavelengths_nm`](Self::wavelengths_nm):
     /// the 3×N product `weights · samples`, in f32.
     ///
-    /// Never panics. Each output is a plain sum of products, so IEEE rules apply: a NaN sample
-    /// gives NaN in every channel whose weight for it is non-zero; ±Inf gives ±Inf or NaN (when
-    /// infinities of both signs meet); subnormal and negative samples are used as they are;
-    /// products beyond `f32::MAX` overflow to ±Inf.
+    /// Never panics. Each output is a plain sum of products over all N samples, so IEEE rules
+    /// apply: a NaN sample makes every channel NaN, and an infinite sample makes every channel
+    /// ±Inf or NaN (NaN where its weight is 0, since 0 · ∞ = NaN, or where infinities of both
+    /// signs meet); subnormal and negative samples are used as they are; products or sums beyond
+    /// `f32::MAX` overflow to ±Inf.
     ///
     /// # Accuracy
     /// For finite samples whose products do not overflow, each channel is within
@@ -146,7 +147,8 @@ impl<const N: usize> WavelengthSet<N> {
 /// RGB is one 3×N product.
 ///
 /// The baked sets ([`tables::folded`](crate::tables::folded)) take samples in units where a
-/// spectrum of constant 1 is the display's white (Y = 1).
+/// spectrum of constant 1 has luminance Y = 1, the luminance of the display's white (its
+/// chromaticity is that of illuminant E, not of the display's white point).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FoldedSet<const N: usize> {
     /// Wavelengths in nm, ascending and distinct.
@@ -158,9 +160,9 @@ pub struct FoldedSet<const N: usize> {
 impl<const N: usize> FoldedSet<N> {
     /// Linear RGB from samples at [`wavelengths_nm`](Self::wavelengths_nm).
     ///
-    /// Never panics. IEEE arithmetic: NaN samples give NaN channels, ±Inf gives ±Inf or NaN,
-    /// subnormal and negative samples are used as they are, products beyond `f32::MAX` overflow
-    /// to ±Inf. Out-of-gamut colours have channels below 0 or above 1; see
+    /// Never panics. IEEE arithmetic, as [`WavelengthSet::ac1c2`]: a NaN sample makes every
+    /// channel NaN, an infinite one makes every channel ±Inf or NaN, subnormal and negative
+    /// samples are used as they are, products or sums beyond `f32::MAX` overflow to ±Inf. Out-of-gamut colours have channels below 0 or above 1; see
     /// [`Display::map_gamut`](crate::Display::map_gamut).
     ///
     /// # Accuracy

@@ -1,0 +1,406 @@
+//! Runtime cost per pixel: spectral samples → colour.
+//!
+//! The renderer hands us samples; sampling is not timed. Timed is samples → colour for Table 2's
+//! merged sets (4 and 6 wavelengths) and, as the reference a renderer would otherwise run, the
+//! full 1 nm integration over 380..=770 nm (391 samples) with x̄ȳz̄ followed by the same
+//! XYZ → sRGB encode.
+//!
+//! Inputs are 4096 deterministic, smooth, reflectance-like spectra (a base level plus gaussians
+//! and sigmoids drawn from an LCG, clamped to 0..=1).
+//!
+//! Benchmark ids:
+//! - `per_pixel/<op>/<set>`: one pixel per iteration, cycling through the 4096 spectra; the
+//!   input goes through `black_box`, so nothing is hoisted or vectorised across pixels.
+//! - `batch_4096/<op>/<set>`: one batch call over all 4096 pixels per iteration, with
+//!   `Throughput::Elements(4096)`; ns/pixel = time / 4096.
+//!
+//! Sets: `table2_row2` (4 wavelengths), `table2_row1` (6), `full_1nm` (391 samples, in-order f32
+//! accumulation like the crate's own 3×N product) and `full_1nm_8acc` (the same sums with 8
+//! partial accumulators per channel, which the compiler can vectorise: a faster reference).
+//!
+//! Run with `cargo bench --bench runtime`.
+
+use std::hint::black_box;
+use std::time::Duration;
+
+use criterion::measurement::WallTime;
+use criterion::{criterion_group, criterion_main, BenchmarkGroup, Criterion, Throughput};
+use spectral_quadrature::tables::{self, displays::SRGB, folded};
+use spectral_quadrature::{Display, FoldedSet, GamutMapping, WavelengthSet};
+
+/// Pixels in the input set (a power of two, so the per-pixel index wraps with a mask).
+const PIXELS: usize = 4096;
+/// Samples of the 1 nm reference: 380..=770 nm.
+const FULL_LEN: usize = 391;
+const FULL_START_NM: f64 = 380.0;
+/// The reference's sample spacing, dλ in nm.
+const DLAMBDA_NM: f64 = 1.0;
+
+// ---------------------------------------------------------------------------------------------
+// Inputs (not timed)
+
+/// A 64-bit LCG (Knuth's MMIX constants); deterministic across platforms.
+struct Lcg(u64);
+
+impl Lcg {
+    fn next_f64(&mut self) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.next_f64()
+    }
+}
+
+#[derive(Clone, Copy)]
+enum Bump {
+    /// `amp · exp(-½ ((λ - mu) / sigma)²)`.
+    Gauss { amp: f64, mu: f64, sigma: f64 },
+    /// `amp / (1 + exp(-(λ - edge) / width))`; a negative width makes it fall.
+    Sigmoid { amp: f64, edge: f64, width: f64 },
+}
+
+/// A smooth reflectance-like spectrum: a base level plus 1 to 3 bumps, clamped to 0..=1.
+#[derive(Clone)]
+struct Reflectance {
+    base: f64,
+    bumps: Vec<Bump>,
+}
+
+impl Reflectance {
+    fn random(rng: &mut Lcg) -> Self {
+        let base = rng.range(0.02, 0.25);
+        let n = 1 + (rng.next_f64() * 3.0) as usize;
+        let bumps = (0..n)
+            .map(|_| {
+                if rng.next_f64() < 0.5 {
+                    Bump::Gauss {
+                        amp: rng.range(-0.2, 0.8),
+                        mu: rng.range(400.0, 720.0),
+                        sigma: rng.range(15.0, 90.0),
+                    }
+                } else {
+                    let width = rng.range(8.0, 40.0);
+                    Bump::Sigmoid {
+                        amp: rng.range(0.1, 0.8),
+                        edge: rng.range(430.0, 680.0),
+                        width: if rng.next_f64() < 0.5 { width } else { -width },
+                    }
+                }
+            })
+            .collect();
+        Reflectance { base, bumps }
+    }
+
+    fn at(&self, nm: f64) -> f32 {
+        let mut r = self.base;
+        for bump in &self.bumps {
+            r += match *bump {
+                Bump::Gauss { amp, mu, sigma } => {
+                    let t = (nm - mu) / sigma;
+                    amp * (-0.5 * t * t).exp()
+                }
+                Bump::Sigmoid { amp, edge, width } => amp / (1.0 + (-(nm - edge) / width).exp()),
+            };
+        }
+        r.clamp(0.0, 1.0) as f32
+    }
+}
+
+fn spectra() -> Vec<Reflectance> {
+    let mut rng = Lcg(0x5EC7_5A10_BADC_0DE0);
+    (0..PIXELS).map(|_| Reflectance::random(&mut rng)).collect()
+}
+
+/// Samples at a set's wavelengths, one `[f32; N]` per pixel.
+fn sample_at<const N: usize>(spectra: &[Reflectance], nm: &[f32; N]) -> Vec<[f32; N]> {
+    spectra
+        .iter()
+        .map(|s| nm.map(|l| s.at(f64::from(l))))
+        .collect()
+}
+
+/// Samples at 380, 381, ..., 770 nm, one `[f32; 391]` per pixel.
+fn sample_1nm(spectra: &[Reflectance]) -> Vec<[f32; FULL_LEN]> {
+    spectra
+        .iter()
+        .map(|s| core::array::from_fn(|i| s.at(FULL_START_NM + i as f64 * DLAMBDA_NM)))
+        .collect()
+}
+
+// ---------------------------------------------------------------------------------------------
+// The 1 nm reference
+
+/// x̄ȳz̄ at 1 nm (times dλ = 1 nm), scaled so that a spectrum of constant 1 has Y = 1 (the
+/// normalisation of the baked folded sets).
+struct Full1nm {
+    xyz_weights: [[f32; FULL_LEN]; 3],
+}
+
+impl Full1nm {
+    /// Linear interpolation of the 5 nm opponent sensitivities (`tables::SENSITIVITIES`) to
+    /// 1 nm, turned into x̄ȳz̄ with `tables::AC1C2_TO_XYZ`, in f64.
+    fn new() -> Self {
+        let grid = &tables::GRID_NM;
+        let sens = &tables::SENSITIVITIES;
+        let m = tables::AC1C2_TO_XYZ;
+        let mut xyz = [[0.0f64; FULL_LEN]; 3];
+        for i in 0..FULL_LEN {
+            let nm = FULL_START_NM + i as f64 * DLAMBDA_NM;
+            let k = grid
+                .iter()
+                .rposition(|&g| f64::from(g) <= nm)
+                .unwrap()
+                .min(grid.len() - 2);
+            let (g0, g1) = (f64::from(grid[k]), f64::from(grid[k + 1]));
+            let t = (nm - g0) / (g1 - g0);
+            let opp: [f64; 3] = core::array::from_fn(|c| {
+                (1.0 - t) * f64::from(sens[k][c]) + t * f64::from(sens[k + 1][c])
+            });
+            for (r, row) in xyz.iter_mut().enumerate() {
+                row[i] = (0..3).map(|c| f64::from(m[r][c]) * opp[c]).sum::<f64>() * DLAMBDA_NM;
+            }
+        }
+        let y_sum: f64 = xyz[1].iter().sum();
+        let xyz_weights = xyz.map(|row| row.map(|w| (w / y_sum) as f32));
+        Full1nm { xyz_weights }
+    }
+
+    /// `[X, Y, Z]`: the 3×391 product accumulated in index order in f32, as the crate does for
+    /// its own sets.
+    #[inline]
+    fn xyz(&self, samples: &[f32; FULL_LEN]) -> [f32; 3] {
+        let mut out = [0.0f32; 3];
+        for (o, row) in out.iter_mut().zip(&self.xyz_weights) {
+            let mut acc = 0.0f32;
+            for (w, s) in row.iter().zip(samples) {
+                acc += w * s;
+            }
+            *o = acc;
+        }
+        out
+    }
+
+    /// `[X, Y, Z]` with 8 partial sums per channel: the compiler may vectorise this.
+    #[inline]
+    fn xyz_8acc(&self, samples: &[f32; FULL_LEN]) -> [f32; 3] {
+        let mut out = [0.0f32; 3];
+        for (o, row) in out.iter_mut().zip(&self.xyz_weights) {
+            let mut acc = [0.0f32; 8];
+            let (w8, w_rest) = row.as_chunks::<8>();
+            let (s8, s_rest) = samples.as_chunks::<8>();
+            for (w, s) in w8.iter().zip(s8) {
+                for ((a, w), s) in acc.iter_mut().zip(w).zip(s) {
+                    *a += w * s;
+                }
+            }
+            let mut sum =
+                ((acc[0] + acc[4]) + (acc[1] + acc[5])) + ((acc[2] + acc[6]) + (acc[3] + acc[7]));
+            for (w, s) in w_rest.iter().zip(s_rest) {
+                sum += w * s;
+            }
+            *o = sum;
+        }
+        out
+    }
+
+    #[inline]
+    fn linear_rgb(&self, display: &Display, samples: &[f32; FULL_LEN]) -> [f32; 3] {
+        display.linear_from_xyz(self.xyz(samples))
+    }
+
+    #[inline]
+    fn encode_u8(
+        &self,
+        display: &Display,
+        mapping: GamutMapping,
+        samples: &[f32; FULL_LEN],
+    ) -> [u8; 3] {
+        display.encode_u8(display.linear_from_xyz(self.xyz(samples)), mapping)
+    }
+
+    #[inline]
+    fn encode_u8_8acc(
+        &self,
+        display: &Display,
+        mapping: GamutMapping,
+        samples: &[f32; FULL_LEN],
+    ) -> [u8; 3] {
+        display.encode_u8(display.linear_from_xyz(self.xyz_8acc(samples)), mapping)
+    }
+
+    /// The batch loop a renderer would write around [`encode_u8`](Self::encode_u8).
+    fn encode_u8_batch(
+        &self,
+        display: &Display,
+        mapping: GamutMapping,
+        samples: &[[f32; FULL_LEN]],
+        out: &mut [[u8; 3]],
+    ) {
+        assert_eq!(samples.len(), out.len());
+        for (o, s) in out.iter_mut().zip(samples) {
+            *o = self.encode_u8(display, mapping, s);
+        }
+    }
+
+    fn encode_u8_batch_8acc(
+        &self,
+        display: &Display,
+        mapping: GamutMapping,
+        samples: &[[f32; FULL_LEN]],
+        out: &mut [[u8; 3]],
+    ) {
+        assert_eq!(samples.len(), out.len());
+        for (o, s) in out.iter_mut().zip(samples) {
+            *o = self.encode_u8_8acc(display, mapping, s);
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Harness helpers
+
+/// One pixel per iteration, cycling through `inputs`; the input reference goes through
+/// `black_box` so the work cannot be hoisted, and criterion black-boxes the returned colour.
+fn per_pixel<T, R>(
+    group: &mut BenchmarkGroup<'_, WallTime>,
+    id: &str,
+    inputs: &[T],
+    f: impl Fn(&T) -> R,
+) {
+    assert!(inputs.len().is_power_of_two());
+    let mask = inputs.len() - 1;
+    let mut i = 0usize;
+    group.bench_function(id, |b| {
+        b.iter(|| {
+            let s = black_box(&inputs[i]);
+            i = (i + 1) & mask;
+            f(s)
+        })
+    });
+}
+
+/// Checks (untimed) that the reference and the quadrature sets agree roughly, so the benchmark
+/// compares like with like; prints the mean |Δ| in 8-bit code values.
+fn sanity(full: &Full1nm, s1nm: &[[f32; FULL_LEN]], row2: &[[f32; 4]], row1: &[[f32; 6]]) {
+    let ones = [1.0f32; FULL_LEN];
+    let y = full.xyz(&ones)[1];
+    assert!((y - 1.0).abs() < 1e-4, "unit spectrum Y = {y}");
+    let (mut d2, mut d1, mut d8) = (0u64, 0u64, 0u64);
+    let diff = |a: [u8; 3], b: [u8; 3]| -> u64 {
+        a.iter().zip(b).map(|(x, y)| u64::from(x.abs_diff(y))).sum()
+    };
+    for ((s, r2), r1) in s1nm.iter().zip(row2).zip(row1) {
+        let r = full.encode_u8(&SRGB, GamutMapping::Clip, s);
+        d8 += diff(r, full.encode_u8_8acc(&SRGB, GamutMapping::Clip, s));
+        d2 += diff(
+            r,
+            folded::TABLE2_ROW2_SRGB.encode_u8(&SRGB, GamutMapping::Clip, r2),
+        );
+        d1 += diff(
+            r,
+            folded::TABLE2_ROW1_SRGB.encode_u8(&SRGB, GamutMapping::Clip, r1),
+        );
+    }
+    let n = (3 * PIXELS) as f64;
+    eprintln!(
+        "sanity: mean |Δ| in sRGB u8 code values vs full_1nm over {PIXELS} spectra: \
+         table2_row2 {:.2}, table2_row1 {:.2}, full_1nm_8acc {:.3}",
+        d2 as f64 / n,
+        d1 as f64 / n,
+        d8 as f64 / n
+    );
+    assert!(d8 as f64 / n < 0.01);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Benchmarks
+
+fn runtime(c: &mut Criterion) {
+    let refl = spectra();
+    let row2: &WavelengthSet<4> = &tables::TABLE2_ROW2;
+    let row1: &WavelengthSet<6> = &tables::TABLE2_ROW1;
+    let row2_srgb: &FoldedSet<4> = &folded::TABLE2_ROW2_SRGB;
+    let row1_srgb: &FoldedSet<6> = &folded::TABLE2_ROW1_SRGB;
+    assert_eq!(row2.wavelengths_nm, row2_srgb.wavelengths_nm);
+    assert_eq!(row1.wavelengths_nm, row1_srgb.wavelengths_nm);
+
+    let s_row2 = sample_at(&refl, &row2.wavelengths_nm);
+    let s_row1 = sample_at(&refl, &row1.wavelengths_nm);
+    let s_1nm = sample_1nm(&refl);
+    let full = Full1nm::new();
+    sanity(&full, &s_1nm, &s_row2, &s_row1);
+
+    let display = &SRGB;
+    let clip = GamutMapping::Clip;
+
+    // (a) samples → A, C1, C2.
+    let mut g = c.benchmark_group("per_pixel/ac1c2");
+    per_pixel(&mut g, "table2_row2", &s_row2, |s| row2.ac1c2(s));
+    per_pixel(&mut g, "table2_row1", &s_row1, |s| row1.ac1c2(s));
+    g.finish();
+
+    // (b) samples → linear sRGB: one folded 3×N product (the 1 nm reference: 3×391 → XYZ → RGB).
+    let mut g = c.benchmark_group("per_pixel/linear_rgb");
+    per_pixel(&mut g, "table2_row2", &s_row2, |s| row2_srgb.linear_rgb(s));
+    per_pixel(&mut g, "table2_row1", &s_row1, |s| row1_srgb.linear_rgb(s));
+    per_pixel(&mut g, "full_1nm", &s_1nm, |s| full.linear_rgb(display, s));
+    g.finish();
+
+    // (c) samples → 8-bit sRGB (Clip).
+    let mut g = c.benchmark_group("per_pixel/encode_u8_srgb");
+    per_pixel(&mut g, "table2_row2", &s_row2, |s| {
+        row2_srgb.encode_u8(display, clip, s)
+    });
+    per_pixel(&mut g, "table2_row1", &s_row1, |s| {
+        row1_srgb.encode_u8(display, clip, s)
+    });
+    per_pixel(&mut g, "full_1nm", &s_1nm, |s| {
+        full.encode_u8(display, clip, s)
+    });
+    per_pixel(&mut g, "full_1nm_8acc", &s_1nm, |s| {
+        full.encode_u8_8acc(display, clip, s)
+    });
+    g.finish();
+
+    // (d) the batch API over all 4096 pixels.
+    let mut out = vec![[0u8; 3]; PIXELS];
+    let mut g = c.benchmark_group(format!("batch_{PIXELS}/encode_u8_srgb"));
+    g.throughput(Throughput::Elements(PIXELS as u64));
+    g.bench_function("table2_row2", |b| {
+        b.iter(|| {
+            row2_srgb
+                .encode_u8_batch(display, clip, black_box(&s_row2), black_box(&mut out))
+                .unwrap()
+        })
+    });
+    g.bench_function("table2_row1", |b| {
+        b.iter(|| {
+            row1_srgb
+                .encode_u8_batch(display, clip, black_box(&s_row1), black_box(&mut out))
+                .unwrap()
+        })
+    });
+    g.bench_function("full_1nm", |b| {
+        b.iter(|| full.encode_u8_batch(display, clip, black_box(&s_1nm), black_box(&mut out)))
+    });
+    g.bench_function("full_1nm_8acc", |b| {
+        b.iter(|| full.encode_u8_batch_8acc(display, clip, black_box(&s_1nm), black_box(&mut out)))
+    });
+    g.finish();
+    black_box(&out);
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default()
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(2))
+        .sample_size(50);
+    targets = runtime
+}
+criterion_main!(benches);

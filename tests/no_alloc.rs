@@ -1,0 +1,358 @@
+//! The runtime never allocates: a counting global allocator wraps `System` and counts every
+//! `alloc`, `alloc_zeroed` and `realloc` made by the current thread while counting is switched
+//! on for it (a thread-local flag and a thread-local counter, so the test harness's other threads
+//! and the other tests cannot disturb a measurement). Inputs and outputs are prepared before
+//! counting starts and pass through `black_box`, so nothing is optimized away.
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+use std::fmt::Write as _;
+use std::hint::black_box;
+
+use spectral_quadrature::tables::{self, displays, folded, rules};
+use spectral_quadrature::{
+    ac1c2_from_xyz, quantize_u16, quantize_u8, xyz_from_ac1c2, ChannelLuts, Display, DynamicSet,
+    Error, GamutMapping, TransferFunction,
+};
+
+struct Counting;
+
+thread_local! {
+    /// Whether this thread's allocations are being counted.
+    static ACTIVE: Cell<bool> = const { Cell::new(false) };
+    /// This thread's count of alloc / alloc_zeroed / realloc calls while ACTIVE.
+    static COUNT: Cell<usize> = const { Cell::new(0) };
+}
+
+fn note_allocation() {
+    // `try_with`: never panic inside the allocator (e.g. during thread-local destruction).
+    if ACTIVE.try_with(Cell::get).unwrap_or(false) {
+        let _ = COUNT.try_with(|c| c.set(c.get() + 1));
+    }
+}
+
+// SAFETY: every call is forwarded unchanged to `System`; the bookkeeping touches only
+// const-initialized thread-locals without destructors, which never allocate.
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        note_allocation();
+        // SAFETY: the caller upholds `GlobalAlloc::alloc`'s contract, passed on as is.
+        unsafe { System.alloc(layout) }
+    }
+
+    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
+        note_allocation();
+        // SAFETY: as `alloc`.
+        unsafe { System.alloc_zeroed(layout) }
+    }
+
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        note_allocation();
+        // SAFETY: `ptr` and `layout` come from this allocator, i.e. from `System`.
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: `ptr` and `layout` come from this allocator, i.e. from `System`.
+        unsafe { System.dealloc(ptr, layout) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+/// Runs `f` with counting on for this thread and returns how many allocations it made.
+fn allocations_in(f: impl FnOnce()) -> usize {
+    let before = COUNT.with(Cell::get);
+    ACTIVE.with(|a| a.set(true));
+    f();
+    ACTIVE.with(|a| a.set(false));
+    COUNT.with(Cell::get) - before
+}
+
+fn assert_no_alloc(what: &str, f: impl FnOnce()) {
+    let n = allocations_in(f);
+    assert_eq!(n, 0, "{what}: {n} allocation(s)");
+}
+
+const MAPPINGS: [GamutMapping; 2] = [GamutMapping::Clip, GamutMapping::PreserveA];
+
+/// Linear colours that reach every branch of the gamut mapping: in gamut, out of gamut on both
+/// sides, A ≤ 0, A ≥ white, infinite and NaN channels.
+const COLOURS: [[f32; 3]; 8] = [
+    [0.2, 0.5, 0.7],
+    [1.4, 0.3, -0.2],
+    [-0.3, 0.9, 1.6],
+    [-1.0, -1.0, 0.5],
+    [3.0, 3.0, 2.0],
+    [f32::INFINITY, 0.5, f32::NEG_INFINITY],
+    [f32::NAN, 0.5, 0.5],
+    [1e-45, 0.0, -0.0],
+];
+
+const LUT_R: &[f32] = &[0.0, 0.35, 0.55, 0.7, 0.82, 0.92, 1.0];
+const LUT_G: &[f32] = &[0.0, 0.5, 1.0];
+const LUT_B: &[f32] = &[0.0, 0.2, 0.2, 0.6, 1.0];
+
+fn all_displays() -> Vec<Display> {
+    let luts = ChannelLuts::new([LUT_R, LUT_G, LUT_B]).expect("valid tables");
+    let mut v = displays::ALL.to_vec();
+    v.push(displays::SRGB.with_transfer(TransferFunction::Lut(luts)));
+    v
+}
+
+#[test]
+fn the_counter_sees_allocations() {
+    // Sanity checks: the test below would fail if the runtime allocated.
+    assert!(allocations_in(|| drop(black_box(Box::new(black_box(7u64))))) >= 1);
+    assert!(allocations_in(|| drop(black_box(Vec::<f32>::with_capacity(black_box(64))))) >= 1);
+    let mut v: Vec<u8> = Vec::with_capacity(1);
+    v.push(1);
+    let n = allocations_in(|| {
+        for k in 0..100u8 {
+            v.push(black_box(k)); // grows: realloc
+        }
+    });
+    assert!(n >= 1, "realloc counted: {n}");
+    assert!(allocations_in(|| drop(black_box(format!("{}", black_box(12345))))) >= 1);
+    // Counting is off outside `allocations_in`, and a region without allocations counts 0.
+    let before = COUNT.with(Cell::get);
+    drop(black_box(Box::new(1u8)));
+    assert_eq!(COUNT.with(Cell::get), before);
+    assert_eq!(
+        allocations_in(|| {
+            black_box(1u64 + black_box(2));
+        }),
+        0
+    );
+}
+
+#[test]
+fn per_pixel_paths_do_not_allocate() {
+    let displays = all_displays();
+    let s6 = black_box([0.2f32, 0.9, 0.4, 1.7, 0.05, 0.6]);
+    let s4 = black_box([0.3f32, 0.8, 1.2, 0.1]);
+    let s16 = black_box([0.5f32; 16]);
+    let specials6 = black_box([f32::NAN, f32::INFINITY, -0.0, 1e-45, f32::MAX, -1.0]);
+    let folded6 = [
+        folded::TABLE2_ROW1_SRGB,
+        folded::TABLE2_ROW1_DISPLAY_P3,
+        folded::TABLE2_ROW1_REC2020,
+        folded::TABLE2_ROW1_MEYER_1987,
+    ];
+    let folded4 = [
+        folded::TABLE2_ROW2_SRGB,
+        folded::TABLE2_ROW2_DISPLAY_P3,
+        folded::TABLE2_ROW2_REC2020,
+        folded::TABLE2_ROW2_MEYER_1987,
+    ];
+    assert_no_alloc("ac1c2 / xyz / matrices", || {
+        black_box(tables::TABLE2_ROW1.ac1c2(&s6));
+        black_box(tables::TABLE2_ROW1.ac1c2(&specials6));
+        black_box(tables::TABLE2_ROW2.ac1c2(&s4));
+        black_box(rules::A_16.ac1c2(&s16));
+        black_box(tables::TABLE2_ROW1.xyz(&s6));
+        black_box(tables::TABLE2_ROW2.xyz(&s4));
+        black_box(xyz_from_ac1c2(black_box([100.0, -3.0, 20.0])));
+        black_box(ac1c2_from_xyz(black_box([0.9, 1.0, 1.1])));
+    });
+    assert_no_alloc("linear_rgb / encode_u8 / encode_u16 / fold", || {
+        for (j, display) in displays::ALL.iter().enumerate() {
+            black_box(folded6[j].linear_rgb(&s6));
+            black_box(folded4[j].linear_rgb(&s4));
+            black_box(folded6[j].linear_rgb(&specials6));
+            black_box(display.linear_from_xyz(black_box([0.3, 0.4, 0.5])));
+            black_box(display.xyz_from_linear(black_box([0.3, 0.4, 0.5])));
+            black_box(tables::TABLE2_ROW1.fold(display, 1.0 / tables::UNIT_SPECTRUM_Y));
+            for mapping in MAPPINGS {
+                black_box(folded6[j].encode_u8(display, mapping, &s6));
+                black_box(folded6[j].encode_u16(display, mapping, &specials6));
+                black_box(folded4[j].encode_u8(display, mapping, &s4));
+                black_box(folded4[j].encode_u16(display, mapping, &s4));
+            }
+        }
+    });
+    assert_no_alloc(
+        "Display map_gamut / encode / encode_u8 / encode_u16",
+        || {
+            for display in &displays {
+                for mapping in MAPPINGS {
+                    for rgb in COLOURS {
+                        let rgb = black_box(rgb);
+                        black_box(display.map_gamut(rgb, mapping));
+                        black_box(display.encode(rgb, mapping));
+                        black_box(display.encode_u8(rgb, mapping));
+                        black_box(display.encode_u16(rgb, mapping));
+                    }
+                }
+            }
+        },
+    );
+}
+
+#[test]
+fn transfer_functions_and_luts_do_not_allocate() {
+    let luts = ChannelLuts::new([LUT_R, LUT_G, LUT_B]).expect("valid tables");
+    let transfers = [
+        TransferFunction::Linear,
+        TransferFunction::Srgb,
+        TransferFunction::Gamma(2.2),
+        TransferFunction::Gamma(f32::NAN),
+        TransferFunction::Lut(luts),
+    ];
+    let xs = black_box([
+        f32::NAN,
+        -1.0,
+        0.0,
+        1e-45,
+        0.001,
+        0.2,
+        0.5,
+        0.99,
+        1.0,
+        f32::INFINITY,
+    ]);
+    assert_no_alloc("encode / decode / quantize", || {
+        for tf in &transfers {
+            for c in 0..4 {
+                for &x in &xs {
+                    black_box(tf.encode(c, x));
+                    black_box(tf.decode(c, x));
+                    black_box(quantize_u8(x));
+                    black_box(quantize_u16(x));
+                    #[cfg(feature = "micromath")]
+                    black_box(tf.encode_fast(c, x));
+                }
+            }
+        }
+    });
+    assert_no_alloc("ChannelLuts::new", || {
+        black_box(ChannelLuts::new(black_box([LUT_R, LUT_G, LUT_B])).is_ok());
+        black_box(ChannelLuts::new(black_box([LUT_R, &[0.5, 0.1], LUT_B])).is_err());
+    });
+}
+
+#[test]
+fn batch_apis_do_not_allocate() {
+    let displays = all_displays();
+    let set = folded::TABLE2_ROW1_SRGB;
+    let pixels: Vec<[f32; 6]> = (0..256)
+        .map(|p| std::array::from_fn(|i| ((p * 7 + i * 13) % 29) as f32 / 17.0 - 0.2))
+        .collect();
+    let mut lin = vec![[0.0f32; 3]; pixels.len()];
+    let mut ac = vec![[0.0f32; 3]; pixels.len()];
+    let mut out8 = vec![[0u8; 3]; pixels.len()];
+    let mut out16 = vec![[0u16; 3]; pixels.len()];
+    let mut short = vec![[0.0f32; 3]; pixels.len() - 1];
+    let mut results: [Result<(), Error>; 5] = [Ok(()); 5];
+    assert_no_alloc("batch", || {
+        results[0] = set.linear_rgb_batch(&pixels, &mut lin);
+        results[1] = tables::TABLE2_ROW1.ac1c2_batch(&pixels, &mut ac);
+        for display in &displays {
+            for mapping in MAPPINGS {
+                results[2] = set.encode_u8_batch(display, mapping, &pixels, &mut out8);
+                results[3] = set.encode_u16_batch(display, mapping, &pixels, &mut out16);
+            }
+        }
+        // The error path too.
+        results[4] = set.linear_rgb_batch(&pixels, &mut short);
+        black_box((&lin, &ac, &out8, &out16, &results));
+    });
+    assert_eq!(results[..4], [Ok(()); 4]);
+    assert_eq!(
+        results[4],
+        Err(Error::LengthMismatch {
+            inputs: 256,
+            outputs: 255
+        })
+    );
+    // The outputs were really written.
+    assert_eq!(lin[5], set.linear_rgb(&pixels[5]));
+    assert_eq!(
+        out16[9],
+        set.encode_u16(&displays[4], GamutMapping::PreserveA, &pixels[9])
+    );
+}
+
+/// A fixed-size `fmt::Write` target on the stack.
+struct StackText {
+    buf: [u8; 128],
+    len: usize,
+}
+
+impl std::fmt::Write for StackText {
+    fn write_str(&mut self, s: &str) -> std::fmt::Result {
+        let end = self.len + s.len();
+        if end > self.buf.len() {
+            return Err(std::fmt::Error);
+        }
+        self.buf[self.len..end].copy_from_slice(s.as_bytes());
+        self.len = end;
+        Ok(())
+    }
+}
+
+#[test]
+fn dynamic_sets_and_errors_do_not_allocate() {
+    let rules = black_box([tables::A_RULES[3], tables::C1_RULES[3], tables::C2_RULES[2]]);
+    let samples = black_box([0.4f32; 16]);
+    let mut outcome = None;
+    assert_no_alloc("DynamicSet", || {
+        let set = DynamicSet::<16>::from_rules(&rules).expect("11 wavelengths fit");
+        let n = set.len();
+        let sums = black_box(set.ac1c2(&samples[..n]));
+        let mismatch = black_box(set.ac1c2(&samples[..n - 1]));
+        black_box((set.wavelengths_nm(), set.weights(1)));
+        let mut small = DynamicSet::<4>::new();
+        let capacity = small.add_rule(&tables::A_RULES[4]); // 5 > 4
+        let undefined = small.add_rule(&tables::C1_RULES[0]);
+        let added = small.add_rule(&tables::A_RULES[3]);
+        outcome = Some((n, sums, mismatch, capacity, undefined, added));
+    });
+    let (n, sums, mismatch, capacity, undefined, added) = outcome.expect("ran");
+    assert_eq!(n, 11);
+    assert!(sums.expect("right length")[0] > 0.0);
+    assert_eq!(
+        mismatch,
+        Err(Error::LengthMismatch {
+            inputs: 10,
+            outputs: 11
+        })
+    );
+    assert_eq!(capacity, Err(Error::Capacity { capacity: 4 }));
+    assert_eq!(
+        undefined,
+        Err(Error::UndefinedRule {
+            channel: 1,
+            order: 1
+        })
+    );
+    assert_eq!(added, Ok(()));
+    // Error's Display writes without allocating (into a stack buffer).
+    let mut text = StackText {
+        buf: [0; 128],
+        len: 0,
+    };
+    assert_no_alloc("Error Display", || {
+        for e in [
+            Error::LengthMismatch {
+                inputs: 1,
+                outputs: 2,
+            },
+            Error::Capacity { capacity: 4 },
+            Error::UndefinedRule {
+                channel: 2,
+                order: 4,
+            },
+            Error::InvalidLut { channel: 0 },
+        ] {
+            text.len = 0;
+            write!(text, "{e}").expect("fits in 128 bytes");
+            black_box(&text.buf[..text.len]);
+        }
+    });
+    assert_eq!(
+        std::str::from_utf8(&text.buf[..text.len]).unwrap(),
+        "lookup table for channel 0 needs 2 or more finite, non-decreasing entries in 0..=1"
+    );
+}
