@@ -37,6 +37,7 @@ mod batch;
 mod display;
 mod dynamic;
 mod error;
+mod lab;
 mod set;
 
 #[cfg(feature = "defmt")]
@@ -53,6 +54,7 @@ pub use dynamic::DynamicSet;
 pub use error::Error;
 #[cfg(feature = "micromath")]
 pub use fast::ENCODE_FAST_MAX_ERROR;
+pub use lab::{delta_e2000, delta_e76, lab_from_xyz};
 pub use set::{Channel, FoldedSet, GaussRule, RuleStatus, WavelengthSet};
 
 /// `[X, Y, Z]` from `[A, C1, C2]` with [`tables::AC1C2_TO_XYZ`]. IEEE arithmetic: NaN and ±Inf

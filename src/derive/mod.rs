@@ -20,6 +20,7 @@
 
 pub mod codegen;
 pub mod display;
+pub mod evaluate;
 pub mod observer;
 pub mod opponent;
 pub mod quadrature;
