@@ -24,6 +24,7 @@ pub mod evaluate;
 pub mod observer;
 pub mod opponent;
 pub mod quadrature;
+pub mod sensitivity;
 pub mod sets;
 pub mod table;
 

@@ -13,8 +13,9 @@
 //! and line and exit with code 2.
 
 #[allow(dead_code, unused_imports)]
-#[path = "../src/derive/mod.rs"]
+#[path = "../../src/derive/mod.rs"]
 mod derive;
+mod stability;
 
 use std::fmt::Write as _;
 use std::io::Write as _;
@@ -95,7 +96,7 @@ struct Row {
 fn run(args: &Args) -> Result<(), String> {
     let mut progress = Progress {
         step: 0,
-        steps: 6,
+        steps: 7,
         start: Instant::now(),
     };
     progress.next("deriving the rules (CIE 1931 2°, 380-770 nm, 5 nm)");
@@ -199,6 +200,10 @@ fn run(args: &Args) -> Result<(), String> {
     files.push(plot_error_vs_time(out, &rows)?);
     files.push(draw_swatches(out, &d, &cc_under_c, &rows)?);
 
+    progress.next("section 6: stability");
+    let (stability_text, stability_files) = stability::section(out)?;
+    files.extend(stability_files);
+
     if args.csv {
         print!("{section4_csv}");
     } else {
@@ -212,6 +217,8 @@ fn run(args: &Args) -> Result<(), String> {
             &fig7,
             &rows,
         );
+        text.push('\n');
+        text.push_str(&stability_text);
         print!("{text}");
         files.push(write(out, "report.txt", &text)?);
     }
