@@ -82,15 +82,21 @@ impl TransferFunction {
         let e = match *self {
             TransferFunction::Linear => x,
             TransferFunction::Srgb => {
-                if x <= 0.003_130_8 {
+                if x <= SRGB_LINEAR_MAX {
                     12.92 * x
                 } else {
-                    1.055 * libm::powf(x, 1.0 / 2.4) - 0.055
+                    // The standard's rounded constants leave the power branch about 2e-8 below
+                    // the linear one at the join: hold it at the join's value there, so the
+                    // curve never decreases.
+                    let p = 1.055 * libm::pow(f64::from(x), 1.0 / 2.4) - 0.055;
+                    (p as f32).max(12.92 * SRGB_LINEAR_MAX)
                 }
             }
+            // Powers in f64, rounded once: libm's f32 power is not correctly rounded and could
+            // step back by one unit in the last place between neighbouring inputs.
             TransferFunction::Gamma(g) => {
                 if g.is_finite() && g > 0.0 {
-                    libm::powf(x, 1.0 / g)
+                    libm::pow(f64::from(x), 1.0 / f64::from(g)) as f32
                 } else {
                     x
                 }
@@ -112,15 +118,16 @@ impl TransferFunction {
         let x = match *self {
             TransferFunction::Linear => e,
             TransferFunction::Srgb => {
-                if e <= 0.040_45 {
+                if e <= SRGB_ENCODED_LINEAR_MAX {
                     e / 12.92
                 } else {
-                    libm::powf((e + 0.055) / 1.055, 2.4)
+                    let p = libm::pow((f64::from(e) + 0.055) / 1.055, 2.4);
+                    (p as f32).max(SRGB_ENCODED_LINEAR_MAX / 12.92)
                 }
             }
             TransferFunction::Gamma(g) => {
                 if g.is_finite() && g > 0.0 {
-                    libm::powf(e, g)
+                    libm::pow(f64::from(e), f64::from(g)) as f32
                 } else {
                     e
                 }
@@ -130,6 +137,11 @@ impl TransferFunction {
         clamp01(x)
     }
 }
+
+/// The end of the sRGB curve's linear segment, in linear light.
+const SRGB_LINEAR_MAX: f32 = 0.003_130_8;
+/// The end of the linear segment in encoded values.
+const SRGB_ENCODED_LINEAR_MAX: f32 = 0.040_45;
 
 /// Clamps to 0..=1 with NaN → 0.
 #[inline]
