@@ -13,7 +13,14 @@ const CHANNELS: [&str; 3] = ["A", "C1", "C2"];
 pub fn sensitivity(o: &mut String, csv: &mut String) -> Result<(), String> {
     let rows = shifts(&Settings::default(), &standard_variants(), 8).map_err(|e| e.to_string())?;
     writeln!(o, "   6c. sensitivity: how far each rule moves (largest node shift in nm; '-' where either is undefined)").ok();
-    writeln!(o, "   {:<14} {:<3} {}", "variant", "ch", (1..=8).map(|n| format!("{n:>8}")).collect::<String>()).ok();
+    writeln!(
+        o,
+        "   {:<14} {:<3} {}",
+        "variant",
+        "ch",
+        (1..=8).map(|n| format!("{n:>8}")).collect::<String>()
+    )
+    .ok();
     csv.push_str("variant,channel,order,baseline_status,variant_status,max_node_shift_nm,max_weight_change\n");
     for v in standard_variants() {
         for (c, ch) in CHANNELS.iter().enumerate() {
@@ -22,7 +29,14 @@ pub fn sensitivity(o: &mut String, csv: &mut String) -> Result<(), String> {
                 .filter(|r| r.variant == v.name && r.channel == c)
                 .map(|r| match r.max_node_shift_nm {
                     Some(s) => format!("{s:>8.2}"),
-                    None if r.baseline != r.changed => format!("{:>8}", format!("{}>{}", short(r.baseline.as_str()), short(r.changed.as_str()))),
+                    None if r.baseline != r.changed => format!(
+                        "{:>8}",
+                        format!(
+                            "{}>{}",
+                            short(r.baseline.as_str()),
+                            short(r.changed.as_str())
+                        )
+                    ),
                     None => format!("{:>8}", "-"),
                 })
                 .collect();
@@ -38,12 +52,18 @@ pub fn sensitivity(o: &mut String, csv: &mut String) -> Result<(), String> {
             r.order,
             r.baseline.as_str(),
             r.changed.as_str(),
-            r.max_node_shift_nm.map_or(String::new(), |v| format!("{v:.4}")),
-            r.max_weight_change.map_or(String::new(), |v| format!("{v:.3e}"))
+            r.max_node_shift_nm
+                .map_or(String::new(), |v| format!("{v:.4}")),
+            r.max_weight_change
+                .map_or(String::new(), |v| format!("{v:.3e}"))
         )
         .ok();
     }
-    writeln!(o, "   (d>o: defined in the baseline, outside in the variant; c = complex)\n").ok();
+    writeln!(
+        o,
+        "   (d>o: defined in the baseline, outside in the variant; c = complex)\n"
+    )
+    .ok();
     Ok(())
 }
 

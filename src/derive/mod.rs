@@ -26,6 +26,7 @@ pub mod opponent;
 pub mod quadrature;
 pub mod sensitivity;
 pub mod sets;
+pub mod stability;
 pub mod table;
 
 use std::string::String;

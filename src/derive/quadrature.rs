@@ -279,14 +279,17 @@ pub fn gauss_rule(measure: &Measure, rec: &Recurrence, n: usize, range_nm: [f64;
         xs = pairs.iter().map(|p| p.0).collect();
         ws = pairs.iter().map(|p| p.1).collect();
     } else {
-        // Monic Jacobi matrix: x P_k = P_{k+1} + α_k P_k + β_k P_{k−1}, not symmetrizable.
+        // Not symmetrizable when some β_k < 0. The product of the two off-diagonal entries is
+        // all that fixes the characteristic polynomial, so put √|β_k| on both and the sign on
+        // one: balanced, unlike the monic form (1 below, β_k above), whose eigenvalues lose
+        // accuracy when |β_k| is large (C1's β_30 is about −6e4 in the scaled variable).
         let jacobi = DMatrix::from_fn(n, n, |i, j| {
             if i == j {
                 rec.alpha[i]
             } else if j + 1 == i {
-                1.0
+                rec.beta[i].abs().sqrt()
             } else if i + 1 == j {
-                rec.beta[j]
+                rec.beta[j].signum() * rec.beta[j].abs().sqrt()
             } else {
                 0.0
             }
