@@ -23,6 +23,7 @@ pub mod display;
 pub mod evaluate;
 pub mod observer;
 pub mod opponent;
+pub mod prefilter;
 pub mod quadrature;
 pub mod sensitivity;
 pub mod sets;
