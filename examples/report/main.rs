@@ -247,20 +247,7 @@ fn load_stimuli(args: &Args, range: [f64; 2]) -> Result<Vec<Stimulus>, String> {
     }
     let surfaces = match &args.reflectances {
         Some(p) => read(p)?,
-        None => {
-            let mut v = Vec::new();
-            for f in [
-                "data/reflectance_colorchecker_ohta.csv",
-                "data/reflectance_cie_tcs.csv",
-            ] {
-                v.extend(
-                    Spectra::builtin(f)
-                        .and_then(|s| s.curves(range))
-                        .map_err(|e| e.to_string())?,
-                );
-            }
-            v
-        }
+        None => derive::prefilter::default_surfaces(range)?,
     };
     let lights: Vec<Curve> = match &args.illuminants {
         Some(p) => read(p)?,

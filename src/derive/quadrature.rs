@@ -232,6 +232,21 @@ impl Rule {
 /// weights come from its eigenvectors (Golub-Welsch) where every β_k > 0, and from the
 /// Christoffel numbers 1 / Σ_k P_k(x_i)² / ⟨P_k, P_k⟩ where the measure is indefinite.
 pub fn gauss_rule(measure: &Measure, rec: &Recurrence, n: usize, range_nm: [f64; 2]) -> Rule {
+    rule_from_recurrence(rec, n, |x| measure.to_nm(x), 1.0, range_nm)
+}
+
+/// [`gauss_rule`] for a recurrence in any variable: `to_nm` maps the variable to nm (affinely),
+/// and `unit` is the length, in the variable, of one unit of the scaled variable; the complex
+/// tolerance and the Newton step limit (both 1e-6 in the scaled variable) are multiplied by it.
+/// `derive::stability` uses this to form rules from a recurrence in raw nanometres.
+pub fn rule_from_recurrence(
+    rec: &Recurrence,
+    n: usize,
+    to_nm: impl Fn(f64) -> f64,
+    unit: f64,
+    range_nm: [f64; 2],
+) -> Rule {
+    let nm_per_unit = to_nm(1.0) - to_nm(0.0);
     let undefined = |status: Status, reason: String| Rule {
         order: n,
         status,
@@ -296,15 +311,15 @@ pub fn gauss_rule(measure: &Measure, rec: &Recurrence, n: usize, range_nm: [f64;
         });
         let eigenvalues = jacobi.complex_eigenvalues();
         max_imaginary = eigenvalues.iter().map(|z| z.im.abs()).fold(0.0, f64::max);
-        if max_imaginary > COMPLEX_TOLERANCE {
+        if max_imaginary > COMPLEX_TOLERANCE * unit {
             let mut rule = undefined(
                 Status::Complex,
                 std::format!(
                     "complex nodes (largest imaginary part {:.3} nm)",
-                    max_imaginary * measure.half_width
+                    max_imaginary * nm_per_unit
                 ),
             );
-            rule.max_imaginary_nm = max_imaginary * measure.half_width;
+            rule.max_imaginary_nm = max_imaginary * nm_per_unit;
             return rule;
         }
         xs = eigenvalues.iter().map(|z| z.re).collect();
@@ -317,7 +332,7 @@ pub fn gauss_rule(measure: &Measure, rec: &Recurrence, n: usize, range_nm: [f64;
                     break;
                 }
                 let step = p / d;
-                if !step.is_finite() || step.abs() > 1e-6 {
+                if !step.is_finite() || step.abs() > 1e-6 * unit {
                     break;
                 }
                 *x -= step;
@@ -335,7 +350,7 @@ pub fn gauss_rule(measure: &Measure, rec: &Recurrence, n: usize, range_nm: [f64;
             })
             .collect();
     }
-    let nodes_nm: Vec<f64> = xs.iter().map(|&x| measure.to_nm(x)).collect();
+    let nodes_nm: Vec<f64> = xs.iter().map(|&x| to_nm(x)).collect();
     let outside: Vec<f64> = nodes_nm
         .iter()
         .copied()
@@ -367,7 +382,7 @@ pub fn gauss_rule(measure: &Measure, rec: &Recurrence, n: usize, range_nm: [f64;
         status,
         nodes_nm,
         weights: ws,
-        max_imaginary_nm: max_imaginary * measure.half_width,
+        max_imaginary_nm: max_imaginary * nm_per_unit,
         reason,
     }
 }

@@ -24,11 +24,11 @@
 use std::string::String;
 use std::vec::Vec;
 
-use nalgebra::{DMatrix, DVector, SymmetricEigen};
+use nalgebra::{DMatrix, DVector};
 
 use super::quadrature::{
-    gauss_rule, interpolatory_weights, stieltjes, Measure, Recurrence, Rule, Status,
-    COMPLEX_TOLERANCE, VANISHING_NORM,
+    gauss_rule, interpolatory_weights, rule_from_recurrence, stieltjes, Measure, Recurrence, Rule,
+    Status, COMPLEX_TOLERANCE, VANISHING_NORM,
 };
 use super::{derive_with, Derivation, Error, Observer, Settings};
 
@@ -109,7 +109,7 @@ pub fn raw_nm_recurrence(measure: &Measure, order: usize) -> RawNmRecurrence {
     let recurrence = raw_nm_recurrence_only(measure, order);
     let range_nm = range_of(measure);
     let rules = (1..=order)
-        .map(|n| jacobi_rule(&recurrence, n, |x| x, measure.half_width, range_nm))
+        .map(|n| rule_from_recurrence(&recurrence, n, |x| x, measure.half_width, range_nm))
         .collect();
     RawNmRecurrence { recurrence, rules }
 }
@@ -290,118 +290,6 @@ fn real_rule(
         max_imaginary_nm,
         reason,
     }
-}
-
-/// [`gauss_rule`]'s construction for a recurrence in any variable: `to_nm` maps the variable to
-/// nm, and `unit` is the length in the variable's units of one unit of the scaled variable, by
-/// which [`gauss_rule`]'s complex tolerance and Newton step limit (both 1e-6) are multiplied.
-fn jacobi_rule(
-    rec: &Recurrence,
-    n: usize,
-    to_nm: impl Fn(f64) -> f64,
-    unit: f64,
-    range_nm: [f64; 2],
-) -> Rule {
-    if n == 0 {
-        return undefined_rule(0, Status::VanishingNorm, "order 0 has no nodes".into());
-    }
-    if rec.alpha.len() < n {
-        return undefined_rule(
-            n,
-            Status::VanishingNorm,
-            std::format!("a norm vanishes, so P_{n} does not exist"),
-        );
-    }
-    let complex_tolerance = COMPLEX_TOLERANCE * unit;
-    let step_limit = 1e-6 * unit;
-    let definite = rec.beta[1..n].iter().all(|&b| b > 0.0);
-    let (xs, ws, max_imaginary): (Vec<f64>, Vec<f64>, f64);
-    if definite {
-        let jacobi = DMatrix::from_fn(n, n, |i, j| {
-            if i == j {
-                rec.alpha[i]
-            } else if i + 1 == j {
-                rec.beta[j].sqrt()
-            } else if j + 1 == i {
-                rec.beta[i].sqrt()
-            } else {
-                0.0
-            }
-        });
-        let eig = SymmetricEigen::new(jacobi);
-        let mut pairs: Vec<(f64, f64)> = (0..n)
-            .map(|i| {
-                let v0 = eig.eigenvectors[(0, i)];
-                (eig.eigenvalues[i], rec.beta[0] * v0 * v0)
-            })
-            .collect();
-        pairs.sort_by(|a, b| a.0.total_cmp(&b.0));
-        xs = pairs.iter().map(|p| p.0).collect();
-        ws = pairs.iter().map(|p| p.1).collect();
-        max_imaginary = 0.0;
-    } else {
-        let jacobi = DMatrix::from_fn(n, n, |i, j| {
-            if i == j {
-                rec.alpha[i]
-            } else if j + 1 == i {
-                1.0
-            } else if i + 1 == j {
-                rec.beta[j]
-            } else {
-                0.0
-            }
-        });
-        let eigenvalues = jacobi.complex_eigenvalues();
-        max_imaginary = eigenvalues.iter().map(|z| z.im.abs()).fold(0.0, f64::max);
-        if exceeds(max_imaginary, complex_tolerance) {
-            let scale = to_nm(1.0) - to_nm(0.0);
-            let mut rule = undefined_rule(
-                n,
-                Status::Complex,
-                std::format!(
-                    "complex nodes (largest imaginary part {:.3} nm)",
-                    max_imaginary * scale
-                ),
-            );
-            rule.max_imaginary_nm = max_imaginary * scale;
-            return rule;
-        }
-        let mut real: Vec<f64> = eigenvalues.iter().map(|z| z.re).collect();
-        real.sort_by(f64::total_cmp);
-        for x in real.iter_mut() {
-            for _ in 0..3 {
-                let (p, d) = rec.value_and_derivative(n, *x);
-                if d == 0.0 || !d.is_finite() {
-                    break;
-                }
-                let step = p / d;
-                if !step.is_finite() || step.abs() > step_limit {
-                    break;
-                }
-                *x -= step;
-            }
-        }
-        ws = real
-            .iter()
-            .map(|&x| {
-                let p = rec.evaluate(n - 1, x);
-                let w = 1.0
-                    / p.iter()
-                        .zip(&rec.norm)
-                        .map(|(pk, h)| pk * pk / h)
-                        .sum::<f64>();
-                if w.is_finite() {
-                    w
-                } else {
-                    f64::NAN
-                }
-            })
-            .collect();
-        xs = real;
-    }
-    let scale = to_nm(1.0) - to_nm(0.0);
-    let nodes_nm: Vec<f64> = xs.iter().map(|&x| to_nm(x)).collect();
-    real_rule(n, nodes_nm, ws, max_imaginary * scale, range_nm)
 }
 
 // ---------------------------------------------------------------------------------------------
