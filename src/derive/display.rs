@@ -9,6 +9,8 @@ use nalgebra::Matrix3;
 /// How a display encodes linear light.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Transfer {
+    /// No encoding.
+    Linear,
     /// The sRGB piecewise curve (IEC 61966-2-1).
     Srgb,
     /// A pure power law: encoded = linear^(1/γ).

@@ -18,13 +18,16 @@
 //! [`quadrature`] runs the recurrence (Eq. 16) and forms each order's rule; [`sets`] merges rules
 //! into wavelength sets (Table 2); [`codegen`] writes the tables the runtime includes.
 
+pub mod catalog;
 pub mod codegen;
 pub mod display;
 pub mod evaluate;
 pub mod observer;
 pub mod opponent;
+pub mod plan;
 pub mod prefilter;
 pub mod quadrature;
+pub mod scene;
 pub mod sensitivity;
 pub mod sets;
 pub mod stability;

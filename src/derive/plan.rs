@@ -1,0 +1,488 @@
+//! The planner: the set with the fewest distinct wavelengths whose CIEDE2000 error on given
+//! spectra meets a budget, among every set the crate can build ([`catalog::colour_set_names`]).
+//!
+//! ```
+//! # #[cfg(feature = "derive")] {
+//! use spectral_quadrature::derive::{derive, evaluate, plan, Settings};
+//! let d = derive(&Settings::default()).unwrap();
+//! let range = d.settings.range_nm;
+//! let cc = evaluate::Spectra::builtin("data/reflectance_colorchecker_ohta.csv")
+//!     .and_then(|s| s.curves(range))
+//!     .unwrap();
+//! let c = evaluate::builtin_illuminant("C", range).unwrap();
+//! let stimuli = evaluate::surfaces_under_lights(&cc[..4], &[c]);
+//! let p = plan::plan(&d, &stimuli, 1.0, plan::Metric::Mean).unwrap();
+//! assert!(p.chosen.mean_de00 <= 1.0);
+//! let toml = plan::scene_toml(&p, d.settings.observer.name(), &["SRGB"], "doc example");
+//! assert!(toml.contains(&p.chosen.name));
+//! # }
+//! ```
+//!
+//! Every candidate is measured as the report measures sets: against the full 1 nm integration
+//! of the derivation's observer over its range, with CIELAB's white integrated by the same
+//! rule as the stimulus ([`evaluate::Reference`]).
+
+use std::string::{String, ToString};
+use std::vec::Vec;
+
+use super::catalog;
+use super::evaluate::{self, EvalSet, Reference, Stimulus};
+use super::Derivation;
+
+/// Which statistic of ΔE00 over the stimuli the budget bounds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Metric {
+    /// The mean ΔE00 over the stimuli.
+    Mean,
+    /// The largest ΔE00 over the stimuli.
+    Max,
+}
+
+impl Metric {
+    /// `"mean"` or `"max"`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Metric::Mean => "mean",
+            Metric::Max => "max",
+        }
+    }
+}
+
+impl core::fmt::Display for Metric {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+impl core::str::FromStr for Metric {
+    type Err = String;
+
+    /// `mean` or `max` (any case).
+    fn from_str(s: &str) -> Result<Metric, String> {
+        match s.to_ascii_lowercase().as_str() {
+            "mean" => Ok(Metric::Mean),
+            "max" => Ok(Metric::Max),
+            _ => Err(std::format!("bad metric {s:?}: expected mean or max")),
+        }
+    }
+}
+
+/// One set the crate can build, measured on the stimuli.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Candidate {
+    /// The set's name ([`catalog::resolve`] builds it).
+    pub name: String,
+    /// Its number of distinct wavelengths (the samples a renderer takes per pixel).
+    pub wavelengths: usize,
+    /// Mean ΔE00 over the stimuli.
+    pub mean_de00: f64,
+    /// Largest ΔE00 over the stimuli.
+    pub max_de00: f64,
+    /// Mean ΔE*ab over the stimuli.
+    pub mean_de76: f64,
+    /// Largest ΔE*ab over the stimuli.
+    pub max_de76: f64,
+}
+
+impl Candidate {
+    /// The ΔE00 statistic the budget bounds.
+    pub fn error(&self, metric: Metric) -> f64 {
+        match metric {
+            Metric::Mean => self.mean_de00,
+            Metric::Max => self.max_de00,
+        }
+    }
+
+    /// Whether the set meets the budget (`error <= budget`; a NaN error never does).
+    pub fn meets(&self, budget: f64, metric: Metric) -> bool {
+        self.error(metric) <= budget
+    }
+}
+
+/// The planner's answer.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Plan {
+    /// The set with the fewest wavelengths that meets the budget (ties: lower error, then name).
+    pub chosen: Candidate,
+    /// The set with the lowest error among those with fewer wavelengths than the chosen one:
+    /// it misses the budget, and shows by how much. `None` when no set has fewer wavelengths.
+    pub runner_up_with_fewer: Option<Candidate>,
+    /// How many sets were measured.
+    pub evaluated: usize,
+    /// The budget on ΔE00.
+    pub budget: f64,
+    /// Which statistic of ΔE00 the budget bounds.
+    pub metric: Metric,
+    /// How many stimuli the sets were measured on.
+    pub stimuli: usize,
+}
+
+/// Why no set could be chosen.
+#[derive(Debug, Clone, PartialEq)]
+pub enum PlanError {
+    /// The budget is not a finite number greater than 0.
+    BadBudget(f64),
+    /// There were no candidates to choose from.
+    NoCandidates,
+    /// No candidate meets the budget; `best` has the lowest error of all (ties: fewer
+    /// wavelengths, then name).
+    Unreachable {
+        /// The budget on ΔE00.
+        budget: f64,
+        /// Which statistic the budget bounds.
+        metric: Metric,
+        /// The set with the lowest error.
+        best: Candidate,
+        /// How many sets were measured.
+        evaluated: usize,
+    },
+}
+
+impl core::fmt::Display for PlanError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            PlanError::BadBudget(b) => write!(
+                f,
+                "bad budget: {b}: the ΔE00 budget must be a finite number greater than 0"
+            ),
+            PlanError::NoCandidates => f.write_str("no sets to choose from"),
+            PlanError::Unreachable {
+                budget,
+                metric,
+                best,
+                evaluated,
+            } => write!(
+                f,
+                "no set meets {metric} ΔE00 <= {budget}: the best achievable is {metric} ΔE00 {} by {} with {} wavelengths ({evaluated} sets evaluated)",
+                fmt_de(best.error(*metric)),
+                best.name,
+                best.wavelengths
+            ),
+        }
+    }
+}
+
+impl std::error::Error for PlanError {}
+
+/// Checks that a budget is a finite number greater than 0.
+pub fn check_budget(budget: f64) -> Result<(), PlanError> {
+    if budget.is_finite() && budget > 0.0 {
+        Ok(())
+    } else {
+        Err(PlanError::BadBudget(budget))
+    }
+}
+
+/// A ΔE for messages: three decimals, or three significant digits below 0.01.
+pub fn fmt_de(x: f64) -> String {
+    if x.is_finite() && x != 0.0 && x.abs() < 0.01 {
+        std::format!("{x:.3e}")
+    } else {
+        std::format!("{x:.3}")
+    }
+}
+
+/// Measures every set of [`catalog::colour_set_names`] on `stimuli`, in the catalogue's order,
+/// against the full 1 nm integration of `d`'s observer over its range. The sets are built and
+/// measured on every available core (scoped threads; no other dependency, so build scripts can
+/// call it too).
+///
+/// Errors: no stimuli, a stimulus whose reference colour is not finite (a light that is zero
+/// everywhere), a set the catalogue cannot build.
+pub fn evaluate_all(d: &Derivation, stimuli: &[Stimulus]) -> Result<Vec<Candidate>, String> {
+    if stimuli.is_empty() {
+        return Err("no stimuli to measure the sets on".into());
+    }
+    let reference = Reference::new(
+        evaluate::full_integration(&d.observer, d.settings.range_nm, 1.0)?,
+        stimuli,
+    );
+    for (s, lab) in stimuli.iter().zip(&reference.labs) {
+        if lab.iter().any(|v| !v.is_finite()) {
+            return Err(std::format!(
+                "stimulus {:?}: its reference colour is not finite (CIELAB {lab:?}); is the light zero?",
+                s.name
+            ));
+        }
+    }
+    let names = catalog::colour_set_names(d);
+    let threads = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .clamp(1, names.len().max(1));
+    let chunk = names.len().div_ceil(threads).max(1);
+    let reference = &reference;
+    let parts: Vec<Result<Vec<Candidate>, String>> = std::thread::scope(|scope| {
+        let handles: Vec<_> = names
+            .chunks(chunk)
+            .map(|part| {
+                scope.spawn(move || {
+                    part.iter()
+                        .map(|name| candidate(d, reference, stimuli, name))
+                        .collect::<Result<Vec<_>, String>>()
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| {
+                h.join()
+                    .unwrap_or_else(|_| Err("a set evaluation thread panicked".to_string()))
+            })
+            .collect()
+    });
+    let mut out = Vec::with_capacity(names.len());
+    for part in parts {
+        out.extend(part?);
+    }
+    Ok(out)
+}
+
+/// Builds the set `name` and measures it.
+fn candidate(
+    d: &Derivation,
+    reference: &Reference,
+    stimuli: &[Stimulus],
+    name: &str,
+) -> Result<Candidate, String> {
+    let set = catalog::resolve(d, name)?;
+    let eval = EvalSet::from_weights(
+        &set.name,
+        "catalog",
+        None,
+        &set.wavelengths_nm,
+        &set.weights,
+        &d.opponent.ac1c2_to_xyz,
+    );
+    let e = reference.errors(&eval, stimuli);
+    Ok(Candidate {
+        name: set.name,
+        wavelengths: eval.len(),
+        mean_de00: e.mean_de00(),
+        max_de00: e.max_de00(),
+        mean_de76: e.mean_de76(),
+        max_de76: e.max_de76(),
+    })
+}
+
+/// An error for ordering: NaN last.
+fn key(c: &Candidate, metric: Metric) -> f64 {
+    let e = c.error(metric);
+    if e.is_nan() {
+        f64::INFINITY
+    } else {
+        e
+    }
+}
+
+/// The set with the fewest distinct wavelengths whose error meets `error <= budget`; ties go to
+/// the lower error, then to the name. If none does, [`PlanError::Unreachable`] names the budget
+/// and the best achievable error, by which set and with how many wavelengths.
+pub fn choose(
+    candidates: &[Candidate],
+    budget: f64,
+    metric: Metric,
+) -> Result<&Candidate, PlanError> {
+    check_budget(budget)?;
+    if candidates.is_empty() {
+        return Err(PlanError::NoCandidates);
+    }
+    let chosen = candidates
+        .iter()
+        .filter(|c| c.meets(budget, metric))
+        .min_by(|a, b| {
+            a.wavelengths
+                .cmp(&b.wavelengths)
+                .then(key(a, metric).total_cmp(&key(b, metric)))
+                .then_with(|| a.name.cmp(&b.name))
+        });
+    match chosen {
+        Some(c) => Ok(c),
+        None => Err(PlanError::Unreachable {
+            budget,
+            metric,
+            best: best(candidates.iter(), metric)
+                .expect("candidates is not empty")
+                .clone(),
+            evaluated: candidates.len(),
+        }),
+    }
+}
+
+/// The candidate with the lowest error (ties: fewer wavelengths, then name).
+pub fn best<'a>(
+    candidates: impl IntoIterator<Item = &'a Candidate>,
+    metric: Metric,
+) -> Option<&'a Candidate> {
+    candidates.into_iter().min_by(|a, b| {
+        key(a, metric)
+            .total_cmp(&key(b, metric))
+            .then(a.wavelengths.cmp(&b.wavelengths))
+            .then_with(|| a.name.cmp(&b.name))
+    })
+}
+
+/// The best candidate at each number of wavelengths (see [`best`]), by ascending count.
+pub fn best_per_count(candidates: &[Candidate], metric: Metric) -> Vec<&Candidate> {
+    let mut counts: Vec<usize> = candidates.iter().map(|c| c.wavelengths).collect();
+    counts.sort_unstable();
+    counts.dedup();
+    counts
+        .into_iter()
+        .filter_map(|n| best(candidates.iter().filter(|c| c.wavelengths == n), metric))
+        .collect()
+}
+
+/// [`choose`] on measured candidates, with the best set with fewer wavelengths beside it.
+/// `stimuli` is how many stimuli they were measured on (for the scene's comment).
+pub fn plan_from(
+    candidates: &[Candidate],
+    stimuli: usize,
+    budget: f64,
+    metric: Metric,
+) -> Result<Plan, PlanError> {
+    let chosen = choose(candidates, budget, metric)?;
+    let runner_up = best(
+        candidates
+            .iter()
+            .filter(|c| c.wavelengths < chosen.wavelengths),
+        metric,
+    );
+    Ok(Plan {
+        chosen: chosen.clone(),
+        runner_up_with_fewer: runner_up.cloned(),
+        evaluated: candidates.len(),
+        budget,
+        metric,
+        stimuli,
+    })
+}
+
+/// The set with the fewest distinct wavelengths whose ΔE00 (`metric`) on `stimuli` meets
+/// `budget`, among every set the crate can build: [`evaluate_all`] then [`plan_from`]. The
+/// budget is checked first ("bad budget: ..." unless finite and greater than 0).
+pub fn plan(
+    d: &Derivation,
+    stimuli: &[Stimulus],
+    budget: f64,
+    metric: Metric,
+) -> Result<Plan, String> {
+    check_budget(budget).map_err(|e| e.to_string())?;
+    let candidates = evaluate_all(d, stimuli)?;
+    plan_from(&candidates, stimuli.len(), budget, metric).map_err(|e| e.to_string())
+}
+
+impl Plan {
+    /// One sentence saying what was chosen and why: the set, its wavelengths, the budget, the
+    /// measured error, and what the best set with fewer wavelengths measures.
+    pub fn sentence(&self) -> String {
+        let c = &self.chosen;
+        let m = self.metric;
+        let mut s = std::format!(
+            "{} ({} wavelengths) meets {m} ΔE00 <= {} on {} (measured {}; mean {}, max {}); ",
+            c.name,
+            c.wavelengths,
+            self.budget,
+            if self.stimuli == 1 {
+                "1 stimulus".to_string()
+            } else {
+                std::format!("{} stimuli", self.stimuli)
+            },
+            fmt_de(c.error(m)),
+            fmt_de(c.mean_de00),
+            fmt_de(c.max_de00),
+        );
+        match &self.runner_up_with_fewer {
+            Some(r) => s.push_str(&std::format!(
+                "the best set with fewer wavelengths, {} ({} wavelengths), measures {}",
+                r.name,
+                r.wavelengths,
+                fmt_de(r.error(m))
+            )),
+            None => s.push_str("no set has fewer wavelengths"),
+        }
+        s.push_str(&std::format!(" ({} sets evaluated).", self.evaluated));
+        s
+    }
+}
+
+/// The stimuli of spectra files, on `range_nm`: every reflectance under every illuminant, or
+/// lights seen directly (`emission`). Give either `emission` or both of the others. Errors name
+/// the file and line ([`super::DataError`]).
+pub fn stimuli_from_files(
+    range_nm: [f64; 2],
+    reflectances: Option<&std::path::Path>,
+    illuminants: Option<&std::path::Path>,
+    emission: Option<&std::path::Path>,
+) -> Result<Vec<Stimulus>, String> {
+    let read = |p: &std::path::Path| {
+        evaluate::Spectra::read(p)
+            .and_then(|s| s.curves(range_nm))
+            .map_err(|e| e.to_string())
+    };
+    match (reflectances, illuminants, emission) {
+        (None, None, Some(e)) => Ok(evaluate::emissions(&read(e)?)),
+        (Some(r), Some(i), None) => Ok(evaluate::surfaces_under_lights(&read(r)?, &read(i)?)),
+        _ => Err("give reflectances and illuminants, or emission".into()),
+    }
+}
+
+/// A TOML basic string: quoted, with `"`, `\` and control characters escaped.
+pub fn toml_string(s: &str) -> String {
+    let mut out = String::with_capacity(s.len() + 2);
+    out.push('"');
+    for ch in s.chars() {
+        match ch {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            '\n' => out.push_str("\\n"),
+            '\t' => out.push_str("\\t"),
+            '\r' => out.push_str("\\r"),
+            c if (c as u32) < 0x20 || c as u32 == 0x7f => {
+                out.push_str(&std::format!("\\u{:04X}", c as u32))
+            }
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    out
+}
+
+/// Text for a TOML comment: one line (line breaks and other control characters become spaces).
+fn comment_text(s: &str) -> String {
+    s.chars()
+        .map(|c| if c.is_control() { ' ' } else { c })
+        .collect()
+}
+
+/// A scene file (TOML) naming the chosen set: comment lines saying how it was chosen and what
+/// it measures (and what the best set with fewer wavelengths measures), then the keys
+/// `observer`, `sets` and `displays`:
+///
+/// ```toml
+/// # Scene written by the planner: <note>
+/// # AC1C2_3_2_1 (6 wavelengths) meets mean ΔE00 <= 1 on 38 stimuli (measured ...); the best ...
+/// observer = "cie1931_2deg"
+/// sets = ["AC1C2_3_2_1"]
+/// displays = ["SRGB"]
+/// ```
+pub fn scene_toml(plan: &Plan, observer_name: &str, displays: &[&str], note: &str) -> String {
+    let mut s = String::new();
+    let note = comment_text(note);
+    if note.trim().is_empty() {
+        s.push_str("# Scene written by the planner.\n");
+    } else {
+        s.push_str(&std::format!(
+            "# Scene written by the planner: {}\n",
+            note.trim()
+        ));
+    }
+    s.push_str(&std::format!("# {}\n", plan.sentence()));
+    s.push_str(&std::format!("observer = {}\n", toml_string(observer_name)));
+    s.push_str(&std::format!(
+        "sets = [{}]\n",
+        toml_string(&plan.chosen.name)
+    ));
+    let displays: Vec<String> = displays.iter().map(|d| toml_string(d)).collect();
+    s.push_str(&std::format!("displays = [{}]\n", displays.join(", ")));
+    s
+}
