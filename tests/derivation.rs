@@ -718,3 +718,20 @@ fn table2_sets_integrate_constants() {
         }
     }
 }
+
+#[test]
+fn a_nan_node_is_never_defined() {
+    // A degenerate eigen solve could return NaN; such a rule must not be baked as defined.
+    let r = derive::quadrature::real_rule(
+        2,
+        vec![f64::NAN, 500.0],
+        vec![1.0, 1.0],
+        0.0,
+        [380.0, 770.0],
+    );
+    assert_eq!(r.status, derive::Status::Outside);
+    assert!(r.reason.contains("NaN"), "{}", r.reason);
+    let ok =
+        derive::quadrature::real_rule(2, vec![380.0, 770.0], vec![1.0, 1.0], 0.0, [380.0, 770.0]);
+    assert_eq!(ok.status, derive::Status::Defined);
+}

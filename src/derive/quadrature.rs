@@ -351,10 +351,26 @@ pub fn rule_from_recurrence(
             .collect();
     }
     let nodes_nm: Vec<f64> = xs.iter().map(|&x| to_nm(x)).collect();
+    if !definite {
+        ws.iter_mut()
+            .for_each(|w| *w = if w.is_finite() { *w } else { f64::NAN });
+    }
+    real_rule(n, nodes_nm, ws, max_imaginary * nm_per_unit, range_nm)
+}
+
+/// A rule with real nodes, classified `Defined` when every node lies in the range and
+/// `Outside` otherwise; a NaN node counts as outside, so no rule with one is ever `Defined`.
+pub fn real_rule(
+    order: usize,
+    nodes_nm: Vec<f64>,
+    weights: Vec<f64>,
+    max_imaginary_nm: f64,
+    range_nm: [f64; 2],
+) -> Rule {
     let outside: Vec<f64> = nodes_nm
         .iter()
         .copied()
-        .filter(|&l| l < range_nm[0] || l > range_nm[1])
+        .filter(|&l| !(l >= range_nm[0] && l <= range_nm[1]))
         .collect();
     let (status, reason) = if outside.is_empty() {
         (Status::Defined, String::new())
@@ -373,16 +389,12 @@ pub fn rule_from_recurrence(
             ),
         )
     };
-    if !definite {
-        ws.iter_mut()
-            .for_each(|w| *w = if w.is_finite() { *w } else { f64::NAN });
-    }
     Rule {
-        order: n,
+        order,
         status,
         nodes_nm,
-        weights: ws,
-        max_imaginary_nm: max_imaginary * nm_per_unit,
+        weights,
+        max_imaginary_nm,
         reason,
     }
 }

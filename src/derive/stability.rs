@@ -27,8 +27,8 @@ use std::vec::Vec;
 use nalgebra::{DMatrix, DVector};
 
 use super::quadrature::{
-    gauss_rule, interpolatory_weights, rule_from_recurrence, stieltjes, Measure, Recurrence, Rule,
-    Status, COMPLEX_TOLERANCE, VANISHING_NORM,
+    gauss_rule, interpolatory_weights, real_rule, rule_from_recurrence, stieltjes, Measure,
+    Recurrence, Rule, Status, COMPLEX_TOLERANCE, VANISHING_NORM,
 };
 use super::{derive_with, Derivation, Error, Observer, Settings};
 
@@ -248,46 +248,6 @@ fn undefined_rule(order: usize, status: Status, reason: String) -> Rule {
         nodes_nm: Vec::new(),
         weights: Vec::new(),
         max_imaginary_nm: 0.0,
-        reason,
-    }
-}
-
-/// A rule with real nodes, classified `Defined` or `Outside` as [`gauss_rule`] does.
-fn real_rule(
-    order: usize,
-    nodes_nm: Vec<f64>,
-    weights: Vec<f64>,
-    max_imaginary_nm: f64,
-    range_nm: [f64; 2],
-) -> Rule {
-    let outside: Vec<f64> = nodes_nm
-        .iter()
-        .copied()
-        .filter(|&l| !(l >= range_nm[0] && l <= range_nm[1]))
-        .collect();
-    let (status, reason) = if outside.is_empty() {
-        (Status::Defined, String::new())
-    } else {
-        (
-            Status::Outside,
-            std::format!(
-                "node(s) outside {}-{} nm: {}",
-                range_nm[0],
-                range_nm[1],
-                outside
-                    .iter()
-                    .map(|l| std::format!("{l:.1}"))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ),
-        )
-    };
-    Rule {
-        order,
-        status,
-        nodes_nm,
-        weights,
-        max_imaginary_nm,
         reason,
     }
 }
