@@ -1,10 +1,16 @@
 //! Prints the baked tables beside the paper's printed values: Eq. 9, Eq. 10, Table 1a (orders
-//! 1-8) with differences, Table 1b (orders 9-16, lost in the transcription) and Table 2's sets.
+//! 1-8) with differences, Table 1b (orders 9-16, lost in the transcription) and Table 2's sets;
+//! then the AC1C2 matrices, eigenvalues and rules of the other observers (CIE 1964 10°, CIE 2015
+//! 2° and 10°), derived here.
 //!
 //! ```text
 //! cargo run --release --example tables          # side by side
 //! cargo run --release --example tables -- --csv # every rule as CSV
 //! ```
+
+#[allow(dead_code, unused_imports)]
+#[path = "../src/derive/mod.rs"]
+mod derive;
 
 use clap::Parser;
 use spectral_quadrature::paper::{self, Entry};
@@ -27,8 +33,21 @@ fn main() {
     }
 }
 
+/// The other observers, derived here in f64 with their default settings.
+fn other_observers() -> Vec<derive::Derivation> {
+    derive::ObserverId::ALL
+        .into_iter()
+        .filter(|id| id.name() != tables::OBSERVER)
+        .map(|id| {
+            derive::derive(&derive::Settings::for_observer(id))
+                .unwrap_or_else(|e| panic!("deriving {}: {e}", id.name()))
+        })
+        .collect()
+}
+
 fn print_csv() {
     println!("observer,channel,order,status,index,wavelength_nm,weight");
+    // The baked observer's rules are the crate's f32 consts; the others are derived in f64.
     for rules in tables::RULES {
         for rule in rules {
             let head = format!(
@@ -44,6 +63,76 @@ fn print_csv() {
                 }
             } else {
                 println!("{head},,,");
+            }
+        }
+    }
+    for d in other_observers() {
+        for (c, rules) in d.rules.iter().enumerate() {
+            for rule in rules {
+                let head = format!(
+                    "{},{},{},{}",
+                    d.settings.observer.name(),
+                    Channel::ALL[c].name(),
+                    rule.order,
+                    rule.status.as_str()
+                );
+                if rule.is_defined() {
+                    for (i, (l, w)) in rule.nodes_nm.iter().zip(&rule.weights).enumerate() {
+                        println!("{head},{i},{l},{w}");
+                    }
+                } else {
+                    println!("{head},,,");
+                }
+            }
+        }
+    }
+}
+
+fn print_other_observers() {
+    println!();
+    println!("Other observers, derived with their default settings (cone matrices: see ObserverId::cone_matrix)");
+    for d in other_observers() {
+        let s = &d.settings;
+        let e = d.opponent.eigenvalues;
+        println!();
+        println!(
+            "  {} ({}-{} nm, every {} nm)",
+            s.observer.name(),
+            s.range_nm[0],
+            s.range_nm[1],
+            s.step_nm
+        );
+        for (r, name) in ["A ", "C1", "C2"].iter().enumerate() {
+            let m = d.opponent.xyz_to_ac1c2[r];
+            println!("    {name}  {:8.4} {:8.4} {:8.4}", m[0], m[1], m[2]);
+        }
+        println!(
+            "    eigenvalues {:.4} : {:.4} : {:.6} (A/C1 {:.1}, C1/C2 {:.1})",
+            e[0],
+            e[1],
+            e[2],
+            e[0] / e[1],
+            e[1] / e[2]
+        );
+        for (c, rules) in d.rules.iter().enumerate() {
+            let cells: Vec<String> = rules
+                .iter()
+                .take(8)
+                .map(|r| {
+                    if r.is_defined() {
+                        r.nodes_nm
+                            .iter()
+                            .map(|l| format!("{l:.1}"))
+                            .collect::<Vec<_>>()
+                            .join(" ")
+                    } else {
+                        format!("({})", r.status.as_str())
+                    }
+                })
+                .collect();
+            println!("    {} orders 1-8:", Channel::ALL[c].name());
+            for (n, cell) in cells.iter().enumerate() {
+                println!("      {:>2}  {cell}", n + 1);
             }
         }
     }
@@ -209,6 +298,7 @@ fn print_side_by_side() {
         a,
         paper::TABLE2_ROW2_A.weights
     );
+    print_other_observers();
 }
 
 fn print_rule(rule: &GaussRule) {

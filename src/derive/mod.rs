@@ -79,6 +79,17 @@ impl Default for Settings {
 }
 
 impl Settings {
+    /// The default settings for another observer: its cone matrix
+    /// ([`ObserverId::cone_matrix`]) and range ([`ObserverId::default_range_nm`]).
+    pub fn for_observer(observer: ObserverId) -> Settings {
+        Settings {
+            observer,
+            range_nm: observer.default_range_nm(),
+            cone_matrix: observer.cone_matrix(),
+            ..Settings::default()
+        }
+    }
+
     /// The settings that reproduce the paper's printed tables most closely: the defaults with
     /// the observer rounded to 5 decimals. Against Table 1a this lowers the largest node
     /// difference from 0.57 to 0.39 nm and the mean from 0.090 to 0.069 nm (4 decimals is far

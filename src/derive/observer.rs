@@ -62,6 +62,81 @@ impl ObserverId {
         }
     }
 
+    /// XYZ → cone fundamentals (rows s̄, m̄, l̄) for this observer.
+    ///
+    /// * CIE 1931 2°: Eq. 1 of the paper (Vos-Walraven fundamentals). They satisfy the paper's
+    ///   Eq. 21: l̄(570)/m̄(570) = 2 and s̄/(m̄ + l̄) = 1/16 at 475.5 nm.
+    /// * CIE 2015 2° and 10°: the CIE 2006 cone fundamentals (the inverse of CIE 170-2's LMS →
+    ///   XYZ matrix), scaled by the same Eq. 21 so that the three cones weigh as in the paper,
+    ///   with m̄ + l̄ peaking at 1. (Each CIE 2006 fundamental peaks at 1 on its own, which
+    ///   would give S the weight of L and M.)
+    /// * CIE 1964 10°: no standard cone fundamentals are defined on its x̄ȳz̄, so Eq. 1 stands in
+    ///   as an approximation; set [`Settings::cone_matrix`](super::Settings::cone_matrix) to use
+    ///   others.
+    pub fn cone_matrix(self) -> [[f64; 3]; 3] {
+        match self {
+            ObserverId::Cie1931_2deg | ObserverId::Cie1964_10deg => {
+                super::opponent::MEYER_EQ1_XYZ_TO_SML
+            }
+            ObserverId::Cie2015_2deg => self.scaled_by_eq21(&[
+                [1.947_354_69, -1.414_451_23, 0.364_763_27],
+                [0.689_902_72, 0.348_321_89, 0.0],
+                [0.0, 0.0, 1.934_853_43],
+            ]),
+            ObserverId::Cie2015_10deg => self.scaled_by_eq21(&[
+                [1.939_864_43, -1.346_643_59, 0.430_449_35],
+                [0.692_839_32, 0.349_675_67, 0.0],
+                [0.0, 0.0, 2.146_879_45],
+            ]),
+        }
+    }
+
+    /// XYZ → (s̄, m̄, l̄) from an LMS → XYZ matrix (columns L, M, S), each cone scaled so that
+    /// l̄(570)/m̄(570) = 2 and s̄/(m̄ + l̄) = 1/16 at 475.5 nm (Eq. 21), and m̄ + l̄ peaks at 1.
+    fn scaled_by_eq21(self, lms_to_xyz: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
+        let inv = nalgebra::Matrix3::from_fn(|i, j| lms_to_xyz[i][j])
+            .try_inverse()
+            .expect("CIE 170-2's matrix is invertible");
+        let obs = self.load().expect("the embedded table parses");
+        let lms = |v: &[f64; 3]| [0, 1, 2].map(|r| (0..3).map(|k| inv[(r, k)] * v[k]).sum::<f64>());
+        let at = |nm: f64| {
+            let i = obs.wavelengths.partition_point(|&l| l < nm);
+            let (l0, l1) = (obs.wavelengths[i - 1], obs.wavelengths[i]);
+            let f = if nm == l1 { 1.0 } else { (nm - l0) / (l1 - l0) };
+            let (a, b) = (lms(&obs.xyz[i - 1]), lms(&obs.xyz[i]));
+            [0, 1, 2].map(|c| a[c] + f * (b[c] - a[c]))
+        };
+        let [l570, m570, _] = at(570.0);
+        let (a_l, a_m) = (1.0, l570 / (2.0 * m570));
+        let [l475, m475, s475] = at(475.5);
+        let a_s = (a_l * l475 + a_m * m475) / (16.0 * s475);
+        let peak = obs
+            .xyz
+            .iter()
+            .map(|v| {
+                let c = lms(v);
+                a_l * c[0] + a_m * c[1]
+            })
+            .fold(f64::MIN, f64::max);
+        let scale = [a_s, a_m, a_l].map(|a| a / peak);
+        [2, 1, 0]
+            .into_iter()
+            .zip(scale)
+            .map(|(r, k)| [0, 1, 2].map(|c| k * inv[(r, c)]))
+            .collect::<Vec<_>>()
+            .try_into()
+            .expect("three rows")
+    }
+
+    /// The spectral range the derivation uses by default: 380-770 nm (Eq. 2), or 390-770 nm for
+    /// the CIE 2015 observers, whose tables start at 390 nm.
+    pub fn default_range_nm(self) -> [f64; 2] {
+        match self {
+            ObserverId::Cie2015_2deg | ObserverId::Cie2015_10deg => [390.0, 770.0],
+            _ => [380.0, 770.0],
+        }
+    }
+
     /// Loads the embedded table.
     pub fn load(self) -> Result<Observer, DataError> {
         Observer::parse(self.name(), self.file(), self.csv_text())

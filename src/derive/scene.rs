@@ -178,7 +178,7 @@ impl Scene {
         let at = |span: core::ops::Range<usize>| line_of(text, span.start);
         let mut settings = Settings::default();
         if let Some(o) = &raw.observer {
-            settings.observer = ObserverId::from_name(o.get_ref()).ok_or_else(|| {
+            let id = ObserverId::from_name(o.get_ref()).ok_or_else(|| {
                 err(
                     at(o.span()),
                     std::format!(
@@ -188,6 +188,7 @@ impl Scene {
                     ),
                 )
             })?;
+            settings = Settings::for_observer(id);
         }
         if let Some(r) = &raw.range_nm {
             settings.range_nm = *r.get_ref();
