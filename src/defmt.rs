@@ -56,3 +56,80 @@ impl Format for Error {
         }
     }
 }
+
+impl Format for crate::GaussRule {
+    fn format(&self, f: Formatter<'_>) {
+        write!(
+            f,
+            "GaussRule {{ channel: {}, order: {=u8}, status: {}, wavelengths_nm: {=[?]}, weights: {=[?]} }}",
+            self.channel,
+            self.order,
+            self.status,
+            self.wavelengths_nm,
+            self.weights
+        )
+    }
+}
+
+impl<const N: usize> Format for crate::WavelengthSet<N> {
+    fn format(&self, f: Formatter<'_>) {
+        write!(
+            f,
+            "WavelengthSet {{ wavelengths_nm: {=[?]}, weights: [{=[?]}, {=[?]}, {=[?]}] }}",
+            &self.wavelengths_nm[..],
+            &self.weights[0][..],
+            &self.weights[1][..],
+            &self.weights[2][..]
+        )
+    }
+}
+
+impl<const N: usize> Format for crate::FoldedSet<N> {
+    fn format(&self, f: Formatter<'_>) {
+        write!(
+            f,
+            "FoldedSet {{ wavelengths_nm: {=[?]}, weights: [{=[?]}, {=[?]}, {=[?]}] }}",
+            &self.wavelengths_nm[..],
+            &self.weights[0][..],
+            &self.weights[1][..],
+            &self.weights[2][..]
+        )
+    }
+}
+
+impl Format for crate::ChannelLuts {
+    fn format(&self, f: Formatter<'_>) {
+        write!(
+            f,
+            "ChannelLuts {{ entries: [{=usize}, {=usize}, {=usize}] }}",
+            self.table(0).len(),
+            self.table(1).len(),
+            self.table(2).len()
+        )
+    }
+}
+
+impl Format for crate::Display {
+    fn format(&self, f: Formatter<'_>) {
+        write!(
+            f,
+            "Display {{ name: {=str}, white_xy: {=[?]}, transfer: {} }}",
+            self.name,
+            &self.white_xy[..],
+            self.transfer
+        )
+    }
+}
+
+impl<const CAP: usize> Format for crate::DynamicSet<CAP> {
+    fn format(&self, f: Formatter<'_>) {
+        write!(
+            f,
+            "DynamicSet {{ wavelengths_nm: {=[?]}, weights: [{=[?]}, {=[?]}, {=[?]}] }}",
+            self.wavelengths_nm(),
+            self.weights(0),
+            self.weights(1),
+            self.weights(2)
+        )
+    }
+}
