@@ -155,11 +155,6 @@ pub struct Derivation {
 }
 
 impl Derivation {
-    /// The wavelength sets that serve all three channels (folded into display weights).
-    pub fn merged_sets(&self) -> Vec<&WavelengthSet> {
-        self.table2.iter().collect()
-    }
-
     /// A set folded for a display: `rgb = weights · samples` gives linear RGB, with a constant
     /// spectrum of 1 at Y = 1 (AC1C2 → XYZ → RGB and 1 / [`unit_spectrum_y`](Self::unit_spectrum_y)
     /// multiplied into the weights in f64).
