@@ -16,7 +16,7 @@
 
 mod common;
 
-use common::{check_display, step_ulps, Bytes};
+use common::{check_display, clamp01, in01, step_ulps, Bytes};
 use libfuzzer_sys::fuzz_target;
 use spectral_quadrature::tables::displays;
 use spectral_quadrature::{quantize_u16, quantize_u8, ChannelLuts, Error, TransferFunction};
@@ -109,18 +109,6 @@ fuzz_target!(|data: &[u8]| {
         }
     }
 });
-
-fn in01(v: f32) -> bool {
-    (0.0..=1.0).contains(&v)
-}
-
-fn clamp01(v: f32) -> f32 {
-    if v > 0.0 {
-        v.min(1.0)
-    } else {
-        0.0
-    }
-}
 
 fn gamma_is_valid(tf: &TransferFunction) -> bool {
     match *tf {

@@ -280,11 +280,11 @@ pub fn check_product<const N: usize>(
     }
 }
 
-fn in01(v: f32) -> bool {
+pub fn in01(v: f32) -> bool {
     (0.0..=1.0).contains(&v)
 }
 
-fn clamp01(v: f32) -> f32 {
+pub fn clamp01(v: f32) -> f32 {
     if v > 0.0 {
         v.min(1.0)
     } else {
