@@ -12,6 +12,7 @@
 //! they are interpolated linearly and must cover the observer's 380-770 nm. Errors name the file
 //! and line and exit with code 2.
 
+mod budget;
 #[allow(dead_code, unused_imports)]
 #[path = "../../src/derive/mod.rs"]
 mod derive;
@@ -165,8 +166,30 @@ fn run(args: &Args) -> Result<(), String> {
             &d.opponent.ac1c2_to_xyz,
         ));
     }
+    // Gauss rules in XYZ space: each number of distinct wavelengths' best is shown.
+    sets.extend(spaces[1].1.iter().filter(|s| s.len() <= 16).cloned());
     for n in (3..=16).chain([24, 32]) {
         sets.push(evaluate::uniform(&d.observer, range, n));
+    }
+    // The shared sets for radiances (the lights here are many; section 5 folds each one in),
+    // method (a) for comparison, and sampling every 10 and 20 nm with linear interpolation.
+    for n in budget_sizes() {
+        let s = derive::shared::optimize(&d, None, n)?;
+        sets.push(s.eval_set(&format!("KQ_{n}"), "KQ radiance"));
+        if let Ok(a) = derive::shared::interpolatory_a(&d, n, &format!("INTERP_A_{n}")) {
+            sets.push(EvalSet::from_weights(
+                &a.name,
+                "interp A",
+                None,
+                &a.wavelengths_nm,
+                &a.weights,
+                &d.opponent.ac1c2_to_xyz,
+            ));
+        }
+    }
+    let flat = Curve::constant("equal energy", 1.0, range);
+    for step in [10.0, 20.0] {
+        sets.push(derive::budget::interval_set(&d, &flat, step)?);
     }
     sets.push(evaluate::full_integration(&d.observer, range, 5.0)?);
     sets.push(reference_set.clone());
@@ -200,6 +223,10 @@ fn run(args: &Args) -> Result<(), String> {
     files.push(plot_error_vs_time(out, &rows)?);
     files.push(draw_swatches(out, &d, &cc_under_c, &rows)?);
 
+    progress.next("section 5: shared sets at each wavelength budget (fitting and judging)");
+    let (budget_text, budget_files) = budget::section(&d, out, args.runs as usize)?;
+    files.extend(budget_files);
+
     progress.next("section 6: stability");
     let (stability_text, stability_files) = stability::section(out)?;
     files.extend(stability_files);
@@ -218,6 +245,8 @@ fn run(args: &Args) -> Result<(), String> {
             &rows,
         );
         text.push('\n');
+        text.push_str(&budget_text);
+        text.push('\n');
         text.push_str(&stability_text);
         print!("{text}");
         files.push(write(out, "report.txt", &text)?);
@@ -234,6 +263,10 @@ fn run(args: &Args) -> Result<(), String> {
         eprintln!("  {}", f.display());
     }
     Ok(())
+}
+
+fn budget_sizes() -> std::ops::RangeInclusive<usize> {
+    derive::budget::BUDGETS
 }
 
 fn load_stimuli(args: &Args, range: [f64; 2]) -> Result<Vec<Stimulus>, String> {
@@ -654,25 +687,30 @@ fn print_report(
         rows.len()
     )
     .ok();
-    writeln!(o, "   the best set at each number of distinct wavelengths, Table 2's sets, uniform sets, full integration:").ok();
+    writeln!(o, "   the best per-channel Gauss combination (AC1C2 and XYZ) at each number of distinct wavelengths, Table 2's").ok();
+    writeln!(o, "   sets, uniform sets, shared sets for radiances (KQ_N; trained on the CIE test colour samples, which these").ok();
+    writeln!(o, "   stimuli include by default: section 5 judges on the ColorChecker alone), method (a) INTERP_A_N, sampling").ok();
+    writeln!(o, "   every 10 and 20 nm, full integration:").ok();
     writeln!(
         o,
         "   {:<22} {:>5} {:>9} {:>9} {:>9} {:>9} {:>9}",
         "set", "N", "mean76", "max76", "mean00", "max00", "ns/pixel"
     )
     .ok();
-    let mut best: std::collections::BTreeMap<usize, &Row> = Default::default();
-    for r in rows.iter().filter(|r| r.set.family == "AC1C2") {
-        let e = best.entry(r.set.len()).or_insert(r);
+    let mut best: std::collections::BTreeMap<(&str, usize), &Row> = Default::default();
+    for r in rows
+        .iter()
+        .filter(|r| r.set.family == "AC1C2" || r.set.family == "XYZ")
+    {
+        let e = best.entry((&r.set.family, r.set.len())).or_insert(r);
         if r.errors.mean_de00() < e.errors.mean_de00() {
             *e = r;
         }
     }
-    let shown = best
-        .values()
-        .copied()
-        .filter(|r| r.set.len() <= 16)
-        .chain(rows.iter().filter(|r| r.set.family != "AC1C2"));
+    let shown = best.values().copied().filter(|r| r.set.len() <= 16).chain(
+        rows.iter()
+            .filter(|r| r.set.family != "AC1C2" && r.set.family != "XYZ"),
+    );
     for r in shown {
         writeln!(
             o,
@@ -895,7 +933,11 @@ fn plot_error_vs_time(out: &Path, rows: &[Row]) -> Result<PathBuf, String> {
         .map_err(plot_err)?;
     for (family, colour, size) in [
         ("AC1C2", RGBColor(230, 120, 120), 2),
+        ("XYZ", RGBColor(150, 150, 230), 2),
         ("uniform", BLUE, 4),
+        ("interp A", RGBColor(200, 140, 40), 4),
+        ("KQ radiance", RGBColor(150, 60, 170), 5),
+        ("interval", RGBColor(60, 160, 60), 5),
         ("Table 2", RED, 6),
         ("full", BLACK, 5),
     ] {
@@ -906,7 +948,11 @@ fn plot_error_vs_time(out: &Path, rows: &[Row]) -> Result<PathBuf, String> {
             .collect();
         let label = match family {
             "AC1C2" => "per-channel Gauss combinations",
+            "XYZ" => "Gauss combinations in XYZ",
             "uniform" => "uniform sets",
+            "interp A" => "A's nodes, interpolatory C1, C2",
+            "KQ radiance" => "shared sets (kernel quadrature)",
+            "interval" => "every 10 / 20 nm, linear interpolation",
             "Table 2" => "Table 2 sets",
             _ => "full integration (5 nm, 1 nm)",
         };

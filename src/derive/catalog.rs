@@ -7,12 +7,16 @@
 //! | `A_<n>`, `C1_<n>`, `C2_<n>` | one channel's Gauss rule of order n (the other rows zero) |
 //! | `AC1C2_<a>_<c1>_<c2>` | the union of A order a, C1 order c1 and C2 order c2 |
 //! | `UNIFORM_<n>` | n wavelengths at the centres of equal bins, box-filter weights |
+//! | `KQ_<n>` | a shared set by kernel quadrature for radiances ([`super::shared`]), n = 3..=32 |
+//! | `KQ_<light>_<n>` | the same with a built-in illuminant folded in (`KQ_C_6`, `KQ_F11_6`, `KQ_LED_B1_4`): samples are reflectances |
+//! | `INTERP_A_<n>` | A's Gauss nodes of order n, C1 and C2 by interpolatory rules on them |
 
 use std::string::{String, ToString};
 use std::vec::Vec;
 
 use super::evaluate;
 use super::sets::{WavelengthSet, CHANNELS};
+use super::shared;
 use super::Derivation;
 
 /// Uniform sets the crate builds: `UNIFORM_3` to `UNIFORM_64`.
@@ -20,7 +24,7 @@ pub const UNIFORM_SIZES: core::ops::RangeInclusive<usize> = 3..=64;
 
 /// What a name may look like, for error messages.
 pub const NAME_FORMS: &str =
-    "TABLE2_ROW1, TABLE2_ROW2, A_<n>, C1_<n>, C2_<n>, AC1C2_<a>_<c1>_<c2>, UNIFORM_<n> (n = 3..=64)";
+    "TABLE2_ROW1, TABLE2_ROW2, A_<n>, C1_<n>, C2_<n>, AC1C2_<a>_<c1>_<c2>, UNIFORM_<n> (n = 3..=64), KQ_<n> and KQ_<light>_<n> (n = 3..=32, light a built-in illuminant), INTERP_A_<n>";
 
 /// Whether a set covers only one channel (a per-channel rule): it cannot give a colour alone.
 pub fn is_single_channel(name: &str) -> bool {
@@ -99,6 +103,33 @@ pub fn resolve(d: &Derivation, name: &str) -> Result<WavelengthSet, String> {
             weights,
         });
     }
+    if let Some(n) = name.strip_prefix("INTERP_A_") {
+        return shared::interpolatory_a(d, order(n)?, name);
+    }
+    if let Some(rest) = name.strip_prefix("KQ_") {
+        let (light, n) = match rest.rsplit_once('_') {
+            Some((light, n)) => (Some(light), n),
+            None => (None, rest),
+        };
+        let n = order(n)?;
+        if !shared::SIZES.contains(&n) {
+            return Err(std::format!(
+                "{name}: shared sets have {} to {} wavelengths",
+                shared::SIZES.start(),
+                shared::SIZES.end()
+            ));
+        }
+        if let Some(l) = light {
+            if evaluate::builtin_illuminant(l, d.settings.range_nm).is_err() {
+                return Err(std::format!(
+                    "{name}: {l} is not a built-in illuminant (data/illuminant_<light>.csv: {})",
+                    builtin_lights().join(", ")
+                ));
+            }
+        }
+        let s = shared::optimize(d, light, n).map_err(|e| std::format!("{name}: {e}"))?;
+        return Ok(s.wavelength_set(d, name));
+    }
     for (c, prefix) in ["A_", "C1_", "C2_"].iter().enumerate() {
         if let Some(n) = name.strip_prefix(prefix) {
             let r = rule(c, order(n)?)?;
@@ -146,6 +177,14 @@ pub fn colour_set_names(d: &Derivation) -> Vec<String> {
     }
     names.extend(UNIFORM_SIZES.map(|n| std::format!("UNIFORM_{n}")));
     names
+}
+
+/// The built-in illuminants a `KQ_<light>_<n>` may name.
+pub fn builtin_lights() -> Vec<&'static str> {
+    evaluate::BUILTIN
+        .iter()
+        .filter_map(|(f, _)| f.strip_prefix("data/illuminant_")?.strip_suffix(".csv"))
+        .collect()
 }
 
 /// The names of every defined per-channel rule (`A_1`, ..., `C2_15`).

@@ -18,6 +18,7 @@
 //! [`quadrature`] runs the recurrence (Eq. 16) and forms each order's rule; [`sets`] merges rules
 //! into wavelength sets (Table 2); [`codegen`] writes the tables the runtime includes.
 
+pub mod budget;
 pub mod catalog;
 pub mod codegen;
 pub mod display;

@@ -39,6 +39,10 @@ use super::{catalog, ObserverId, Settings};
 /// The environment variable naming the scene file.
 pub const SCENE_ENV: &str = "SPECTRAL_QUADRATURE_SCENE";
 
+/// The shared sets the default scene bakes besides Table 2's rows: kernel quadrature with
+/// illuminant C folded in at 4, 6 and 8 wavelengths (Table 2's light), and with F11 at 6.
+pub const DEFAULT_SHARED_SETS: [&str; 4] = ["KQ_C_4", "KQ_C_6", "KQ_C_8", "KQ_F11_6"];
+
 /// A mistake in a scene file.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SceneError {
@@ -150,6 +154,7 @@ impl Scene {
     /// The default scene: the default settings, every colour set and per-channel rule the
     /// default tables have always had, every display, and both extras.
     pub fn default_scene() -> Scene {
+        // The sets: Table 2's rows and DEFAULT_SHARED_SETS (see `resolve`).
         Scene {
             file: "default".into(),
             settings: Settings::default(),
@@ -389,9 +394,13 @@ impl Scene {
                 .iter()
                 .map(|n| catalog::resolve(d, n).map_err(|e| err(0, e)))
                 .collect::<Result<Vec<_>, _>>()?;
+            let mut colour_sets = d.table2.to_vec();
+            for name in DEFAULT_SHARED_SETS {
+                colour_sets.push(catalog::resolve(d, name).map_err(|e| err(0, e))?);
+            }
             return Ok(Resolved {
                 file: self.file.clone(),
-                colour_sets: d.table2.to_vec(),
+                colour_sets,
                 rule_sets,
                 displays,
                 extras: self.extras,

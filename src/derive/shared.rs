@@ -1,110 +1,130 @@
-//! Shared wavelength sets by kernel quadrature: N distinct wavelengths and a full 3×N XYZ weight
-//! matrix fitted for all three channels at once to training spectra (optimal linear estimation).
+//! Shared wavelength sets by kernel quadrature, with the light folded into the weights.
 //!
-//! Given training radiances `s_k` on the 1 nm reference grid, their exact tristimulus
-//! `t_k = F s_k` (F: the full 1 nm integration), and node indices on that grid, the weights W
-//! minimise the *linearised CIELAB* error
+//! A renderer pays per distinct wavelength, and every channel can use every sample. So a shared
+//! set has N distinct wavelengths λᵢ and a full 3×N matrix W with `XYZ ≈ W · [r(λ₁) … r(λ_N)]`,
+//! where r is what the renderer samples: a reflectance under a known light L (the light is
+//! folded into W, `F = x̄ȳz̄ · L · dλ`), or a radiance (L = 1).
 //!
-//! `Σ_k ‖J_k (W s_k − t_k) + H_k (W w_k − t_w,k)‖² + μ ‖W − W₀‖²`
+//! The model: r is a constant of unknown level plus a zero-mean Gaussian process whose
+//! covariance is a Matérn 5/2 smoothness kernel plus a multiple of the training reflectances'
+//! empirical covariance. For given nodes, W is the best linear unbiased estimate of `F r`
+//! (universal kriging with a constant trend): it minimises the expected squared error of every
+//! linear functional of XYZ, and it integrates a constant spectrum exactly, so the white of a
+//! surface under L is exact. The nodes minimise the expected linearised CIELAB error
+//! `tr(M Σ)`, Σ the 3×3 covariance of XYZ's error and `M = mean JᵀJ` over the training colours
+//! (J = ∂Lab/∂XYZ at each, its white exact): greedy selection on the 1 nm grid, evenly spaced
+//! and random starts, each refined by coordinate descent, the best kept.
 //!
-//! where `J_k = ∂Lab/∂XYZ` and `H_k = ∂Lab/∂white` at the exact colour and white, `w_k` is the
-//! sample's white (its illuminant) integrated by the same set, `W₀` the box-filter weights of
-//! the nodes' bands (∫ x̄ȳz̄ over each node's band) and `μ` a small ridge. To first order this is
-//! the sum of squared ΔE*ab, with the white integrated by the set as in [`super::evaluate`].
-//! Nodes: greedy selection on the 1 nm grid (add the node that most lowers the objective), then
-//! coordinate descent moving each node by ±1..±5 nm until no move helps.
+//! The kernel's length and the empirical covariance's weight ([`LENGTH_NM`],
+//! [`EMPIRICAL_WEIGHT`]) maximise the leave-one-out likelihood of the training reflectances
+//! ([`fit`]). The crate trains on the CIE test colour samples only and judges on the
+//! ColorChecker, which no set ever sees.
+//!
+//! Method (a) for comparison, [`interpolatory_a`]: the A channel's Gauss nodes of order N, with
+//! C1 and C2 integrated by interpolatory rules on those nodes.
 
-use std::string::String;
+use std::string::{String, ToString};
 use std::vec::Vec;
 
+use nalgebra::{DMatrix, DVector};
+
 use super::evaluate::{self, Curve, EvalSet};
+use super::quadrature::interpolatory_weights;
+use super::sets::WavelengthSet;
 use super::Derivation;
 
-/// The default ridge μ relative to the mean diagonal of the CIELAB part of the normal matrix.
-pub const RIDGE: f64 = 1e-6;
-
-/// Weight (per training spectrum, in squared ΔE per squared relative error) of the residuals
-/// that pin each XYZ row's scale: the anchor white integrated exactly.
-pub const ANCHOR_WEIGHT: f64 = 1e6;
-
-/// How far (grid steps, 1 nm) coordinate descent moves one node at a time.
-pub const MAX_MOVE: usize = 5;
-
-/// A shared set: distinct wavelengths (ascending) and XYZ weights for dλ in nm.
-#[derive(Debug, Clone, PartialEq)]
-pub struct SharedSet {
-    /// `SHARED_<n>`.
-    pub name: String,
-    /// Distinct wavelengths in nm, ascending.
-    pub wavelengths_nm: Vec<f64>,
-    /// `xyz_weights[c][i]`: X, Y, Z rows.
-    pub xyz_weights: [Vec<f64>; 3],
+/// A stationary covariance on wavelength, `k(λ, μ) = σ² ρ(|λ − μ| / ℓ)` with unit σ² (the
+/// scale cancels in the weights and in the node choice).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Kernel {
+    /// Matérn ν = 5/2: `(1 + √5 d + 5d²/3) e^{−√5 d}`, d = |λ − μ| / ℓ. Twice differentiable
+    /// paths, like measured reflectances.
+    Matern52 {
+        /// ℓ in nm.
+        length_nm: f64,
+    },
+    /// Squared exponential `e^{−d²/2}`: infinitely smooth paths.
+    Gaussian {
+        /// ℓ in nm.
+        length_nm: f64,
+    },
 }
 
-impl SharedSet {
-    /// The set as the evaluation measures it (family `shared`).
-    pub fn to_eval_set(&self) -> EvalSet {
-        EvalSet {
-            name: self.name.clone(),
-            family: "shared".into(),
-            orders: None,
-            wavelengths_nm: self.wavelengths_nm.clone(),
-            xyz_weights: self.xyz_weights.clone(),
+impl Kernel {
+    /// k(λ, μ) for wavelengths in nm.
+    pub fn between(&self, a_nm: f64, b_nm: f64) -> f64 {
+        self.at(a_nm - b_nm)
+    }
+
+    /// ρ at a distance in nm.
+    pub fn at(&self, distance_nm: f64) -> f64 {
+        match *self {
+            Kernel::Matern52 { length_nm } => {
+                let d = 5f64.sqrt() * distance_nm.abs() / length_nm;
+                (1.0 + d + d * d / 3.0) * (-d).exp()
+            }
+            Kernel::Gaussian { length_nm } => {
+                let d = distance_nm / length_nm;
+                (-0.5 * d * d).exp()
+            }
+        }
+    }
+
+    /// ℓ in nm.
+    pub fn length_nm(&self) -> f64 {
+        match *self {
+            Kernel::Matern52 { length_nm } | Kernel::Gaussian { length_nm } => length_nm,
+        }
+    }
+
+    /// Name and length, for reports.
+    pub fn describe(&self) -> String {
+        match self {
+            Kernel::Matern52 { length_nm } => std::format!("Matérn 5/2, ℓ = {length_nm} nm"),
+            Kernel::Gaussian { length_nm } => {
+                std::format!("squared exponential, ℓ = {length_nm} nm")
+            }
         }
     }
 }
 
-/// The reference: every 1 nm of the derivation's range, weights x̄ȳz̄ · 1 nm.
-pub fn reference_grid(d: &Derivation) -> Result<EvalSet, String> {
-    evaluate::full_integration(&d.observer, d.settings.range_nm, 1.0)
-}
+/// The nugget (white noise added to the kernel's diagonal, relative to its variance): keeps the
+/// kriging system well conditioned when two nodes are 1 nm apart. 1e-6 is far below the
+/// reflectance measurement noise of the data (about 1e-3) and far above f64 rounding.
+pub const NUGGET: f64 = 1e-6;
 
-fn light_on_grid(d: &Derivation, light: &Curve) -> Result<Vec<f64>, String> {
-    let f = reference_grid(d)?;
-    let v: Vec<f64> = f.wavelengths_nm.iter().map(|&l| light.at(l)).collect();
-    let y: f64 = v.iter().zip(&f.xyz_weights[1]).map(|(a, b)| a * b).sum();
-    Ok(v.iter().map(|x| x / y).collect())
-}
+/// Random starts of coordinate descent, besides greedy selection and three even spreads.
+pub const RANDOM_STARTS: usize = 12;
 
-/// Training radiances on the 1 nm reference grid: every reflectance times every illuminant,
-/// each illuminant scaled so that its white has Y = 1 (illuminant-major order).
-pub fn training_radiances(
-    d: &Derivation,
-    reflectances: &[Curve],
-    illuminants: &[Curve],
-) -> Vec<Vec<f64>> {
-    let grid = reference_grid(d).expect("the derivation's range lies on its 1 nm table");
-    let mut out = Vec::new();
-    for light in illuminants {
-        let l = light_on_grid(d, light).expect("1 nm grid");
-        for r in reflectances {
-            out.push(
-                grid.wavelengths_nm
-                    .iter()
-                    .zip(&l)
-                    .map(|(&nm, &e)| e * r.at(nm))
-                    .collect(),
-            );
-        }
-    }
-    out
-}
+/// How far (1 nm grid steps) coordinate descent tries to move one node.
+pub const MAX_MOVE: usize = 12;
 
-/// The white of each of [`training_radiances`]' spectra (its illuminant at Y = 1), in the same
-/// order.
-pub fn training_whites(
-    d: &Derivation,
-    reflectances: &[Curve],
-    illuminants: &[Curve],
-) -> Vec<Vec<f64>> {
-    let mut out = Vec::new();
-    for light in illuminants {
-        let l = light_on_grid(d, light).expect("1 nm grid");
-        for _ in reflectances {
-            out.push(l.clone());
-        }
-    }
-    out
+/// The precomputed problem for one light, kernel and metric: any node set's weights and
+/// expected error then cost one (N+1)×(N+1) solve.
+#[derive(Debug, Clone)]
+pub struct Problem {
+    /// The 1 nm grid, nm.
+    pub grid_nm: Vec<f64>,
+    /// The light on the grid, scaled to the luminance of an equal-energy spectrum of 1 (all
+    /// ones for radiances).
+    pub light: Vec<f64>,
+    kernel: Kernel,
+    g: usize,
+    /// The prior covariance on the grid (row-major G×G): the kernel, plus any empirical
+    /// covariance added by [`with_covariance`](Self::with_covariance).
+    k: Vec<f64>,
+    /// x̄ȳz̄ · L · dλ on the grid.
+    f: [Vec<f64>; 3],
+    /// `K Fᵀ` per grid point.
+    kf: Vec<[f64; 3]>,
+    /// `F K Fᵀ`.
+    fkf: [[f64; 3]; 3],
+    /// `F 1`: the white.
+    f1: [f64; 3],
+    /// The linearised CIELAB metric.
+    metric: [[f64; 3]; 3],
+    /// Grid points a node may take (where the light is not negligible).
+    allowed: Vec<bool>,
 }
 
 fn fprime(u: f64) -> f64 {
@@ -117,235 +137,251 @@ fn fprime(u: f64) -> f64 {
     }
 }
 
-/// ∂Lab/∂XYZ and ∂Lab/∂white (row-major 3×3) at `t` with white `w`.
-fn lab_jacobians(t: [f64; 3], w: [f64; 3]) -> ([f64; 9], [f64; 9]) {
+/// `JᵀJ` for J = ∂Lab/∂XYZ at `t` with white `w` (held fixed).
+fn lab_metric(t: [f64; 3], w: [f64; 3]) -> [[f64; 3]; 3] {
     let g = [0, 1, 2].map(|c| fprime(t[c] / w[c]) / w[c]);
-    let h = [0, 1, 2].map(|c| -fprime(t[c] / w[c]) * t[c] / (w[c] * w[c]));
-    let m = |v: [f64; 3]| {
-        [
-            0.0,
-            116.0 * v[1],
-            0.0,
-            500.0 * v[0],
-            -500.0 * v[1],
-            0.0,
-            0.0,
-            200.0 * v[1],
-            -200.0 * v[2],
-        ]
-    };
-    (m(g), m(h))
+    let j = [
+        [0.0, 116.0 * g[1], 0.0],
+        [500.0 * g[0], -500.0 * g[1], 0.0],
+        [0.0, 200.0 * g[1], -200.0 * g[2]],
+    ];
+    let mut m = [[0.0; 3]; 3];
+    for (p, row) in m.iter_mut().enumerate() {
+        for (q, v) in row.iter_mut().enumerate() {
+            *v = (0..3).map(|r| j[r][p] * j[r][q]).sum();
+        }
+    }
+    m
 }
 
-fn mat_vec(m: &[f64; 9], v: [f64; 3]) -> [f64; 3] {
-    [0, 1, 2].map(|r| m[3 * r] * v[0] + m[3 * r + 1] * v[1] + m[3 * r + 2] * v[2])
-}
-
-/// The precomputed fitting problem for one training set: Gram blocks for every pair of 1 nm
-/// candidates, so that any node set's weights cost one small solve.
-#[derive(Debug, Clone)]
-pub struct Trainer {
-    grid_nm: Vec<f64>,
-    /// x̄ȳz̄ · 1 nm on the grid.
-    f: [Vec<f64>; 3],
-    g: usize,
-    /// `gram[a * g + b]` (3×3, row-major p, q): Σ_k Σ_r C_ka[r][p] C_kb[r][q].
-    gram: Vec<[f64; 9]>,
-    /// `rhs[a]`: Σ_k C_kaᵀ c_k.
-    rhs: Vec<[f64; 3]>,
-    /// Trace of each diagonal block of the CIELAB part (before the anchor).
-    lab_trace: Vec<f64>,
-    /// The ridge μ relative to the mean diagonal of the CIELAB part of the normal matrix
-    /// ([`RIDGE`] by default).
-    pub ridge: f64,
-}
-
-impl Trainer {
-    /// Precomputes the problem. `whites[k]` is the white of `training[k]` (integrated by the set
-    /// as CIELAB's white); `None`: an equal-energy white of Y = 1, held exact.
+impl Problem {
+    /// Sets up the problem on the derivation's 1 nm reference grid. `light`: the light folded
+    /// into the weights (`None`: the renderer samples radiance). `training`: reflectances whose
+    /// colours under the light define the CIELAB metric (for radiances, their colours under an
+    /// equal-energy light).
     pub fn new(
         d: &Derivation,
-        training: &[Vec<f64>],
-        whites: Option<&[Vec<f64>]>,
-    ) -> Result<Trainer, String> {
-        let reference = reference_grid(d)?;
-        let g = reference.wavelengths_nm.len();
-        let f = reference.xyz_weights.clone();
-        let integrate = |s: &[f64]| -> [f64; 3] {
-            [0, 1, 2].map(|c| f[c].iter().zip(s).map(|(a, b)| a * b).sum())
+        light: Option<&Curve>,
+        kernel: Kernel,
+        training: &[Curve],
+    ) -> Result<Problem, String> {
+        let reference = evaluate::full_integration(&d.observer, d.settings.range_nm, 1.0)?;
+        let grid_nm = reference.wavelengths_nm.clone();
+        let g = grid_nm.len();
+        let raw: Vec<f64> = match light {
+            Some(l) => grid_nm.iter().map(|&nm| l.at(nm)).collect(),
+            None => std::vec![1.0; g],
         };
-        let unit = integrate(&std::vec![1.0; g]);
-        let ee_white = unit.map(|v| v / unit[1]);
-        // c_mat[a][k]: C_ka = s_k(a) J_k + w_k(a) H_k; c_vec[k] = J_k t_k + H_k t_w.
-        let mut c_mat: Vec<Vec<[f64; 9]>> = std::vec![Vec::with_capacity(training.len()); g];
-        let mut c_vec: Vec<[f64; 3]> = Vec::with_capacity(training.len());
-        for (k, s) in training.iter().enumerate() {
-            if s.len() != g {
-                return Err(std::format!(
-                    "training spectrum {k} has {} values; the 1 nm grid has {g}",
-                    s.len()
-                ));
-            }
-            let t = integrate(s);
-            let (white, tw) = match whites {
-                Some(w) => {
-                    let w = w.get(k).ok_or("fewer whites than training spectra")?;
-                    (Some(w), integrate(w))
-                }
-                None => (None, ee_white),
-            };
-            let (j, h) = lab_jacobians(t, tw);
-            let jt = mat_vec(&j, t);
-            let ht = mat_vec(&h, tw);
-            c_vec.push([0, 1, 2].map(|r| jt[r] + if white.is_some() { ht[r] } else { 0.0 }));
-            for a in 0..g {
-                let mut m = [0.0; 9];
-                for (e, v) in m.iter_mut().enumerate() {
-                    *v = s[a] * j[e] + white.map_or(0.0, |w| w[a] * h[e]);
-                }
-                c_mat[a].push(m);
-            }
+        if raw.iter().any(|v| !v.is_finite() || *v < 0.0) {
+            return Err("the light has a negative or non-finite value on the grid".into());
         }
-        let mut gram = std::vec![[0.0; 9]; g * g];
-        for a in 0..g {
-            for b in a..g {
-                let mut acc = [0.0; 9];
-                for (ca, cb) in c_mat[a].iter().zip(&c_mat[b]) {
-                    for p in 0..3 {
-                        for q in 0..3 {
-                            acc[3 * p + q] +=
-                                ca[p] * cb[q] + ca[3 + p] * cb[3 + q] + ca[6 + p] * cb[6 + q];
-                        }
-                    }
-                }
-                gram[a * g + b] = acc;
-                gram[b * g + a] = [0, 1, 2, 3, 4, 5, 6, 7, 8].map(|e| acc[3 * (e % 3) + e / 3]);
-            }
-        }
-        let mut rhs: Vec<[f64; 3]> = c_mat
+        // Scale the light to the luminance of an equal-energy spectrum of 1, so that a folded
+        // set gives a reflectance of 1 the Y a radiance set gives a radiance of 1.
+        let y: f64 = raw
             .iter()
-            .map(|cs| {
-                let mut v = [0.0; 3];
-                for (m, c) in cs.iter().zip(&c_vec) {
-                    for (p, x) in v.iter_mut().enumerate() {
-                        *x += m[p] * c[0] + m[3 + p] * c[1] + m[6 + p] * c[2];
-                    }
-                }
-                v
-            })
-            .collect();
-        // CIELAB with the white integrated by the set ignores a scale per XYZ row, so the
-        // linearised error has that null space (J t + H t_w = 0). The anchor pins it: the mean
-        // white (equal energy without whites) integrated exactly, with a heavy weight.
-        let anchor: Vec<f64> = match whites {
-            Some(w) if !w.is_empty() => (0..g)
-                .map(|a| w.iter().map(|s| s[a]).sum::<f64>() / w.len() as f64)
-                .collect(),
-            _ => std::vec![1.0 / unit[1]; g],
-        };
-        let lab_trace: Vec<f64> = (0..g)
-            .map(|a| {
-                let b = &gram[a * g + a];
-                b[0] + b[4] + b[8]
-            })
-            .collect();
-        let ta = integrate(&anchor);
-        let omega2 = ANCHOR_WEIGHT * training.len().max(1) as f64;
-        for a in 0..g {
-            for c in 0..3 {
-                rhs[a][c] += omega2 * anchor[a] / ta[c];
-                for b in 0..g {
-                    gram[a * g + b][4 * c] += omega2 * anchor[a] * anchor[b] / (ta[c] * ta[c]);
-                }
-            }
+            .zip(&reference.xyz_weights[1])
+            .map(|(a, b)| a * b)
+            .sum();
+        let unit: f64 = reference.xyz_weights[1].iter().sum();
+        if y <= 0.0 || !y.is_finite() {
+            return Err("the light has no luminance".into());
         }
-        Ok(Trainer {
-            grid_nm: reference.wavelengths_nm,
-            f,
-            g,
-            gram,
-            rhs,
-            lab_trace,
-            ridge: RIDGE,
-        })
-    }
-
-    /// Box-filter prior: each grid point's x̄ȳz̄ · 1 nm goes to the nearest node.
-    fn prior(&self, nodes: &[usize]) -> Vec<f64> {
-        let mut w0 = std::vec![0.0; 3 * nodes.len()];
-        for a in 0..self.g {
-            let (i, _) = nodes
+        let light: Vec<f64> = raw.iter().map(|v| v * unit / y).collect();
+        let peak = light.iter().cloned().fold(0.0, f64::max);
+        let allowed = light.iter().map(|&v| v > 1e-4 * peak).collect();
+        let f: [Vec<f64>; 3] = [0, 1, 2].map(|c| {
+            reference.xyz_weights[c]
                 .iter()
-                .enumerate()
-                .map(|(i, &n)| (i, n.abs_diff(a)))
-                .min_by_key(|x| x.1)
-                .unwrap_or((0, 0));
-            for c in 0..3 {
-                w0[3 * i + c] += self.f[c][a];
+                .zip(&light)
+                .map(|(a, b)| a * b)
+                .collect::<Vec<f64>>()
+        });
+        let mut k = std::vec![0.0; g * g];
+        for a in 0..g {
+            for b in 0..g {
+                k[a * g + b] = kernel.between(grid_nm[a], grid_nm[b]);
             }
         }
-        w0
+        let f1 = [0, 1, 2].map(|c| f[c].iter().sum::<f64>());
+        let mut metric = [[0.0; 3]; 3];
+        for r in training {
+            let t = [0, 1, 2].map(|c| {
+                grid_nm
+                    .iter()
+                    .zip(&f[c])
+                    .map(|(&nm, w)| r.at(nm) * w)
+                    .sum::<f64>()
+            });
+            let m = lab_metric(t, f1);
+            for p in 0..3 {
+                for q in 0..3 {
+                    metric[p][q] += m[p][q] / training.len() as f64;
+                }
+            }
+        }
+        if training.is_empty() {
+            metric = lab_metric([0.18 * f1[0], 0.18 * f1[1], 0.18 * f1[2]], f1);
+        }
+        let mut p = Problem {
+            grid_nm,
+            light,
+            kernel,
+            g,
+            k,
+            f,
+            kf: Vec::new(),
+            fkf: [[0.0; 3]; 3],
+            f1,
+            metric,
+            allowed,
+        };
+        p.update();
+        Ok(p)
     }
 
-    /// The weights (`w[3i + c]`) for grid indices `nodes`, and the objective without its
-    /// constant term (lower is better).
-    fn solve(&self, nodes: &[usize]) -> Option<(Vec<f64>, f64)> {
-        let m = 3 * nodes.len();
-        let mut a = std::vec![0.0; m * m];
-        let mut b = std::vec![0.0; m];
+    /// Recomputes `K Fᵀ` and `F K Fᵀ` after the covariance changed.
+    fn update(&mut self) {
+        let g = self.g;
+        self.kf = (0..g)
+            .map(|a| [0, 1, 2].map(|c| (0..g).map(|b| self.k[a * g + b] * self.f[c][b]).sum()))
+            .collect();
+        for p in 0..3 {
+            for q in 0..3 {
+                self.fkf[p][q] = (0..g).map(|a| self.f[p][a] * self.kf[a][q]).sum();
+            }
+        }
+    }
+
+    /// Adds `weight` times the empirical covariance of `spectra` (about their mean) to the
+    /// prior.
+    pub fn with_covariance(mut self, spectra: &[Curve], weight: f64) -> Problem {
+        let g = self.g;
+        let rows: Vec<Vec<f64>> = spectra
+            .iter()
+            .map(|c| self.grid_nm.iter().map(|&nm| c.at(nm)).collect())
+            .collect();
+        let n = rows.len().max(1) as f64;
+        let mean: Vec<f64> = (0..g)
+            .map(|a| rows.iter().map(|r| r[a]).sum::<f64>() / n)
+            .collect();
+        for r in &rows {
+            let dev: Vec<f64> = r.iter().zip(&mean).map(|(x, m)| x - m).collect();
+            for a in 0..g {
+                for b in 0..g {
+                    self.k[a * g + b] += weight * dev[a] * dev[b] / n;
+                }
+            }
+        }
+        self.update();
+        self
+    }
+
+    /// `F s` for a spectrum on the grid.
+    pub fn integrate(&self, s: &[f64]) -> [f64; 3] {
+        [0, 1, 2].map(|c| self.f[c].iter().zip(s).map(|(a, b)| a * b).sum())
+    }
+
+    /// The kernel.
+    pub fn kernel(&self) -> Kernel {
+        self.kernel
+    }
+
+    /// The folded weights (`w[c][i]`, for samples of r) at grid indices `nodes`, and the
+    /// expected linearised CIELAB error `tr(M Σ)` (in ΔE² per unit kernel variance). `None`
+    /// when the kriging system is singular.
+    pub fn solve(&self, nodes: &[usize]) -> Option<([Vec<f64>; 3], f64)> {
+        let n = nodes.len();
+        if n == 0 {
+            return None;
+        }
+        let mut a = DMatrix::<f64>::zeros(n + 1, n + 1);
         for (i, &ni) in nodes.iter().enumerate() {
             for (j, &nj) in nodes.iter().enumerate() {
-                let blk = &self.gram[ni * self.g + nj];
-                for p in 0..3 {
-                    for q in 0..3 {
-                        a[(3 * i + p) * m + 3 * j + q] = blk[3 * p + q];
-                    }
-                }
+                a[(i, j)] = self.k[ni * self.g + nj];
             }
-            b[3 * i..3 * i + 3].copy_from_slice(&self.rhs[ni]);
+            a[(i, i)] += NUGGET;
+            a[(i, n)] = 1.0;
+            a[(n, i)] = 1.0;
         }
-        let mu = self.ridge * nodes.iter().map(|&n| self.lab_trace[n]).sum::<f64>() / m as f64;
-        let w0 = self.prior(nodes);
-        for i in 0..m {
-            a[i * m + i] += mu;
-            b[i] += mu * w0[i];
+        let mut b = DMatrix::<f64>::zeros(n + 1, 3);
+        for (i, &ni) in nodes.iter().enumerate() {
+            for c in 0..3 {
+                b[(i, c)] = self.kf[ni][c];
+            }
         }
-        let w = cholesky_solve(&mut a, &b, m)?;
-        // Σ‖B w − c‖² + μ‖w − w0‖² = const − wᵀ b at the optimum.
-        let obj = -w.iter().zip(&b).map(|(x, y)| x * y).sum::<f64>();
-        Some((w, obj))
+        for c in 0..3 {
+            b[(n, c)] = self.f1[c];
+        }
+        let x = a.clone().lu().solve(&b)?;
+        // Σ = FKFᵀ − W Kf − Kfᵀ Wᵀ + W K_XX Wᵀ (the nugget belongs to the samples' model).
+        let w = x.rows(0, n).transpose(); // 3×n
+        let kxx = a.view((0, 0), (n, n));
+        let kfx = b.rows(0, n); // n×3
+        let wk = &w * kfx;
+        let wkw = &w * kxx * w.transpose();
+        let mut obj = 0.0;
+        for p in 0..3 {
+            for q in 0..3 {
+                let s = self.fkf[p][q] - wk[(p, q)] - wk[(q, p)] + wkw[(p, q)];
+                obj += self.metric[q][p] * s;
+            }
+        }
+        if !obj.is_finite() {
+            return None;
+        }
+        let weights: [Vec<f64>; 3] = [0, 1, 2].map(|c| (0..n).map(|i| w[(c, i)]).collect());
+        Some((weights, obj))
     }
 
-    fn objective(&self, nodes: &[usize]) -> f64 {
+    /// The expected error of [`solve`](Self::solve), infinite where it fails.
+    pub fn objective(&self, nodes: &[usize]) -> f64 {
         self.solve(nodes).map_or(f64::INFINITY, |s| s.1)
     }
 
-    /// Greedy selection of `n` grid indices.
+    /// Greedy selection of `n` allowed grid indices, each the one that most lowers the error.
     pub fn greedy(&self, n: usize) -> Vec<usize> {
+        self.greedy_with(n, &|nodes| self.objective(nodes))
+    }
+
+    /// [`greedy`](Self::greedy) for any objective.
+    fn greedy_with(&self, n: usize, objective: &dyn Fn(&[usize]) -> f64) -> Vec<usize> {
         let mut nodes: Vec<usize> = Vec::with_capacity(n);
-        for _ in 0..n.min(self.g) {
-            let mut best = (f64::INFINITY, 0);
+        for _ in 0..n {
+            let mut best = (f64::INFINITY, usize::MAX);
             for c in 0..self.g {
-                if nodes.contains(&c) {
+                if !self.allowed[c] || nodes.contains(&c) {
                     continue;
                 }
                 nodes.push(c);
-                let o = self.objective(&nodes);
+                let o = objective(&nodes);
                 nodes.pop();
                 if o < best.0 {
                     best = (o, c);
                 }
             }
+            if best.1 == usize::MAX {
+                break;
+            }
             nodes.push(best.1);
         }
+        nodes.sort_unstable();
         nodes
     }
 
-    /// Coordinate descent: moves each node by up to ±[`MAX_MOVE`] grid steps while that lowers
-    /// the objective.
-    pub fn refine(&self, mut nodes: Vec<usize>) -> Vec<usize> {
-        let mut current = self.objective(&nodes);
-        for _ in 0..50 {
+    /// Coordinate descent: moves one node at a time by up to ±[`MAX_MOVE`] grid steps while that
+    /// lowers the error. Returns the nodes (ascending) and their error.
+    pub fn refine(&self, nodes: Vec<usize>) -> (Vec<usize>, f64) {
+        self.refine_with(nodes, &|nodes| self.objective(nodes))
+    }
+
+    /// [`refine`](Self::refine) for any objective.
+    fn refine_with(
+        &self,
+        mut nodes: Vec<usize>,
+        objective: &dyn Fn(&[usize]) -> f64,
+    ) -> (Vec<usize>, f64) {
+        let mut current = objective(&nodes);
+        for _ in 0..200 {
             let mut improved = false;
             for i in 0..nodes.len() {
                 let start = nodes[i];
@@ -355,12 +391,12 @@ impl Trainer {
                         .into_iter()
                         .flatten()
                     {
-                        if c >= self.g || nodes.contains(&c) {
+                        if c >= self.g || !self.allowed[c] || nodes.contains(&c) {
                             continue;
                         }
                         nodes[i] = c;
-                        let o = self.objective(&nodes);
-                        if o < best.0 - 1e-12 * best.0.abs() {
+                        let o = objective(&nodes);
+                        if o < best.0 * (1.0 - 1e-12) {
                             best = (o, c);
                         }
                     }
@@ -375,85 +411,332 @@ impl Trainer {
                 break;
             }
         }
+        nodes.sort_unstable();
+        (nodes, current)
+    }
+
+    /// Evenly spaced allowed grid indices (a start for [`refine`](Self::refine)).
+    fn spread(&self, n: usize, offset: f64) -> Vec<usize> {
+        let allowed: Vec<usize> = (0..self.g).filter(|&c| self.allowed[c]).collect();
+        let mut nodes: Vec<usize> = (0..n)
+            .map(|i| {
+                let t = (i as f64 + offset) / n as f64;
+                allowed[((t * allowed.len() as f64) as usize).min(allowed.len() - 1)]
+            })
+            .collect();
+        nodes.dedup();
         nodes
     }
 
-    /// The set for grid indices `nodes` (any order, distinct).
-    pub fn set(&self, nodes: &[usize]) -> SharedSet {
-        let mut nodes = nodes.to_vec();
-        nodes.sort_unstable();
-        let w = self
-            .solve(&nodes)
-            .map(|s| s.0)
-            .unwrap_or_else(|| self.prior(&nodes));
-        SharedSet {
-            name: std::format!("SHARED_{}", nodes.len()),
-            wavelengths_nm: nodes.iter().map(|&i| self.grid_nm[i]).collect(),
-            xyz_weights: [0, 1, 2].map(|c| (0..nodes.len()).map(|i| w[3 * i + c]).collect()),
-        }
+    /// The best of greedy selection and evenly spaced starts, each refined by coordinate
+    /// descent: `n` grid indices (ascending) and their error.
+    pub fn optimize(&self, n: usize) -> (Vec<usize>, f64) {
+        self.optimize_with(n, &|nodes| self.objective(nodes))
     }
 
-    /// Greedy selection, coordinate descent, weights.
-    pub fn optimize(&self, n: usize) -> SharedSet {
-        let nodes = self.refine(self.greedy(n));
-        self.set(&nodes)
-    }
-}
-
-/// Solves the symmetric positive definite system `a x = b` (`a` row-major m×m, overwritten).
-fn cholesky_solve(a: &mut [f64], b: &[f64], m: usize) -> Option<Vec<f64>> {
-    for j in 0..m {
-        let mut s = a[j * m + j];
-        for k in 0..j {
-            s -= a[j * m + k] * a[j * m + k];
-        }
-        if s <= 0.0 || !s.is_finite() {
-            return None;
-        }
-        let l = s.sqrt();
-        a[j * m + j] = l;
-        for i in j + 1..m {
-            let mut s = a[i * m + j];
-            for k in 0..j {
-                s -= a[i * m + k] * a[j * m + k];
+    /// [`optimize`](Self::optimize) for any objective.
+    fn optimize_with(&self, n: usize, objective: &dyn Fn(&[usize]) -> f64) -> (Vec<usize>, f64) {
+        let mut starts = std::vec![self.greedy_with(n, objective)];
+        for offset in [0.5, 0.25, 0.75] {
+            let s = self.spread(n, offset);
+            if s.len() == n {
+                starts.push(s);
             }
-            a[i * m + j] = s / l;
+        }
+        // Random starts from a fixed LCG (deterministic output).
+        let allowed: Vec<usize> = (0..self.g).filter(|&c| self.allowed[c]).collect();
+        let mut state: u64 = 0x853c_49e6_748f_ea9b;
+        for _ in 0..RANDOM_STARTS {
+            let mut s: Vec<usize> = Vec::with_capacity(n);
+            while s.len() < n.min(allowed.len()) {
+                state = state
+                    .wrapping_mul(6_364_136_223_846_793_005)
+                    .wrapping_add(1_442_695_040_888_963_407);
+                let c = allowed[((state >> 33) as usize) % allowed.len()];
+                if !s.contains(&c) {
+                    s.push(c);
+                }
+            }
+            starts.push(s);
+        }
+        starts
+            .into_iter()
+            .map(|s| self.refine_with(s, objective))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .unwrap_or((Vec::new(), f64::INFINITY))
+    }
+
+    /// The set at grid indices `nodes`, as the report measures it: weights per unit radiance
+    /// (the folded weights divided by the light at each node, so that the set applied to
+    /// `r · L` equals the folded set applied to r).
+    pub fn eval_set(&self, name: &str, family: &str, nodes: &[usize]) -> Option<EvalSet> {
+        let (w, _) = self.solve(nodes)?;
+        Some(self.radiance_set(name, family, nodes, &w))
+    }
+
+    /// Folded weights `w` at `nodes` as a set on radiances.
+    pub fn radiance_set(
+        &self,
+        name: &str,
+        family: &str,
+        nodes: &[usize],
+        w: &[Vec<f64>; 3],
+    ) -> EvalSet {
+        EvalSet {
+            name: name.into(),
+            family: family.into(),
+            orders: None,
+            wavelengths_nm: nodes.iter().map(|&i| self.grid_nm[i]).collect(),
+            xyz_weights: [0, 1, 2].map(|c| {
+                nodes
+                    .iter()
+                    .zip(&w[c])
+                    .map(|(&i, v)| v / self.light[i])
+                    .collect()
+            }),
         }
     }
-    let mut y = b.to_vec();
-    for i in 0..m {
-        for k in 0..i {
-            y[i] -= a[i * m + k] * y[k];
-        }
-        y[i] /= a[i * m + i];
-    }
-    for i in (0..m).rev() {
-        for k in i + 1..m {
-            y[i] -= a[k * m + i] * y[k];
-        }
-        y[i] /= a[i * m + i];
-    }
-    Some(y)
 }
 
-/// A shared set of `n` wavelengths fitted to `training` (radiances on the 1 nm grid of the
-/// derivation's range), the white of CIELAB taken as equal energy at Y = 1 and exact (see
-/// [`Trainer::new`] with whites for the sample's own white integrated by the set). Panics if the
-/// derivation's observer has no 1 nm table over its range or a spectrum is not on that grid.
-pub fn optimize(d: &Derivation, training: &[Vec<f64>], n: usize) -> SharedSet {
-    Trainer::new(d, training, None)
-        .expect("training spectra on the 1 nm grid")
-        .optimize(n)
+/// The result of [`fit`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Fit {
+    /// The Matérn 5/2 length, nm.
+    pub length_nm: f64,
+    /// The weight of the empirical covariance.
+    pub weight: f64,
+    /// The leave-one-out log likelihood (up to a constant).
+    pub log_likelihood: f64,
 }
 
-/// As [`optimize`], with `whites[k]` the white of `training[k]`, integrated by the set.
-pub fn optimize_with_whites(
-    d: &Derivation,
-    training: &[Vec<f64>],
-    whites: &[Vec<f64>],
-    n: usize,
-) -> SharedSet {
-    Trainer::new(d, training, Some(whites))
-        .expect("training spectra on the 1 nm grid")
-        .optimize(n)
+/// The lengths [`fit`] searches for the crate's sets, nm.
+pub const FIT_LENGTHS_NM: [f64; 9] = [40.0, 45.0, 50.0, 55.0, 60.0, 65.0, 70.0, 75.0, 80.0];
+
+/// The empirical-covariance weights [`fit`] searches for the crate's sets.
+pub const FIT_WEIGHTS: [f64; 11] = [
+    0.0, 10.0, 20.0, 30.0, 50.0, 70.0, 100.0, 150.0, 200.0, 300.0, 1000.0,
+];
+
+/// White noise added to the kernel in [`fit`] (relative to its variance): reflectance data are
+/// given to about 1 % of their spread, so the likelihood should not chase finer detail.
+pub const FIT_NOISE: f64 = 1e-4;
+
+/// The Matérn length of the crate's sets, nm: [`fit`] on the CIE test colour samples over
+/// [`FIT_LENGTHS_NM`] × [`FIT_WEIGHTS`] (the tests re-run the fit).
+pub const LENGTH_NM: f64 = 60.0;
+
+/// The empirical-covariance weight of the crate's sets, fitted with [`LENGTH_NM`].
+pub const EMPIRICAL_WEIGHT: f64 = 70.0;
+
+/// The kernel length and empirical-covariance weight that maximise the leave-one-out likelihood
+/// of `training`: each reflectance predicted by a Gaussian with the other reflectances' mean and
+/// covariance `σ²(k + α S₋ₖ + ηI)` (σ² profiled, η = [`FIT_NOISE`]), on a 5 nm grid of
+/// `range_nm`. `None` with fewer than 3 spectra or when no candidate is positive definite.
+pub fn fit(
+    training: &[Curve],
+    range_nm: [f64; 2],
+    lengths_nm: &[f64],
+    weights: &[f64],
+) -> Option<Fit> {
+    let mut best: Option<Fit> = None;
+    for &length_nm in lengths_nm {
+        let kernel = Kernel::Matern52 { length_nm };
+        for &weight in weights {
+            if let Some(ll) = loo_log_likelihood(kernel, training, range_nm, weight) {
+                if best.is_none_or(|b| ll > b.log_likelihood) {
+                    best = Some(Fit {
+                        length_nm,
+                        weight,
+                        log_likelihood: ll,
+                    });
+                }
+            }
+        }
+    }
+    best
+}
+
+fn loo_log_likelihood(
+    kernel: Kernel,
+    training: &[Curve],
+    range_nm: [f64; 2],
+    alpha: f64,
+) -> Option<f64> {
+    let grid: Vec<f64> = {
+        let mut v = Vec::new();
+        let mut nm = range_nm[0];
+        while nm <= range_nm[1] + 1e-9 {
+            v.push(nm);
+            nm += 5.0;
+        }
+        v
+    };
+    let dim = grid.len();
+    let n = training.len();
+    if n < 3 {
+        return None;
+    }
+    let ys: Vec<DVector<f64>> = training
+        .iter()
+        .map(|r| DVector::from_iterator(dim, grid.iter().map(|&nm| r.at(nm))))
+        .collect();
+    let mut k = DMatrix::<f64>::from_fn(dim, dim, |i, j| kernel.between(grid[i], grid[j]));
+    for i in 0..dim {
+        k[(i, i)] += FIT_NOISE;
+    }
+    {
+        let mut quad = 0.0;
+        let mut logdet = 0.0;
+        for h in 0..n {
+            let others: Vec<&DVector<f64>> = (0..n).filter(|&i| i != h).map(|i| &ys[i]).collect();
+            let m = others.len() as f64;
+            let mean = others.iter().fold(DVector::zeros(dim), |acc, y| acc + *y) / m;
+            let mut c = k.clone();
+            for y in &others {
+                let dev = *y - &mean;
+                c += &dev * dev.transpose() * (alpha / m);
+            }
+            let chol = c.cholesky()?;
+            logdet += 2.0 * chol.l().diagonal().iter().map(|v| v.ln()).sum::<f64>();
+            let e = &ys[h] - &mean;
+            quad += e.dot(&chol.solve(&e));
+        }
+        let sigma2 = quad / (n as f64 * dim as f64);
+        Some(-0.5 * n as f64 * dim as f64 * sigma2.ln() - 0.5 * logdet)
+    }
+}
+
+/// The training reflectances of the crate's sets: the CIE test colour samples (never the
+/// ColorChecker, on which the report and the tests judge them).
+pub const TRAINING_FILE: &str = "data/reflectance_cie_tcs.csv";
+
+/// Shared-set sizes the catalog builds: `KQ_3` … `KQ_32`.
+pub const SIZES: core::ops::RangeInclusive<usize> = 3..=32;
+
+/// The crate's problem for a light given by name (a built-in illuminant: `C`, `D65`, `F11`,
+/// `LED_B1`, …), or for radiances (`None`): [`Kernel::Matern52`] of [`LENGTH_NM`] plus
+/// [`EMPIRICAL_WEIGHT`] times the covariance of [`TRAINING_FILE`].
+pub fn problem(d: &Derivation, light: Option<&str>) -> Result<Problem, String> {
+    let range = d.settings.range_nm;
+    let tcs = evaluate::Spectra::builtin(TRAINING_FILE)
+        .and_then(|s| s.curves(range))
+        .map_err(|e| e.to_string())?;
+    let curve = match light {
+        Some(name) => Some(
+            evaluate::builtin_illuminant(name, range)
+                .map_err(|_| std::format!("{name}: not a built-in illuminant"))?,
+        ),
+        None => None,
+    };
+    Ok(Problem::new(
+        d,
+        curve.as_ref(),
+        Kernel::Matern52 {
+            length_nm: LENGTH_NM,
+        },
+        &tcs,
+    )?
+    .with_covariance(&tcs, EMPIRICAL_WEIGHT))
+}
+
+/// An optimised shared set and the problem it solves.
+#[derive(Debug, Clone)]
+pub struct Shared {
+    /// The problem (its light, kernel and metric).
+    pub problem: Problem,
+    /// The light's name, `None` for radiances.
+    pub light: Option<String>,
+    /// Grid indices of the nodes, ascending.
+    pub nodes: Vec<usize>,
+    /// Folded XYZ weights `w[c][i]` for samples of r (reflectance under the light, or radiance).
+    pub xyz_weights: [Vec<f64>; 3],
+    /// The expected linearised CIELAB error the nodes minimise.
+    pub expected_error: f64,
+}
+
+impl Shared {
+    /// The wavelengths in nm, ascending.
+    pub fn wavelengths_nm(&self) -> Vec<f64> {
+        self.nodes
+            .iter()
+            .map(|&i| self.problem.grid_nm[i])
+            .collect()
+    }
+
+    /// The set as the report measures it, on radiances `r · L` (see [`Problem::eval_set`]).
+    pub fn eval_set(&self, name: &str, family: &str) -> EvalSet {
+        self.problem
+            .radiance_set(name, family, &self.nodes, &self.xyz_weights)
+    }
+
+    /// The set as the runtime bakes it: AC1C2 rows (Eq. 9 applied to the folded XYZ weights).
+    pub fn wavelength_set(&self, d: &Derivation, name: &str) -> WavelengthSet {
+        let m = d.opponent.xyz_to_ac1c2;
+        let n = self.nodes.len();
+        let what = match &self.light {
+            Some(l) => std::format!("samples are reflectances under illuminant {l}, folded into the weights (a reflectance of 1 has the Y of a radiance of 1)"),
+            None => "samples are radiances".to_string(),
+        };
+        WavelengthSet {
+            name: name.into(),
+            doc: std::format!(
+                "Shared set by kernel quadrature: {n} wavelengths for all three channels; {what}. Trained on the CIE test colour samples."
+            ),
+            wavelengths_nm: self.wavelengths_nm(),
+            weights: [0, 1, 2].map(|r| {
+                (0..n)
+                    .map(|i| (0..3).map(|k| m[r][k] * self.xyz_weights[k][i]).sum())
+                    .collect()
+            }),
+        }
+    }
+}
+
+/// The shared set of `n` wavelengths for a built-in light (`None`: radiances).
+pub fn optimize(d: &Derivation, light: Option<&str>, n: usize) -> Result<Shared, String> {
+    let problem = problem(d, light)?;
+    let (nodes, expected_error) = problem.optimize(n);
+    let (xyz_weights, _) = problem.solve(&nodes).ok_or_else(|| {
+        std::format!("no shared set of {n} wavelengths: the kriging system is singular")
+    })?;
+    if nodes.len() != n {
+        return Err(std::format!(
+            "no shared set of {n} wavelengths: only {} grid points are usable",
+            nodes.len()
+        ));
+    }
+    Ok(Shared {
+        problem,
+        light: light.map(str::to_string),
+        nodes,
+        xyz_weights,
+        expected_error,
+    })
+}
+
+/// Method (a): the A channel's Gauss rule of order `n` (its nodes and A weights), with C1 and C2
+/// integrated on the same nodes by interpolatory rules (the integral of the interpolating
+/// polynomial), so that all three channels share `n` wavelengths.
+pub fn interpolatory_a(d: &Derivation, n: usize, name: &str) -> Result<WavelengthSet, String> {
+    let r = d.rules[0]
+        .get(n.wrapping_sub(1))
+        .ok_or_else(|| std::format!("{name}: A order {n} is not among the derived orders"))?;
+    if !r.is_defined() {
+        return Err(std::format!(
+            "{name}: A order {n} is undefined ({})",
+            r.reason
+        ));
+    }
+    Ok(WavelengthSet {
+        name: name.into(),
+        doc: std::format!(
+            "The A channel's Gauss rule of order {n}, with C1 and C2 integrated by interpolatory rules on its nodes."
+        ),
+        wavelengths_nm: r.nodes_nm.clone(),
+        weights: [
+            r.weights.clone(),
+            interpolatory_weights(&d.measures[1], &r.nodes_nm),
+            interpolatory_weights(&d.measures[2], &r.nodes_nm),
+        ],
+    })
 }
