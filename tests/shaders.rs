@@ -614,6 +614,55 @@ fn product_budget(row: &[f32], s: &[f32]) -> f64 {
     f32_budget(row.len(), abs_sum) + 2.0 * row.len() as f64 * f64::from(f32::MIN_POSITIVE)
 }
 
+/// `product_budget` covers what a shader compiler may do to the runtime's sums: fuse each
+/// multiply-add into an FMA, or add the terms in another order.
+#[test]
+fn the_product_budget_covers_fused_and_reordered_sums() {
+    const PIXELS: usize = 4096;
+    let input = samples(PIXELS);
+    let (mut worst, mut differ, mut compared) = (0.0f64, 0usize, 0usize);
+    for p in 0..PIXELS {
+        for case in cases() {
+            let s = &input[p * STRIDE..p * STRIDE + case.n];
+            for (rows, rust) in [
+                (table(&format!("{}.weights", case.set)), (case.ac1c2)(s)),
+                (
+                    table(&format!(
+                        "folded::{}_{}.weights",
+                        case.set, case.display_name
+                    )),
+                    (case.linear)(s),
+                ),
+            ] {
+                for c in 0..3 {
+                    let row = &rows[c * case.n..(c + 1) * case.n];
+                    let terms = row.iter().zip(s);
+                    let fused = terms.clone().fold(0.0f32, |acc, (w, x)| w.mul_add(*x, acc));
+                    let reversed = terms.clone().rev().fold(0.0f32, |acc, (w, x)| acc + w * x);
+                    let fused_reversed = terms.rev().fold(0.0f32, |acc, (w, x)| w.mul_add(*x, acc));
+                    let budget = product_budget(row, s);
+                    for other in [fused, reversed, fused_reversed] {
+                        let diff = (f64::from(other) - f64::from(rust[c])).abs();
+                        assert!(
+                            diff <= budget,
+                            "pixel {p} {}: {other:e} vs {:e}",
+                            case.set,
+                            rust[c]
+                        );
+                        worst = worst.max(diff / budget);
+                        differ += usize::from(other != rust[c]);
+                        compared += 1;
+                    }
+                }
+            }
+        }
+    }
+    println!(
+        "fused and reordered sums: {differ} of {compared} differ from the runtime's, by at most {worst:.3} of the budget"
+    );
+    assert!(differ > 0, "the inputs never tell the orders apart");
+}
+
 struct Gpu {
     device: wgpu::Device,
     queue: wgpu::Queue,
