@@ -89,6 +89,23 @@ fn main() {
     if let Err(e) = std::fs::write(out.join("tables.rs"), source) {
         fail(&format!("cannot write tables.rs: {e}"));
     }
+    write_shaders(&out, &d, &resolved);
+}
+
+/// Writes the scene's shader snippets, `OUT_DIR/shaders.wgsl` and `OUT_DIR/shaders.glsl`,
+/// which `tables::shaders` includes as strings.
+fn write_shaders(out: &Path, d: &derive::Derivation, scene: &derive::scene::Resolved) {
+    use derive::shader::{snippet, Language};
+    for (lang, file) in [
+        (Language::Wgsl, "shaders.wgsl"),
+        (Language::Glsl, "shaders.glsl"),
+    ] {
+        let text = snippet(d, scene, lang)
+            .unwrap_or_else(|e| fail(&format!("shader generation failed: {e}")));
+        if let Err(e) = std::fs::write(out.join(file), text) {
+            fail(&format!("cannot write {file}: {e}"));
+        }
+    }
 }
 
 fn fail(message: &str) -> ! {

@@ -31,6 +31,7 @@ pub mod quadrature;
 pub mod scene;
 pub mod sensitivity;
 pub mod sets;
+pub mod shader;
 pub mod shared;
 pub mod stability;
 pub mod table;
