@@ -48,7 +48,10 @@ fn check<const N: usize>(
     let [r, g, b] = &mut lin;
     assert_eq!(set.linear_rgb_planar(samples, [r, g, b]), Ok(()));
     let mut out = vec![[0u8; 3]; n];
-    assert_eq!(set.encode_u8_planar(display, mapping, samples, &mut out), Ok(()));
+    assert_eq!(
+        set.encode_u8_planar(display, mapping, samples, &mut out),
+        Ok(())
+    );
     let fast = display.transfer == TransferFunction::Srgb && mapping == GamutMapping::Clip;
     for p in 0..n {
         let s: [f32; N] = std::array::from_fn(|i| planes[i][p]);
@@ -72,12 +75,20 @@ fn check<const N: usize>(
                 out[p]
             );
         } else {
-            assert_eq!(out[p], one, "encode_u8_planar {} {mapping:?} N={N} pixel {p}", display.name);
+            assert_eq!(
+                out[p], one,
+                "encode_u8_planar {} {mapping:?} N={N} pixel {p}",
+                display.name
+            );
         }
     }
 
     // One plane (or the output) of another length: an error, outputs untouched.
-    let other = if wrong % (n + 2) == n { n + 1 } else { wrong % (n + 2) };
+    let other = if wrong % (n + 2) == n {
+        n + 1
+    } else {
+        wrong % (n + 2)
+    };
     let which = wrong % (N + 1);
     let mut short: [Vec<f32>; N] = planes.clone();
     let mut out_len = n;
@@ -89,11 +100,17 @@ fn check<const N: usize>(
     let samples: [&[f32]; N] = short.each_ref().map(|p| &p[..]);
     let mut out = vec![[9u8; 3]; out_len];
     let result = set.encode_u8_planar(display, mapping, samples, &mut out);
-    assert!(matches!(result, Err(Error::LengthMismatch { .. })), "{result:?}");
+    assert!(
+        matches!(result, Err(Error::LengthMismatch { .. })),
+        "{result:?}"
+    );
     assert!(out.iter().all(|o| *o == [9; 3]));
     let mut lin = [0, 1, 2].map(|_| vec![-7.5f32; out_len]);
     let [r, g, b] = &mut lin;
     let result = set.linear_rgb_planar(samples, [r, g, b]);
-    assert!(matches!(result, Err(Error::LengthMismatch { .. })), "{result:?}");
+    assert!(
+        matches!(result, Err(Error::LengthMismatch { .. })),
+        "{result:?}"
+    );
     assert!(lin.iter().flatten().all(|v| *v == -7.5));
 }
