@@ -18,6 +18,9 @@
 //! accumulation like the crate's own 3×N product) and `full_1nm_8acc` (the same sums with 8
 //! partial accumulators per channel, which the compiler can vectorise: a faster reference).
 //!
+//! - `bandwidth/...`: the planar (structure-of-arrays) batch path against the memory bound, all
+//!   in one run; see [`bandwidth`]. `cargo bench --bench runtime -- bandwidth` runs only these.
+//!
 //! Run with `cargo bench --bench runtime`.
 
 use std::hint::black_box;
@@ -26,7 +29,7 @@ use std::time::Duration;
 use criterion::measurement::WallTime;
 use criterion::{criterion_group, criterion_main, BenchmarkGroup, Criterion, Throughput};
 use spectral_quadrature::tables::{self, displays::SRGB, folded};
-use spectral_quadrature::{Display, FoldedSet, GamutMapping, WavelengthSet};
+use spectral_quadrature::{Display, FoldedSet, GamutMapping, WavelengthSet, SRGB8_MAX_STEP_ERROR};
 
 /// Pixels in the input set (a power of two, so the per-pixel index wraps with a mask).
 const PIXELS: usize = 4096;
@@ -395,12 +398,227 @@ fn runtime(c: &mut Criterion) {
     black_box(&out);
 }
 
+// ---------------------------------------------------------------------------------------------
+// Bandwidth: the planar batch path against the memory bound
+
+/// Pixels of the large planar inputs: 2²⁵ (33.5 million). One plane is 128 MiB, so N = 4 reads
+/// 512 MiB and N = 16 reads 2 GiB per pass, against a 260 MiB last-level cache on the machine
+/// the README's figures come from: every pass streams from memory.
+const BIG_PIXELS: usize = 1 << 25;
+/// Pixels of the per-pixel API and the 1 nm integrations, which are far from the memory bound:
+/// the first 65 536 of the large inputs (16 copies of the 4096 spectra).
+const SMALL_PIXELS: usize = 1 << 16;
+
+/// A uniform set of `N` wavelengths folded for sRGB, built from the 1 nm reference: the 391
+/// samples split into `N` equal bins, one node at each bin's centre, its weights the sum of the
+/// 1 nm weights in the bin (a box filter). Stands in for the sets of 8 and 16 wavelengths,
+/// which the default scene does not bake.
+fn uniform_set<const N: usize>(full: &Full1nm, display: &Display) -> FoldedSet<N> {
+    let mut weights = [[0.0f64; N]; 3];
+    for i in 0..FULL_LEN {
+        let bin = i * N / FULL_LEN;
+        let xyz: [f64; 3] = core::array::from_fn(|r| f64::from(full.xyz_weights[r][i]));
+        for (c, row) in weights.iter_mut().enumerate() {
+            row[bin] += (0..3)
+                .map(|k| f64::from(display.xyz_to_rgb[c][k]) * xyz[k])
+                .sum::<f64>();
+        }
+    }
+    let wavelengths_nm = core::array::from_fn(|b| {
+        let first = (b * FULL_LEN).div_ceil(N);
+        let last = ((b + 1) * FULL_LEN).div_ceil(N) - 1;
+        (FULL_START_NM + (first + last) as f64 / 2.0 * DLAMBDA_NM) as f32
+    });
+    FoldedSet {
+        wavelengths_nm,
+        weights: weights.map(|row| row.map(|w| w as f32)),
+    }
+}
+
+/// Planar samples of the 4096 spectra at `nm`, repeated to `BIG_PIXELS` pixels: `[plane][pixel]`.
+fn planes<const N: usize>(refl: &[Reflectance], nm: &[f32; N]) -> Vec<Vec<f32>> {
+    nm.iter()
+        .map(|&l| {
+            let one: Vec<f32> = refl.iter().map(|s| s.at(f64::from(l))).collect();
+            let mut plane = Vec::with_capacity(BIG_PIXELS);
+            while plane.len() < BIG_PIXELS {
+                plane.extend_from_slice(&one);
+            }
+            plane
+        })
+        .collect()
+}
+
+fn plane_refs<const N: usize>(planes: &[Vec<f32>]) -> [&[f32]; N] {
+    core::array::from_fn(|i| &planes[i][..])
+}
+
+/// The streaming bound: reads every sample of every plane once (a vertical sum per chunk of 16
+/// pixels, which costs less than the loads) and writes `B` bytes per pixel taken from those
+/// sums. Nothing else: any conversion must read and write at least this much.
+fn stream<const N: usize, const B: usize>(planes: [&[f32]; N], out: &mut [u8]) {
+    const CHUNK: usize = 16;
+    let pixels = planes[0].len();
+    assert!(
+        pixels.is_multiple_of(CHUNK)
+            && out.len() == B * pixels
+            && planes.iter().all(|p| p.len() == pixels)
+    );
+    let full: [&[[f32; CHUNK]]; N] = planes.map(|p| p.as_chunks::<CHUNK>().0);
+    for (j, o) in out.chunks_exact_mut(B * CHUNK).enumerate() {
+        let mut sum = [0.0f32; CHUNK];
+        for plane in &full {
+            for (s, x) in sum.iter_mut().zip(&plane[j]) {
+                *s += x;
+            }
+        }
+        // The 4·CHUNK bytes of the sums, repeated, are the B·CHUNK bytes written.
+        let mut bytes = [0u8; 4 * CHUNK];
+        for (b, s) in bytes.chunks_exact_mut(4).zip(sum) {
+            b.copy_from_slice(&s.to_bits().to_le_bytes());
+        }
+        for o in o.chunks_mut(4 * CHUNK) {
+            let n = o.len();
+            o.copy_from_slice(&bytes[..n]);
+        }
+    }
+}
+
+/// One set's part of the bandwidth group: the streaming bounds for its input, the planar path
+/// into linear f32 and into sRGB u8 (all on `BIG_PIXELS` pixels), and the per-pixel API on the
+/// first `SMALL_PIXELS`.
+fn bandwidth_set<const N: usize>(
+    g: &mut BenchmarkGroup<'_, WallTime>,
+    refl: &[Reflectance],
+    set: &FoldedSet<N>,
+) {
+    let planes = planes(refl, &set.wavelengths_nm);
+    let samples = plane_refs::<N>(&planes);
+    let display = &SRGB;
+    let clip = GamutMapping::Clip;
+
+    // Untimed: the planar path agrees with the per-pixel one on the first pixels.
+    let mut check = vec![[0u8; 3]; SMALL_PIXELS];
+    let head: [&[f32]; N] = samples.map(|p| &p[..SMALL_PIXELS]);
+    set.encode_u8_planar(display, clip, head, &mut check)
+        .unwrap();
+    let mut differ = 0;
+    for (p, o) in check.iter().enumerate() {
+        let one = set.encode_u8(display, clip, &core::array::from_fn(|i| samples[i][p]));
+        assert!(
+            (0..3).all(|c| o[c].abs_diff(one[c]) <= SRGB8_MAX_STEP_ERROR),
+            "pixel {p}: {o:?} {one:?}"
+        );
+        differ += usize::from(*o != one);
+    }
+    eprintln!("bandwidth N{N}: planar sRGB u8 differs from encode_u8 on {differ} of {SMALL_PIXELS} pixels (by 1 step)");
+
+    g.throughput(Throughput::Elements(BIG_PIXELS as u64));
+    let mut bytes = vec![0u8; 3 * BIG_PIXELS];
+    g.bench_function(format!("stream/read_write_3B/N{N}"), |b| {
+        b.iter(|| stream::<N, 3>(black_box(samples), black_box(&mut bytes)))
+    });
+    drop(bytes);
+    let mut bytes = vec![0u8; 12 * BIG_PIXELS];
+    g.bench_function(format!("stream/read_write_12B/N{N}"), |b| {
+        b.iter(|| stream::<N, 12>(black_box(samples), black_box(&mut bytes)))
+    });
+    drop(bytes);
+
+    let mut lin = [0, 1, 2].map(|_| vec![0.0f32; BIG_PIXELS]);
+    g.bench_function(format!("soa/linear/N{N}"), |b| {
+        b.iter(|| {
+            let [r, gr, bl] = &mut lin;
+            set.linear_rgb_planar(black_box(samples), [r, gr, bl])
+                .unwrap();
+            black_box(&mut lin);
+        })
+    });
+    drop(lin);
+    let mut out = vec![[0u8; 3]; BIG_PIXELS];
+    g.bench_function(format!("soa/srgb_u8/N{N}"), |b| {
+        b.iter(|| {
+            set.encode_u8_planar(display, clip, black_box(samples), black_box(&mut out))
+                .unwrap()
+        })
+    });
+
+    // The per-pixel API on the same samples, as a renderer would call it per pixel.
+    g.throughput(Throughput::Elements(SMALL_PIXELS as u64));
+    g.bench_function(format!("per_pixel/srgb_u8/N{N}"), |b| {
+        b.iter(|| {
+            let samples = black_box(samples);
+            for (p, o) in out[..SMALL_PIXELS].iter_mut().enumerate() {
+                *o = set.encode_u8(display, clip, &core::array::from_fn(|i| samples[i][p]));
+            }
+            black_box(&mut out);
+        })
+    });
+}
+
+/// Everything the README's Performance section quotes, in one run: for N = 4 (Table 2 row 2),
+/// 6 (row 1), 8 and 16 (uniform sets, see [`uniform_set`]):
+///
+/// - `stream/read_write_3B/N<n>`: read N·4 bytes per pixel, write 3 (the bound for sRGB u8);
+///   `stream/read_write_12B/N<n>`: write 12 (the bound for linear f32);
+/// - `soa/linear/N<n>`: `linear_rgb_planar`, N planes → 3 planes of f32;
+/// - `soa/srgb_u8/N<n>`: `encode_u8_planar` (sRGB, Clip) → interleaved `[u8; 3]`;
+/// - `per_pixel/srgb_u8/N<n>`: `encode_u8` per pixel on the same planes;
+/// - `full_1nm/srgb_u8`, `full_1nm_8acc/srgb_u8`: the 1 nm integration of the same spectra
+///   (in-order sums, and 8 partial sums that vectorize), then the same encode.
+///
+/// Sizes: the stream and `soa` cases run over `BIG_PIXELS` = 2²⁵ pixels (the 4096 spectra
+/// repeated), 512 MiB to 2 GiB of input, beyond the last-level cache. The per-pixel and 1 nm
+/// cases take 90 to 900 ns per pixel, far from any memory bound, and run over the first
+/// `SMALL_PIXELS` = 65 536 of them (1 nm: 100 MiB of samples). Throughput is in pixels, so
+/// criterion's time per element is ns/pixel.
+fn bandwidth(c: &mut Criterion) {
+    let refl = spectra();
+    let full = Full1nm::new();
+    let mut g = c.benchmark_group("bandwidth");
+    g.sample_size(10)
+        .warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(3));
+    bandwidth_set(&mut g, &refl, &folded::TABLE2_ROW2_SRGB);
+    bandwidth_set(&mut g, &refl, &folded::TABLE2_ROW1_SRGB);
+    bandwidth_set(&mut g, &refl, &uniform_set::<8>(&full, &SRGB));
+    bandwidth_set(&mut g, &refl, &uniform_set::<16>(&full, &SRGB));
+
+    // The 1 nm integration of the same spectra: 16 copies of the 4096.
+    let one = sample_1nm(&refl);
+    let s_1nm: Vec<[f32; FULL_LEN]> = one.iter().cycle().take(SMALL_PIXELS).copied().collect();
+    drop(one);
+    let mut out = vec![[0u8; 3]; SMALL_PIXELS];
+    g.throughput(Throughput::Elements(SMALL_PIXELS as u64));
+    g.bench_function("full_1nm/srgb_u8", |b| {
+        b.iter(|| {
+            full.encode_u8_batch(
+                &SRGB,
+                GamutMapping::Clip,
+                black_box(&s_1nm),
+                black_box(&mut out),
+            )
+        })
+    });
+    g.bench_function("full_1nm_8acc/srgb_u8", |b| {
+        b.iter(|| {
+            full.encode_u8_batch_8acc(
+                &SRGB,
+                GamutMapping::Clip,
+                black_box(&s_1nm),
+                black_box(&mut out),
+            )
+        })
+    });
+    g.finish();
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default()
         .warm_up_time(Duration::from_millis(500))
         .measurement_time(Duration::from_secs(2))
         .sample_size(50);
-    targets = runtime
+    targets = runtime, bandwidth
 }
 criterion_main!(benches);

@@ -38,9 +38,11 @@ extern crate std;
 mod batch;
 mod display;
 mod dynamic;
+mod encode;
 mod error;
 mod lab;
 mod set;
+mod soa;
 
 #[cfg(feature = "defmt")]
 mod defmt;
@@ -53,6 +55,7 @@ pub use display::{
     quantize_u16, quantize_u8, ChannelLuts, Display, GamutMapping, TransferFunction,
 };
 pub use dynamic::DynamicSet;
+pub use encode::{srgb8_from_linear, SRGB8_MAX_DELTA_E, SRGB8_MAX_STEP_ERROR};
 pub use error::Error;
 #[cfg(feature = "micromath")]
 pub use fast::ENCODE_FAST_MAX_ERROR;

@@ -1,0 +1,186 @@
+//! A branch-free sRGB 8-bit encoder: one table lookup and one addition per value, correctly
+//! rounded.
+//!
+//! For each code value k = 1..=255 the exact sRGB curve (IEC 61966-2-1, in f64) crosses the
+//! rounding boundary k − ½ at one linear value; the smallest f32 at or above it is k's
+//! *threshold*. An f32 in 2⁻¹³..=1 is split by its top bits (exponent and 7 mantissa bits) into
+//! 1 665 segments, each narrower than the distance between two thresholds, so each holds at most
+//! one. A segment's entry holds the code value at its start and, in 16 bits, how far into the
+//! segment (in the f32's low 16 bits) its threshold lies, arranged so that adding the f32's
+//! position carries into the code value exactly at the threshold. The table (2 048 entries,
+//! 8 kB) is built by `const fn` from the formula, so no value in it was copied by hand;
+//! `tests/soa.rs` recomputes every threshold with `libm::pow` in f64 and checks the encoder
+//! against the exact curve for every f32 from 2⁻¹³ to 1.
+
+/// Bits of 2⁻¹³, the lower clamp: the exact curve stays below ½ step up to 1.5e-4 > 2⁻¹³.
+const LO_BITS: u32 = (127 - 13) << 23;
+/// 2⁻¹³.
+const LO: f32 = f32::from_bits(LO_BITS);
+/// Segments per octave: 2⁷, indexed by the top 7 mantissa bits.
+const PER_OCTAVE: usize = 128;
+/// 13 octaves from 2⁻¹³ up to 1, and one segment for exactly 1.0.
+const SEGMENTS: usize = 13 * PER_OCTAVE + 1;
+/// Table entries: a power of two, so that masking the index keeps it in range without a check.
+const TABLE_LEN: usize = 2048;
+
+/// The largest difference, per channel in 8-bit steps, between the fast sRGB paths
+/// ([`srgb8_from_linear`] and [`FoldedSet::encode_u8_planar`](crate::FoldedSet::encode_u8_planar)
+/// with the sRGB curve and [`Clip`](crate::GamutMapping::Clip)) and the per-pixel
+/// [`Display::encode_u8`](crate::Display::encode_u8).
+///
+/// The fast encoder is the exact curve rounded to nearest: against the exact curve its error
+/// is at most ½ step before rounding and 0 steps after, for every f32. The per-pixel encoder
+/// rounds twice (the curve to f32, then `e · 255 + ½` in f32), so for inputs within a few units
+/// in the last place of a rounding boundary it lands one step away. `tests/soa.rs` checks every
+/// f32 in 0..=1: the two differ on 268 of them, by 1 step. [`SRGB8_MAX_DELTA_E`] is what that
+/// can cost in colour.
+pub const SRGB8_MAX_STEP_ERROR: u8 = 1;
+
+/// The largest CIELAB ΔE*ab (CIE 1976, white of the sRGB display) between two 8-bit sRGB
+/// colours that differ by at most [`SRGB8_MAX_STEP_ERROR`] (one step) in each channel, anywhere
+/// in the cube. `tests/soa.rs` measures every such pair of the 256³ colours: at most 1.932
+/// (sRGB 1, 25, 45 against 0, 26, 44: near black each step is a large part of the colour), and
+/// 1.189 where only one channel differs.
+pub const SRGB8_MAX_DELTA_E: f32 = 1.94;
+
+/// `(k − ½) / 255` decoded with the exact sRGB curve, in f64: the linear value where the
+/// encoded value crosses the boundary between code values k − 1 and k (k = 1..=255).
+const fn boundary(k: usize) -> f64 {
+    let v = (k as f64 - 0.5) / 255.0;
+    if v <= 0.040_45 {
+        v / 12.92
+    } else {
+        // ((v + 0.055) / 1.055)^2.4 = y² · (y²)^(1/5), the fifth root by Newton's method from
+        // above (monotone, converged to the last bit well within 64 steps for y² ≥ 0.008).
+        let y = (v + 0.055) / 1.055;
+        let a = y * y;
+        let mut r = 1.0f64;
+        let mut i = 0;
+        while i < 64 {
+            let r4 = r * r * r * r;
+            r = 0.8 * r + a / (5.0 * r4);
+            i += 1;
+        }
+        a * r
+    }
+}
+
+/// The smallest f32 at or above `t` (t positive and finite), as bits.
+const fn ceil_f32_bits(t: f64) -> u32 {
+    let f = t as f32;
+    if (f as f64) < t {
+        f.to_bits() + 1
+    } else {
+        f.to_bits()
+    }
+}
+
+/// `THRESHOLDS[k]` (k = 1..=255): bits of the smallest f32 whose exact sRGB encoding rounds to
+/// k or more. Index 0 is unused (0).
+const THRESHOLDS: [u32; 256] = {
+    let mut t = [0u32; 256];
+    let mut k = 1;
+    while k < 256 {
+        t[k] = ceil_f32_bits(boundary(k));
+        // Increasing, and all inside the table's range (checked when the crate compiles).
+        assert!(t[k] > t[k - 1] && t[k] > LO_BITS && t[k] <= 0x3f80_0000);
+        k += 1;
+    }
+    t
+};
+
+/// Segment s covers the f32 bits `LO_BITS + s · 2¹⁶ ..= LO_BITS + s · 2¹⁶ + 0xFFFF`. With
+/// `code` the code value at its start and `t` the low 16 bits of the first f32 in it that
+/// encodes to `code + 1` (2¹⁶ if none), its entry is
+/// `code · 2²⁴ + (2¹⁶ − t mod 2¹⁶) · 2⁸ − s · 2²⁴` (mod 2³²). Adding `v · 2⁸` for
+/// `v = bits − LO_BITS = s · 2¹⁶ + position` cancels the last term and carries into bit 24
+/// exactly when `position ≥ t`, so the top byte of the sum is the code value. Entries past the
+/// last segment repeat it (unreachable after the clamp).
+pub(crate) static SEGMENT_TABLE: [u32; TABLE_LEN] = {
+    let mut table = [0u32; TABLE_LEN];
+    // Number of thresholds at or below the current segment's start.
+    let mut code = 0usize;
+    let mut s = 0;
+    while s < TABLE_LEN {
+        let seg = if s < SEGMENTS { s } else { SEGMENTS - 1 };
+        let start = LO_BITS + ((seg as u32) << 16);
+        let end = start + 0xFFFF;
+        while code < 255 && THRESHOLDS[code + 1] <= start {
+            code += 1;
+        }
+        let threshold = if code < 255 && THRESHOLDS[code + 1] <= end {
+            // At most one threshold per segment (checked when the crate compiles).
+            assert!(code + 2 > 255 || THRESHOLDS[code + 2] > end);
+            THRESHOLDS[code + 1] - start
+        } else {
+            1 << 16
+        };
+        let carry_in = (0x1_0000 - threshold) & 0xFFFF;
+        table[s] = ((code as u32) << 24)
+            .wrapping_add(carry_in << 8)
+            .wrapping_sub((s as u32) << 24);
+        s += 1;
+    }
+    table
+};
+
+/// Linear light → 8-bit sRGB, correctly rounded: the exact sRGB curve (in f64) times 255,
+/// rounded to nearest (halves up), for every f32. Branch-free: a clamp, a table lookup and a
+/// comparison, so loops over it vectorize.
+///
+/// Input handling: NaN, negative values, −Inf and everything below 1.5e-4 (subnormals
+/// included) give 0; values ≥ 1 (+Inf, huge) give 255. Never panics.
+///
+/// Within [`SRGB8_MAX_STEP_ERROR`] (1 step) of the per-pixel
+/// [`TransferFunction::Srgb`](crate::TransferFunction::Srgb) encode quantized with
+/// [`quantize_u8`](crate::quantize_u8), and equal to it almost everywhere.
+///
+/// ```
+/// use spectral_quadrature::srgb8_from_linear;
+/// assert_eq!(srgb8_from_linear(0.0), 0);
+/// assert_eq!(srgb8_from_linear(0.215_860_5), 128); // sRGB 128 decodes to 0.2158605
+/// assert_eq!(srgb8_from_linear(1.0), 255);
+/// assert_eq!(srgb8_from_linear(f32::NAN), 0);
+/// assert_eq!(srgb8_from_linear(f32::INFINITY), 255);
+/// ```
+#[inline]
+pub fn srgb8_from_linear(x: f32) -> u8 {
+    let bits = segment_bits(x);
+    lookup(bits)
+}
+
+/// Clamps to 2⁻¹³..=1 (NaN → 2⁻¹³) and returns the f32 bits minus those of 2⁻¹³: the segment
+/// in the bits from 16 up (at most 1 664), the position inside it in the low 16.
+#[inline(always)]
+pub(crate) fn segment_bits(x: f32) -> u32 {
+    // Comparisons written so that NaN takes the `else` branch (maxps / minps semantics).
+    let x = if x > LO { x } else { LO };
+    let x = if x < 1.0 { x } else { 1.0 };
+    x.to_bits().wrapping_sub(LO_BITS)
+}
+
+/// The table entry for [`segment_bits`]' result `v`, to be added to `v << 8`.
+#[inline(always)]
+pub(crate) fn entry(v: u32) -> u32 {
+    SEGMENT_TABLE[(v >> 16) as usize & (TABLE_LEN - 1)]
+}
+
+/// The code value for [`segment_bits`]' result `v`: the top byte of `entry(v) + v · 2⁸`.
+#[inline(always)]
+pub(crate) fn lookup(v: u32) -> u8 {
+    (entry(v).wrapping_add(v << 8) >> 24) as u8
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn table_ends() {
+        assert_eq!(lookup(0), 0);
+        assert_eq!(lookup(0xFFFF), 0);
+        assert_eq!(lookup(((SEGMENTS as u32) - 1) << 16), 255);
+        assert_eq!(srgb8_from_linear(-0.0), 0);
+        assert_eq!(srgb8_from_linear(f32::from_bits(0x3f7f_ffff)), 255);
+    }
+}
