@@ -152,12 +152,16 @@ fn the_catalog_builds_the_same_sets_the_comparison_judged() {
         &d.opponent.ac1c2_to_xyz,
     );
     let judged_r = &j.radiance[6 - BUDGETS.start()];
+    let mut worst = 0.0f64;
     for c in 0..3 {
         for (a, b) in back.xyz_weights[c].iter().zip(&judged_r.xyz_weights[c]) {
-            // Eq. 9 and its inverse round trip in f64: a few ulps of the largest weight.
-            assert!((a - b).abs() <= 1e-9 * b.abs().max(1.0), "{a} vs {b}");
+            worst = worst.max((a - b).abs());
         }
     }
+    eprintln!("KQ_6 through Eq. 9 and back: largest change {worst:e}");
+    // Eq. 9 and its inverse in f64: the round trip changes a weight (at most about 50) by
+    // about cond · ε · 50 (measured: 7e-15); 1e-12 leaves room for other platforms' rounding.
+    assert!(worst <= 1e-12, "{worst}");
     // A constant reflectance of 1 under C has Y equal to an equal-energy radiance of 1.
     let s = shared::optimize(d, Some("C"), 6).unwrap();
     let y: f64 = s.xyz_weights[1].iter().sum();
@@ -166,8 +170,13 @@ fn the_catalog_builds_the_same_sets_the_comparison_judged() {
         .xyz_weights[1]
         .iter()
         .sum();
-    // The kriging constraint holds to the solve's rounding.
-    assert!((y - unit).abs() <= 1e-9 * unit, "{y} vs {unit}");
+    // The kriging constraint is one row of an LU-solved system, which is backward stable: its
+    // residual is a few ε · Σ|w| (measured: 7e-16 relative); 1e-12 leaves room.
+    eprintln!(
+        "KQ_C_6 white: Y {y}, equal energy {unit}, relative {:e}",
+        (y - unit).abs() / unit
+    );
+    assert!((y - unit).abs() <= 1e-12 * unit, "{y} vs {unit}");
     let err = catalog::resolve(d, "KQ_Z9_6").unwrap_err();
     assert!(err.contains("Z9 is not a built-in illuminant"), "{err}");
     assert!(err.contains("F11"), "{err}");
