@@ -356,3 +356,32 @@ fn dynamic_sets_and_errors_do_not_allocate() {
         "lookup table for channel 0 needs 2 or more finite, non-decreasing entries in 0..=1"
     );
 }
+
+#[test]
+fn planar_paths_never_allocate() {
+    let set = folded::TABLE2_ROW2_SRGB;
+    let planes: [Vec<f32>; 4] = [
+        (0..100).map(|p| p as f32 / 100.0).collect(),
+        vec![0.2; 100],
+        vec![f32::NAN; 100],
+        vec![0.4; 100],
+    ];
+    let samples = planes.each_ref().map(|p| &p[..]);
+    let mut out = vec![[0u8; 3]; 100];
+    let mut lin = [0, 1, 2].map(|_| vec![0.0f32; 100]);
+    let mut bad = vec![[0u8; 3]; 99];
+    let displays = all_displays();
+    assert_no_alloc("planar paths", || {
+        for display in &displays {
+            for mapping in MAPPINGS {
+                let _ =
+                    black_box(set.encode_u8_planar(display, mapping, black_box(samples), &mut out));
+            }
+        }
+        let [r, g, b] = &mut lin;
+        let _ = black_box(set.linear_rgb_planar(black_box(samples), [r, g, b]));
+        let _ =
+            black_box(set.encode_u8_planar(&displays::SRGB, GamutMapping::Clip, samples, &mut bad));
+        let _ = black_box(spectral_quadrature::srgb8_from_linear(black_box(0.5)));
+    });
+}

@@ -10,16 +10,13 @@
 //!    per-pixel path, for random lengths (0 to 39 pixels: multiples of the 16-pixel chunk and
 //!    not), random finite and non-finite samples, N = 4, 6 (baked sets), 8 and 16 (random
 //!    weights).
-//! 4. Documented input handling, length errors that leave the outputs untouched, and no
-//!    allocation.
+//! 4. Documented input handling, and length errors that leave the outputs untouched. (That
+//!    the planar paths never allocate is in tests/no_alloc.rs, with the rest of the runtime.)
 
 // Channel loops index several parallel arrays by channel.
 #![allow(clippy::needless_range_loop)]
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
 use std::fmt::Debug;
-use std::hint::black_box;
 
 use proptest::prelude::*;
 use proptest::test_runner::{TestCaseResult, TestRunner};
@@ -469,7 +466,7 @@ fn planar_equals_per_pixel_for_8_and_16_wavelengths() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Input handling, length errors, allocation
+// Input handling, length errors
 // ---------------------------------------------------------------------------------------------
 
 const NAN: f32 = f32::NAN;
@@ -599,74 +596,4 @@ fn length_mismatches_are_errors_and_write_nothing() {
             assert!(lin.iter().flatten().all(|v| *v == -7.5));
         }
     }
-}
-
-// A counting allocator, as in tests/no_alloc.rs: it counts this thread's allocations while
-// switched on.
-struct Counting;
-
-thread_local! {
-    static ACTIVE: Cell<bool> = const { Cell::new(false) };
-    static COUNT: Cell<usize> = const { Cell::new(0) };
-}
-
-fn note_allocation() {
-    if ACTIVE.try_with(Cell::get).unwrap_or(false) {
-        let _ = COUNT.try_with(|c| c.set(c.get() + 1));
-    }
-}
-
-// SAFETY: every call is forwarded unchanged to `System`; the bookkeeping touches only
-// const-initialized thread-locals without destructors, which never allocate.
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        note_allocation();
-        // SAFETY: the caller upholds `GlobalAlloc::alloc`'s contract, passed on as is.
-        unsafe { System.alloc(layout) }
-    }
-
-    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
-        note_allocation();
-        // SAFETY: as `alloc`.
-        unsafe { System.alloc_zeroed(layout) }
-    }
-
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        note_allocation();
-        // SAFETY: `ptr` and `layout` come from this allocator, i.e. from `System`.
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        // SAFETY: `ptr` and `layout` come from this allocator, i.e. from `System`.
-        unsafe { System.dealloc(ptr, layout) }
-    }
-}
-
-#[global_allocator]
-static GLOBAL: Counting = Counting;
-
-#[test]
-fn planar_paths_never_allocate() {
-    let set = folded::TABLE2_ROW2_SRGB;
-    let px: Vec<[f32; 4]> = (0..100)
-        .map(|p| [p as f32 / 100.0, 0.2, NAN, 0.4])
-        .collect();
-    let pl = planes(&px);
-    let samples = plane_refs(&pl);
-    let mut out = vec![[0u8; 3]; 100];
-    let mut lin = [0, 1, 2].map(|_| vec![0.0f32; 100]);
-    let mut bad = vec![[0u8; 3]; 99];
-    ACTIVE.with(|a| a.set(true));
-    for display in &displays::ALL {
-        for mapping in [GamutMapping::Clip, GamutMapping::PreserveA] {
-            let _ = black_box(set.encode_u8_planar(display, mapping, black_box(samples), &mut out));
-        }
-    }
-    let [r, g, b] = &mut lin;
-    let _ = black_box(set.linear_rgb_planar(black_box(samples), [r, g, b]));
-    let _ = black_box(set.encode_u8_planar(&displays::SRGB, GamutMapping::Clip, samples, &mut bad));
-    let _ = black_box(srgb8_from_linear(black_box(0.5)));
-    ACTIVE.with(|a| a.set(false));
-    assert_eq!(COUNT.with(Cell::get), 0, "allocations in the planar paths");
 }
