@@ -73,14 +73,8 @@ fn measure(f: &Fixture, name: &str) -> (usize, f64, f64) {
         set.wavelengths_nm.len(),
         "{name}: repeated wavelengths"
     );
-    let eval = EvalSet::from_weights(
-        name,
-        "test",
-        None,
-        &set.wavelengths_nm,
-        &set.weights,
-        &f.d.opponent.ac1c2_to_xyz,
-    );
+    assert_eq!(set.name, name);
+    let eval = EvalSet::from_set(&set, "test", &f.d.opponent.ac1c2_to_xyz);
     let e = f.reference.errors(&eval, &f.stimuli);
     (nm.len(), e.mean_de00(), e.max_de00())
 }

@@ -30,14 +30,7 @@ fn table2_mean_errors_within_0_15_of_the_paper() {
         &stimuli,
     );
     for (set, printed) in d.table2.iter().zip(paper::TABLE2_MEAN_DELTA_E) {
-        let es = EvalSet::from_weights(
-            &set.name,
-            "Table 2",
-            None,
-            &set.wavelengths_nm,
-            &set.weights,
-            &d.opponent.ac1c2_to_xyz,
-        );
+        let es = EvalSet::from_set(set, "Table 2", &d.opponent.ac1c2_to_xyz);
         let mean = reference.errors(&es, &stimuli).mean_de76();
         assert!(
             (mean - printed).abs() <= 0.15,

@@ -23,8 +23,13 @@ fn judged() -> &'static Judged {
     static J: OnceLock<Judged> = OnceLock::new();
     J.get_or_init(|| {
         let d = derive(&Settings::default()).unwrap();
-        let others = budget::other_sets(&d).unwrap();
-        let (radiance, folded) = budget::shared_sets(&d, &LIGHTS).unwrap();
+        let spaces = budget::rule_spaces(&d, d.settings.max_order).unwrap();
+        let others = budget::other_sets(&d, &spaces);
+        let radiance = budget::shared_sets(&d, None).unwrap();
+        let folded: Vec<_> = LIGHTS
+            .iter()
+            .map(|l| budget::shared_sets(&d, Some(l)).unwrap())
+            .collect();
         let tables = LIGHTS
             .iter()
             .zip(&folded)
@@ -143,14 +148,7 @@ fn the_catalog_builds_the_same_sets_the_comparison_judged() {
     assert_eq!(ws.wavelengths_nm, judged_set.wavelengths_nm);
     // The radiance set as the catalog builds it, back in XYZ, equals the judged one.
     let r = catalog::resolve(d, "KQ_6").unwrap();
-    let back = evaluate::EvalSet::from_weights(
-        "x",
-        "x",
-        None,
-        &r.wavelengths_nm,
-        &r.weights,
-        &d.opponent.ac1c2_to_xyz,
-    );
+    let back = evaluate::EvalSet::from_set(&r, "x", &d.opponent.ac1c2_to_xyz);
     let judged_r = &j.radiance[6 - BUDGETS.start()];
     let mut worst = 0.0f64;
     for c in 0..3 {

@@ -7,16 +7,27 @@ use std::path::{Path, PathBuf};
 use plotters::prelude::*;
 
 use crate::derive::budget::{self, Entry, LIGHTS, METHODS};
+use crate::derive::evaluate::EvalSet;
 use crate::derive::{shared, Derivation};
 use crate::{plot_err, time_set, write};
 
-/// Text, and the files written (budget.csv, budget.svg).
-pub fn section(d: &Derivation, out: &Path, runs: usize) -> Result<(String, Vec<PathBuf>), String> {
-    let others = budget::other_sets(d)?;
-    let (radiance, folded) = budget::shared_sets(d, &LIGHTS)?;
+/// Text, and the files written (budget.csv, budget.svg). `spaces` and `radiance`: the rule
+/// combinations and the shared sets for radiances the report has built for sections 2-4.
+pub fn section(
+    d: &Derivation,
+    spaces: &[(&'static str, Vec<EvalSet>); 3],
+    radiance: &[EvalSet],
+    out: &Path,
+    runs: usize,
+) -> Result<(String, Vec<PathBuf>), String> {
+    let others = budget::other_sets(d, spaces);
+    let folded = LIGHTS
+        .iter()
+        .map(|l| budget::shared_sets(d, Some(l)))
+        .collect::<Result<Vec<_>, String>>()?;
     let mut tables = Vec::new();
     for (light, f) in LIGHTS.iter().zip(&folded) {
-        tables.push(budget::compare(d, light, &others, &radiance, f)?);
+        tables.push(budget::compare(d, light, &others, radiance, f)?);
     }
     let stimuli = budget::judge_stimuli(d, "C")?;
     // Run time depends only on N: time the folded shared set at each budget.

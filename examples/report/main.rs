@@ -125,22 +125,7 @@ fn run(args: &Args) -> Result<(), String> {
 
     progress.next("sections 2-3: Figs. 6 and 7 (every per-channel order combination)");
     let max = args.max_order as usize;
-    let ac1c2_rules = evaluate::channel_rules(&d, &d.sensitivities, max);
-    let xyz_rules = evaluate::channel_rules(&d, &d.xyz, max);
-    let sml_rules = evaluate::channel_rules(&d, &d.cones, max);
-    let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-    let sml_to_xyz = inverse3(&d.settings.cone_matrix);
-    let spaces = [
-        (
-            "AC1C2",
-            evaluate::combinations(&ac1c2_rules, &d.opponent.ac1c2_to_xyz, "AC1C2"),
-        ),
-        ("XYZ", evaluate::combinations(&xyz_rules, &identity, "XYZ")),
-        (
-            "SML",
-            evaluate::combinations(&sml_rules, &sml_to_xyz, "SML"),
-        ),
-    ];
+    let spaces = derive::budget::rule_spaces(&d, max)?;
     // Figs. 6 and 7 reproduce the paper's setup (ColorChecker under C) unless spectra are given.
     let user_spectra =
         args.reflectances.is_some() || args.illuminants.is_some() || args.emission.is_some();
@@ -157,14 +142,10 @@ fn run(args: &Args) -> Result<(), String> {
     progress.next("section 4: error against run time (timing every set)");
     let mut sets: Vec<EvalSet> = spaces[0].1.clone();
     for set in &d.table2 {
-        sets.push(EvalSet::from_weights(
-            &table2_name(&set.name),
-            "Table 2",
-            None,
-            &set.wavelengths_nm,
-            &set.weights,
-            &d.opponent.ac1c2_to_xyz,
-        ));
+        sets.push(EvalSet {
+            name: table2_name(&set.name),
+            ..EvalSet::from_set(set, "Table 2", &d.opponent.ac1c2_to_xyz)
+        });
     }
     // Gauss rules in XYZ space: each number of distinct wavelengths' best is shown.
     sets.extend(spaces[1].1.iter().filter(|s| s.len() <= 16).cloned());
@@ -173,18 +154,11 @@ fn run(args: &Args) -> Result<(), String> {
     }
     // The shared sets for radiances (the lights here are many; section 5 folds each one in),
     // method (a) for comparison, and sampling every 10 and 20 nm with linear interpolation.
-    for n in budget_sizes() {
-        let s = derive::shared::optimize(&d, None, n)?;
-        sets.push(s.eval_set(&format!("KQ_{n}"), "KQ radiance"));
+    let radiance = derive::budget::shared_sets(&d, None)?;
+    sets.extend(radiance.iter().cloned());
+    for n in derive::budget::BUDGETS {
         if let Ok(a) = derive::shared::interpolatory_a(&d, n, &format!("INTERP_A_{n}")) {
-            sets.push(EvalSet::from_weights(
-                &a.name,
-                "interp A",
-                None,
-                &a.wavelengths_nm,
-                &a.weights,
-                &d.opponent.ac1c2_to_xyz,
-            ));
+            sets.push(EvalSet::from_set(&a, "interp A", &d.opponent.ac1c2_to_xyz));
         }
     }
     let flat = Curve::constant("equal energy", 1.0, range);
@@ -224,7 +198,8 @@ fn run(args: &Args) -> Result<(), String> {
     files.push(draw_swatches(out, &d, &cc_under_c, &rows)?);
 
     progress.next("section 5: shared sets at each wavelength budget (fitting and judging)");
-    let (budget_text, budget_files) = budget::section(&d, out, args.runs as usize)?;
+    let (budget_text, budget_files) =
+        budget::section(&d, &spaces, &radiance, out, args.runs as usize)?;
     files.extend(budget_files);
 
     progress.next("section 6: stability");
@@ -263,10 +238,6 @@ fn run(args: &Args) -> Result<(), String> {
         eprintln!("  {}", f.display());
     }
     Ok(())
-}
-
-fn budget_sizes() -> std::ops::RangeInclusive<usize> {
-    derive::budget::BUDGETS
 }
 
 fn load_stimuli(args: &Args, range: [f64; 2]) -> Result<Vec<Stimulus>, String> {
@@ -314,12 +285,6 @@ fn par_errors(reference: &Reference, sets: &[EvalSet], stimuli: &[Stimulus]) -> 
             .flat_map(|h| h.join().expect("error computation does not panic"))
             .collect()
     })
-}
-
-fn inverse3(m: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
-    let a = nalgebra::Matrix3::from_fn(|i, j| m[i][j]);
-    let inv = a.try_inverse().expect("Eq. 1 is invertible");
-    [0, 1, 2].map(|i| [0, 1, 2].map(|j| inv[(i, j)]))
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -400,14 +365,7 @@ fn table2_rows(d: &Derivation, stimuli: &[Stimulus], reference: &Reference) -> V
         .iter()
         .zip(spectral_quadrature::paper::TABLE2_MEAN_DELTA_E)
         .map(|(set, paper)| {
-            let es = EvalSet::from_weights(
-                &set.name,
-                "Table 2",
-                None,
-                &set.wavelengths_nm,
-                &set.weights,
-                &d.opponent.ac1c2_to_xyz,
-            );
+            let es = EvalSet::from_set(set, "Table 2", &d.opponent.ac1c2_to_xyz);
             Table2Row {
                 name: table2_name(&set.name),
                 wavelengths: set.wavelengths_nm.clone(),

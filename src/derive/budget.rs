@@ -121,50 +121,57 @@ pub fn interval_set(d: &Derivation, light: &Curve, step_nm: f64) -> Result<EvalS
     })
 }
 
-/// The shared sets of both kinds at every budget: `(radiance, folded for each of lights)`.
-pub fn shared_sets(
-    d: &Derivation,
-    lights: &[&str],
-) -> Result<(Vec<EvalSet>, Vec<Vec<EvalSet>>), String> {
-    let radiance = BUDGETS
-        .map(|n| Ok(shared::optimize(d, None, n)?.eval_set(&std::format!("KQ_{n}"), "KQ radiance")))
-        .collect::<Result<Vec<_>, String>>()?;
-    let folded = lights
-        .iter()
-        .map(|l| {
-            BUDGETS
-                .map(|n| {
-                    Ok(shared::optimize(d, Some(l), n)?
-                        .eval_set(&std::format!("KQ_{l}_{n}"), "KQ folded"))
-                })
-                .collect::<Result<Vec<_>, String>>()
+/// The shared sets at every budget for radiances (`light` `None`, named `KQ_<n>`, method
+/// `KQ radiance`) or with a built-in light folded in (`KQ_<light>_<n>`, `KQ folded`), from
+/// one [`shared::problem`].
+pub fn shared_sets(d: &Derivation, light: Option<&str>) -> Result<Vec<EvalSet>, String> {
+    let problem = shared::problem(d, light)?;
+    BUDGETS
+        .map(|n| {
+            let set = problem.shared(n)?;
+            Ok(match light {
+                Some(l) => set.eval_set(&std::format!("KQ_{l}_{n}"), "KQ folded"),
+                None => set.eval_set(&std::format!("KQ_{n}"), "KQ radiance"),
+            })
         })
-        .collect::<Result<Vec<_>, String>>()?;
-    Ok((radiance, folded))
+        .collect()
 }
 
-/// The sets of every method other than the shared ones, at every budget (all combinations of
-/// rules; the comparison keeps each method's best).
-pub fn other_sets(d: &Derivation) -> Result<Vec<(&'static str, EvalSet)>, String> {
-    let max = d.settings.max_order;
+/// Every combination of per-channel Gauss rules of orders up to `max_order`, in the three
+/// spaces whose weight functions the paper compares (Fig. 6): AC1C2, XYZ and the cone
+/// fundamentals SML, each as `(space, sets)`, the space also each set's family.
+pub fn rule_spaces(
+    d: &Derivation,
+    max_order: usize,
+) -> Result<[(&'static str, Vec<EvalSet>); 3], String> {
     let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
     let sml_to_xyz = {
         let m = nalgebra::Matrix3::from_fn(|r, c| d.settings.cone_matrix[r][c]);
         let inv = m.try_inverse().ok_or("the cone matrix is singular")?;
         [0, 1, 2].map(|r| [0, 1, 2].map(|c| inv[(r, c)]))
     };
-    let mut out = Vec::new();
     let spaces: [Space; 3] = [
-        ("AC1C2 rules", &d.sensitivities, d.opponent.ac1c2_to_xyz),
-        ("XYZ rules", &d.xyz, identity),
-        ("SML rules", &d.cones, sml_to_xyz),
+        ("AC1C2", &d.sensitivities, d.opponent.ac1c2_to_xyz),
+        ("XYZ", &d.xyz, identity),
+        ("SML", &d.cones, sml_to_xyz),
     ];
-    for (method, w, to_xyz) in spaces {
-        let rules = evaluate::channel_rules(d, w, max);
-        for set in evaluate::combinations(&rules, &to_xyz, method) {
-            if BUDGETS.contains(&set.len()) {
-                out.push((method, set));
-            }
+    Ok(spaces.map(|(space, w, to_xyz)| {
+        let rules = evaluate::channel_rules(d, w, max_order);
+        (space, evaluate::combinations(&rules, &to_xyz, space))
+    }))
+}
+
+/// The sets of every method other than the shared ones, at every budget: the combinations of
+/// [`rule_spaces`] (as `AC1C2 rules`, `XYZ rules`, `SML rules`), the uniform sets and
+/// method (a). The comparison keeps each method's best.
+pub fn other_sets(
+    d: &Derivation,
+    spaces: &[(&'static str, Vec<EvalSet>); 3],
+) -> Vec<(&'static str, EvalSet)> {
+    let mut out = Vec::new();
+    for ((_, sets), method) in spaces.iter().zip(&METHODS[..3]) {
+        for set in sets.iter().filter(|s| BUDGETS.contains(&s.len())) {
+            out.push((*method, set.clone()));
         }
     }
     for n in BUDGETS {
@@ -175,24 +182,17 @@ pub fn other_sets(d: &Derivation) -> Result<Vec<(&'static str, EvalSet)>, String
         if let Ok(s) = shared::interpolatory_a(d, n, &std::format!("INTERP_A_{n}")) {
             out.push((
                 "interp A",
-                EvalSet::from_weights(
-                    &s.name,
-                    "interp A",
-                    None,
-                    &s.wavelengths_nm,
-                    &s.weights,
-                    &d.opponent.ac1c2_to_xyz,
-                ),
+                EvalSet::from_set(&s, "interp A", &d.opponent.ac1c2_to_xyz),
             ));
         }
     }
-    Ok(out)
+    out
 }
 
 /// Each method's best set (lowest mean ΔE00) at each budget under `light`, judged on the
 /// ColorChecker: `(n, entries in METHODS order)` for n in [`BUDGETS`], then the interval
-/// references. `others` from [`other_sets`]; `radiance` and `folded` from [`shared_sets`] (the
-/// folded sets for this light).
+/// references. `others` from [`other_sets`]; `radiance` and `folded` from [`shared_sets`]
+/// (without a light, and with this one).
 pub fn compare(
     d: &Derivation,
     light: &str,

@@ -88,12 +88,7 @@ pub fn resolve(d: &Derivation, name: &str) -> Result<WavelengthSet, String> {
             ));
         }
         let u = evaluate::uniform(&d.observer, d.settings.range_nm, n);
-        let m = d.opponent.xyz_to_ac1c2;
-        let weights = [0, 1, 2].map(|r| {
-            (0..n)
-                .map(|i| (0..3).map(|k| m[r][k] * u.xyz_weights[k][i]).sum())
-                .collect()
-        });
+        let weights = super::display::fold(&d.opponent.xyz_to_ac1c2, &u.xyz_weights, 1.0);
         return Ok(WavelengthSet {
             name: name.into(),
             doc: std::format!(

@@ -154,8 +154,8 @@ pub fn mul3(a: &[[f64; 3]; 3], b: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
     [0, 1, 2].map(|i| [0, 1, 2].map(|j| (0..3).map(|k| a[i][k] * b[k][j]).sum()))
 }
 
-/// Folds `matrix` (3×3, applied to AC1C2) and a `scale` into a set's 3×N weights:
-/// `out[r][i] = scale · Σ_k matrix[r][k] · weights[k][i]`.
+/// Folds `matrix` (3×3, from the space of the weights' rows to another) and a `scale` into a
+/// set's 3×N weights: `out[r][i] = scale · Σ_k matrix[r][k] · weights[k][i]`.
 pub fn fold(matrix: &[[f64; 3]; 3], weights: &[Vec<f64>; 3], scale: f64) -> [Vec<f64>; 3] {
     let n = weights[0].len();
     [0, 1, 2].map(|r| {

@@ -240,19 +240,29 @@ impl EvalSet {
         weights: &[Vec<f64>; 3],
         to_xyz: &[[f64; 3]; 3],
     ) -> EvalSet {
-        let n = wavelengths_nm.len();
-        let xyz_weights = [0, 1, 2].map(|r| {
-            (0..n)
-                .map(|i| (0..3).map(|k| to_xyz[r][k] * weights[k][i]).sum())
-                .collect()
-        });
         EvalSet {
             name: name.into(),
             family: family.into(),
             orders,
             wavelengths_nm: wavelengths_nm.to_vec(),
-            xyz_weights,
+            xyz_weights: super::display::fold(to_xyz, weights, 1.0),
         }
+    }
+
+    /// A derived set (its name, wavelengths and AC1C2 rows) with the matrix `ac1c2_to_xyz`.
+    pub fn from_set(
+        set: &super::WavelengthSet,
+        family: &str,
+        ac1c2_to_xyz: &[[f64; 3]; 3],
+    ) -> EvalSet {
+        EvalSet::from_weights(
+            &set.name,
+            family,
+            None,
+            &set.wavelengths_nm,
+            &set.weights,
+            ac1c2_to_xyz,
+        )
     }
 
     /// The number of distinct wavelengths.

@@ -245,14 +245,7 @@ fn candidate(
     name: &str,
 ) -> Result<Candidate, String> {
     let set = catalog::resolve(d, name)?;
-    let eval = EvalSet::from_weights(
-        &set.name,
-        "catalog",
-        None,
-        &set.wavelengths_nm,
-        &set.weights,
-        &d.opponent.ac1c2_to_xyz,
-    );
+    let eval = EvalSet::from_set(&set, "catalog", &d.opponent.ac1c2_to_xyz);
     let e = reference.errors(&eval, stimuli);
     Ok(Candidate {
         name: set.name,

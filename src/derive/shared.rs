@@ -108,6 +108,8 @@ pub struct Problem {
     /// The light on the grid, scaled to the luminance of an equal-energy spectrum of 1 (all
     /// ones for radiances).
     pub light: Vec<f64>,
+    /// The light's name, `None` for radiances.
+    pub light_name: Option<String>,
     kernel: Kernel,
     g: usize,
     /// The prior covariance on the grid (row-major G×G): the kernel, plus any empirical
@@ -161,14 +163,14 @@ impl Problem {
     /// equal-energy light).
     pub fn new(
         d: &Derivation,
-        light: Option<&Curve>,
+        light_curve: Option<&Curve>,
         kernel: Kernel,
         training: &[Curve],
     ) -> Result<Problem, String> {
         let reference = evaluate::full_integration(&d.observer, d.settings.range_nm, 1.0)?;
         let grid_nm = reference.wavelengths_nm.clone();
         let g = grid_nm.len();
-        let raw: Vec<f64> = match light {
+        let raw: Vec<f64> = match light_curve {
             Some(l) => grid_nm.iter().map(|&nm| l.at(nm)).collect(),
             None => std::vec![1.0; g],
         };
@@ -225,6 +227,7 @@ impl Problem {
         let mut p = Problem {
             grid_nm,
             light,
+            light_name: light_curve.map(|c| c.name.clone()),
             kernel,
             g,
             k,
@@ -466,35 +469,31 @@ impl Problem {
             .unwrap_or((Vec::new(), f64::INFINITY))
     }
 
-    /// The set at grid indices `nodes`, as the report measures it: weights per unit radiance
-    /// (the folded weights divided by the light at each node, so that the set applied to
-    /// `r · L` equals the folded set applied to r).
-    pub fn eval_set(&self, name: &str, family: &str, nodes: &[usize]) -> Option<EvalSet> {
-        let (w, _) = self.solve(nodes)?;
-        Some(self.radiance_set(name, family, nodes, &w))
+    /// The set at grid indices `nodes` (ascending), with its weights and expected error;
+    /// `None` when the kriging system is singular.
+    pub fn set_at(&self, nodes: &[usize]) -> Option<Shared> {
+        let (xyz_weights, expected_error) = self.solve(nodes)?;
+        Some(Shared {
+            light: self.light_name.clone(),
+            wavelengths_nm: nodes.iter().map(|&i| self.grid_nm[i]).collect(),
+            light_at_nodes: nodes.iter().map(|&i| self.light[i]).collect(),
+            xyz_weights,
+            expected_error,
+        })
     }
 
-    /// Folded weights `w` at `nodes` as a set on radiances.
-    pub fn radiance_set(
-        &self,
-        name: &str,
-        family: &str,
-        nodes: &[usize],
-        w: &[Vec<f64>; 3],
-    ) -> EvalSet {
-        EvalSet {
-            name: name.into(),
-            family: family.into(),
-            orders: None,
-            wavelengths_nm: nodes.iter().map(|&i| self.grid_nm[i]).collect(),
-            xyz_weights: [0, 1, 2].map(|c| {
-                nodes
-                    .iter()
-                    .zip(&w[c])
-                    .map(|(&i, v)| v / self.light[i])
-                    .collect()
-            }),
+    /// The optimised shared set of `n` wavelengths ([`optimize`](Self::optimize)).
+    pub fn shared(&self, n: usize) -> Result<Shared, String> {
+        let (nodes, _) = self.optimize(n);
+        if nodes.len() != n {
+            return Err(std::format!(
+                "no shared set of {n} wavelengths: only {} grid points are usable",
+                nodes.len()
+            ));
         }
+        self.set_at(&nodes).ok_or_else(|| {
+            std::format!("no shared set of {n} wavelengths: the kriging system is singular")
+        })
     }
 }
 
@@ -639,40 +638,43 @@ pub fn problem(d: &Derivation, light: Option<&str>) -> Result<Problem, String> {
     .with_covariance(&tcs, EMPIRICAL_WEIGHT))
 }
 
-/// An optimised shared set and the problem it solves.
-#[derive(Debug, Clone)]
+/// A shared set: its wavelengths and folded weights, and what it was optimised for.
+#[derive(Debug, Clone, PartialEq)]
 pub struct Shared {
-    /// The problem (its light, kernel and metric).
-    pub problem: Problem,
-    /// The light's name, `None` for radiances.
+    /// The light folded into the weights, `None` for radiances.
     pub light: Option<String>,
-    /// Grid indices of the nodes, ascending.
-    pub nodes: Vec<usize>,
+    /// The wavelengths in nm, ascending.
+    pub wavelengths_nm: Vec<f64>,
+    /// The light at each wavelength, scaled as [`Problem::light`] (ones for radiances).
+    pub light_at_nodes: Vec<f64>,
     /// Folded XYZ weights `w[c][i]` for samples of r (reflectance under the light, or radiance).
     pub xyz_weights: [Vec<f64>; 3],
-    /// The expected linearised CIELAB error the nodes minimise.
+    /// The expected linearised CIELAB error of [`Problem::solve`].
     pub expected_error: f64,
 }
 
 impl Shared {
-    /// The wavelengths in nm, ascending.
-    pub fn wavelengths_nm(&self) -> Vec<f64> {
-        self.nodes
-            .iter()
-            .map(|&i| self.problem.grid_nm[i])
-            .collect()
-    }
-
-    /// The set as the report measures it, on radiances `r · L` (see [`Problem::eval_set`]).
+    /// The set as the report measures it, on radiances `r · L`: the folded weights divided by
+    /// the light at each wavelength, so that applied to `r · L` it equals the folded set
+    /// applied to r.
     pub fn eval_set(&self, name: &str, family: &str) -> EvalSet {
-        self.problem
-            .radiance_set(name, family, &self.nodes, &self.xyz_weights)
+        EvalSet {
+            name: name.into(),
+            family: family.into(),
+            orders: None,
+            wavelengths_nm: self.wavelengths_nm.clone(),
+            xyz_weights: self.xyz_weights.clone().map(|row| {
+                row.iter()
+                    .zip(&self.light_at_nodes)
+                    .map(|(v, l)| v / l)
+                    .collect()
+            }),
+        }
     }
 
     /// The set as the runtime bakes it: AC1C2 rows (Eq. 9 applied to the folded XYZ weights).
     pub fn wavelength_set(&self, d: &Derivation, name: &str) -> WavelengthSet {
-        let m = d.opponent.xyz_to_ac1c2;
-        let n = self.nodes.len();
+        let n = self.wavelengths_nm.len();
         let what = match &self.light {
             Some(l) => std::format!("samples are reflectances under illuminant {l}, folded into the weights (a reflectance of 1 has the Y of a radiance of 1)"),
             None => "samples are radiances".to_string(),
@@ -682,36 +684,16 @@ impl Shared {
             doc: std::format!(
                 "Shared set by kernel quadrature: {n} wavelengths for all three channels; {what}. Trained on the CIE test colour samples."
             ),
-            wavelengths_nm: self.wavelengths_nm(),
-            weights: [0, 1, 2].map(|r| {
-                (0..n)
-                    .map(|i| (0..3).map(|k| m[r][k] * self.xyz_weights[k][i]).sum())
-                    .collect()
-            }),
+            wavelengths_nm: self.wavelengths_nm.clone(),
+            weights: super::display::fold(&d.opponent.xyz_to_ac1c2, &self.xyz_weights, 1.0),
         }
     }
 }
 
-/// The shared set of `n` wavelengths for a built-in light (`None`: radiances).
+/// The shared set of `n` wavelengths for a built-in light (`None`: radiances). To build
+/// several sizes for one light, set up [`problem`] once and call [`Problem::shared`].
 pub fn optimize(d: &Derivation, light: Option<&str>, n: usize) -> Result<Shared, String> {
-    let problem = problem(d, light)?;
-    let (nodes, expected_error) = problem.optimize(n);
-    let (xyz_weights, _) = problem.solve(&nodes).ok_or_else(|| {
-        std::format!("no shared set of {n} wavelengths: the kriging system is singular")
-    })?;
-    if nodes.len() != n {
-        return Err(std::format!(
-            "no shared set of {n} wavelengths: only {} grid points are usable",
-            nodes.len()
-        ));
-    }
-    Ok(Shared {
-        problem,
-        light: light.map(str::to_string),
-        nodes,
-        xyz_weights,
-        expected_error,
-    })
+    problem(d, light)?.shared(n)
 }
 
 /// Method (a): the A channel's Gauss rule of order `n` (its nodes and A weights), with C1 and C2
