@@ -43,46 +43,15 @@ pub enum Kernel {
         /// ℓ in nm.
         length_nm: f64,
     },
-    /// Squared exponential `e^{−d²/2}`: infinitely smooth paths.
-    Gaussian {
-        /// ℓ in nm.
-        length_nm: f64,
-    },
 }
 
 impl Kernel {
-    /// k(λ, μ) for wavelengths in nm.
-    pub fn between(&self, a_nm: f64, b_nm: f64) -> f64 {
-        self.at(a_nm - b_nm)
-    }
-
     /// ρ at a distance in nm.
     pub fn at(&self, distance_nm: f64) -> f64 {
         match *self {
             Kernel::Matern52 { length_nm } => {
                 let d = 5f64.sqrt() * distance_nm.abs() / length_nm;
                 (1.0 + d + d * d / 3.0) * (-d).exp()
-            }
-            Kernel::Gaussian { length_nm } => {
-                let d = distance_nm / length_nm;
-                (-0.5 * d * d).exp()
-            }
-        }
-    }
-
-    /// ℓ in nm.
-    pub fn length_nm(&self) -> f64 {
-        match *self {
-            Kernel::Matern52 { length_nm } | Kernel::Gaussian { length_nm } => length_nm,
-        }
-    }
-
-    /// Name and length, for reports.
-    pub fn describe(&self) -> String {
-        match self {
-            Kernel::Matern52 { length_nm } => std::format!("Matérn 5/2, ℓ = {length_nm} nm"),
-            Kernel::Gaussian { length_nm } => {
-                std::format!("squared exponential, ℓ = {length_nm} nm")
             }
         }
     }
@@ -110,7 +79,6 @@ pub struct Problem {
     pub light: Vec<f64>,
     /// The light's name, `None` for radiances.
     pub light_name: Option<String>,
-    kernel: Kernel,
     g: usize,
     /// The prior covariance on the grid (row-major G×G): the kernel, plus any empirical
     /// covariance added by [`with_covariance`](Self::with_covariance).
@@ -201,7 +169,7 @@ impl Problem {
         let mut k = std::vec![0.0; g * g];
         for a in 0..g {
             for b in 0..g {
-                k[a * g + b] = kernel.between(grid_nm[a], grid_nm[b]);
+                k[a * g + b] = kernel.at(grid_nm[a] - grid_nm[b]);
             }
         }
         let f1 = [0, 1, 2].map(|c| f[c].iter().sum::<f64>());
@@ -228,7 +196,6 @@ impl Problem {
             grid_nm,
             light,
             light_name: light_curve.map(|c| c.name.clone()),
-            kernel,
             g,
             k,
             f,
@@ -282,11 +249,6 @@ impl Problem {
     /// `F s` for a spectrum on the grid.
     pub fn integrate(&self, s: &[f64]) -> [f64; 3] {
         [0, 1, 2].map(|c| self.f[c].iter().zip(s).map(|(a, b)| a * b).sum())
-    }
-
-    /// The kernel.
-    pub fn kernel(&self) -> Kernel {
-        self.kernel
     }
 
     /// The folded weights (`w[c][i]`, for samples of r) at grid indices `nodes`, and the
@@ -579,7 +541,7 @@ fn loo_log_likelihood(
         .iter()
         .map(|r| DVector::from_iterator(dim, grid.iter().map(|&nm| r.at(nm))))
         .collect();
-    let mut k = DMatrix::<f64>::from_fn(dim, dim, |i, j| kernel.between(grid[i], grid[j]));
+    let mut k = DMatrix::<f64>::from_fn(dim, dim, |i, j| kernel.at(grid[i] - grid[j]));
     for i in 0..dim {
         k[(i, i)] += FIT_NOISE;
     }
