@@ -499,11 +499,45 @@ pub fn fit(
     lengths_nm: &[f64],
     weights: &[f64],
 ) -> Option<Fit> {
+    let n = training.len();
+    if n < 3 {
+        return None;
+    }
+    let mut grid = Vec::new();
+    let mut nm = range_nm[0];
+    while nm <= range_nm[1] + 1e-9 {
+        grid.push(nm);
+        nm += 5.0;
+    }
+    let dim = grid.len();
+    let ys: Vec<DVector<f64>> = training
+        .iter()
+        .map(|r| DVector::from_iterator(dim, grid.iter().map(|&nm| r.at(nm))))
+        .collect();
+    // Per held-out spectrum: its residual from the others' mean, and the others' empirical
+    // covariance. Neither depends on the kernel or the weight.
+    let held_out: Vec<(DVector<f64>, DMatrix<f64>)> = (0..n)
+        .map(|h| {
+            let others: Vec<&DVector<f64>> = (0..n).filter(|&i| i != h).map(|i| &ys[i]).collect();
+            let m = others.len() as f64;
+            let mean = others.iter().fold(DVector::zeros(dim), |acc, y| acc + *y) / m;
+            let mut scatter = DMatrix::<f64>::zeros(dim, dim);
+            for y in &others {
+                let dev = *y - &mean;
+                scatter += &dev * dev.transpose() / m;
+            }
+            (&ys[h] - &mean, scatter)
+        })
+        .collect();
     let mut best: Option<Fit> = None;
     for &length_nm in lengths_nm {
         let kernel = Kernel::Matern52 { length_nm };
+        let mut k = DMatrix::<f64>::from_fn(dim, dim, |i, j| kernel.at(grid[i] - grid[j]));
+        for i in 0..dim {
+            k[(i, i)] += FIT_NOISE;
+        }
         for &weight in weights {
-            if let Some(ll) = loo_log_likelihood(kernel, training, range_nm, weight) {
+            if let Some(ll) = loo_log_likelihood(&k, &held_out, weight) {
                 if best.is_none_or(|b| ll > b.log_likelihood) {
                     best = Some(Fit {
                         length_nm,
@@ -517,54 +551,22 @@ pub fn fit(
     best
 }
 
+/// The leave-one-out log likelihood (σ² profiled) of residuals `e` under covariances
+/// `k + α S` (see [`fit`]).
 fn loo_log_likelihood(
-    kernel: Kernel,
-    training: &[Curve],
-    range_nm: [f64; 2],
+    k: &DMatrix<f64>,
+    held_out: &[(DVector<f64>, DMatrix<f64>)],
     alpha: f64,
 ) -> Option<f64> {
-    let grid: Vec<f64> = {
-        let mut v = Vec::new();
-        let mut nm = range_nm[0];
-        while nm <= range_nm[1] + 1e-9 {
-            v.push(nm);
-            nm += 5.0;
-        }
-        v
-    };
-    let dim = grid.len();
-    let n = training.len();
-    if n < 3 {
-        return None;
+    let mut quad = 0.0;
+    let mut logdet = 0.0;
+    for (e, scatter) in held_out {
+        let chol = (k + scatter * alpha).cholesky()?;
+        logdet += 2.0 * chol.l().diagonal().iter().map(|v| v.ln()).sum::<f64>();
+        quad += e.dot(&chol.solve(e));
     }
-    let ys: Vec<DVector<f64>> = training
-        .iter()
-        .map(|r| DVector::from_iterator(dim, grid.iter().map(|&nm| r.at(nm))))
-        .collect();
-    let mut k = DMatrix::<f64>::from_fn(dim, dim, |i, j| kernel.at(grid[i] - grid[j]));
-    for i in 0..dim {
-        k[(i, i)] += FIT_NOISE;
-    }
-    {
-        let mut quad = 0.0;
-        let mut logdet = 0.0;
-        for h in 0..n {
-            let others: Vec<&DVector<f64>> = (0..n).filter(|&i| i != h).map(|i| &ys[i]).collect();
-            let m = others.len() as f64;
-            let mean = others.iter().fold(DVector::zeros(dim), |acc, y| acc + *y) / m;
-            let mut c = k.clone();
-            for y in &others {
-                let dev = *y - &mean;
-                c += &dev * dev.transpose() * (alpha / m);
-            }
-            let chol = c.cholesky()?;
-            logdet += 2.0 * chol.l().diagonal().iter().map(|v| v.ln()).sum::<f64>();
-            let e = &ys[h] - &mean;
-            quad += e.dot(&chol.solve(&e));
-        }
-        let sigma2 = quad / (n as f64 * dim as f64);
-        Some(-0.5 * n as f64 * dim as f64 * sigma2.ln() - 0.5 * logdet)
-    }
+    let count = (held_out.len() * k.nrows()) as f64;
+    Some(-0.5 * count * (quad / count).ln() - 0.5 * logdet)
 }
 
 /// The training reflectances of the crate's sets: the CIE test colour samples (never the
