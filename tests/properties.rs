@@ -14,6 +14,8 @@
 #[path = "../src/derive/mod.rs"]
 mod derive;
 
+mod common;
+
 use std::cell::Cell;
 use std::fmt::Debug;
 use std::sync::OnceLock;
@@ -21,7 +23,7 @@ use std::sync::OnceLock;
 use derive::{derive, Derivation, Settings};
 use proptest::array::uniform;
 use proptest::prelude::*;
-use proptest::test_runner::{TestCaseResult, TestRunner};
+use proptest::test_runner::TestCaseResult;
 use spectral_quadrature::tables::{self, displays, folded, rules};
 use spectral_quadrature::{
     ac1c2_from_xyz, f32_budget, xyz_from_ac1c2, Display, DynamicSet, Error, FoldedSet,
@@ -51,25 +53,13 @@ const FOLDED_ROW2: [FoldedSet<4>; 4] = [
     folded::TABLE2_ROW2_MEYER_1987,
 ];
 
-/// 10 000 cases for every property; no regression files.
-fn config() -> ProptestConfig {
-    ProptestConfig {
-        failure_persistence: None,
-        ..ProptestConfig::with_cases(10_000)
-    }
-}
-
-/// Runs one property with [`config`], panicking with proptest's (shrunk) failure.
+/// Runs one property for 10 000 cases with [`common::check_property`].
 fn check<S>(name: &str, strategy: S, test: impl Fn(S::Value) -> TestCaseResult)
 where
     S: Strategy,
     S::Value: Debug,
 {
-    let mut runner = TestRunner::new(config());
-    assert_eq!(runner.config().cases, 10_000);
-    if let Err(e) = runner.run(&strategy, test) {
-        panic!("{name}: {e}");
-    }
+    common::check_property(10_000, name, strategy, test);
 }
 
 /// Keeps the largest value seen (a measured error, in the units of its bound).

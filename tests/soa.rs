@@ -16,10 +16,12 @@
 // Channel loops index several parallel arrays by channel.
 #![allow(clippy::needless_range_loop)]
 
+mod common;
+
 use std::fmt::Debug;
 
 use proptest::prelude::*;
-use proptest::test_runner::{TestCaseResult, TestRunner};
+use proptest::test_runner::TestCaseResult;
 use spectral_quadrature::tables::{displays, folded};
 use spectral_quadrature::{
     delta_e76, f32_budget, lab_from_xyz, quantize_u8, srgb8_from_linear, Display, Error, FoldedSet,
@@ -273,25 +275,14 @@ fn one_step_per_channel_costs_at_most_srgb8_max_delta_e() {
 // The planar path against the per-pixel path
 // ---------------------------------------------------------------------------------------------
 
-/// 2 000 cases for every property (each case is a whole image of up to 39 pixels); no
-/// regression files.
-fn config() -> ProptestConfig {
-    ProptestConfig {
-        failure_persistence: None,
-        ..ProptestConfig::with_cases(2_000)
-    }
-}
-
-/// Runs one property with [`config`], panicking with proptest's (shrunk) failure.
+/// Runs one property for 2 000 cases, each a whole image of up to 39 pixels, with
+/// [`common::check_property`].
 fn check<S>(name: &str, strategy: S, test: impl Fn(S::Value) -> TestCaseResult)
 where
     S: Strategy,
     S::Value: Debug,
 {
-    let mut runner = TestRunner::new(config());
-    if let Err(e) = runner.run(&strategy, test) {
-        panic!("{name}: {e}");
-    }
+    common::check_property(2_000, name, strategy, test);
 }
 
 /// One sample: mostly reflectance-like, radiance-like or signed values, sometimes any f32 at
