@@ -463,8 +463,8 @@ fn plane_refs<const N: usize>(planes: &[Vec<f32>]) -> [&[f32]; N] {
 /// The bits of each chunk of 16 pixels are xored into one running accumulator, and the
 /// accumulator's bytes (repeated) are the chunk's output. Carrying it from chunk to chunk keeps
 /// the loop over chunks from being vectorized: built for AVX-512 (`-C target-cpu`), a loop with
-/// independent chunks was turned into gathers across 16 chunks at a time, 25 % slower than
-/// plain loads, which would have made every ratio to it look better than it is.
+/// independent chunks was turned into gathers across 16 chunks at a time, about 27 % slower
+/// than plain loads, which would have made every ratio to it look better than it is.
 fn stream<const N: usize, const B: usize>(planes: [&[f32]; N], out: &mut [u8]) {
     const CHUNK: usize = 16;
     let pixels = planes[0].len();
@@ -494,8 +494,8 @@ fn stream<const N: usize, const B: usize>(planes: [&[f32]; N], out: &mut [u8]) {
 }
 
 /// One set's part of the bandwidth group: the streaming bounds for its input, the planar path
-/// into linear f32 and into sRGB u8 (all on `BIG_PIXELS` pixels), and the per-pixel API on the
-/// first `SMALL_PIXELS`.
+/// into linear f32 and into sRGB u8 (all on `BIG_PIXELS` pixels), the sRGB u8 path again on the
+/// first `IN_CACHE_PIXELS`, and the per-pixel API on the first `SMALL_PIXELS`.
 fn bandwidth_set<const N: usize>(
     g: &mut BenchmarkGroup<'_, WallTime>,
     refl: &[Reflectance],
@@ -591,10 +591,9 @@ fn bandwidth_set<const N: usize>(
 ///
 /// Sizes: the stream and `soa` cases run over `BIG_PIXELS` = 2²⁵ pixels (the 4096 spectra
 /// repeated), 512 MiB to 2 GiB of input, beyond the last-level cache; the in-cache case over
-/// `IN_CACHE_PIXELS` = 1024. The per-pixel and 1 nm
-/// cases take 180 to 1000 ns per pixel, far from any memory bound, and run over the first
-/// `SMALL_PIXELS` = 65 536 of them (1 nm: 100 MiB of samples). Throughput is in pixels, so
-/// criterion's time per element is ns/pixel.
+/// `IN_CACHE_PIXELS` = 1024. The per-pixel and 1 nm cases take 180 to 1000 ns per pixel, far
+/// from any memory bound, and run over the first `SMALL_PIXELS` = 65 536 of them (1 nm:
+/// 100 MiB of samples). Throughput is in pixels, so criterion's time per element is ns/pixel.
 fn bandwidth(c: &mut Criterion) {
     let refl = spectra();
     let full = Full1nm::new();

@@ -6,10 +6,9 @@
 //! 2. What one step costs in colour: the largest ΔE*ab between 8-bit sRGB colours that differ by
 //!    at most one step per channel, over the whole cube, below `SRGB8_MAX_DELTA_E`.
 //! 3. Property tests (2 000 cases each, of up to 39 pixels: some 40 000 pixels per property; no
-//!    regression files): the planar path equals the
-//!    per-pixel path, for random lengths (0 to 39 pixels: multiples of the 16-pixel chunk and
-//!    not), random finite and non-finite samples, N = 4, 6 (baked sets), 8 and 16 (random
-//!    weights).
+//!    regression files): the planar path equals the per-pixel path, for random lengths (0 to 39
+//!    pixels: multiples of the 16-pixel chunk and not), random finite and non-finite samples,
+//!    N = 4, 6 (baked sets), 8 and 16 (random weights).
 //! 4. Documented input handling, and length errors that leave the outputs untouched. (That
 //!    the planar paths never allocate is in tests/no_alloc.rs, with the rest of the runtime.)
 
