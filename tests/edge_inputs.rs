@@ -7,6 +7,9 @@
 // Channel loops index several parallel arrays (weights, references, outputs) by channel.
 #![allow(clippy::needless_range_loop)]
 
+mod common;
+
+use common::MAPPINGS;
 use spectral_quadrature::tables::{self, displays, folded, rules};
 use spectral_quadrature::{
     ac1c2_from_xyz, f32_budget, quantize_u16, quantize_u8, xyz_from_ac1c2, ChannelLuts, Display,
@@ -40,8 +43,6 @@ const SPECIALS: [f32; 18] = [
     2.0,
     f32::MIN_POSITIVE,
 ];
-
-const MAPPINGS: [GamutMapping; 2] = [GamutMapping::Clip, GamutMapping::PreserveA];
 
 /// A well-formed lookup table for each channel (first entry 0, last 1), as the tests need them.
 const LUT_R: &[f32] = &[0.0, 0.35, 0.55, 0.7, 0.82, 0.92, 1.0];

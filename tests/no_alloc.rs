@@ -4,6 +4,9 @@
 //! and the other tests cannot disturb a measurement). Inputs and outputs are prepared before
 //! counting starts and pass through `black_box`, so nothing is optimized away.
 
+mod common;
+
+use common::{FOLDED_ROW1, FOLDED_ROW2, MAPPINGS};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 use std::fmt::Write as _;
@@ -75,8 +78,6 @@ fn assert_no_alloc(what: &str, f: impl FnOnce()) {
     assert_eq!(n, 0, "{what}: {n} allocation(s)");
 }
 
-const MAPPINGS: [GamutMapping; 2] = [GamutMapping::Clip, GamutMapping::PreserveA];
-
 /// Linear colours that reach every branch of the gamut mapping: in gamut, out of gamut on both
 /// sides, A ≤ 0, A ≥ white, infinite and NaN channels.
 const COLOURS: [[f32; 3]; 8] = [
@@ -134,18 +135,6 @@ fn per_pixel_paths_do_not_allocate() {
     let s4 = black_box([0.3f32, 0.8, 1.2, 0.1]);
     let s16 = black_box([0.5f32; 16]);
     let specials6 = black_box([f32::NAN, f32::INFINITY, -0.0, 1e-45, f32::MAX, -1.0]);
-    let folded6 = [
-        folded::TABLE2_ROW1_SRGB,
-        folded::TABLE2_ROW1_DISPLAY_P3,
-        folded::TABLE2_ROW1_REC2020,
-        folded::TABLE2_ROW1_MEYER_1987,
-    ];
-    let folded4 = [
-        folded::TABLE2_ROW2_SRGB,
-        folded::TABLE2_ROW2_DISPLAY_P3,
-        folded::TABLE2_ROW2_REC2020,
-        folded::TABLE2_ROW2_MEYER_1987,
-    ];
     assert_no_alloc("ac1c2 / xyz / matrices", || {
         black_box(tables::TABLE2_ROW1.ac1c2(&s6));
         black_box(tables::TABLE2_ROW1.ac1c2(&specials6));
@@ -158,17 +147,17 @@ fn per_pixel_paths_do_not_allocate() {
     });
     assert_no_alloc("linear_rgb / encode_u8 / encode_u16 / fold", || {
         for (j, display) in displays::ALL.iter().enumerate() {
-            black_box(folded6[j].linear_rgb(&s6));
-            black_box(folded4[j].linear_rgb(&s4));
-            black_box(folded6[j].linear_rgb(&specials6));
+            black_box(FOLDED_ROW1[j].linear_rgb(&s6));
+            black_box(FOLDED_ROW2[j].linear_rgb(&s4));
+            black_box(FOLDED_ROW1[j].linear_rgb(&specials6));
             black_box(display.linear_from_xyz(black_box([0.3, 0.4, 0.5])));
             black_box(display.xyz_from_linear(black_box([0.3, 0.4, 0.5])));
             black_box(tables::TABLE2_ROW1.fold(display, 1.0 / tables::UNIT_SPECTRUM_Y));
             for mapping in MAPPINGS {
-                black_box(folded6[j].encode_u8(display, mapping, &s6));
-                black_box(folded6[j].encode_u16(display, mapping, &specials6));
-                black_box(folded4[j].encode_u8(display, mapping, &s4));
-                black_box(folded4[j].encode_u16(display, mapping, &s4));
+                black_box(FOLDED_ROW1[j].encode_u8(display, mapping, &s6));
+                black_box(FOLDED_ROW1[j].encode_u16(display, mapping, &specials6));
+                black_box(FOLDED_ROW2[j].encode_u8(display, mapping, &s4));
+                black_box(FOLDED_ROW2[j].encode_u16(display, mapping, &s4));
             }
         }
     });

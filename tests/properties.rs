@@ -16,6 +16,8 @@ mod derive;
 
 mod common;
 
+use common::{FOLDED_ROW1, FOLDED_ROW2, MAPPINGS};
+
 use std::cell::Cell;
 use std::fmt::Debug;
 use std::sync::OnceLock;
@@ -36,22 +38,6 @@ const EPS: f64 = f32::EPSILON as f64;
 const U: f64 = EPS / 2.0;
 /// 2⁻¹⁵⁰: half the smallest f32 subnormal, the absolute error of one f32 product that underflows.
 const HALF_SUBNORMAL: f64 = 7.006_492_321_624_085e-46;
-
-const MAPPINGS: [GamutMapping; 2] = [GamutMapping::Clip, GamutMapping::PreserveA];
-
-/// The baked folded sets, indexed `[display]` in the order of `displays::ALL`.
-const FOLDED_ROW1: [FoldedSet<6>; 4] = [
-    folded::TABLE2_ROW1_SRGB,
-    folded::TABLE2_ROW1_DISPLAY_P3,
-    folded::TABLE2_ROW1_REC2020,
-    folded::TABLE2_ROW1_MEYER_1987,
-];
-const FOLDED_ROW2: [FoldedSet<4>; 4] = [
-    folded::TABLE2_ROW2_SRGB,
-    folded::TABLE2_ROW2_DISPLAY_P3,
-    folded::TABLE2_ROW2_REC2020,
-    folded::TABLE2_ROW2_MEYER_1987,
-];
 
 /// Runs one property for 10 000 cases with [`common::check_property`].
 fn check<S>(name: &str, strategy: S, test: impl Fn(S::Value) -> TestCaseResult)

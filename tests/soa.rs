@@ -17,6 +17,8 @@
 
 mod common;
 
+use common::{FOLDED_ROW1, FOLDED_ROW2, MAPPINGS};
+
 use std::fmt::Debug;
 
 use proptest::prelude::*;
@@ -397,27 +399,15 @@ fn planar_case<const N: usize>(
 /// The baked sets of Table 2 folded for each display, and both mappings.
 #[test]
 fn planar_equals_per_pixel_for_baked_sets() {
-    let row2 = [
-        folded::TABLE2_ROW2_SRGB,
-        folded::TABLE2_ROW2_DISPLAY_P3,
-        folded::TABLE2_ROW2_REC2020,
-        folded::TABLE2_ROW2_MEYER_1987,
-    ];
-    let row1 = [
-        folded::TABLE2_ROW1_SRGB,
-        folded::TABLE2_ROW1_DISPLAY_P3,
-        folded::TABLE2_ROW1_REC2020,
-        folded::TABLE2_ROW1_MEYER_1987,
-    ];
     // The sRGB display, Clip, three times out of four: the fast path.
     let choice = prop_oneof![3 => Just((0usize, 0usize)), 1 => (0usize..4, 0usize..2)];
     check(
         "planar, baked sets",
         (pixels::<4>(), pixels::<6>(), choice),
         |(px4, px6, (j, m))| {
-            let mapping = [GamutMapping::Clip, GamutMapping::PreserveA][m];
-            planar_case(&row2[j], &displays::ALL[j], mapping, &px4)?;
-            planar_case(&row1[j], &displays::ALL[j], mapping, &px6)
+            let mapping = MAPPINGS[m];
+            planar_case(&FOLDED_ROW2[j], &displays::ALL[j], mapping, &px4)?;
+            planar_case(&FOLDED_ROW1[j], &displays::ALL[j], mapping, &px6)
         },
     );
 }

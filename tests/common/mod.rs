@@ -1,10 +1,35 @@
 //! Helpers shared by the integration tests: a module each test file includes with `mod common;`,
 //! not a test target of its own.
 
+// Each test file is its own crate and uses only part of this module.
+#![allow(dead_code)]
+
 use std::fmt::Debug;
 
 use proptest::strategy::Strategy;
 use proptest::test_runner::{Config, TestCaseResult, TestRunner};
+use spectral_quadrature::tables::folded;
+use spectral_quadrature::{FoldedSet, GamutMapping};
+
+/// Both gamut mappings.
+pub const MAPPINGS: [GamutMapping; 2] = [GamutMapping::Clip, GamutMapping::PreserveA];
+
+/// The baked sets of Table 2 row 1 folded for each display, indexed `[display]` in the order of
+/// `displays::ALL`.
+pub const FOLDED_ROW1: [FoldedSet<6>; 4] = [
+    folded::TABLE2_ROW1_SRGB,
+    folded::TABLE2_ROW1_DISPLAY_P3,
+    folded::TABLE2_ROW1_REC2020,
+    folded::TABLE2_ROW1_MEYER_1987,
+];
+
+/// As [`FOLDED_ROW1`], for Table 2 row 2.
+pub const FOLDED_ROW2: [FoldedSet<4>; 4] = [
+    folded::TABLE2_ROW2_SRGB,
+    folded::TABLE2_ROW2_DISPLAY_P3,
+    folded::TABLE2_ROW2_REC2020,
+    folded::TABLE2_ROW2_MEYER_1987,
+];
 
 /// Runs one property for exactly `cases` cases, with no regression files, panicking with
 /// proptest's (shrunk) failure under `name`.
