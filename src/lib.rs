@@ -24,10 +24,11 @@
 //! assert!(a > 100.0 && c1.abs() < a && c2 > 0.0);
 //! ```
 //!
+//! The derivation itself is the crate `spectral-quadrature-derive`, this crate's
+//! build-dependency: use it directly to run it with your own settings or data.
+//!
 //! ## Features
-//! - `std`: links the standard library (needed by `derive`).
-//! - `derive`: the host-side f64 derivation as [`mod@derive`], for users who want to
-//!   run it with their own settings or data.
+//! - `std`: links the standard library (`std::error::Error` for [`Error`]).
 #![no_std]
 #![cfg_attr(docsrs, feature(doc_cfg))]
 #![deny(missing_docs)]
@@ -136,7 +137,7 @@ pub mod tables {
     /// [`f32_budget`](crate::f32_budget)`(N, Σ|wᵢ·sᵢ|)` of the runtime's. `<display>_encode` uses
     /// the shader's f32 `pow`, whose error WGSL and Vulkan inherit from `exp2(y · log2(x))`; on the
     /// same linear input it stays within 5.7e-7 of the runtime's f64 curve (the largest value of
-    /// the bound `tests/shaders.rs` derives from those precisions). `tests/shaders.rs` runs both
+    /// the bound `shaders/tests/shaders.rs` derives from those precisions). `shaders/tests/shaders.rs` runs both
     /// snippets on a Vulkan device and checks every output against these bounds.
     ///
     /// Shaders may flush subnormal values to zero, and what they do with not-a-number values is up
@@ -151,10 +152,6 @@ pub mod tables {
         pub const GLSL: &str = include_str!(concat!(env!("OUT_DIR"), "/shaders.glsl"));
     }
 }
-
-#[cfg(feature = "derive")]
-#[cfg_attr(docsrs, doc(cfg(feature = "derive")))]
-pub mod derive;
 
 /// The README's examples, compiled and run as doctests.
 #[cfg(doctest)]

@@ -1,17 +1,18 @@
 //! The baked tables equal a fresh derivation: every f64 value rounded to f32 exactly as the code
 //! generator does (`as f32`), so the comparisons are exact.
 
-#[allow(dead_code, unused_imports)]
-#[path = "../src/derive/mod.rs"]
-mod derive;
+use spectral_quadrature_derive as sqd;
 
-use derive::{derive, Derivation, Settings};
+/// The data files the derivation reads (the runtime crate's `data/`).
+const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data");
+
 use spectral_quadrature::{tables, Channel, RuleStatus, WavelengthSet};
+use sqd::{derive, Derivation, Settings};
 use std::sync::OnceLock;
 
 fn fresh() -> &'static Derivation {
     static D: OnceLock<Derivation> = OnceLock::new();
-    D.get_or_init(|| derive(&Settings::default()).expect("default derivation"))
+    D.get_or_init(|| derive(&Settings::new(DATA_DIR)).expect("default derivation"))
 }
 
 fn f32s(v: &[f64]) -> Vec<f32> {
@@ -74,7 +75,7 @@ fn every_rule_and_its_status() {
     assert!(defined >= 30, "{defined} defined rules");
 }
 
-fn assert_set<const N: usize>(baked: &WavelengthSet<N>, fresh: &derive::WavelengthSet) {
+fn assert_set<const N: usize>(baked: &WavelengthSet<N>, fresh: &sqd::WavelengthSet) {
     assert_eq!(baked.wavelengths_nm.to_vec(), f32s(&fresh.wavelengths_nm));
     for c in 0..3 {
         assert_eq!(baked.weights[c].to_vec(), f32s(&fresh.weights[c]));
@@ -133,8 +134,10 @@ fn generated_source_is_what_the_generator_writes_now() {
         d.settings.observer.file().to_string(),
         d.observer.sha256.clone(),
     )];
-    let scene = derive::scene::Scene::default_scene().resolve(d).unwrap();
-    let regenerated = derive::codegen::tables_rs(d, &inputs, &scene).unwrap();
+    let scene = sqd::scene::Scene::default_scene(std::path::Path::new(DATA_DIR))
+        .resolve(d)
+        .unwrap();
+    let regenerated = sqd::codegen::tables_rs(d, &inputs, &scene).unwrap();
     let baked = include_str!(concat!(env!("OUT_DIR"), "/tables.rs"));
     assert_eq!(regenerated, baked);
     assert!(!baked.contains("NaN") && !baked.contains("inf"));
@@ -145,5 +148,5 @@ fn embedded_data_matches_the_file_in_data() {
     // The checksum in the header is that of the file shipped in data/.
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(tables::INPUTS[0].0);
     let bytes = std::fs::read(path).unwrap();
-    assert_eq!(derive::sha256_hex(&bytes), tables::INPUTS[0].1);
+    assert_eq!(sqd::sha256_hex(&bytes), tables::INPUTS[0].1);
 }

@@ -10,9 +10,10 @@
 // Channel loops index several parallel arrays (weights, references, outputs) by channel.
 #![allow(clippy::needless_range_loop)]
 
-#[allow(dead_code, unused_imports)]
-#[path = "../src/derive/mod.rs"]
-mod derive;
+use spectral_quadrature_derive as sqd;
+
+/// The data files the derivation reads (the runtime crate's `data/`).
+const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data");
 
 mod common;
 
@@ -22,7 +23,6 @@ use std::cell::Cell;
 use std::fmt::Debug;
 use std::sync::OnceLock;
 
-use derive::{derive, Derivation, Settings};
 use proptest::array::uniform;
 use proptest::prelude::*;
 use proptest::test_runner::TestCaseResult;
@@ -31,6 +31,7 @@ use spectral_quadrature::{
     ac1c2_from_xyz, f32_budget, xyz_from_ac1c2, Display, DynamicSet, Error, FoldedSet,
     GamutMapping, GaussRule, RuleStatus, WavelengthSet,
 };
+use sqd::{derive, Derivation, Settings};
 
 /// ε as f64.
 const EPS: f64 = f32::EPSILON as f64;
@@ -57,7 +58,7 @@ fn record(worst: &Cell<f64>, value: f64) {
 
 fn fresh() -> &'static Derivation {
     static D: OnceLock<Derivation> = OnceLock::new();
-    D.get_or_init(|| derive(&Settings::default()).expect("default derivation"))
+    D.get_or_init(|| derive(&Settings::new(DATA_DIR)).expect("default derivation"))
 }
 
 /// The f64 folded weights `d.folded(table2[k], displays[j])`, `[k][j]`.
@@ -420,13 +421,13 @@ fn p3_xyz_ac1c2_round_trip() {
 // 4. Baked constants equal a fresh derivation
 // ---------------------------------------------------------------------------------------------
 
-fn status_matches(baked: RuleStatus, fresh: derive::Status) -> bool {
+fn status_matches(baked: RuleStatus, fresh: sqd::Status) -> bool {
     matches!(
         (baked, fresh),
-        (RuleStatus::Defined, derive::Status::Defined)
-            | (RuleStatus::Outside, derive::Status::Outside)
-            | (RuleStatus::Complex, derive::Status::Complex)
-            | (RuleStatus::VanishingNorm, derive::Status::VanishingNorm)
+        (RuleStatus::Defined, sqd::Status::Defined)
+            | (RuleStatus::Outside, sqd::Status::Outside)
+            | (RuleStatus::Complex, sqd::Status::Complex)
+            | (RuleStatus::VanishingNorm, sqd::Status::VanishingNorm)
     )
 }
 

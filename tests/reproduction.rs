@@ -1,25 +1,26 @@
 //! The derivation reproduces the numbers the paper prints (Eq. 9, Eq. 10, Table 1a, Table 2).
 //! Each tolerance says where it comes from.
 
-#[allow(dead_code, unused_imports)]
-#[path = "../src/derive/mod.rs"]
-mod derive;
+use spectral_quadrature_derive as sqd;
 
-use derive::{derive, Derivation, Settings, Status};
+/// The data files the derivation reads (this crate's `data/`).
+const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data");
+
 use spectral_quadrature::paper;
+use sqd::{derive, Derivation, Settings, Status};
 use std::sync::OnceLock;
 
 /// The derivation with the settings that reproduce the paper (CIE data rounded to 5 decimals;
 /// see `Settings::paper`).
 fn paper_derivation() -> &'static Derivation {
     static D: OnceLock<Derivation> = OnceLock::new();
-    D.get_or_init(|| derive(&Settings::paper()).expect("paper derivation"))
+    D.get_or_init(|| derive(&Settings::paper(DATA_DIR)).expect("paper derivation"))
 }
 
 /// The derivation the crate bakes (CIE data as published).
 fn default_derivation() -> &'static Derivation {
     static D: OnceLock<Derivation> = OnceLock::new();
-    D.get_or_init(|| derive(&Settings::default()).expect("default derivation"))
+    D.get_or_init(|| derive(&Settings::new(DATA_DIR)).expect("default derivation"))
 }
 
 #[test]
@@ -159,7 +160,7 @@ fn table_1a_nodes_weights_and_undefined_pattern() {
     // For C2 order 7 (see below): the same rule on a 1 nm grid.
     let fine = derive(&Settings {
         step_nm: 1.0,
-        ..Settings::paper()
+        ..Settings::paper(DATA_DIR)
     })
     .expect("1 nm derivation");
     let mut checked = 0;

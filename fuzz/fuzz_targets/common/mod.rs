@@ -6,11 +6,14 @@
 
 use std::sync::OnceLock;
 
-use spectral_quadrature::derive::{derive, Settings};
 use spectral_quadrature::tables::{self, displays, folded};
 use spectral_quadrature::{
     f32_budget, quantize_u16, quantize_u8, Display, FoldedSet, GamutMapping, WavelengthSet,
 };
+use spectral_quadrature_derive::{derive, Settings};
+
+/// The runtime crate's data directory, which its build script bakes the tables from.
+pub const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");
 
 /// Both gamut mappings.
 pub const MAPPINGS: [GamutMapping; 2] = [GamutMapping::Clip, GamutMapping::PreserveA];
@@ -43,14 +46,15 @@ pub struct Reference {
     pub row2_folded: Vec<[Vec<f64>; 3]>,
 }
 
-/// The f64 reference, derived once per process (`derive(&Settings::default())`, the settings
-/// the tables are baked with). The derived sets and displays are matched to the baked ones by
-/// their wavelengths and primaries, and every baked weight is checked to be the f64 weight
-/// rounded to f32 (within one ulp), so a mix-up fails on the first input.
+/// The f64 reference, derived once per process (`derive(&Settings::new(DATA_DIR))`, the
+/// settings the tables are baked with). The derived sets and displays are matched to the baked
+/// ones by their wavelengths and primaries, and every baked weight is checked to be the f64
+/// weight rounded to f32 (within one ulp), so a mix-up fails on the first input.
 pub fn reference() -> &'static Reference {
     static REFERENCE: OnceLock<Reference> = OnceLock::new();
     REFERENCE.get_or_init(|| {
-        let d = derive(&Settings::default()).expect("the f64 derivation with default settings");
+        let d =
+            derive(&Settings::new(DATA_DIR)).expect("the f64 derivation with the default settings");
         let find_set = |wavelengths: &[f32]| {
             d.table2
                 .iter()

@@ -1,0 +1,104 @@
+//! What the runtime's `build.rs` does, as a library function: read the scene named by
+//! [`SCENE_ENV`](super::scene::SCENE_ENV) (or take the default one), run the derivation on the
+//! runtime crate's `data/`, and generate `tables.rs` and the shader snippets.
+//!
+//! ```no_run
+//! // build.rs of the runtime crate
+//! let crate_dir = std::path::PathBuf::from(std::env::var_os("CARGO_MANIFEST_DIR").unwrap());
+//! let scene = std::env::var_os(spectral_quadrature_derive::scene::SCENE_ENV);
+//! let out = spectral_quadrature_derive::build::generate(&crate_dir, scene.as_deref()).unwrap();
+//! // ... print out.rerun_if_changed, write out.tables_rs, out.wgsl and out.glsl to OUT_DIR
+//! ```
+
+use std::ffi::OsStr;
+use std::path::{Path, PathBuf};
+use std::string::{String, ToString};
+use std::vec::Vec;
+
+use super::scene::{Resolved, Scene, SCENE_ENV};
+use super::shader::{snippet, Language};
+
+/// The generated sources and what Cargo must watch.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Output {
+    /// `tables.rs`: every constant the runtime needs, with a header naming the inputs.
+    pub tables_rs: String,
+    /// The WGSL snippet of the scene's sets and displays.
+    pub wgsl: String,
+    /// The GLSL snippet, the same items.
+    pub glsl: String,
+    /// Files and directories the output depends on (`cargo:rerun-if-changed`).
+    pub rerun_if_changed: Vec<PathBuf>,
+}
+
+/// Runs the whole generation for the crate at `crate_dir` (its `data/` holds the data files).
+/// `scene`: the value of [`SCENE_ENV`], a path relative to `crate_dir` (or absolute); `None`
+/// for the default scene. Errors are messages naming the file and line where a file is at
+/// fault.
+pub fn generate(crate_dir: &Path, scene: Option<&OsStr>) -> Result<Output, String> {
+    let data_dir = crate_dir.join("data");
+    let mut rerun = std::vec![data_dir.clone()];
+    let mut inputs = Vec::new();
+    let scene = match scene {
+        None => Scene::default_scene(&data_dir),
+        Some(path) => {
+            let path = crate_dir.join(Path::new(path));
+            rerun.push(path.clone());
+            // Inside the crate, name files relative to it, so the header does not depend on
+            // where the crate lives.
+            let label = relative_label(crate_dir, &path);
+            let text = std::fs::read_to_string(&path)
+                .map_err(|e| std::format!("{label}: cannot read the scene ({SCENE_ENV}): {e}"))?;
+            inputs.push((label.clone(), super::sha256_hex(text.as_bytes())));
+            let mut scene = Scene::parse(&label, &text, &data_dir).map_err(|e| e.to_string())?;
+            // The scene's own relative paths were resolved against its label: make them
+            // absolute again.
+            if let Some(p) = scene.plan.as_mut() {
+                for f in [&mut p.reflectances, &mut p.illuminants, &mut p.emission]
+                    .into_iter()
+                    .flatten()
+                {
+                    *f = crate_dir.join(&*f);
+                    rerun.push(f.clone());
+                    if let Ok(bytes) = std::fs::read(&*f) {
+                        inputs.push((relative_label(crate_dir, f), super::sha256_hex(&bytes)));
+                    }
+                }
+            }
+            scene
+        }
+    };
+    let d = super::derive(&scene.settings)
+        .map_err(|e| std::format!("{}: derivation failed: {e}", scene.file))?;
+    inputs.insert(
+        0,
+        (
+            scene.settings.observer.file().to_string(),
+            d.observer.sha256.clone(),
+        ),
+    );
+    let resolved = scene.resolve(&d).map_err(|e| e.to_string())?;
+    let tables_rs = super::codegen::tables_rs(&d, &inputs, &resolved)
+        .map_err(|e| std::format!("code generation failed: {e}"))?;
+    let [wgsl, glsl] = shaders(&d, &resolved)?;
+    Ok(Output {
+        tables_rs,
+        wgsl,
+        glsl,
+        rerun_if_changed: rerun,
+    })
+}
+
+/// The scene's shader snippets, WGSL and GLSL.
+fn shaders(d: &super::Derivation, scene: &Resolved) -> Result<[String; 2], String> {
+    let one =
+        |lang| snippet(d, scene, lang).map_err(|e| std::format!("shader generation failed: {e}"));
+    Ok([one(Language::Wgsl)?, one(Language::Glsl)?])
+}
+
+fn relative_label(crate_dir: &Path, path: &Path) -> String {
+    path.strip_prefix(crate_dir)
+        .unwrap_or(path)
+        .display()
+        .to_string()
+}

@@ -1,0 +1,240 @@
+//! Every wavelength set the crate can build, by name: the names scenes use, the planner
+//! searches and the generated consts carry.
+//!
+//! | name | set |
+//! |---|---|
+//! | `TABLE2_ROW1`, `TABLE2_ROW2` | Table 2's merged sets |
+//! | `A_<n>`, `C1_<n>`, `C2_<n>` | one channel's Gauss rule of order n (the other rows zero) |
+//! | `AC1C2_<a>_<c1>_<c2>` | the union of A order a, C1 order c1 and C2 order c2 |
+//! | `UNIFORM_<n>` | n wavelengths at the centres of equal bins, box-filter weights |
+//! | `KQ_<n>` | a shared set by kernel quadrature for radiances ([`super::shared`]), n = 3..=32 |
+//! | `KQ_<light>_<n>` | the same with a built-in illuminant folded in (`KQ_C_6`, `KQ_F11_6`, `KQ_LED_B1_4`): samples are reflectances |
+//! | `INTERP_A_<n>` | A's Gauss nodes of order n, C1 and C2 by interpolatory rules on them |
+
+use std::string::{String, ToString};
+use std::vec::Vec;
+
+use super::evaluate;
+use super::sets::{WavelengthSet, CHANNELS};
+use super::shared;
+use super::Derivation;
+
+/// Uniform sets the crate builds: `UNIFORM_3` to `UNIFORM_64`.
+pub const UNIFORM_SIZES: core::ops::RangeInclusive<usize> = 3..=64;
+
+/// What a name may look like, for error messages.
+pub const NAME_FORMS: &str =
+    "TABLE2_ROW1, TABLE2_ROW2, A_<n>, C1_<n>, C2_<n>, AC1C2_<a>_<c1>_<c2>, UNIFORM_<n> (n = 3..=64), KQ_<n> and KQ_<light>_<n> (n = 3..=32, light a built-in illuminant), INTERP_A_<n>";
+
+/// Whether a set covers only one channel (a per-channel rule): it cannot give a colour alone.
+pub fn is_single_channel(name: &str) -> bool {
+    ["A_", "C1_", "C2_"].iter().any(|p| name.starts_with(p))
+}
+
+/// The set called `name`, or a message saying why there is none (unknown form, order beyond
+/// the derivation's maximum, undefined rule and its reason).
+pub fn resolve(d: &Derivation, name: &str) -> Result<WavelengthSet, String> {
+    let order = |s: &str| -> Result<usize, String> {
+        s.parse::<usize>()
+            .map_err(|_| std::format!("{name}: {s:?} is not an order"))
+    };
+    let rule = |c: usize, n: usize| -> Result<&super::Rule, String> {
+        let max = d.settings.max_order;
+        let r = d.rules[c].get(n.wrapping_sub(1)).ok_or_else(|| {
+            std::format!(
+                "{name}: {} order {n} is not among the derived orders 1..={max}",
+                CHANNELS[c]
+            )
+        })?;
+        if r.is_defined() {
+            Ok(r)
+        } else {
+            Err(std::format!(
+                "{name}: {} order {n} is undefined ({}: {})",
+                CHANNELS[c],
+                r.status.as_str(),
+                r.reason
+            ))
+        }
+    };
+    if let Some(set) = d.table2.iter().find(|s| s.name == name) {
+        return Ok(set.clone());
+    }
+    if let Some(rest) = name.strip_prefix("AC1C2_") {
+        let parts: Vec<&str> = rest.split('_').collect();
+        if parts.len() != 3 {
+            return Err(std::format!("{name}: expected AC1C2_<a>_<c1>_<c2>"));
+        }
+        let rules = [
+            rule(0, order(parts[0])?)?,
+            rule(1, order(parts[1])?)?,
+            rule(2, order(parts[2])?)?,
+        ];
+        let doc = std::format!(
+            "Gauss rules A order {}, C1 order {}, C2 order {}, merged.",
+            rules[0].order,
+            rules[1].order,
+            rules[2].order
+        );
+        return WavelengthSet::merge(name, &doc, [Some(rules[0]), Some(rules[1]), Some(rules[2])]);
+    }
+    if let Some(n) = name.strip_prefix("UNIFORM_") {
+        let n = order(n)?;
+        if !UNIFORM_SIZES.contains(&n) {
+            return Err(std::format!(
+                "{name}: uniform sets have {} to {} wavelengths",
+                UNIFORM_SIZES.start(),
+                UNIFORM_SIZES.end()
+            ));
+        }
+        let u = evaluate::uniform(&d.observer, d.settings.range_nm, n);
+        let weights = super::display::fold(&d.opponent.xyz_to_ac1c2, &u.xyz_weights, 1.0);
+        return Ok(WavelengthSet {
+            name: name.into(),
+            doc: std::format!(
+                "{n} wavelengths at the centres of equal bins of the range, weighted by the integral of the matching functions over each bin."
+            ),
+            wavelengths_nm: u.wavelengths_nm,
+            weights,
+        });
+    }
+    if let Some(n) = name.strip_prefix("INTERP_A_") {
+        return shared::interpolatory_a(d, order(n)?, name);
+    }
+    if let Some(rest) = name.strip_prefix("KQ_") {
+        let (light, n) = match rest.rsplit_once('_') {
+            Some((light, n)) => (Some(light), n),
+            None => (None, rest),
+        };
+        let n = order(n)?;
+        if !shared::SIZES.contains(&n) {
+            return Err(std::format!(
+                "{name}: shared sets have {} to {} wavelengths",
+                shared::SIZES.start(),
+                shared::SIZES.end()
+            ));
+        }
+        if let Some(l) = light {
+            if evaluate::builtin_illuminant(&d.settings.data_dir, l, d.settings.range_nm).is_err() {
+                return Err(std::format!(
+                    "{name}: {l} is not a built-in illuminant (data/illuminant_<light>.csv: {})",
+                    builtin_lights().join(", ")
+                ));
+            }
+        }
+        let s = shared::cached_or_optimize(d, light, n).map_err(|e| std::format!("{name}: {e}"))?;
+        return Ok(s.wavelength_set(d, name));
+    }
+    for (c, prefix) in ["A_", "C1_", "C2_"].iter().enumerate() {
+        if let Some(n) = name.strip_prefix(prefix) {
+            let r = rule(c, order(n)?)?;
+            let mut weights: [Vec<f64>; 3] = Default::default();
+            for (k, row) in weights.iter_mut().enumerate() {
+                *row = if k == c {
+                    r.weights.clone()
+                } else {
+                    std::vec![0.0; r.order]
+                };
+            }
+            return Ok(WavelengthSet {
+                name: name.into(),
+                doc: std::format!(
+                    "Channel {}, order {}: {} wavelengths.",
+                    CHANNELS[c],
+                    r.order,
+                    r.order
+                ),
+                wavelengths_nm: r.nodes_nm.clone(),
+                weights,
+            });
+        }
+    }
+    Err(std::format!("{name}: not a set name (forms: {NAME_FORMS})"))
+}
+
+/// The names of every set that serves all three channels: Table 2's rows, every defined
+/// AC1C2 combination of orders up to the derivation's maximum, and the uniform sets.
+pub fn colour_set_names(d: &Derivation) -> Vec<String> {
+    let mut names: Vec<String> = d.table2.iter().map(|s| s.name.clone()).collect();
+    let defined = |c: usize| -> Vec<usize> {
+        d.rules[c]
+            .iter()
+            .filter(|r| r.is_defined())
+            .map(|r| r.order)
+            .collect()
+    };
+    for a in defined(0) {
+        for c1 in defined(1) {
+            for c2 in defined(2) {
+                names.push(std::format!("AC1C2_{a}_{c1}_{c2}"));
+            }
+        }
+    }
+    names.extend(UNIFORM_SIZES.map(|n| std::format!("UNIFORM_{n}")));
+    names
+}
+
+/// The built-in illuminants a `KQ_<light>_<n>` may name.
+pub fn builtin_lights() -> Vec<&'static str> {
+    evaluate::BUILTIN
+        .iter()
+        .filter_map(|f| f.strip_prefix("data/illuminant_")?.strip_suffix(".csv"))
+        .collect()
+}
+
+/// The names of every defined per-channel rule (`A_1`, ..., `C2_15`).
+pub fn rule_names(d: &Derivation) -> Vec<String> {
+    (0..3)
+        .flat_map(|c| {
+            d.rules[c]
+                .iter()
+                .filter(|r| r.is_defined())
+                .map(move |r| std::format!("{}_{}", CHANNELS[c], r.order))
+        })
+        .collect()
+}
+
+/// The valid choices to follow an error about the set `name`, for its form: the shared-set forms
+/// and built-in lights for a `KQ_` name, the uniform sizes for a `UNIFORM_` name, the orders for
+/// an `INTERP_A_` name, and otherwise the defined per-channel rules (the orders a rule or an
+/// `AC1C2_<a>_<c1>_<c2>` may use).
+pub fn valid_choices_for(d: &Derivation, name: &str) -> String {
+    if name.starts_with("KQ_") {
+        return std::format!(
+            "shared sets: KQ_<n> (radiance) and KQ_<light>_<n> (light folded in), n = {}..={}; lights: {}",
+            shared::SIZES.start(),
+            shared::SIZES.end(),
+            builtin_lights().join(", ")
+        );
+    }
+    if name.starts_with("UNIFORM_") {
+        return std::format!(
+            "uniform sets: UNIFORM_<n>, n = {}..={}",
+            UNIFORM_SIZES.start(),
+            UNIFORM_SIZES.end()
+        );
+    }
+    if name.starts_with("INTERP_A_") {
+        let orders: Vec<String> = d.rules[0]
+            .iter()
+            .filter(|r| r.is_defined())
+            .map(|r| r.order.to_string())
+            .collect();
+        return std::format!("INTERP_A_<n> with a defined A order: {}", orders.join(", "));
+    }
+    valid_choices(d)
+}
+
+/// The valid choices for error messages: the defined per-channel rules (the orders an
+/// `AC1C2_<a>_<c1>_<c2>` may combine).
+pub fn valid_choices(d: &Derivation) -> String {
+    let rules = rule_names(d);
+    std::format!(
+        "defined rules: {}",
+        rules
+            .iter()
+            .map(ToString::to_string)
+            .collect::<Vec<_>>()
+            .join(", ")
+    )
+}

@@ -1,0 +1,492 @@
+//! Scenes: what one application uses, so the build bakes only that.
+//!
+//! A scene is a TOML file whose path `build.rs` reads from the environment variable
+//! [`SCENE_ENV`] (set it in `.cargo/config.toml`'s `[env]`, with `relative = true` so the path
+//! is absolute). Without it the default scene applies: every set, display and table.
+//!
+//! ```toml
+//! observer = "cie1931_2deg"        # optional; also range_nm = [380, 770], step_nm = 5
+//! sets = ["TABLE2_ROW2", "A_3"]    # names from derive::catalog
+//! displays = ["SRGB"]              # SRGB, DISPLAY_P3, REC2020, MEYER_1987
+//!
+//! [transfer]                       # optional: another transfer function for a display
+//! SRGB = "gamma 2.2"               # "srgb", "linear" or "gamma <γ>"
+//!
+//! [extras]                         # optional, both false by default
+//! sensitivities = true             # GRID_NM and SENSITIVITIES
+//! rules = true                     # the rule tables (A_RULES, ..., RULES, MAX_ORDER)
+//!
+//! [plan]                           # optional: add the set the planner picks for a budget
+//! max_delta_e00 = 1.0
+//! metric = "mean"                  # or "max"
+//! reflectances = "surfaces.csv"    # relative to the scene file
+//! illuminants = "lamps.csv"        # or emission = "leds.csv"
+//! ```
+//!
+//! Every mistake (unknown key, set, observer or display, an undefined order, a bad budget) is
+//! an error naming the file, the line and the valid choices.
+
+use std::collections::BTreeMap;
+use std::string::{String, ToString};
+use std::vec::Vec;
+
+use serde::Deserialize;
+use toml::Spanned;
+
+use super::display::{DisplaySpec, Transfer};
+use super::{catalog, ObserverId, Settings};
+
+/// The environment variable naming the scene file.
+pub const SCENE_ENV: &str = "SPECTRAL_QUADRATURE_SCENE";
+
+/// The shared sets the default scene bakes besides Table 2's rows: kernel quadrature with
+/// illuminant C folded in at 4, 6 and 8 wavelengths (Table 2's light), and with F11 at 6.
+pub const DEFAULT_SHARED_SETS: [&str; 4] = ["KQ_C_4", "KQ_C_6", "KQ_C_8", "KQ_F11_6"];
+
+/// A mistake in a scene file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneError {
+    /// The scene file.
+    pub file: String,
+    /// 1-based line, or 0 for the file as a whole.
+    pub line: usize,
+    /// What is wrong, with the valid choices where there are any.
+    pub message: String,
+}
+
+impl core::fmt::Display for SceneError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        if self.line == 0 {
+            write!(f, "{}: {}", self.file, self.message)
+        } else {
+            write!(f, "{}:{}: {}", self.file, self.line, self.message)
+        }
+    }
+}
+
+impl std::error::Error for SceneError {}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawScene {
+    observer: Option<Spanned<String>>,
+    range_nm: Option<Spanned<[f64; 2]>>,
+    step_nm: Option<Spanned<f64>>,
+    sets: Option<Vec<Spanned<String>>>,
+    displays: Option<Vec<Spanned<String>>>,
+    transfer: Option<BTreeMap<Spanned<String>, Spanned<String>>>,
+    extras: Option<Extras>,
+    plan: Option<Spanned<RawPlan>>,
+}
+
+/// Optional tables.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct Extras {
+    /// `GRID_NM` and `SENSITIVITIES`.
+    #[serde(default)]
+    pub sensitivities: bool,
+    /// The rule tables with every order's status (`A_RULES`, `C1_RULES`, `C2_RULES`, `RULES`,
+    /// `MAX_ORDER`).
+    #[serde(default)]
+    pub rules: bool,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawPlan {
+    max_delta_e00: Spanned<f64>,
+    metric: Option<Spanned<String>>,
+    reflectances: Option<Spanned<String>>,
+    illuminants: Option<Spanned<String>>,
+    emission: Option<Spanned<String>>,
+}
+
+/// A ΔE budget for the planner to resolve at build time.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlanRequest {
+    /// The largest acceptable ΔE00.
+    pub max_delta_e00: f64,
+    /// Whether the mean (`false`) or the largest (`true`) ΔE00 must meet it.
+    pub use_max: bool,
+    /// Reflectance file (absolute, or relative to the scene file), if surfaces.
+    pub reflectances: Option<std::path::PathBuf>,
+    /// Illuminant file, if surfaces.
+    pub illuminants: Option<std::path::PathBuf>,
+    /// Emission file, if lights seen directly.
+    pub emission: Option<std::path::PathBuf>,
+    /// The line of the `[plan]` table, for errors.
+    pub line: usize,
+}
+
+/// A parsed scene, before its sets are resolved against a derivation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scene {
+    /// The file it came from, or `default`.
+    pub file: String,
+    /// The derivation's settings (observer, range, step).
+    pub settings: Settings,
+    /// Set names with their lines.
+    pub sets: Vec<(String, usize)>,
+    /// Displays with their transfer functions.
+    pub displays: Vec<DisplaySpec>,
+    /// Optional tables.
+    pub extras: Extras,
+    /// A budget to plan for.
+    pub plan: Option<PlanRequest>,
+    /// Whether this is the default scene (everything).
+    pub is_default: bool,
+}
+
+/// Display names a scene may use.
+pub fn display_names() -> Vec<String> {
+    super::display::standard_displays()
+        .into_iter()
+        .map(|d| d.name)
+        .collect()
+}
+
+fn line_of(text: &str, offset: usize) -> usize {
+    text[..offset.min(text.len())].matches('\n').count() + 1
+}
+
+impl Scene {
+    /// The default scene: the default settings, every colour set and per-channel rule the
+    /// default tables have always had, every display, and both extras.
+    /// `data_dir`: where the derivation reads its data ([`Settings::data_dir`]).
+    pub fn default_scene(data_dir: &std::path::Path) -> Scene {
+        // The sets: Table 2's rows and DEFAULT_SHARED_SETS (see `resolve`).
+        Scene {
+            file: "default".into(),
+            settings: Settings::new(data_dir),
+            sets: Vec::new(),
+            displays: super::display::standard_displays(),
+            extras: Extras {
+                sensitivities: true,
+                rules: true,
+            },
+            plan: None,
+            is_default: true,
+        }
+    }
+
+    /// Parses a scene file; the derivation will read its data from `data_dir`
+    /// ([`Settings::data_dir`]). Errors name `file`, the line and the valid choices.
+    pub fn parse(file: &str, text: &str, data_dir: &std::path::Path) -> Result<Scene, SceneError> {
+        let err = |line: usize, message: String| SceneError {
+            file: file.into(),
+            line,
+            message,
+        };
+        let raw: RawScene = toml::from_str(text).map_err(|e| {
+            let line = e.span().map_or(0, |s| line_of(text, s.start));
+            err(line, e.message().trim().to_string())
+        })?;
+        let at = |span: core::ops::Range<usize>| line_of(text, span.start);
+        let mut settings = Settings::new(data_dir);
+        if let Some(o) = &raw.observer {
+            let id = ObserverId::from_name(o.get_ref()).ok_or_else(|| {
+                err(
+                    at(o.span()),
+                    std::format!(
+                        "unknown observer {:?}; valid: {}",
+                        o.get_ref(),
+                        ObserverId::ALL.map(|o| o.name()).join(", ")
+                    ),
+                )
+            })?;
+            settings = Settings::for_observer(id, data_dir)
+                .map_err(|e| err(at(o.span()), std::format!("observer {}: {e}", id.name())))?;
+        }
+        if let Some(r) = &raw.range_nm {
+            settings.range_nm = *r.get_ref();
+            let [lo, hi] = settings.range_nm;
+            if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+                return Err(err(
+                    at(r.span()),
+                    std::format!("range_nm = [{lo}, {hi}] is not a range"),
+                ));
+            }
+        }
+        if let Some(s) = &raw.step_nm {
+            settings.step_nm = *s.get_ref();
+            if !(settings.step_nm.is_finite() && settings.step_nm > 0.0) {
+                return Err(err(
+                    at(s.span()),
+                    std::format!("step_nm = {} must be positive", settings.step_nm),
+                ));
+            }
+        }
+        let sets: Vec<(String, usize)> = raw
+            .sets
+            .unwrap_or_default()
+            .into_iter()
+            .map(|s| (s.get_ref().clone(), at(s.span())))
+            .collect();
+        let standard = super::display::standard_displays();
+        let mut displays = Vec::new();
+        for d in raw.displays.unwrap_or_default() {
+            let spec = standard
+                .iter()
+                .find(|s| &s.name == d.get_ref())
+                .ok_or_else(|| {
+                    err(
+                        at(d.span()),
+                        std::format!(
+                            "unknown display {:?}; valid: {}",
+                            d.get_ref(),
+                            display_names().join(", ")
+                        ),
+                    )
+                })?;
+            if !displays.iter().any(|s: &DisplaySpec| s.name == spec.name) {
+                displays.push(spec.clone());
+            }
+        }
+        let used: Vec<String> = displays
+            .iter()
+            .map(|s: &DisplaySpec| s.name.clone())
+            .collect();
+        for (name, value) in raw.transfer.unwrap_or_default() {
+            let line = at(name.span());
+            let spec = displays.iter_mut().find(|s| &s.name == name.get_ref()).ok_or_else(|| {
+                err(
+                    line,
+                    std::format!(
+                        "[transfer] names display {:?}, which the scene does not use; its displays: {}",
+                        name.get_ref(),
+                        used.join(", ")
+                    ),
+                )
+            })?;
+            spec.transfer =
+                parse_transfer(value.get_ref()).map_err(|m| err(at(value.span()), m))?;
+        }
+        let plan = match raw.plan {
+            None => None,
+            Some(p) => {
+                let line = at(p.span());
+                let p = p.into_inner();
+                let budget = *p.max_delta_e00.get_ref();
+                if !(budget.is_finite() && budget > 0.0) {
+                    return Err(err(
+                        at(p.max_delta_e00.span()),
+                        std::format!(
+                            "bad budget: max_delta_e00 = {budget} must be a positive, finite ΔE00"
+                        ),
+                    ));
+                }
+                let use_max = match p.metric.as_ref().map(|m| m.get_ref().as_str()) {
+                    None | Some("mean") => false,
+                    Some("max") => true,
+                    Some(other) => {
+                        return Err(err(
+                            at(p.metric.as_ref().map_or(0..0, |m| m.span())),
+                            std::format!("unknown metric {other:?}; valid: mean, max"),
+                        ))
+                    }
+                };
+                let dir = std::path::Path::new(file)
+                    .parent()
+                    .unwrap_or(std::path::Path::new("."));
+                let path = |s: &Option<Spanned<String>>| s.as_ref().map(|s| dir.join(s.get_ref()));
+                let (reflectances, illuminants, emission) = (
+                    path(&p.reflectances),
+                    path(&p.illuminants),
+                    path(&p.emission),
+                );
+                if emission.is_some() && (reflectances.is_some() || illuminants.is_some()) {
+                    return Err(err(
+                        line,
+                        "[plan] takes either emission or reflectances/illuminants, not both".into(),
+                    ));
+                }
+                if emission.is_none() && (reflectances.is_none() || illuminants.is_none()) {
+                    return Err(err(
+                        line,
+                        "[plan] needs reflectances and illuminants, or emission".into(),
+                    ));
+                }
+                Some(PlanRequest {
+                    max_delta_e00: budget,
+                    use_max,
+                    reflectances,
+                    illuminants,
+                    emission,
+                    line,
+                })
+            }
+        };
+        if sets.is_empty() && plan.is_none() {
+            return Err(err(
+                0,
+                std::format!(
+                    "the scene names no sets (sets = [...] or a [plan]); valid forms: {}",
+                    catalog::NAME_FORMS
+                ),
+            ));
+        }
+        Ok(Scene {
+            file: file.into(),
+            settings,
+            sets,
+            displays,
+            extras: raw.extras.unwrap_or_default(),
+            plan,
+            is_default: false,
+        })
+    }
+}
+
+/// `"srgb"`, `"linear"` or `"gamma <γ>"`.
+pub fn parse_transfer(s: &str) -> Result<Transfer, String> {
+    let t = s.trim();
+    match t {
+        "srgb" => Ok(Transfer::Srgb),
+        "linear" => Ok(Transfer::Linear),
+        _ => {
+            let g = t
+                .strip_prefix("gamma")
+                .map(str::trim)
+                .and_then(|g| g.parse::<f64>().ok())
+                .filter(|g| g.is_finite() && *g > 0.0)
+                .ok_or_else(|| std::format!("unknown transfer function {s:?}; valid: \"srgb\", \"linear\", \"gamma <γ>\" with γ > 0"))?;
+            Ok(Transfer::Gamma(g))
+        }
+    }
+}
+
+/// A scene resolved against a derivation: the very sets and displays to bake.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Resolved {
+    /// The scene file, or `default`.
+    pub file: String,
+    /// Sets serving all three channels, baked at the top of `tables` (and folded for each
+    /// display).
+    pub colour_sets: Vec<super::WavelengthSet>,
+    /// Per-channel rules as sets, baked in `tables::rules`.
+    pub rule_sets: Vec<super::WavelengthSet>,
+    /// Displays and their matrices.
+    pub displays: Vec<(DisplaySpec, super::display::DisplayMatrices)>,
+    /// Optional tables.
+    pub extras: Extras,
+    /// What the planner chose, as a sentence for the generated header, if it ran.
+    pub planned: Option<String>,
+}
+
+impl Scene {
+    /// Resolves the set names (and the plan, if any) against `d`, which must have been derived
+    /// with [`Scene::settings`]. Errors name the file, the line and the valid choices.
+    pub fn resolve(&self, d: &super::Derivation) -> Result<Resolved, SceneError> {
+        let err = |line: usize, message: String| SceneError {
+            file: self.file.clone(),
+            line,
+            message,
+        };
+        let displays = self
+            .displays
+            .iter()
+            .map(|spec| {
+                super::display::display_matrices(spec)
+                    .map(|m| (spec.clone(), m))
+                    .map_err(|e| err(0, e))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        if self.is_default {
+            let rule_sets = catalog::rule_names(d)
+                .iter()
+                .map(|n| catalog::resolve(d, n).map_err(|e| err(0, e)))
+                .collect::<Result<Vec<_>, _>>()?;
+            let mut colour_sets = d.table2.to_vec();
+            for name in DEFAULT_SHARED_SETS {
+                colour_sets.push(catalog::resolve(d, name).map_err(|e| err(0, e))?);
+            }
+            return Ok(Resolved {
+                file: self.file.clone(),
+                colour_sets,
+                rule_sets,
+                displays,
+                extras: self.extras,
+                planned: None,
+            });
+        }
+        let mut names = self.sets.clone();
+        let mut planned = None;
+        if let Some(p) = &self.plan {
+            let (name, sentence) = p.resolve(d).map_err(|e| err(p.line, e))?;
+            planned = Some(sentence);
+            names.push((name, p.line));
+        }
+        let (mut colour_sets, mut rule_sets) = (Vec::new(), Vec::new());
+        for (name, line) in &names {
+            let set = catalog::resolve(d, name).map_err(|e| {
+                err(
+                    *line,
+                    std::format!("{e}; {}", catalog::valid_choices_for(d, name)),
+                )
+            })?;
+            let target = if catalog::is_single_channel(name) {
+                &mut rule_sets
+            } else {
+                &mut colour_sets
+            };
+            if !target
+                .iter()
+                .any(|s: &super::WavelengthSet| s.name == set.name)
+            {
+                target.push(set);
+            }
+        }
+        Ok(Resolved {
+            file: self.file.clone(),
+            colour_sets,
+            rule_sets,
+            displays,
+            extras: self.extras,
+            planned,
+        })
+    }
+}
+
+impl PlanRequest {
+    /// Runs the planner on the request's spectra: the chosen set's name and a sentence saying
+    /// what it measured.
+    pub fn resolve(&self, d: &super::Derivation) -> Result<(String, String), String> {
+        let stimuli = self.stimuli(d.settings.range_nm)?;
+        let metric = if self.use_max {
+            super::plan::Metric::Max
+        } else {
+            super::plan::Metric::Mean
+        };
+        let plan = super::plan::plan(d, &stimuli, self.max_delta_e00, metric)?;
+        let c = &plan.chosen;
+        Ok((
+            c.name.clone(),
+            std::format!(
+                "{} ({} wavelengths): ΔE00 mean {:.3}, max {:.3} on {} stimuli; budget: {} ΔE00 <= {}",
+                c.name,
+                c.wavelengths,
+                c.mean_de00,
+                c.max_de00,
+                stimuli.len(),
+                if self.use_max { "max" } else { "mean" },
+                self.max_delta_e00
+            ),
+        ))
+    }
+
+    /// The stimuli the request names: surfaces under illuminants, or lights seen directly.
+    pub fn stimuli(&self, range_nm: [f64; 2]) -> Result<Vec<super::evaluate::Stimulus>, String> {
+        use super::evaluate::{emissions, surfaces_under_lights, Spectra};
+        let read = |p: &std::path::Path| {
+            Spectra::read(p)
+                .and_then(|s| s.curves(range_nm))
+                .map_err(|e| e.to_string())
+        };
+        match (&self.emission, &self.reflectances, &self.illuminants) {
+            (Some(e), _, _) => Ok(emissions(&read(e)?)),
+            (None, Some(r), Some(i)) => Ok(surfaces_under_lights(&read(r)?, &read(i)?)),
+            _ => Err("[plan] needs reflectances and illuminants, or emission".into()),
+        }
+    }
+}

@@ -1,0 +1,356 @@
+//! Prints the baked tables beside the paper's printed values: Eq. 9, Eq. 10, Table 1a (orders
+//! 1-8) with differences, Table 1b (orders 9-16, lost in the transcription) and Table 2's sets;
+//! then the AC1C2 matrices, eigenvalues and rules of the other observers (CIE 1964 10°, CIE 2015
+//! 2° and 10°), derived here.
+//!
+//! ```text
+//! cargo run --release -p spectral-quadrature-tools --bin tables          # side by side
+//! cargo run --release -p spectral-quadrature-tools --bin tables -- --csv # every rule as CSV
+//! cargo run --release -p spectral-quadrature-tools --bin tables -- --shared-cache > data/shared_nodes.csv
+//! ```
+
+use spectral_quadrature_derive as sqd;
+use spectral_quadrature_tools as tools;
+
+use clap::Parser;
+use spectral_quadrature::paper::{self, Entry};
+use spectral_quadrature::{tables, Channel, GaussRule, RuleStatus, WavelengthSet};
+
+/// Prints the crate's derived tables beside the paper's.
+#[derive(Parser)]
+struct Args {
+    /// Print every rule as CSV: observer,channel,order,status,index,wavelength_nm,weight
+    #[arg(long)]
+    csv: bool,
+    /// Run the node search of every cached shared set and print the cache file
+    /// (data/shared_nodes.csv), which the build reuses instead of searching
+    #[arg(long, conflicts_with = "csv")]
+    shared_cache: bool,
+}
+
+fn main() {
+    let args = Args::parse();
+    if args.shared_cache {
+        if let Err(e) = print_shared_cache() {
+            eprintln!("error: {e}");
+            std::process::exit(2);
+        }
+    } else if args.csv {
+        print_csv();
+    } else {
+        print_side_by_side();
+    }
+}
+
+/// The other observers, derived here in f64 with their default settings.
+fn other_observers() -> Vec<sqd::Derivation> {
+    sqd::ObserverId::ALL
+        .into_iter()
+        .filter(|id| id.name() != tables::OBSERVER)
+        .map(|id| {
+            sqd::Settings::for_observer(id, tools::DATA_DIR)
+                .and_then(|s| sqd::derive(&s))
+                .unwrap_or_else(|e| panic!("deriving {}: {e}", id.name()))
+        })
+        .collect()
+}
+
+/// Searches every set of `shared::CACHED` afresh and prints the cache file.
+fn print_shared_cache() -> Result<(), String> {
+    let d = sqd::derive(&tools::settings()).map_err(|e| e.to_string())?;
+    let entries = sqd::shared::CACHED
+        .iter()
+        .map(|&(light, n)| {
+            eprintln!("searching {}", sqd::shared::set_name(light, n));
+            sqd::shared::cache_entry(&d, light, n)
+        })
+        .collect::<Result<Vec<_>, String>>()?;
+    print!("{}", sqd::shared::write_cache(&entries));
+    Ok(())
+}
+
+fn print_csv() {
+    println!("observer,channel,order,status,index,wavelength_nm,weight");
+    // The baked observer's rules are the crate's f32 consts; the others are derived in f64.
+    for rules in tables::RULES {
+        for rule in rules {
+            let head = format!(
+                "{},{},{},{}",
+                tables::OBSERVER,
+                rule.channel.name(),
+                rule.order,
+                rule.status.as_str()
+            );
+            if rule.status == RuleStatus::Defined {
+                for (i, (l, w)) in rule.wavelengths_nm.iter().zip(rule.weights).enumerate() {
+                    println!("{head},{i},{l},{w}");
+                }
+            } else {
+                println!("{head},,,");
+            }
+        }
+    }
+    for d in other_observers() {
+        for (c, rules) in d.rules.iter().enumerate() {
+            for rule in rules {
+                let head = format!(
+                    "{},{},{},{}",
+                    d.settings.observer.name(),
+                    Channel::ALL[c].name(),
+                    rule.order,
+                    rule.status.as_str()
+                );
+                if rule.is_defined() {
+                    for (i, (l, w)) in rule.nodes_nm.iter().zip(&rule.weights).enumerate() {
+                        println!("{head},{i},{l},{w}");
+                    }
+                } else {
+                    println!("{head},,,");
+                }
+            }
+        }
+    }
+}
+
+fn print_other_observers() {
+    println!();
+    println!("Other observers, derived with their default settings (cone matrices: see ObserverId::cone_matrix)");
+    for d in other_observers() {
+        let s = &d.settings;
+        let e = d.opponent.eigenvalues;
+        println!();
+        println!(
+            "  {} ({}-{} nm, every {} nm)",
+            s.observer.name(),
+            s.range_nm[0],
+            s.range_nm[1],
+            s.step_nm
+        );
+        for (r, name) in ["A ", "C1", "C2"].iter().enumerate() {
+            let m = d.opponent.xyz_to_ac1c2[r];
+            println!("    {name}  {:8.4} {:8.4} {:8.4}", m[0], m[1], m[2]);
+        }
+        println!(
+            "    eigenvalues {:.4} : {:.4} : {:.6} (A/C1 {:.1}, C1/C2 {:.1})",
+            e[0],
+            e[1],
+            e[2],
+            e[0] / e[1],
+            e[1] / e[2]
+        );
+        for (c, rules) in d.rules.iter().enumerate() {
+            let cells: Vec<String> = rules
+                .iter()
+                .take(8)
+                .map(|r| {
+                    if r.is_defined() {
+                        r.nodes_nm
+                            .iter()
+                            .map(|l| format!("{l:.1}"))
+                            .collect::<Vec<_>>()
+                            .join(" ")
+                    } else {
+                        format!("({})", r.status.as_str())
+                    }
+                })
+                .collect();
+            println!("    {} orders 1-8:", Channel::ALL[c].name());
+            for (n, cell) in cells.iter().enumerate() {
+                println!("      {:>2}  {cell}", n + 1);
+            }
+        }
+    }
+}
+
+/// Each channel's total mass ∫ w dλ (weights for dλ in nm): the sum of any defined rule's
+/// weights; the lowest defined order's is used.
+fn total_mass(c: usize) -> f32 {
+    tables::RULES[c]
+        .iter()
+        .find(|r| r.status == RuleStatus::Defined)
+        .map_or(f32::NAN, |r| r.weights.iter().sum())
+}
+
+fn suspect(c: usize, order: usize, i: usize, entry: Entry) -> Option<&'static paper::Suspect> {
+    paper::TABLE_1A_SUSPECTS
+        .iter()
+        .find(|s| s.channel == c && s.order == order && s.index == i && s.entry == entry)
+}
+
+fn print_side_by_side() {
+    println!("spectral-quadrature tables: {}", tables::SETTINGS);
+    for (file, sha) in tables::INPUTS {
+        println!("  input {file} sha256 {sha}");
+    }
+    println!();
+    println!("Eq. 9  XYZ -> AC1C2 (rows A, C1, C2): derived | printed | difference");
+    for (r, name) in ["A ", "C1", "C2"].iter().enumerate() {
+        let ours = tables::XYZ_TO_AC1C2[r];
+        let printed = paper::EQ9_XYZ_TO_AC1C2[r];
+        let cells: Vec<String> = (0..3)
+            .map(|c| {
+                format!(
+                    "{:8.4} {:8.4} {:+8.4}",
+                    ours[c],
+                    printed[c],
+                    f64::from(ours[c]) - printed[c]
+                )
+            })
+            .collect();
+        println!("  {name}  {}", cells.join("   "));
+    }
+    println!();
+    let e = tables::EIGENVALUES.map(f64::from);
+    let p = paper::EQ10_EIGENVALUE_RATIO;
+    println!(
+        "Eq. 10  eigenvalues: {:.4} : {:.4} : {:.6}  (printed {} : {} : {})",
+        e[0], e[1], e[2], p[0], p[1], p[2]
+    );
+    for (what, ours, printed) in [
+        ("A/C1 ", e[0] / e[1], p[0] / p[1]),
+        ("C1/C2", e[1] / e[2], p[1] / p[2]),
+    ] {
+        println!(
+            "  {what} {ours:10.3}  printed {printed:10.3}  difference {:+.2} %",
+            100.0 * (ours / printed - 1.0)
+        );
+    }
+    println!();
+    println!("Table 1a (orders 1-8). Weights on the paper's scale: ours x (printed total mass / our total mass).");
+    println!(
+        "  [s] marks an entry printed wrongly in the transcription; the reading used is shown."
+    );
+    for (c, channel) in Channel::ALL.iter().enumerate() {
+        let scale = paper::TABLE_1A_TOTAL_MASS[c] / f64::from(total_mass(c));
+        println!();
+        println!("  {} ({:.5} per unit weight)", channel.name(), scale);
+        println!("  order    node   printed     diff |    weight   printed      diff");
+        for order in 1..=8 {
+            let rule = &tables::RULES[c][order - 1];
+            let printed = paper::TABLE_1A[c][order - 1];
+            match (rule.status, printed) {
+                (RuleStatus::Defined, Some(p)) => {
+                    for i in 0..order {
+                        let (node, w) = (
+                            f64::from(rule.wavelengths_nm[i]),
+                            f64::from(rule.weights[i]) * scale,
+                        );
+                        let (mut pn, mut pw) = (p.wavelengths_nm[i], p.weights[i]);
+                        let mut mark = "   ";
+                        if let Some(s) = suspect(c, order, i, Entry::Node) {
+                            pn = s.reading;
+                            mark = "[s]";
+                        }
+                        if let Some(s) = suspect(c, order, i, Entry::Weight) {
+                            pw = s.reading;
+                            mark = "[s]";
+                        }
+                        println!(
+                            "  {:>5} {:7.2} {:7.1} {:+8.2} | {:9.5} {:9.5} {:+9.5} {mark}",
+                            if i == 0 {
+                                order.to_string()
+                            } else {
+                                String::new()
+                            },
+                            node,
+                            pn,
+                            node - pn,
+                            w,
+                            pw,
+                            w - pw
+                        );
+                    }
+                }
+                (status, None) if status != RuleStatus::Defined => {
+                    println!(
+                        "  {order:>5}  undefined ({}), printed undefined",
+                        status.as_str()
+                    )
+                }
+                (status, printed) => println!(
+                    "  {order:>5}  MISMATCH: derived {}, printed {}",
+                    status.as_str(),
+                    if printed.is_some() {
+                        "defined"
+                    } else {
+                        "undefined"
+                    }
+                ),
+            }
+        }
+    }
+    println!();
+    for s in paper::TABLE_1A_SUSPECTS {
+        println!(
+            "  [s] {} order {} {:?} {}: printed {}, read {} ({})",
+            Channel::ALL[s.channel].name(),
+            s.order,
+            s.entry,
+            s.index,
+            s.printed,
+            s.reading,
+            s.evidence
+        );
+    }
+    println!(
+        "  C2 order 7's printed weights sum to {} instead of {}: one entry is misprinted, and which is ambiguous.",
+        paper::TABLE_1A_C2_7_SUM,
+        paper::TABLE_1A_TOTAL_MASS[2]
+    );
+    println!();
+    println!(
+        "Table 1b (orders 9-{}), weights for dλ in nm:",
+        tables::MAX_ORDER
+    );
+    for (c, channel) in Channel::ALL.iter().enumerate() {
+        println!();
+        println!("  {}", channel.name());
+        for rule in &tables::RULES[c][8..] {
+            print_rule(rule);
+        }
+    }
+    println!();
+    print_set("Table 2, row 1", &tables::TABLE2_ROW1);
+    print_set("Table 2, row 2", &tables::TABLE2_ROW2);
+    let a: Vec<f64> = tables::TABLE2_ROW2.weights[0]
+        .iter()
+        .filter(|w| **w != 0.0)
+        .map(|w| f64::from(*w) * paper::TABLE_1A_TOTAL_MASS[0] / f64::from(total_mass(0)))
+        .collect();
+    println!(
+        "  row 2 A weights on the paper's scale: {:.5?}  printed {:?}",
+        a,
+        paper::TABLE2_ROW2_A.weights
+    );
+    print_other_observers();
+}
+
+fn print_rule(rule: &GaussRule) {
+    if rule.status != RuleStatus::Defined {
+        println!("  {:>5}  undefined ({})", rule.order, rule.status.as_str());
+        return;
+    }
+    let nodes: Vec<String> = rule
+        .wavelengths_nm
+        .iter()
+        .map(|l| format!("{l:.1}"))
+        .collect();
+    let weights: Vec<String> = rule.weights.iter().map(|w| format!("{w:.5}")).collect();
+    println!("  {:>5}  nm: {}", rule.order, nodes.join(" "));
+    println!("         w:  {}", weights.join(" "));
+}
+
+fn print_set<const N: usize>(name: &str, set: &WavelengthSet<N>) {
+    println!("{name}: {N} wavelengths");
+    println!(
+        "  nm  {}",
+        set.wavelengths_nm.map(|l| format!("{l:9.1}")).join("")
+    );
+    for (c, channel) in Channel::ALL.iter().enumerate() {
+        println!(
+            "  {:<3} {}",
+            channel.name(),
+            set.weights[c].map(|w| format!("{w:9.4}")).join("")
+        );
+    }
+}

@@ -1,0 +1,252 @@
+//! Every method at each wavelength budget: the sets the report's budget section and the tests
+//! compare, per light, at N = 3..=16 distinct wavelengths.
+//!
+//! | method | sets at N |
+//! |---|---|
+//! | `AC1C2 rules` | every combination of the paper's per-channel Gauss rules with N distinct wavelengths |
+//! | `XYZ rules` | the same with x̄, ȳ, z̄ as the weight functions |
+//! | `SML rules` | the same with the cone fundamentals |
+//! | `uniform` | N bin centres, box-filter weights |
+//! | `interp A` | method (a): A's Gauss nodes, C1 and C2 interpolatory on them |
+//! | `KQ radiance` | method (b): kernel quadrature on radiances |
+//! | `KQ folded` | method (b) with the light folded into the weights |
+//!
+//! and, as references with more wavelengths, `interval 10 nm` and `interval 20 nm`: reflectance
+//! sampled every 10 or 20 nm with the light folded into the weights and linear interpolation
+//! between samples, the way ASTM E308's weighting tables fold the illuminant (E308 itself uses
+//! a Lagrange scheme with bandpass correction; these are the plain version).
+
+use std::string::{String, ToString};
+use std::vec::Vec;
+
+use spectral_quadrature_derive::evaluate::{self, Curve, EvalSet, Reference, Spectra, Stimulus};
+use spectral_quadrature_derive::{shared, Derivation};
+
+/// The lights the crate judges its shared sets under.
+pub const LIGHTS: [&str; 4] = ["C", "D65", "A", "F11"];
+
+/// The budgets compared.
+pub const BUDGETS: core::ops::RangeInclusive<usize> = 3..=16;
+
+/// The reflectances the sets are judged on (never trained on).
+pub const JUDGE_FILE: &str = "data/reflectance_colorchecker_ohta.csv";
+
+/// The methods, in table order.
+pub const METHODS: [&str; 7] = [
+    "AC1C2 rules",
+    "XYZ rules",
+    "SML rules",
+    "uniform",
+    "interp A",
+    "KQ radiance",
+    "KQ folded",
+];
+
+/// A space of per-channel rules: method name, weight functions on the grid, matrix to XYZ.
+type Space<'a> = (&'static str, &'a [[f64; 3]], [[f64; 3]; 3]);
+
+/// One light's comparison: per budget, each method's best entry; then the interval references.
+pub type Comparison = (Vec<(usize, Vec<Entry>)>, Vec<Entry>);
+
+/// The best set of one method at one budget under one light.
+#[derive(Debug, Clone)]
+pub struct Entry {
+    /// One of [`METHODS`], or `interval 10 nm` / `interval 20 nm`.
+    pub method: &'static str,
+    /// The set (its `len()` is the budget, except for the interval references).
+    pub set: EvalSet,
+    /// Its errors on the judged stimuli.
+    pub errors: evaluate::Errors,
+}
+
+/// The judged stimuli: the ColorChecker under `light`.
+pub fn judge_stimuli(d: &Derivation, light: &str) -> Result<Vec<Stimulus>, String> {
+    let range = d.settings.range_nm;
+    let cc = Spectra::builtin(&d.settings.data_dir, JUDGE_FILE)
+        .and_then(|s| s.curves(range))
+        .map_err(|e| e.to_string())?;
+    let l = evaluate::builtin_illuminant(&d.settings.data_dir, light, range)
+        .map_err(|e| e.to_string())?;
+    Ok(evaluate::surfaces_under_lights(&cc, &[l]))
+}
+
+/// Reflectance sampled every `step_nm` over the range with `light` folded in: weights
+/// `Σ_j x̄ȳz̄(λ_j) L(λ_j) h_i(λ_j)` on the 1 nm table (h_i the hat function of node i), as a
+/// set on radiances (divided by L at each node, which must be positive there).
+pub fn interval_set(d: &Derivation, light: &Curve, step_nm: f64) -> Result<EvalSet, String> {
+    let range = d.settings.range_nm;
+    let full = evaluate::full_integration(&d.observer, range, 1.0)?;
+    let mut nodes = Vec::new();
+    let mut nm = range[0];
+    while nm <= range[1] + 1e-9 {
+        nodes.push(nm);
+        nm += step_nm;
+    }
+    let last = *nodes.last().ok_or("empty range")?;
+    let mut w: [Vec<f64>; 3] = Default::default();
+    for row in w.iter_mut() {
+        *row = std::vec![0.0; nodes.len()];
+    }
+    for (j, &l) in full.wavelengths_nm.iter().enumerate() {
+        let e = light.at(l);
+        // Beyond the last node (a range that is not a whole number of steps): hold it.
+        let t = ((l.min(last) - range[0]) / step_nm).max(0.0);
+        let i = (t.floor() as usize).min(nodes.len() - 1);
+        let frac = t - i as f64;
+        for (row, weights) in w.iter_mut().zip(&full.xyz_weights) {
+            let v = weights[j] * e;
+            row[i] += v * (1.0 - frac);
+            if frac > 0.0 {
+                row[i + 1] += v * frac;
+            }
+        }
+    }
+    for (i, &l) in nodes.iter().enumerate() {
+        let e = light.at(l);
+        if e <= 0.0 || !e.is_finite() {
+            return Err(std::format!(
+                "{}: no power at {l} nm to fold into an interval set",
+                light.name
+            ));
+        }
+        for row in w.iter_mut() {
+            row[i] /= e;
+        }
+    }
+    Ok(EvalSet {
+        name: std::format!("interval {step_nm} nm"),
+        family: "interval".into(),
+        orders: None,
+        wavelengths_nm: nodes,
+        xyz_weights: w,
+    })
+}
+
+/// The shared sets at every budget for radiances (`light` `None`, named `KQ_<n>`, method
+/// `KQ radiance`) or with a built-in light folded in (`KQ_<light>_<n>`, `KQ folded`), from
+/// one [`shared::problem`].
+pub fn shared_sets(d: &Derivation, light: Option<&str>) -> Result<Vec<EvalSet>, String> {
+    let problem = shared::problem(d, light)?;
+    BUDGETS
+        .map(|n| {
+            let set = problem.shared(n)?;
+            Ok(match light {
+                Some(l) => set.eval_set(&std::format!("KQ_{l}_{n}"), "KQ folded"),
+                None => set.eval_set(&std::format!("KQ_{n}"), "KQ radiance"),
+            })
+        })
+        .collect()
+}
+
+/// Every combination of per-channel Gauss rules of orders up to `max_order`, in the three
+/// spaces whose weight functions the paper compares (Fig. 6): AC1C2, XYZ and the cone
+/// fundamentals SML, each as `(space, sets)`, the space also each set's family.
+pub fn rule_spaces(
+    d: &Derivation,
+    max_order: usize,
+) -> Result<[(&'static str, Vec<EvalSet>); 3], String> {
+    let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    let sml_to_xyz = {
+        let m = nalgebra::Matrix3::from_fn(|r, c| d.settings.cone_matrix[r][c]);
+        let inv = m.try_inverse().ok_or("the cone matrix is singular")?;
+        [0, 1, 2].map(|r| [0, 1, 2].map(|c| inv[(r, c)]))
+    };
+    let spaces: [Space; 3] = [
+        ("AC1C2", &d.sensitivities, d.opponent.ac1c2_to_xyz),
+        ("XYZ", &d.xyz, identity),
+        ("SML", &d.cones, sml_to_xyz),
+    ];
+    Ok(spaces.map(|(space, w, to_xyz)| {
+        let rules = evaluate::channel_rules(d, w, max_order);
+        (space, evaluate::combinations(&rules, &to_xyz, space))
+    }))
+}
+
+/// The sets of every method other than the shared ones, at every budget: the combinations of
+/// [`rule_spaces`] (as `AC1C2 rules`, `XYZ rules`, `SML rules`), the uniform sets and
+/// method (a). The comparison keeps each method's best.
+pub fn other_sets(
+    d: &Derivation,
+    spaces: &[(&'static str, Vec<EvalSet>); 3],
+) -> Vec<(&'static str, EvalSet)> {
+    let mut out = Vec::new();
+    for ((_, sets), method) in spaces.iter().zip(&METHODS[..3]) {
+        for set in sets.iter().filter(|s| BUDGETS.contains(&s.len())) {
+            out.push((*method, set.clone()));
+        }
+    }
+    for n in BUDGETS {
+        out.push((
+            "uniform",
+            evaluate::uniform(&d.observer, d.settings.range_nm, n),
+        ));
+        if let Ok(s) = shared::interpolatory_a(d, n, &std::format!("INTERP_A_{n}")) {
+            out.push((
+                "interp A",
+                EvalSet::from_set(&s, "interp A", &d.opponent.ac1c2_to_xyz),
+            ));
+        }
+    }
+    out
+}
+
+/// Each method's best set (lowest mean ΔE00) at each budget under `light`, judged on the
+/// ColorChecker: `(n, entries in METHODS order)` for n in [`BUDGETS`], then the interval
+/// references. `others` from [`other_sets`]; `radiance` and `folded` from [`shared_sets`]
+/// (without a light, and with this one).
+pub fn compare(
+    d: &Derivation,
+    light: &str,
+    others: &[(&'static str, EvalSet)],
+    radiance: &[EvalSet],
+    folded: &[EvalSet],
+) -> Result<Comparison, String> {
+    let stimuli = judge_stimuli(d, light)?;
+    let full = evaluate::full_integration(&d.observer, d.settings.range_nm, 1.0)?;
+    let reference = Reference::new(full, &stimuli);
+    let mut best: Vec<(usize, Vec<Option<Entry>>)> = BUDGETS
+        .map(|n| (n, std::vec![None; METHODS.len()]))
+        .collect();
+    let all = others
+        .iter()
+        .map(|(m, s)| (*m, s))
+        .chain(radiance.iter().map(|s| ("KQ radiance", s)))
+        .chain(folded.iter().map(|s| ("KQ folded", s)));
+    for (method, set) in all {
+        let Some(slot) = best.iter_mut().find(|b| b.0 == set.len()) else {
+            continue;
+        };
+        let k = METHODS
+            .iter()
+            .position(|m| *m == method)
+            .ok_or_else(|| std::format!("unknown method {method}"))?;
+        let errors = reference.errors(set, &stimuli);
+        if slot.1[k]
+            .as_ref()
+            .is_none_or(|e| errors.mean_de00() < e.errors.mean_de00())
+        {
+            slot.1[k] = Some(Entry {
+                method,
+                set: set.clone(),
+                errors,
+            });
+        }
+    }
+    let table = best
+        .into_iter()
+        .map(|(n, e)| (n, e.into_iter().flatten().collect()))
+        .collect();
+    let l = evaluate::builtin_illuminant(&d.settings.data_dir, light, d.settings.range_nm)
+        .map_err(|e| e.to_string())?;
+    let mut intervals = Vec::new();
+    for (method, step) in [("interval 10 nm", 10.0), ("interval 20 nm", 20.0)] {
+        let set = interval_set(d, &l, step)?;
+        let errors = reference.errors(&set, &stimuli);
+        intervals.push(Entry {
+            method,
+            set,
+            errors,
+        });
+    }
+    Ok((table, intervals))
+}

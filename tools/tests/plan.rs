@@ -1,0 +1,388 @@
+//! The planner on small fixtures (6 ColorChecker patches under D65, see
+//! `tests/fixtures/plan/README.md`): the chosen set meets the budget, measured again here
+//! without the planner, and no set with fewer wavelengths does.
+
+use spectral_quadrature_derive as sqd;
+
+/// The data files the derivation reads (the runtime crate's `data/`).
+const DATA_DIR: &str = spectral_quadrature_tools::DATA_DIR;
+
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+use sqd::evaluate::{self, EvalSet, Reference, Stimulus};
+use sqd::plan::{self, Candidate, Metric, PlanError};
+use sqd::{catalog, Derivation, Settings};
+
+const BUDGETS: [(Metric, f64); 5] = [
+    (Metric::Mean, 2.0),
+    (Metric::Mean, 1.0),
+    (Metric::Mean, 0.5),
+    (Metric::Max, 3.0),
+    (Metric::Max, 1.0),
+];
+
+fn fixture(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures/plan")
+        .join(name)
+}
+
+struct Fixture {
+    d: Derivation,
+    stimuli: Vec<Stimulus>,
+    candidates: Vec<Candidate>,
+    /// The full 1 nm integration, built here rather than by the planner.
+    reference: Reference,
+}
+
+/// Derived, read and measured once for all tests.
+fn fixture_data() -> &'static Fixture {
+    static F: OnceLock<Fixture> = OnceLock::new();
+    F.get_or_init(|| {
+        let d = sqd::derive(&Settings::new(DATA_DIR)).unwrap();
+        let stimuli = plan::stimuli_from_files(
+            d.settings.range_nm,
+            Some(&fixture("reflectances.csv")),
+            Some(&fixture("illuminant.csv")),
+            None,
+        )
+        .unwrap();
+        assert_eq!(stimuli.len(), 6);
+        let candidates = plan::evaluate_all(&d, &stimuli).unwrap();
+        let reference = Reference::new(
+            evaluate::full_integration(&d.observer, d.settings.range_nm, 1.0).unwrap(),
+            &stimuli,
+        );
+        Fixture {
+            d,
+            stimuli,
+            candidates,
+            reference,
+        }
+    })
+}
+
+/// A set built from its name and measured directly: (distinct wavelengths, mean ΔE00, max ΔE00).
+fn measure(f: &Fixture, name: &str) -> (usize, f64, f64) {
+    let set = catalog::resolve(&f.d, name).unwrap();
+    let mut nm = set.wavelengths_nm.clone();
+    nm.sort_by(f64::total_cmp);
+    nm.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
+    assert_eq!(
+        nm.len(),
+        set.wavelengths_nm.len(),
+        "{name}: repeated wavelengths"
+    );
+    assert_eq!(set.name, name);
+    let eval = EvalSet::from_set(&set, "test", &f.d.opponent.ac1c2_to_xyz);
+    let e = f.reference.errors(&eval, &f.stimuli);
+    (nm.len(), e.mean_de00(), e.max_de00())
+}
+
+fn stat(mean: f64, max: f64, metric: Metric) -> f64 {
+    match metric {
+        Metric::Mean => mean,
+        Metric::Max => max,
+    }
+}
+
+#[test]
+fn every_catalogue_set_is_measured_once_in_order() {
+    let f = fixture_data();
+    let names = catalog::colour_set_names(&f.d);
+    assert!(names.len() > 100, "{} sets", names.len());
+    let got: Vec<&str> = f.candidates.iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(got, names.iter().map(String::as_str).collect::<Vec<_>>());
+    for c in &f.candidates {
+        assert!(c.wavelengths > 0, "{}", c.name);
+        for e in [c.mean_de00, c.max_de00, c.mean_de76, c.max_de76] {
+            assert!(e.is_finite() && e >= 0.0, "{}: {e}", c.name);
+        }
+        assert!(c.mean_de00 <= c.max_de00 + 1e-12, "{}", c.name);
+    }
+}
+
+#[test]
+fn parallel_measurements_match_sequential_ones() {
+    let f = fixture_data();
+    for c in f.candidates.iter().step_by(7) {
+        let (n, mean, max) = measure(f, &c.name);
+        assert_eq!(n, c.wavelengths, "{}", c.name);
+        assert!((mean - c.mean_de00).abs() < 1e-12, "{}", c.name);
+        assert!((max - c.max_de00).abs() < 1e-12, "{}", c.name);
+    }
+}
+
+#[test]
+fn chosen_set_meets_the_budget_and_no_smaller_set_does() {
+    let f = fixture_data();
+    // Every set's count and errors, measured here without the planner.
+    let measured: Vec<(String, usize, f64, f64)> = catalog::colour_set_names(&f.d)
+        .into_iter()
+        .map(|name| {
+            let (n, mean, max) = measure(f, &name);
+            (name, n, mean, max)
+        })
+        .collect();
+    for (metric, budget) in BUDGETS {
+        let chosen = plan::choose(&f.candidates, budget, metric).unwrap();
+        let (n, mean, max) = measure(f, &chosen.name);
+        let e = stat(mean, max, metric);
+        assert_eq!(n, chosen.wavelengths);
+        assert!(
+            e <= budget,
+            "{metric} {budget}: {} measures {e}",
+            chosen.name
+        );
+        for (name, n, mean, max) in &measured {
+            if *n < chosen.wavelengths {
+                let e = stat(*mean, *max, metric);
+                assert!(
+                    e > budget,
+                    "{metric} {budget}: {name} has {n} < {} wavelengths and measures {e}",
+                    chosen.wavelengths
+                );
+            } else if *n == chosen.wavelengths {
+                // Among sets as small, the chosen one has the lowest error.
+                assert!(stat(*mean, *max, metric) >= chosen.error(metric) - 1e-12);
+            }
+        }
+        println!(
+            "{metric} ΔE00 <= {budget}: {} ({} wavelengths) measures {e:.4}",
+            chosen.name, chosen.wavelengths
+        );
+    }
+}
+
+#[test]
+fn plan_names_the_best_set_with_fewer_wavelengths() {
+    let f = fixture_data();
+    for (metric, budget) in BUDGETS {
+        let p = plan::plan_from(&f.candidates, f.stimuli.len(), budget, metric).unwrap();
+        assert_eq!(
+            &p.chosen,
+            plan::choose(&f.candidates, budget, metric).unwrap()
+        );
+        assert_eq!(p.evaluated, f.candidates.len());
+        assert_eq!((p.budget, p.metric, p.stimuli), (budget, metric, 6));
+        let fewer: Vec<&Candidate> = f
+            .candidates
+            .iter()
+            .filter(|c| c.wavelengths < p.chosen.wavelengths)
+            .collect();
+        match &p.runner_up_with_fewer {
+            None => assert!(fewer.is_empty()),
+            Some(r) => {
+                assert!(r.wavelengths < p.chosen.wavelengths);
+                assert!(r.error(metric) > budget, "{} meets the budget", r.name);
+                let lowest = fewer
+                    .iter()
+                    .map(|c| c.error(metric))
+                    .fold(f64::INFINITY, f64::min);
+                assert_eq!(r.error(metric), lowest);
+                let (_, mean, max) = measure(f, &r.name);
+                assert!(stat(mean, max, metric) > budget);
+                println!(
+                    "{metric} ΔE00 <= {budget}: runner-up {} ({} wavelengths) measures {:.4}",
+                    r.name,
+                    r.wavelengths,
+                    r.error(metric)
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn plan_end_to_end_agrees_with_choose() {
+    let f = fixture_data();
+    let p = plan::plan(&f.d, &f.stimuli, 1.0, Metric::Mean).unwrap();
+    assert_eq!(
+        &p.chosen,
+        plan::choose(&f.candidates, 1.0, Metric::Mean).unwrap()
+    );
+}
+
+#[test]
+fn an_impossible_budget_states_the_best_achievable() {
+    let f = fixture_data();
+    for metric in [Metric::Mean, Metric::Max] {
+        let e = plan::choose(&f.candidates, 1e-9, metric).unwrap_err();
+        let lowest = f
+            .candidates
+            .iter()
+            .map(|c| c.error(metric))
+            .fold(f64::INFINITY, f64::min);
+        match &e {
+            PlanError::Unreachable {
+                budget,
+                metric: m,
+                best,
+                evaluated,
+            } => {
+                assert_eq!(
+                    (*budget, *m, *evaluated),
+                    (1e-9, metric, f.candidates.len())
+                );
+                assert_eq!(best.error(metric), lowest);
+            }
+            other => panic!("{other:?}"),
+        }
+        let PlanError::Unreachable { best, .. } = &e else {
+            unreachable!()
+        };
+        let msg = e.to_string();
+        println!("{msg}");
+        assert!(
+            msg.contains(&std::format!("no set meets {metric} ΔE00 <= 0.000000001")),
+            "{msg}"
+        );
+        assert!(msg.contains(&plan::fmt_de(lowest)), "{msg}");
+        assert!(msg.contains(&best.name), "{msg}");
+        assert!(
+            msg.contains(&std::format!("with {} wavelengths", best.wavelengths)),
+            "{msg}"
+        );
+        // plan() reports the same.
+        let msg2 = plan::plan(&f.d, &f.stimuli, 1e-9, metric).unwrap_err();
+        assert_eq!(msg2, msg);
+    }
+}
+
+#[test]
+fn bad_budgets_are_rejected() {
+    let f = fixture_data();
+    for b in [0.0, -0.0, -1.0, f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+        assert!(matches!(
+            plan::choose(&f.candidates, b, Metric::Mean),
+            Err(PlanError::BadBudget(_))
+        ));
+        let msg = plan::plan(&f.d, &f.stimuli, b, Metric::Max).unwrap_err();
+        assert!(msg.starts_with("bad budget: "), "{msg}");
+    }
+}
+
+#[test]
+fn ties_go_to_the_lower_error_then_the_name() {
+    let c = |name: &str, n: usize, e: f64| Candidate {
+        name: name.into(),
+        wavelengths: n,
+        mean_de00: e,
+        max_de00: 2.0 * e,
+        mean_de76: e,
+        max_de76: 2.0 * e,
+    };
+    let cands = [
+        c("B", 4, 0.9),
+        c("A", 4, 0.9),
+        c("C", 4, 0.5),
+        c("D", 3, 1.5),
+        c("E", 3, f64::NAN),
+        c("F", 5, 0.1),
+    ];
+    assert_eq!(plan::choose(&cands, 1.0, Metric::Mean).unwrap().name, "C");
+    assert_eq!(plan::choose(&cands, 0.5, Metric::Mean).unwrap().name, "C");
+    assert_eq!(plan::choose(&cands, 0.4, Metric::Mean).unwrap().name, "F");
+    assert_eq!(plan::choose(&cands, 2.0, Metric::Mean).unwrap().name, "D");
+    assert_eq!(plan::choose(&cands, 1.9, Metric::Max).unwrap().name, "C");
+    let ties = [c("B", 4, 0.9), c("A", 4, 0.9)];
+    assert_eq!(plan::choose(&ties, 1.0, Metric::Mean).unwrap().name, "A");
+    let p = plan::plan_from(&cands, 1, 1.0, Metric::Mean).unwrap();
+    assert_eq!(p.runner_up_with_fewer.unwrap().name, "D");
+    let p = plan::plan_from(&cands, 1, 2.0, Metric::Mean).unwrap();
+    assert_eq!(p.runner_up_with_fewer, None);
+    assert!(matches!(
+        plan::choose(&[], 1.0, Metric::Mean),
+        Err(PlanError::NoCandidates)
+    ));
+    assert_eq!("MAX".parse::<Metric>(), Ok(Metric::Max));
+    assert!("median".parse::<Metric>().is_err());
+}
+
+#[test]
+fn the_scene_names_the_chosen_set() {
+    let f = fixture_data();
+    let p = plan::plan_from(&f.candidates, f.stimuli.len(), 1.0, Metric::Mean).unwrap();
+    let text = plan::scene_toml(
+        &p,
+        f.d.settings.observer.name(),
+        &["SRGB", "DISPLAY_P3"],
+        "fixtures\nsecond line of the note",
+    );
+    println!("{text}");
+    let keys: Vec<&str> = text.lines().filter(|l| !l.starts_with('#')).collect();
+    assert_eq!(
+        keys,
+        [
+            "observer = \"cie1931_2deg\"".to_string(),
+            std::format!("sets = [\"{}\"]", p.chosen.name),
+            "displays = [\"SRGB\", \"DISPLAY_P3\"]".to_string(),
+        ]
+    );
+    let comments: Vec<&str> = text.lines().filter(|l| l.starts_with('#')).collect();
+    assert!(comments[0].contains("fixtures second line of the note"));
+    assert!(comments
+        .iter()
+        .any(|l| l.contains("mean ΔE00 <= 1 on 6 stimuli")));
+    if let Some(r) = &p.runner_up_with_fewer {
+        assert!(comments.iter().any(|l| l.contains(&r.name)));
+    }
+    // The scene parser accepts it and bakes the chosen set.
+    let scene =
+        sqd::scene::Scene::parse("planned.toml", &text, std::path::Path::new(DATA_DIR)).unwrap();
+    let resolved = scene.resolve(&f.d).unwrap();
+    let names: Vec<&str> = resolved
+        .colour_sets
+        .iter()
+        .map(|s| s.name.as_str())
+        .collect();
+    assert_eq!(names, [p.chosen.name.as_str()]);
+    assert_eq!(plan::toml_string("a\"b\\c\n"), "\"a\\\"b\\\\c\\n\"");
+}
+
+#[test]
+fn a_scene_plan_table_resolves_to_the_planners_choice() {
+    let f = fixture_data();
+    let scene_file = fixture("scene.toml"); // need not exist: paths are relative to it
+    let text = "displays = [\"SRGB\"]\n\n[plan]\nmax_delta_e00 = 3.0\nmetric = \"max\"\nreflectances = \"reflectances.csv\"\nilluminants = \"illuminant.csv\"\n";
+    let scene = sqd::scene::Scene::parse(
+        &scene_file.to_string_lossy(),
+        text,
+        std::path::Path::new(DATA_DIR),
+    )
+    .unwrap();
+    let resolved = scene.resolve(&f.d).unwrap();
+    let chosen = plan::choose(&f.candidates, 3.0, Metric::Max).unwrap();
+    let names: Vec<&str> = resolved
+        .colour_sets
+        .iter()
+        .map(|s| s.name.as_str())
+        .collect();
+    assert_eq!(names, [chosen.name.as_str()]);
+    let sentence = resolved.planned.unwrap();
+    assert!(sentence.contains(&chosen.name), "{sentence}");
+}
+
+#[test]
+fn input_errors_name_the_file() {
+    let f = fixture_data();
+    let missing = fixture("no_such_file.csv");
+    let e = plan::stimuli_from_files(
+        f.d.settings.range_nm,
+        Some(&missing),
+        Some(&fixture("illuminant.csv")),
+        None,
+    )
+    .unwrap_err();
+    assert!(e.contains("no_such_file.csv"), "{e}");
+    let e =
+        plan::stimuli_from_files(f.d.settings.range_nm, Some(&missing), None, None).unwrap_err();
+    assert!(e.contains("emission"), "{e}");
+    let e = plan::evaluate_all(&f.d, &[]).unwrap_err();
+    assert!(e.contains("no stimuli"), "{e}");
+    // A light that is zero everywhere has no colour to compare with.
+    let dark = evaluate::Curve::constant("dark", 0.0, f.d.settings.range_nm);
+    let e = plan::evaluate_all(&f.d, &evaluate::emissions(&[dark])).unwrap_err();
+    assert!(e.contains("\"dark\""), "{e}");
+}
