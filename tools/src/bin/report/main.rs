@@ -137,6 +137,13 @@ fn run(args: &Args) -> Result<(), String> {
 
     progress.next();
     let table2 = table2_rows(&d, &cc_under_c, &cc_reference);
+    // The first table goes out at once; the rest follows when it is measured.
+    let mut text = String::new();
+    if !args.csv {
+        print_intro_and_table2(&mut text, &stimuli, &table2);
+        print!("{text}");
+        std::io::stdout().flush().ok();
+    }
 
     progress.next();
     let max = args.max_order as usize;
@@ -224,21 +231,14 @@ fn run(args: &Args) -> Result<(), String> {
     if args.csv {
         print!("{section4_csv}");
     } else {
-        let mut text = String::new();
-        print_report(
-            &mut text,
-            &stimuli,
-            fig_stimuli,
-            &table2,
-            &fig6,
-            &fig7,
-            &rows,
-        );
-        text.push('\n');
-        text.push_str(&budget_text);
-        text.push('\n');
-        text.push_str(&stability_text);
-        print!("{text}");
+        let mut rest = String::new();
+        print_sections_2_to_4(&mut rest, fig_stimuli, &fig6, &fig7, &rows);
+        rest.push('\n');
+        rest.push_str(&budget_text);
+        rest.push('\n');
+        rest.push_str(&stability_text);
+        print!("{rest}");
+        text.push_str(&rest);
         files.push(write(out, "report.txt", &text)?);
     }
     std::io::stdout().flush().ok();
@@ -541,15 +541,8 @@ fn section4_csv(rows: &[Row]) -> String {
     s
 }
 
-fn print_report(
-    o: &mut String,
-    stimuli: &[Stimulus],
-    fig_stimuli: &[Stimulus],
-    table2: &[Table2Row],
-    fig6: &Fig6,
-    fig7: &Fig7,
-    rows: &[Row],
-) {
+/// The report's header and section 1 (Table 2): printed as soon as they are known.
+fn print_intro_and_table2(o: &mut String, stimuli: &[Stimulus], table2: &[Table2Row]) {
     writeln!(o, "spectral-quadrature report: error against run time").ok();
     writeln!(o, "reference: full integration at 1 nm, 380-770 nm, CIE 1931 2°; CIELAB white integrated by the same rule as each colour").ok();
     writeln!(
@@ -590,7 +583,16 @@ fn print_report(
         "   (the paper used McCamy's reflectances of the chart; these are Ohta's)\n"
     )
     .ok();
+}
 
+/// Sections 2-4: Figs. 6 and 7, and error against run time.
+fn print_sections_2_to_4(
+    o: &mut String,
+    fig_stimuli: &[Stimulus],
+    fig6: &Fig6,
+    fig7: &Fig7,
+    rows: &[Row],
+) {
     writeln!(
         o,
         "2. Fig. 6: mean ΔE*ab against the total number of wavelengths (n_A + n_C1 + n_C2),"
