@@ -7,10 +7,11 @@
 //! fresh derivation; the desk tools (report, planner) build on it; and users can run it with
 //! their own settings or data:
 //!
-//! ```no_run
+//! ```
 //! use spectral_quadrature_derive::{derive, Settings};
-//! // A directory laid out like the runtime crate's data/ (CIE tables as CSV).
-//! let d = derive(&Settings::new("data")).unwrap();
+//! # let data_dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");
+//! // data_dir: a directory laid out like the runtime crate's data/ (CIE tables as CSV).
+//! let d = derive(&Settings::new(data_dir)).unwrap();
 //! let a3 = &d.rules[0][2]; // channel A, order 3
 //! assert_eq!(a3.nodes_nm.len(), 3);
 //! ```

@@ -2,20 +2,20 @@
 //! spectra meets a budget, among every set the crate can build ([`catalog::colour_set_names`]).
 //!
 //! ```
-//! # #[cfg(feature = "derive")] {
-//! use spectral_quadrature::derive::{derive, evaluate, plan, Settings};
-//! let d = derive(&Settings::default()).unwrap();
+//! use spectral_quadrature_derive::{derive, evaluate, plan, Settings};
+//! # let data_dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");
+//! // data_dir: a directory laid out like spectral-quadrature's data/
+//! let d = derive(&Settings::new(data_dir)).unwrap();
 //! let range = d.settings.range_nm;
-//! let cc = evaluate::Spectra::builtin("data/reflectance_colorchecker_ohta.csv")
+//! let cc = evaluate::Spectra::builtin(&d.settings.data_dir, "data/reflectance_colorchecker_ohta.csv")
 //!     .and_then(|s| s.curves(range))
 //!     .unwrap();
-//! let c = evaluate::builtin_illuminant("C", range).unwrap();
+//! let c = evaluate::builtin_illuminant(&d.settings.data_dir, "C", range).unwrap();
 //! let stimuli = evaluate::surfaces_under_lights(&cc[..4], &[c]);
 //! let p = plan::plan(&d, &stimuli, 1.0, plan::Metric::Mean).unwrap();
 //! assert!(p.chosen.mean_de00 <= 1.0);
 //! let toml = plan::scene_toml(&p, d.settings.observer.name(), &["SRGB"], "doc example");
 //! assert!(toml.contains(&p.chosen.name));
-//! # }
 //! ```
 //!
 //! Every candidate is measured as the report measures sets: against the full 1 nm integration

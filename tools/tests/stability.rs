@@ -1,5 +1,5 @@
 //! The unstable alternatives to the derivation's quadrature, where they fail, and how far each
-//! order's classification is from flipping (`src/derive/stability.rs`). Run with `--nocapture`
+//! order's classification is from flipping (`tools/src/stability.rs`). Run with `--nocapture`
 //! for the tables. Every bound below says what was measured (CIE 1931 2°, 380-770 nm, 5 nm).
 
 use spectral_quadrature_derive as sqd;
