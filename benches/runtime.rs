@@ -302,11 +302,11 @@ fn sanity(full: &Full1nm, s1nm: &[[f32; FULL_LEN]], row2: &[[f32; 4]], row1: &[[
         d8 += diff(r, full.encode_u8_8acc(&SRGB, GamutMapping::Clip, s));
         d2 += diff(
             r,
-            folded::TABLE2_ROW2_SRGB.encode_u8(&SRGB, GamutMapping::Clip, r2),
+            folded::TABLE2_ROW2_SRGB.encode_u8(GamutMapping::Clip, r2),
         );
         d1 += diff(
             r,
-            folded::TABLE2_ROW1_SRGB.encode_u8(&SRGB, GamutMapping::Clip, r1),
+            folded::TABLE2_ROW1_SRGB.encode_u8(GamutMapping::Clip, r1),
         );
     }
     let n = (3 * PIXELS) as f64;
@@ -357,10 +357,10 @@ fn runtime(c: &mut Criterion) {
     // (c) samples → 8-bit sRGB (Clip).
     let mut g = c.benchmark_group("per_pixel/encode_u8_srgb");
     per_pixel(&mut g, "table2_row2", &s_row2, |s| {
-        row2_srgb.encode_u8(display, clip, s)
+        row2_srgb.encode_u8(clip, s)
     });
     per_pixel(&mut g, "table2_row1", &s_row1, |s| {
-        row1_srgb.encode_u8(display, clip, s)
+        row1_srgb.encode_u8(clip, s)
     });
     per_pixel(&mut g, "full_1nm", &s_1nm, |s| {
         full.encode_u8(display, clip, s)
@@ -377,14 +377,14 @@ fn runtime(c: &mut Criterion) {
     g.bench_function("table2_row2", |b| {
         b.iter(|| {
             row2_srgb
-                .encode_u8_batch(display, clip, black_box(&s_row2), black_box(&mut out))
+                .encode_u8_batch(clip, black_box(&s_row2), black_box(&mut out))
                 .unwrap()
         })
     });
     g.bench_function("table2_row1", |b| {
         b.iter(|| {
             row1_srgb
-                .encode_u8_batch(display, clip, black_box(&s_row1), black_box(&mut out))
+                .encode_u8_batch(clip, black_box(&s_row1), black_box(&mut out))
                 .unwrap()
         })
     });
@@ -435,6 +435,8 @@ fn uniform_set<const N: usize>(full: &Full1nm, display: &Display) -> FoldedSet<N
     FoldedSet {
         wavelengths_nm,
         weights: weights.map(|row| row.map(|w| w as f32)),
+        samples: spectral_quadrature::Samples::Radiance,
+        display: SRGB,
     }
 }
 
@@ -503,17 +505,15 @@ fn bandwidth_set<const N: usize>(
 ) {
     let planes = planes(refl, &set.wavelengths_nm);
     let samples = plane_refs::<N>(&planes);
-    let display = &SRGB;
     let clip = GamutMapping::Clip;
 
     // Untimed: the planar path agrees with the per-pixel one on the first pixels.
     let mut check = vec![[0u8; 3]; SMALL_PIXELS];
     let head: [&[f32]; N] = samples.map(|p| &p[..SMALL_PIXELS]);
-    set.encode_u8_planar(display, clip, head, &mut check)
-        .unwrap();
+    set.encode_u8_planar(clip, head, &mut check).unwrap();
     let mut differ = 0;
     for (p, o) in check.iter().enumerate() {
-        let one = set.encode_u8(display, clip, &core::array::from_fn(|i| samples[i][p]));
+        let one = set.encode_u8(clip, &core::array::from_fn(|i| samples[i][p]));
         assert!(
             (0..3).all(|c| o[c].abs_diff(one[c]) <= SRGB8_MAX_STEP_ERROR),
             "pixel {p}: {o:?} {one:?}"
@@ -547,7 +547,7 @@ fn bandwidth_set<const N: usize>(
     let mut out = vec![[0u8; 3]; BIG_PIXELS];
     g.bench_function(format!("soa/srgb_u8/N{N}"), |b| {
         b.iter(|| {
-            set.encode_u8_planar(display, clip, black_box(samples), black_box(&mut out))
+            set.encode_u8_planar(clip, black_box(samples), black_box(&mut out))
                 .unwrap()
         })
     });
@@ -558,7 +558,7 @@ fn bandwidth_set<const N: usize>(
     let head: [&[f32]; N] = samples.map(|p| &p[..IN_CACHE_PIXELS]);
     g.bench_function(format!("soa/srgb_u8_in_cache/N{N}"), |b| {
         b.iter(|| {
-            set.encode_u8_planar(display, clip, black_box(head), &mut out[..IN_CACHE_PIXELS])
+            set.encode_u8_planar(clip, black_box(head), &mut out[..IN_CACHE_PIXELS])
                 .unwrap();
             black_box(&mut out);
         })
@@ -570,7 +570,7 @@ fn bandwidth_set<const N: usize>(
         b.iter(|| {
             let samples = black_box(samples);
             for (p, o) in out[..SMALL_PIXELS].iter_mut().enumerate() {
-                *o = set.encode_u8(display, clip, &core::array::from_fn(|i| samples[i][p]));
+                *o = set.encode_u8(clip, &core::array::from_fn(|i| samples[i][p]));
             }
             black_box(&mut out);
         })

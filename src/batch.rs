@@ -2,7 +2,7 @@
 //! output per pixel. Nothing allocates; a length mismatch is an [`Error`], checked before any
 //! output is written.
 
-use crate::{Display, Error, FoldedSet, GamutMapping, WavelengthSet};
+use crate::{Error, FoldedSet, GamutMapping, WavelengthSet};
 
 fn check(inputs: usize, outputs: usize) -> Result<(), Error> {
     if inputs == outputs {
@@ -47,14 +47,13 @@ impl<const N: usize> FoldedSet<N> {
     /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless the lengths agree.
     pub fn encode_u8_batch(
         &self,
-        display: &Display,
         mapping: GamutMapping,
         samples: &[[f32; N]],
         out: &mut [[u8; 3]],
     ) -> Result<(), Error> {
         check(samples.len(), out.len())?;
         for (o, s) in out.iter_mut().zip(samples) {
-            *o = self.encode_u8(display, mapping, s);
+            *o = self.encode_u8(mapping, s);
         }
         Ok(())
     }
@@ -64,14 +63,13 @@ impl<const N: usize> FoldedSet<N> {
     /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless the lengths agree.
     pub fn encode_u16_batch(
         &self,
-        display: &Display,
         mapping: GamutMapping,
         samples: &[[f32; N]],
         out: &mut [[u16; 3]],
     ) -> Result<(), Error> {
         check(samples.len(), out.len())?;
         for (o, s) in out.iter_mut().zip(samples) {
-            *o = self.encode_u16(display, mapping, s);
+            *o = self.encode_u16(mapping, s);
         }
         Ok(())
     }

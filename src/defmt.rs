@@ -2,11 +2,26 @@
 
 use defmt::{write, Format, Formatter};
 
-use crate::{Channel, Error, GamutMapping, RuleStatus, TransferFunction};
+use crate::{Channel, Error, GamutMapping, RuleStatus, Samples, TransferFunction};
+
+impl Format for crate::Rgb {
+    fn format(&self, f: Formatter<'_>) {
+        write!(f, "{=str}", self.name())
+    }
+}
 
 impl Format for Channel {
     fn format(&self, f: Formatter<'_>) {
         write!(f, "{=str}", self.name())
+    }
+}
+
+impl Format for Samples {
+    fn format(&self, f: Formatter<'_>) {
+        match self {
+            Samples::Radiance => write!(f, "radiance"),
+            Samples::Reflectance { light } => write!(f, "reflectance under {=str}", light),
+        }
     }
 }
 
@@ -52,7 +67,13 @@ impl Format for Error {
                 "UndefinedRule {{ channel: {=u8}, order: {=u8} }}",
                 channel, order
             ),
-            Error::InvalidLut { channel } => write!(f, "InvalidLut {{ channel: {=u8} }}", channel),
+            Error::InvalidLut { channel } => {
+                write!(f, "InvalidLut {{ channel: {=str} }}", channel.name())
+            }
+            Error::InvalidChromaticity => write!(f, "InvalidChromaticity"),
+            Error::SingularPrimaries => write!(f, "SingularPrimaries"),
+            Error::WhiteOutsideGamut => write!(f, "WhiteOutsideGamut"),
+            Error::InvalidGamma => write!(f, "InvalidGamma"),
         }
     }
 }
@@ -75,7 +96,8 @@ impl<const N: usize> Format for crate::WavelengthSet<N> {
     fn format(&self, f: Formatter<'_>) {
         write!(
             f,
-            "WavelengthSet {{ wavelengths_nm: {=[?]}, weights: [{=[?]}, {=[?]}, {=[?]}] }}",
+            "WavelengthSet {{ samples: {}, wavelengths_nm: {=[?]}, weights: [{=[?]}, {=[?]}, {=[?]}] }}",
+            self.samples,
             &self.wavelengths_nm[..],
             &self.weights[0][..],
             &self.weights[1][..],
@@ -88,7 +110,9 @@ impl<const N: usize> Format for crate::FoldedSet<N> {
     fn format(&self, f: Formatter<'_>) {
         write!(
             f,
-            "FoldedSet {{ wavelengths_nm: {=[?]}, weights: [{=[?]}, {=[?]}, {=[?]}] }}",
+            "FoldedSet {{ samples: {}, display: {=str}, wavelengths_nm: {=[?]}, weights: [{=[?]}, {=[?]}, {=[?]}] }}",
+            self.samples,
+            self.display.name,
             &self.wavelengths_nm[..],
             &self.weights[0][..],
             &self.weights[1][..],
@@ -102,9 +126,9 @@ impl Format for crate::ChannelLuts {
         write!(
             f,
             "ChannelLuts {{ entries: [{=usize}, {=usize}, {=usize}] }}",
-            self.table(0).len(),
-            self.table(1).len(),
-            self.table(2).len()
+            self.table(crate::Rgb::R).len(),
+            self.table(crate::Rgb::G).len(),
+            self.table(crate::Rgb::B).len()
         )
     }
 }

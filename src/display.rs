@@ -2,6 +2,41 @@
 
 use crate::Error;
 
+/// One of a display's three channels. Lookup tables and transfer functions take it instead of a
+/// bare index, so an index out of range cannot be written.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Rgb {
+    /// Red.
+    R,
+    /// Green.
+    G,
+    /// Blue.
+    B,
+}
+
+impl Rgb {
+    /// The channels in order.
+    pub const ALL: [Rgb; 3] = [Rgb::R, Rgb::G, Rgb::B];
+
+    /// 0, 1 or 2.
+    pub const fn index(self) -> usize {
+        match self {
+            Rgb::R => 0,
+            Rgb::G => 1,
+            Rgb::B => 2,
+        }
+    }
+
+    /// `"R"`, `"G"` or `"B"`.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Rgb::R => "R",
+            Rgb::G => "G",
+            Rgb::B => "B",
+        }
+    }
+}
+
 /// Per-channel lookup tables for a measured display: `tables[c][i]` is the encoded drive
 /// (0..=1) that produces the linear light `i / (len − 1)` on channel c (R, G, B). Values
 /// between entries are interpolated linearly.
@@ -20,20 +55,24 @@ impl ChannelLuts {
     ///     Ok(l) => l,
     ///     Err(_) => panic!("bad table"),
     /// };
-    /// assert_eq!(LUTS.table(1).len(), 3);
+    /// assert_eq!(LUTS.table(spectral_quadrature::Rgb::G).len(), 3);
     /// ```
     pub const fn new(tables: [&'static [f32]; 3]) -> Result<ChannelLuts, Error> {
         let mut c = 0;
         while c < 3 {
             let t = tables[c];
             if t.len() < 2 {
-                return Err(Error::InvalidLut { channel: c as u8 });
+                return Err(Error::InvalidLut {
+                    channel: Rgb::ALL[c],
+                });
             }
             let mut i = 0;
             while i < t.len() {
                 let v = t[i];
                 if !v.is_finite() || v < 0.0 || v > 1.0 || (i > 0 && v < t[i - 1]) {
-                    return Err(Error::InvalidLut { channel: c as u8 });
+                    return Err(Error::InvalidLut {
+                        channel: Rgb::ALL[c],
+                    });
                 }
                 i += 1;
             }
@@ -42,13 +81,9 @@ impl ChannelLuts {
         Ok(ChannelLuts { tables })
     }
 
-    /// Channel c's table (c = 0, 1, 2; any other c gives blue's).
-    pub const fn table(&self, c: usize) -> &'static [f32] {
-        if c < 3 {
-            self.tables[c]
-        } else {
-            self.tables[2]
-        }
+    /// Channel c's table.
+    pub const fn table(&self, c: Rgb) -> &'static [f32] {
+        self.tables[c.index()]
     }
 }
 
@@ -67,14 +102,14 @@ pub enum TransferFunction {
 }
 
 impl TransferFunction {
-    /// Encodes linear light on channel `c` (0, 1, 2: only lookup tables differ per channel).
+    /// Encodes linear light on channel `c` (only lookup tables differ per channel).
     ///
     /// Input handling, for every variant: NaN gives exactly 0; values ≤ 0 (negative, −0, −Inf)
     /// give exactly 0; values ≥ 1 (huge, +Inf) give exactly 1 (also for a lookup table whose
     /// ends are not 0 and 1: zero drive is black, full drive is the brightest). Subnormal inputs
     /// are the tiny positive numbers they are: sRGB gives 12.92·x, `Gamma(γ)` gives x^(1/γ)
     /// (4e-21 for 1e-45 at γ = 2.2). The output is always in 0..=1. Never panics.
-    pub fn encode(&self, c: usize, linear: f32) -> f32 {
+    pub fn encode(&self, c: Rgb, linear: f32) -> f32 {
         let x = clamp01(linear);
         if x == 0.0 || x == 1.0 {
             return x;
@@ -110,7 +145,7 @@ impl TransferFunction {
     /// [`encode`](Self::encode). Same input handling: NaN → 0, ≤ 0 → exactly 0, ≥ 1 →
     /// exactly 1; output in 0..=1. For a table with flat stretches, the lowest linear value of
     /// the stretch.
-    pub fn decode(&self, c: usize, encoded: f32) -> f32 {
+    pub fn decode(&self, c: Rgb, encoded: f32) -> f32 {
         let e = clamp01(encoded);
         if e == 0.0 || e == 1.0 {
             return e;
@@ -221,6 +256,100 @@ pub struct Display {
 }
 
 impl Display {
+    /// A display made at run time from its primaries and white point (CIE 1931 xy) and a transfer
+    /// function, with the matrices computed as the build script computes the baked ones: linear
+    /// RGB = (1, 1, 1) is the white at Y = 1.
+    ///
+    /// Errors, never a panic: [`Error::InvalidChromaticity`] for a coordinate that is not finite,
+    /// negative, or with x + y > 1 or y = 0; [`Error::SingularPrimaries`] when the primaries are
+    /// collinear (or nearly: the matrix's condition number above
+    /// [`MAX_PRIMARIES_CONDITION`]), or so extreme that the f32 matrices would overflow;
+    /// [`Error::WhiteOutsideGamut`] when the white is not a positive mix of the primaries (or lies
+    /// on an edge of their triangle: some primary's share below [`MIN_WHITE_SHARE`] of the
+    /// largest); [`Error::InvalidGamma`] for a `Gamma(γ)` whose γ is not finite and
+    /// positive. Lookup tables were checked by [`ChannelLuts::new`].
+    ///
+    /// It computes in f64 (once per display, not per pixel; on a microcontroller without a double
+    /// FPU that is some thousands of instructions of soft-float).
+    ///
+    /// ```
+    /// use spectral_quadrature::{tables::displays, Display, Error, TransferFunction};
+    /// let srgb = Display::new("sRGB", [[0.64, 0.33], [0.30, 0.60], [0.15, 0.06]], [0.3127, 0.3290], TransferFunction::Srgb).unwrap();
+    /// assert!((srgb.xyz_to_rgb[0][0] - displays::SRGB.xyz_to_rgb[0][0]).abs() < 1e-4);
+    /// let flat = Display::new("flat", [[0.2, 0.2], [0.4, 0.4], [0.3, 0.3]], [0.3127, 0.3290], TransferFunction::Srgb);
+    /// assert_eq!(flat.unwrap_err(), Error::SingularPrimaries);
+    /// ```
+    pub fn new(
+        name: &'static str,
+        primaries_xy: [[f32; 2]; 3],
+        white_xy: [f32; 2],
+        transfer: TransferFunction,
+    ) -> Result<Display, Error> {
+        if let TransferFunction::Gamma(g) = transfer {
+            if !(g.is_finite() && g > 0.0) {
+                return Err(Error::InvalidGamma);
+            }
+        }
+        let xyz_of = |xy: [f32; 2]| -> Result<[f64; 3], Error> {
+            let (x, y) = (f64::from(xy[0]), f64::from(xy[1]));
+            if !(x.is_finite() && y.is_finite() && x >= 0.0 && y > 0.0 && x + y <= 1.0) {
+                return Err(Error::InvalidChromaticity);
+            }
+            Ok([x / y, 1.0, (1.0 - x - y) / y])
+        };
+        let p = [
+            xyz_of(primaries_xy[0])?,
+            xyz_of(primaries_xy[1])?,
+            xyz_of(primaries_xy[2])?,
+        ];
+        let w = xyz_of(white_xy)?;
+        // Columns are the primaries' XYZ at Y = 1.
+        let m = [0, 1, 2].map(|r| [p[0][r], p[1][r], p[2][r]]);
+        let inv = invert3(&m).ok_or(Error::SingularPrimaries)?;
+        if norm_inf(&m) * norm_inf(&inv) > MAX_PRIMARIES_CONDITION {
+            return Err(Error::SingularPrimaries);
+        }
+        // The primaries' amounts in white.
+        let s = [0, 1, 2].map(|r| inv[r][0] * w[0] + inv[r][1] * w[1] + inv[r][2] * w[2]);
+        // Strictly inside the triangle: a white on an edge (some primary's amount a negligible
+        // fraction of the largest) would make xyz_to_rgb blow up.
+        let largest = s.iter().fold(0.0f64, |m, v| m.max(*v));
+        if !s
+            .iter()
+            .all(|&v| v.is_finite() && v > MIN_WHITE_SHARE * largest)
+        {
+            return Err(Error::WhiteOutsideGamut);
+        }
+        let rgb_to_xyz = [0, 1, 2].map(|r| [0, 1, 2].map(|c| m[r][c] * s[c]));
+        let xyz_to_rgb = invert3(&rgb_to_xyz).ok_or(Error::SingularPrimaries)?;
+        let to_ac1c2 = crate::tables::XYZ_TO_AC1C2;
+        let a_from_rgb = [0, 1, 2].map(|c| {
+            (0..3)
+                .map(|k| f64::from(to_ac1c2[0][k]) * rgb_to_xyz[k][c])
+                .sum::<f64>() as f32
+        });
+        let f32s = |m: [[f64; 3]; 3]| m.map(|row| row.map(|v| v as f32));
+        let (rgb_to_xyz, xyz_to_rgb) = (f32s(rgb_to_xyz), f32s(xyz_to_rgb));
+        // Extreme chromaticities (subnormal x or y) can still overflow f32.
+        let all = rgb_to_xyz
+            .iter()
+            .chain(&xyz_to_rgb)
+            .flatten()
+            .chain(&a_from_rgb);
+        if !all.into_iter().all(|v| v.is_finite()) {
+            return Err(Error::SingularPrimaries);
+        }
+        Ok(Display {
+            name,
+            primaries_xy,
+            white_xy,
+            rgb_to_xyz,
+            xyz_to_rgb,
+            a_from_rgb,
+            transfer,
+        })
+    }
+
     /// The same display with another transfer function (for example measured lookup tables).
     pub const fn with_transfer(mut self, transfer: TransferFunction) -> Display {
         self.transfer = transfer;
@@ -263,9 +392,9 @@ impl Display {
     pub fn encode(&self, rgb: [f32; 3], mapping: GamutMapping) -> [f32; 3] {
         let m = self.map_gamut(rgb, mapping);
         [
-            self.transfer.encode(0, m[0]),
-            self.transfer.encode(1, m[1]),
-            self.transfer.encode(2, m[2]),
+            self.transfer.encode(Rgb::R, m[0]),
+            self.transfer.encode(Rgb::G, m[1]),
+            self.transfer.encode(Rgb::B, m[2]),
         ]
     }
 
@@ -278,6 +407,43 @@ impl Display {
     pub fn encode_u16(&self, rgb: [f32; 3], mapping: GamutMapping) -> [u16; 3] {
         self.encode(rgb, mapping).map(quantize_u16)
     }
+}
+
+/// The largest condition number of the primaries' matrix (columns: the primaries' XYZ at
+/// Y = 1) that [`Display::new`] accepts: beyond it the primaries are so nearly collinear that the
+/// f32 matrices would lose three or more of their seven digits. The derivation refuses baked
+/// displays at the same value of the 2-norm condition number; this one uses the ∞-norm, which
+/// for a 3×3 matrix is within a factor of 3 of it.
+pub const MAX_PRIMARIES_CONDITION: f64 = 1000.0;
+
+/// The smallest share of a primary in the white, relative to the largest, that
+/// [`Display::new`] accepts: below it the white lies on an edge of the primaries' triangle, and
+/// the XYZ → RGB matrix would be dominated by one enormous column.
+pub const MIN_WHITE_SHARE: f64 = 1e-6;
+
+/// The inverse of a 3×3 matrix by cofactors, `None` when singular or not finite.
+fn invert3(m: &[[f64; 3]; 3]) -> Option<[[f64; 3]; 3]> {
+    let c =
+        |r0: usize, r1: usize, c0: usize, c1: usize| m[r0][c0] * m[r1][c1] - m[r0][c1] * m[r1][c0];
+    let cof = [
+        [c(1, 2, 1, 2), -c(1, 2, 0, 2), c(1, 2, 0, 1)],
+        [-c(0, 2, 1, 2), c(0, 2, 0, 2), -c(0, 2, 0, 1)],
+        [c(0, 1, 1, 2), -c(0, 1, 0, 2), c(0, 1, 0, 1)],
+    ];
+    let det = m[0][0] * cof[0][0] + m[0][1] * cof[0][1] + m[0][2] * cof[0][2];
+    if det == 0.0 || !det.is_finite() {
+        return None;
+    }
+    // inverse = adjugate / det, the adjugate being the cofactors transposed.
+    let inv = [0, 1, 2].map(|r| [0, 1, 2].map(|k| cof[k][r] / det));
+    inv.iter().flatten().all(|v| v.is_finite()).then_some(inv)
+}
+
+/// The ∞-norm (largest absolute row sum) of a 3×3 matrix.
+fn norm_inf(m: &[[f64; 3]; 3]) -> f64 {
+    m.iter()
+        .map(|r| r.iter().map(|v| v.abs()).sum::<f64>())
+        .fold(0.0, f64::max)
 }
 
 /// 0..=1 → 0..=255, round to nearest; NaN → 0, out of range clamped.

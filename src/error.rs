@@ -27,9 +27,21 @@ pub enum Error {
     },
     /// A lookup table is too short, not finite, outside 0..=1 or decreasing.
     InvalidLut {
-        /// The offending channel (0 = R, 1 = G, 2 = B).
-        channel: u8,
+        /// The offending channel.
+        channel: crate::Rgb,
     },
+    /// A chromaticity given to [`Display::new`](crate::Display::new) is not finite, is
+    /// negative, or has y = 0 or x + y > 1.
+    InvalidChromaticity,
+    /// The primaries given to [`Display::new`](crate::Display::new) are collinear or nearly
+    /// so (see [`MAX_PRIMARIES_CONDITION`](crate::MAX_PRIMARIES_CONDITION)).
+    SingularPrimaries,
+    /// The white point given to [`Display::new`](crate::Display::new) is not a positive mix
+    /// of the primaries (it lies outside their triangle).
+    WhiteOutsideGamut,
+    /// A `Gamma(γ)` transfer function given to [`Display::new`](crate::Display::new) has a γ
+    /// that is not finite and positive.
+    InvalidGamma,
 }
 
 impl fmt::Display for Error {
@@ -49,8 +61,17 @@ impl fmt::Display for Error {
             ),
             Error::InvalidLut { channel } => write!(
                 f,
-                "lookup table for channel {channel} needs 2 or more finite, non-decreasing entries in 0..=1"
+                "lookup table for channel {} needs 2 or more finite, non-decreasing entries in 0..=1",
+                channel.name()
             ),
+            Error::InvalidChromaticity => f.write_str(
+                "a chromaticity is not finite, is negative, or has y = 0 or x + y > 1",
+            ),
+            Error::SingularPrimaries => f.write_str("the primaries are (nearly) collinear"),
+            Error::WhiteOutsideGamut => {
+                f.write_str("the white point lies outside the primaries' triangle")
+            }
+            Error::InvalidGamma => f.write_str("gamma must be finite and positive"),
         }
     }
 }

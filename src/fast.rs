@@ -21,7 +21,7 @@ impl TransferFunction {
     /// [`ENCODE_FAST_MAX_ERROR`] (a coarse 0.09) of the exact curve for sRGB and gammas 1 to 3.
     /// Lookup tables and `Linear` are exact already. Same input handling: NaN → exactly 0,
     /// ≤ 0 → exactly 0, ≥ 1 → exactly 1; output in 0..=1; never panics.
-    pub fn encode_fast(&self, c: usize, linear: f32) -> f32 {
+    pub fn encode_fast(&self, c: crate::Rgb, linear: f32) -> f32 {
         let x = clamp01(linear);
         if x == 0.0 || x == 1.0 {
             return x;

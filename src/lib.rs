@@ -53,7 +53,8 @@ mod fast;
 pub mod paper;
 
 pub use display::{
-    quantize_u16, quantize_u8, ChannelLuts, Display, GamutMapping, TransferFunction,
+    quantize_u16, quantize_u8, ChannelLuts, Display, GamutMapping, Rgb, TransferFunction,
+    MAX_PRIMARIES_CONDITION, MIN_WHITE_SHARE,
 };
 pub use dynamic::DynamicSet;
 pub use encode::{srgb8_from_linear, SRGB8_MAX_DELTA_E, SRGB8_MAX_STEP_ERROR};
@@ -61,7 +62,7 @@ pub use error::Error;
 #[cfg(feature = "micromath")]
 pub use fast::ENCODE_FAST_MAX_ERROR;
 pub use lab::{delta_e2000, delta_e76, lab_from_xyz};
-pub use set::{Channel, FoldedSet, GaussRule, RuleStatus, WavelengthSet};
+pub use set::{Channel, FoldedSet, GaussRule, RuleStatus, Samples, WavelengthSet};
 
 /// `[X, Y, Z]` from `[A, C1, C2]` with [`tables::AC1C2_TO_XYZ`]. IEEE arithmetic: NaN and ±Inf
 /// propagate; never panics.

@@ -60,6 +60,34 @@ impl RuleStatus {
     }
 }
 
+/// What a set's samples are, and so what its weights integrate.
+///
+/// A set for radiances takes samples of the spectrum that reaches the eye (emission, or
+/// reflectance times light computed by the renderer). A set with a light folded in takes
+/// samples of a reflectance and multiplies by that light in its weights: feeding it radiances
+/// gives wrong colours, silently, so the set carries this field and the docs, `Debug` and
+/// `defmt` output show it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Samples {
+    /// Samples of a spectral radiance (or of any spectrum whose colour is wanted as given).
+    Radiance,
+    /// Samples of a reflectance lit by a light that is folded into the weights.
+    Reflectance {
+        /// The light's name, e.g. `"C"`, `"F11"` (a built-in illuminant).
+        light: &'static str,
+    },
+}
+
+impl Samples {
+    /// The light folded into the weights, if any.
+    pub const fn light(self) -> Option<&'static str> {
+        match self {
+            Samples::Radiance => None,
+            Samples::Reflectance { light } => Some(light),
+        }
+    }
+}
+
 /// One channel's Gauss rule of one order, as baked by the build script.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GaussRule {
@@ -86,6 +114,8 @@ pub struct WavelengthSet<const N: usize> {
     pub wavelengths_nm: [f32; N],
     /// `weights[channel][i]`, rows A, C1, C2, for dλ in nm.
     pub weights: [[f32; N]; 3],
+    /// What the samples are: radiances, or reflectances under a light folded into the weights.
+    pub samples: Samples,
 }
 
 impl<const N: usize> WavelengthSet<N> {
@@ -129,7 +159,8 @@ impl<const N: usize> WavelengthSet<N> {
     }
 
     /// Folds AC1C2 → XYZ → the display's linear RGB and a `scale` into the weights, in f32, so
-    /// that [`FoldedSet::linear_rgb`] is one 3×N product. The baked
+    /// that [`FoldedSet::linear_rgb`] is one 3×N product; the folded set keeps `display` (its
+    /// encoders use it) and [`samples`](Self::samples). The baked
     /// [`folded`](crate::tables::folded) sets do the same in f64 at build time with
     /// `scale = 1 / UNIT_SPECTRUM_Y`. Non-finite weights or scale propagate into the result.
     pub fn fold(&self, display: &crate::Display, scale: f32) -> FoldedSet<N> {
@@ -146,12 +177,34 @@ impl<const N: usize> WavelengthSet<N> {
         FoldedSet {
             wavelengths_nm: self.wavelengths_nm,
             weights,
+            samples: self.samples,
+            display: *display,
         }
     }
 }
 
 /// A wavelength set with a display's colour matrix folded into its weights: samples → linear
 /// RGB is one 3×N product.
+///
+/// The set carries the display it was folded for, and its encoders use that display's transfer
+/// function, so weights and encoding cannot be paired wrongly:
+///
+/// ```
+/// use spectral_quadrature::tables::folded::TABLE2_ROW2_SRGB;
+/// use spectral_quadrature::GamutMapping;
+/// let px = TABLE2_ROW2_SRGB.encode_u8(GamutMapping::Clip, &[0.5; 4]);
+/// assert_eq!(TABLE2_ROW2_SRGB.display.name, "sRGB");
+/// # let _ = px;
+/// ```
+///
+/// There is no way to hand it another display (the old form, with a display argument, no longer
+/// compiles):
+///
+/// ```compile_fail
+/// use spectral_quadrature::tables::{displays, folded::TABLE2_ROW2_SRGB};
+/// use spectral_quadrature::GamutMapping;
+/// let px = TABLE2_ROW2_SRGB.encode_u8(&displays::DISPLAY_P3, GamutMapping::Clip, &[0.5; 4]);
+/// ```
 ///
 /// The baked sets ([`tables::folded`](crate::tables::folded)) take samples in units where a
 /// spectrum of constant 1 has luminance Y = 1, the luminance of the display's white (its
@@ -162,6 +215,10 @@ pub struct FoldedSet<const N: usize> {
     pub wavelengths_nm: [f32; N],
     /// `weights[channel][i]`, rows R, G, B.
     pub weights: [[f32; N]; 3],
+    /// What the samples are: radiances, or reflectances under a light folded into the weights.
+    pub samples: Samples,
+    /// The display the weights were folded for: its transfer function encodes the output.
+    pub display: crate::Display,
 }
 
 impl<const N: usize> FoldedSet<N> {
@@ -182,28 +239,17 @@ impl<const N: usize> FoldedSet<N> {
         mat_vec(&self.weights, samples)
     }
 
-    /// Samples → gamut-mapped, encoded 8-bit RGB for `display` (whose transfer function is
-    /// used; the weights must have been folded for it). NaN anywhere → black; see
-    /// [`Display::encode_u8`](crate::Display::encode_u8).
+    /// Samples → gamut-mapped, encoded 8-bit RGB with the set's [`display`](Self::display).
+    /// NaN anywhere → black; see [`Display::encode_u8`](crate::Display::encode_u8).
     #[inline]
-    pub fn encode_u8(
-        &self,
-        display: &crate::Display,
-        mapping: crate::GamutMapping,
-        samples: &[f32; N],
-    ) -> [u8; 3] {
-        display.encode_u8(self.linear_rgb(samples), mapping)
+    pub fn encode_u8(&self, mapping: crate::GamutMapping, samples: &[f32; N]) -> [u8; 3] {
+        self.display.encode_u8(self.linear_rgb(samples), mapping)
     }
 
     /// As [`encode_u8`](Self::encode_u8), 16 bits.
     #[inline]
-    pub fn encode_u16(
-        &self,
-        display: &crate::Display,
-        mapping: crate::GamutMapping,
-        samples: &[f32; N],
-    ) -> [u16; 3] {
-        display.encode_u16(self.linear_rgb(samples), mapping)
+    pub fn encode_u16(&self, mapping: crate::GamutMapping, samples: &[f32; N]) -> [u16; 3] {
+        self.display.encode_u16(self.linear_rgb(samples), mapping)
     }
 }
 

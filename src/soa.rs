@@ -6,7 +6,7 @@
 //! mismatch is an [`Error`], checked before any output is written.
 
 use crate::encode::{entry, segment_bits};
-use crate::{Display, Error, FoldedSet, GamutMapping, TransferFunction};
+use crate::{Error, FoldedSet, GamutMapping, TransferFunction};
 
 /// Pixels per step of the planar loops. A partial last chunk is padded with zeros on the stack.
 const CHUNK: usize = 16;
@@ -236,10 +236,10 @@ impl<const N: usize> FoldedSet<N> {
     }
 
     /// Planar samples (as for [`linear_rgb_planar`](Self::linear_rgb_planar)) → gamut-mapped,
-    /// encoded 8-bit RGB for `display`, interleaved: `out[p] = [r, g, b]`, the layout of RGB8
+    /// encoded 8-bit RGB with the set's [`display`](Self::display), interleaved: `out[p] = [r, g, b]`, the layout of RGB8
     /// images and frame buffers, and of [`encode_u8_batch`](Self::encode_u8_batch).
     ///
-    /// With a display whose transfer function is [`TransferFunction::Srgb`] (sRGB, Display P3)
+    /// When the display's transfer function is [`TransferFunction::Srgb`] (sRGB, Display P3)
     /// and [`GamutMapping::Clip`], this is the fast path: a vectorized product, a clip and the
     /// table encoder of [`srgb8_from_linear`](crate::srgb8_from_linear), correctly rounded and
     /// branch-free (the README's Performance section has its speed against the memory bound,
@@ -258,30 +258,29 @@ impl<const N: usize> FoldedSet<N> {
     /// have the same length, reported as for [`linear_rgb_planar`](Self::linear_rgb_planar).
     ///
     /// ```
-    /// use spectral_quadrature::tables::{displays::SRGB, folded::TABLE2_ROW2_SRGB as SET};
+    /// use spectral_quadrature::tables::folded::TABLE2_ROW2_SRGB as SET;
     /// use spectral_quadrature::GamutMapping;
     /// let planes = [[0.5f32; 20], [0.4; 20], [0.3; 20], [0.2; 20]];
     /// let mut out = [[0u8; 3]; 20];
-    /// SET.encode_u8_planar(&SRGB, GamutMapping::Clip, planes.each_ref().map(|p| &p[..]), &mut out)
+    /// SET.encode_u8_planar(GamutMapping::Clip, planes.each_ref().map(|p| &p[..]), &mut out)
     ///     .unwrap();
-    /// let one = SET.encode_u8(&SRGB, GamutMapping::Clip, &[0.5, 0.4, 0.3, 0.2]);
+    /// let one = SET.encode_u8(GamutMapping::Clip, &[0.5, 0.4, 0.3, 0.2]);
     /// assert!((0..3).all(|c| out[7][c].abs_diff(one[c]) <= 1));
     /// ```
     pub fn encode_u8_planar(
         &self,
-        display: &Display,
         mapping: GamutMapping,
         samples: [&[f32]; N],
         out: &mut [[u8; 3]],
     ) -> Result<(), Error> {
         let pixels = check_planes(&samples, &[out.len()])?;
-        let fast = matches!(display.transfer, TransferFunction::Srgb)
+        let fast = matches!(self.display.transfer, TransferFunction::Srgb)
             && matches!(mapping, GamutMapping::Clip);
         if !fast {
             for (p, o) in out.iter_mut().enumerate() {
                 let s: [f32; N] =
                     core::array::from_fn(|i| samples[i].get(p).copied().unwrap_or(0.0));
-                *o = self.encode_u8(display, mapping, &s);
+                *o = self.encode_u8(mapping, &s);
             }
             return Ok(());
         }

@@ -27,8 +27,18 @@ fn header_constants() {
     assert_eq!(tables::RANGE_NM, [380.0, 770.0]);
     assert_eq!(tables::STEP_NM, 5.0);
     assert_eq!(tables::MAX_ORDER, d.settings.max_order);
-    assert_eq!(tables::INPUTS.len(), 1);
-    assert_eq!(tables::INPUTS[0].0, d.settings.observer.file());
+    // The observer, then what the default scene's shared sets (KQ_C_*, KQ_F11_6) were made from.
+    let labels: Vec<&str> = tables::INPUTS.iter().map(|(l, _)| *l).collect();
+    assert_eq!(
+        labels,
+        [
+            d.settings.observer.file(),
+            "data/reflectance_cie_tcs.csv",
+            "data/illuminant_C.csv",
+            "data/shared_nodes.csv",
+            "data/illuminant_F11.csv"
+        ]
+    );
     assert_eq!(tables::INPUTS[0].1, d.observer.sha256);
 }
 
@@ -129,24 +139,94 @@ fn table2_sets_and_rule_sets() {
 #[test]
 fn generated_source_is_what_the_generator_writes_now() {
     // The whole file, byte for byte: nothing in it comes from anywhere but the derivation.
-    let d = fresh();
-    let inputs = vec![(
-        d.settings.observer.file().to_string(),
-        d.observer.sha256.clone(),
-    )];
-    let scene = sqd::scene::Scene::default_scene(std::path::Path::new(DATA_DIR))
-        .resolve(d)
-        .unwrap();
-    let regenerated = sqd::codegen::tables_rs(d, &inputs, &scene).unwrap();
+    let generated = sqd::build::generate(std::path::Path::new(env!("CARGO_MANIFEST_DIR")), None)
+        .unwrap()
+        .tables_rs;
     let baked = include_str!(concat!(env!("OUT_DIR"), "/tables.rs"));
-    assert_eq!(regenerated, baked);
+    assert_eq!(generated, baked);
     assert!(!baked.contains("NaN") && !baked.contains("inf"));
 }
 
 #[test]
-fn embedded_data_matches_the_file_in_data() {
-    // The checksum in the header is that of the file shipped in data/.
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(tables::INPUTS[0].0);
-    let bytes = std::fs::read(path).unwrap();
-    assert_eq!(sqd::sha256_hex(&bytes), tables::INPUTS[0].1);
+fn every_input_checksum_is_that_of_the_file_in_data() {
+    // The observer first, then the shared sets' training reflectances, lights and node cache.
+    assert_eq!(tables::INPUTS[0].0, "data/cmf_cie1931_2deg_1nm.csv");
+    assert!(tables::INPUTS.len() > 1);
+    for (label, sha) in tables::INPUTS {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(label);
+        let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{label}: {e}"));
+        assert_eq!(sqd::sha256_hex(&bytes), *sha, "{label}");
+    }
+}
+
+#[test]
+fn the_header_const_names_every_input_and_the_settings() {
+    for (label, sha) in tables::INPUTS {
+        assert!(
+            tables::HEADER.contains(&format!("{label} sha256={sha}")),
+            "{label} missing from HEADER"
+        );
+    }
+    assert!(tables::HEADER.contains(tables::SETTINGS));
+    assert!(tables::HEADER.contains(&format!("Scene: {}", tables::SCENE)));
+}
+
+#[test]
+fn sets_say_what_their_samples_are_and_folded_sets_carry_their_display() {
+    use spectral_quadrature::Samples;
+    assert_eq!(tables::TABLE2_ROW2.samples, Samples::Radiance);
+    assert_eq!(tables::KQ_C_6.samples, Samples::Reflectance { light: "C" });
+    assert_eq!(tables::KQ_F11_6.samples.light(), Some("F11"));
+    assert_eq!(tables::rules::A_3.samples, Samples::Radiance);
+    // Each folded set: the samples of its set, and the display its name gives.
+    let folded = [
+        (
+            tables::folded::TABLE2_ROW2_SRGB.samples,
+            tables::folded::TABLE2_ROW2_SRGB.display,
+            tables::displays::SRGB,
+        ),
+        (
+            tables::folded::TABLE2_ROW1_REC2020.samples,
+            tables::folded::TABLE2_ROW1_REC2020.display,
+            tables::displays::REC2020,
+        ),
+        (
+            tables::folded::KQ_C_6_DISPLAY_P3.samples,
+            tables::folded::KQ_C_6_DISPLAY_P3.display,
+            tables::displays::DISPLAY_P3,
+        ),
+        (
+            tables::folded::KQ_F11_6_MEYER_1987.samples,
+            tables::folded::KQ_F11_6_MEYER_1987.display,
+            tables::displays::MEYER_1987,
+        ),
+    ];
+    assert_eq!(folded[0].0, Samples::Radiance);
+    assert_eq!(folded[2].0, Samples::Reflectance { light: "C" });
+    assert_eq!(folded[3].0, Samples::Reflectance { light: "F11" });
+    for (_, display, expected) in folded {
+        assert_eq!(display, expected);
+    }
+    // The generated source pairs every folded set with the display of its own name.
+    let baked = include_str!(concat!(env!("OUT_DIR"), "/tables.rs"));
+    let mut n = 0;
+    for block in baked.split("pub const ").skip(1) {
+        if let Some((name, rest)) = block.split_once(": FoldedSet<") {
+            let display = rest
+                .split("display: super::displays::")
+                .nth(1)
+                .and_then(|r| r.split(',').next())
+                .expect("a display field");
+            assert!(
+                name.ends_with(&format!("_{display}")),
+                "{name} has {display}"
+            );
+            n += 1;
+        }
+    }
+    assert_eq!(
+        n,
+        6 * 4,
+        "Table 2's two sets and four shared sets, for four displays"
+    );
 }

@@ -13,7 +13,7 @@ use common::MAPPINGS;
 use spectral_quadrature::tables::{self, displays, folded, rules};
 use spectral_quadrature::{
     ac1c2_from_xyz, f32_budget, quantize_u16, quantize_u8, xyz_from_ac1c2, ChannelLuts, Display,
-    DynamicSet, Error, FoldedSet, GamutMapping, TransferFunction, WavelengthSet,
+    DynamicSet, Error, FoldedSet, GamutMapping, Rgb, TransferFunction, WavelengthSet,
 };
 
 const NAN: f32 = f32::NAN;
@@ -403,10 +403,10 @@ fn nan_anywhere_encodes_as_black_on_the_standard_displays() {
     let set = folded::TABLE2_ROW1_SRGB;
     for mapping in MAPPINGS {
         assert_eq!(
-            set.encode_u8(&displays::SRGB, mapping, &[0.5, 0.5, NAN, 0.5, 0.5, 0.5]),
+            set.encode_u8(mapping, &[0.5, 0.5, NAN, 0.5, 0.5, 0.5]),
             [0; 3]
         );
-        assert_eq!(set.encode_u16(&displays::SRGB, mapping, &[NAN; 6]), [0; 3]);
+        assert_eq!(set.encode_u16(mapping, &[NAN; 6]), [0; 3]);
     }
 }
 
@@ -414,11 +414,11 @@ fn nan_anywhere_encodes_as_black_on_the_standard_displays() {
 fn lut_with_offsets_still_maps_nan_and_out_of_range_to_0_and_1() {
     let offset = ChannelLuts::new([&[0.1, 0.5, 0.9], &[0.1, 0.9], &[0.05, 0.95]]).unwrap();
     let tf = TransferFunction::Lut(offset);
-    for c in 0..3 {
-        assert_eq!(tf.encode(c, NAN), 0.0, "channel {c}: NaN");
-        assert_eq!(tf.encode(c, -1.0), 0.0, "channel {c}: −1");
-        assert_eq!(tf.encode(c, 0.0), 0.0, "channel {c}: 0");
-        assert_eq!(tf.encode(c, 2.0), 1.0, "channel {c}: 2");
+    for c in Rgb::ALL {
+        assert_eq!(tf.encode(c, NAN), 0.0, "channel {c:?}: NaN");
+        assert_eq!(tf.encode(c, -1.0), 0.0, "channel {c:?}: −1");
+        assert_eq!(tf.encode(c, 0.0), 0.0, "channel {c:?}: 0");
+        assert_eq!(tf.encode(c, 2.0), 1.0, "channel {c:?}: 2");
     }
     let display = displays::SRGB.with_transfer(tf);
     assert_eq!(
@@ -506,27 +506,27 @@ fn preserve_a_clips_infinities_and_sends_huge_colours_to_white_or_black() {
 #[test]
 fn transfer_functions_handle_nan_signs_and_range() {
     for tf in transfers() {
-        for c in [0usize, 1, 2, 3, usize::MAX] {
+        for c in Rgb::ALL {
             for (decoding, f) in [
                 (
                     false,
-                    TransferFunction::encode as fn(&TransferFunction, usize, f32) -> f32,
+                    TransferFunction::encode as fn(&TransferFunction, Rgb, f32) -> f32,
                 ),
                 (true, TransferFunction::decode),
             ] {
-                assert_eq!(f(&tf, c, NAN), 0.0, "{tf:?} c{c}: NaN");
-                assert_eq!(f(&tf, c, -NAN), 0.0, "{tf:?} c{c}: −NaN");
+                assert_eq!(f(&tf, c, NAN), 0.0, "{tf:?} c{c:?}: NaN");
+                assert_eq!(f(&tf, c, -NAN), 0.0, "{tf:?} c{c:?}: −NaN");
                 for low in [0.0, -0.0, -SUB_MIN, -1.0, -1e30, -f32::MAX, -INF] {
-                    assert_eq!(f(&tf, c, low), 0.0, "{tf:?} c{c}: {low}");
+                    assert_eq!(f(&tf, c, low), 0.0, "{tf:?} c{c:?}: {low}");
                 }
                 // sRGB encodes ≥ 1 as 1 − 2⁻²⁴: see the ignored test below.
                 if decoding || tf != TransferFunction::Srgb {
                     for high in [1.0, 1.0 + f32::EPSILON, 2.0, 1e30, f32::MAX, INF] {
-                        assert_eq!(f(&tf, c, high), 1.0, "{tf:?} c{c}: {high}");
+                        assert_eq!(f(&tf, c, high), 1.0, "{tf:?} c{c:?}: {high}");
                     }
                 }
                 for &x in &SPECIALS {
-                    assert!(in_unit(f(&tf, c, x)), "{tf:?} c{c}: {x}");
+                    assert!(in_unit(f(&tf, c, x)), "{tf:?} c{c:?}: {x}");
                 }
             }
         }
@@ -537,13 +537,13 @@ fn transfer_functions_handle_nan_signs_and_range() {
 fn srgb_encodes_one_and_above_as_one() {
     for high in [1.0f32, 2.0, f32::MAX, INF] {
         assert_eq!(
-            TransferFunction::Srgb.encode(0, high),
+            TransferFunction::Srgb.encode(Rgb::R, high),
             1.0,
             "encode({high})"
         );
         #[cfg(feature = "micromath")]
         assert_eq!(
-            TransferFunction::Srgb.encode_fast(0, high),
+            TransferFunction::Srgb.encode_fast(Rgb::R, high),
             1.0,
             "encode_fast({high})"
         );
@@ -555,7 +555,7 @@ fn srgb_encodes_one_and_above_within_an_ulp_of_one() {
     // What sRGB does give (see the ignored test above): within 1 ulp below 1, so the quantized
     // values are full scale.
     for high in [1.0f32, 2.0, f32::MAX, INF] {
-        let e = TransferFunction::Srgb.encode(0, high);
+        let e = TransferFunction::Srgb.encode(Rgb::R, high);
         assert!((1.0 - f32::EPSILON / 2.0..=1.0).contains(&e), "{e}");
         assert_eq!(quantize_u8(e), 255);
         assert_eq!(quantize_u16(e), 65535);
@@ -569,7 +569,7 @@ fn transfer_outputs_stay_in_the_unit_interval_over_every_binade() {
     for tf in transfers() {
         for bits in (0..=INF.to_bits()).step_by(4099) {
             for x in [f32::from_bits(bits), -f32::from_bits(bits)] {
-                for c in 0..3 {
+                for c in Rgb::ALL {
                     assert!(in_unit(tf.encode(c, x)), "{tf:?} encode({x:e})");
                     assert!(in_unit(tf.decode(c, x)), "{tf:?} decode({x:e})");
                 }
@@ -588,7 +588,7 @@ fn subnormals_encode_below_1e_37_for_linear_srgb_and_lut() {
         TransferFunction::Gamma(0.5),
     ] {
         for x in [SUB_MIN, SUB_HALF_MIN, 3e-39] {
-            for c in 0..3 {
+            for c in Rgb::ALL {
                 let e = tf.encode(c, x);
                 assert!((0.0..1e-37).contains(&e), "{tf:?} encode({x:e}) = {e:e}");
             }
@@ -596,7 +596,7 @@ fn subnormals_encode_below_1e_37_for_linear_srgb_and_lut() {
     }
     // sRGB: exactly the linear segment, 12.92 · x.
     assert_eq!(
-        TransferFunction::Srgb.encode(0, SUB_HALF_MIN),
+        TransferFunction::Srgb.encode(Rgb::R, SUB_HALF_MIN),
         12.92 * SUB_HALF_MIN
     );
 }
@@ -607,13 +607,13 @@ fn subnormals_encode_as_the_tiny_numbers_they_are() {
     // positive, finite, tiny, and libm's f64 power rounded once to f32.
     for g in [2.2f32, 2.4, 1.8] {
         for x in [SUB_MIN, SUB_HALF_MIN] {
-            let e = TransferFunction::Gamma(g).encode(0, x);
+            let e = TransferFunction::Gamma(g).encode(Rgb::R, x);
             let expected = libm::pow(f64::from(x), 1.0 / f64::from(g)) as f32;
             assert_eq!(e, expected, "Gamma({g}).encode({x:e})");
             assert!(e > 0.0 && e < 1e-15, "Gamma({g}).encode({x:e}) = {e:e}");
         }
     }
-    let e = TransferFunction::Gamma(2.2).encode(0, 1e-45);
+    let e = TransferFunction::Gamma(2.2).encode(Rgb::R, 1e-45);
     assert!((3e-21..5e-21).contains(&e), "{e:e}");
 }
 
@@ -629,57 +629,50 @@ fn non_positive_or_non_finite_gamma_is_linear() {
         for &x in &x_values {
             let lin = TransferFunction::Linear;
             assert_eq!(
-                tf.encode(0, x).to_bits(),
-                lin.encode(0, x).to_bits(),
+                tf.encode(Rgb::R, x).to_bits(),
+                lin.encode(Rgb::R, x).to_bits(),
                 "Gamma({g}) encode({x})"
             );
             assert_eq!(
-                tf.decode(1, x).to_bits(),
-                lin.decode(1, x).to_bits(),
+                tf.decode(Rgb::G, x).to_bits(),
+                lin.decode(Rgb::G, x).to_bits(),
                 "Gamma({g}) decode({x})"
             );
         }
     }
     // And a positive gamma is not linear (the test above could not pass vacuously).
-    assert_ne!(TransferFunction::Gamma(2.2).encode(0, 0.5), 0.5);
+    assert_ne!(TransferFunction::Gamma(2.2).encode(Rgb::R, 0.5), 0.5);
     // A positive subnormal γ is finite and positive: a real (if extreme) power, not Linear.
-    assert_eq!(TransferFunction::Gamma(SUB_MIN).encode(0, 0.5), 0.0);
+    assert_eq!(TransferFunction::Gamma(SUB_MIN).encode(Rgb::R, 0.5), 0.0);
 }
 
 #[test]
 fn lut_interpolates_per_channel_and_decodes_flat_stretches_to_their_start() {
     let tf = TransferFunction::Lut(luts());
     // LUT_G = [0, 0.5, 1]: linear 0.25 → 0.25 (halfway to the middle entry).
-    assert_eq!(tf.encode(1, 0.25), 0.25);
-    assert_eq!(tf.encode(1, 0.5), 0.5);
+    assert_eq!(tf.encode(Rgb::G, 0.25), 0.25);
+    assert_eq!(tf.encode(Rgb::G, 0.5), 0.5);
     // LUT_R entry k at k/6.
     for (k, &t) in LUT_R.iter().enumerate() {
         let x = k as f32 / 6.0;
         assert!(
-            (tf.encode(0, x) - t).abs() <= 2.0 * f32::EPSILON,
+            (tf.encode(Rgb::R, x) - t).abs() <= 2.0 * f32::EPSILON,
             "R entry {k}"
         );
     }
-    // Channel 3 and beyond use blue's table.
-    for x in [0.1f32, 0.3, 0.7] {
-        assert_eq!(tf.encode(3, x), tf.encode(2, x));
-        assert_eq!(tf.encode(99, x), tf.encode(2, x));
-        assert_eq!(tf.decode(7, x), tf.decode(2, x));
-    }
     // LUT_B = [0, 0.2, 0.2, 0.6, 1] at linear 0, 1/4, 2/4, 3/4, 1: 0.2 is flat over [1/4, 1/2];
     // decode gives the lowest linear value of the stretch.
-    assert_eq!(tf.decode(2, 0.2), 0.25);
-    assert!(tf.decode(2, 0.2000001) >= 0.5);
+    assert_eq!(tf.decode(Rgb::B, 0.2), 0.25);
+    assert!(tf.decode(Rgb::B, 0.2000001) >= 0.5);
     // ChannelLuts::table
     let l = luts();
-    assert_eq!(l.table(0), LUT_R);
-    assert_eq!(l.table(1), LUT_G);
-    assert_eq!(l.table(2), LUT_B);
-    assert_eq!(l.table(5), LUT_B);
+    assert_eq!(l.table(Rgb::R), LUT_R);
+    assert_eq!(l.table(Rgb::G), LUT_G);
+    assert_eq!(l.table(Rgb::B), LUT_B);
 }
 
 /// Measures `max |decode(encode(x)) − x| / max(x, floor)` and `max |encode(decode(e)) − e|`.
-fn round_trip_errors(tf: TransferFunction, c: usize, floor: f32) -> (f32, f32) {
+fn round_trip_errors(tf: TransferFunction, c: Rgb, floor: f32) -> (f32, f32) {
     let one = 1.0f32.to_bits();
     let mut xs: Vec<f32> = (0..=one).step_by(1021).map(f32::from_bits).collect();
     xs.extend((0..=65535).map(|k| k as f32 / 65535.0));
@@ -704,7 +697,7 @@ fn round_trips() {
     // 1.055·p − 0.055 cancels by up to 2.4× at the segment break; decode's power 2.4 multiplies
     // relative error by 2.4). Asserted 4 ε (floor 1e-30: the linear segment is relative too).
     // encode(decode(e)) absolute: measured 1.0 ε; asserted 2 ε.
-    let (rel, abs) = round_trip_errors(TransferFunction::Srgb, 0, 1e-30);
+    let (rel, abs) = round_trip_errors(TransferFunction::Srgb, Rgb::R, 1e-30);
     eprintln!(
         "sRGB round trip: max rel {:.3} ε, max abs (encoded) {:.3} ε",
         rel / eps,
@@ -716,7 +709,7 @@ fn round_trips() {
     // rounding of 1/γ (relative u on the exponent: |ln x|·u/γ, growing as x → 0, hence the floor
     // 1e-6 below which the error is taken as absolute). Measured 3.18 ε relative and 0.5 ε for
     // encode(decode(e)); asserted 5 ε and 1 ε.
-    let (rel, abs) = round_trip_errors(TransferFunction::Gamma(2.2), 0, 1e-6);
+    let (rel, abs) = round_trip_errors(TransferFunction::Gamma(2.2), Rgb::R, 1e-6);
     eprintln!(
         "Gamma(2.2) round trip: max rel {:.3} ε, max abs {:.3} ε",
         rel / eps,
@@ -728,7 +721,7 @@ fn round_trips() {
     // interpolation and the division, over the segment's slope (LUT_R's smallest is 0.48 per
     // unit). Measured 1.0 ε absolute (linear) and 0.5 ε (encoded); asserted 2 ε and 1 ε.
     let lut = TransferFunction::Lut(luts());
-    let (rel, abs) = round_trip_errors(lut, 0, 1.0);
+    let (rel, abs) = round_trip_errors(lut, Rgb::R, 1.0);
     eprintln!(
         "LUT round trip: max abs {:.3} ε (linear), {:.3} ε (encoded)",
         rel / eps,
@@ -737,7 +730,7 @@ fn round_trips() {
     assert!(rel <= 2.0 * eps, "LUT decode∘encode: {} ε", rel / eps);
     assert!(abs <= eps, "LUT encode∘decode: {} ε", abs / eps);
     // Linear: exact.
-    let (rel, abs) = round_trip_errors(TransferFunction::Linear, 0, 1e-30);
+    let (rel, abs) = round_trip_errors(TransferFunction::Linear, Rgb::R, 1e-30);
     assert_eq!((rel, abs), (0.0, 0.0));
 }
 
@@ -820,7 +813,9 @@ fn channel_luts_reject_bad_tables_and_name_the_channel() {
             tables[c] = table;
             assert_eq!(
                 ChannelLuts::new(tables),
-                Err(Error::InvalidLut { channel: c as u8 }),
+                Err(Error::InvalidLut {
+                    channel: Rgb::ALL[c]
+                }),
                 "{table:?} in channel {c}"
             );
         }
@@ -843,7 +838,7 @@ fn channel_luts_reject_bad_tables_and_name_the_channel() {
     }
     // Usable in a const.
     const LUTS: Result<ChannelLuts, Error> = ChannelLuts::new([&[0.0, 1.0], &[0.0, 1.0], &[0.0]]);
-    assert_eq!(LUTS, Err(Error::InvalidLut { channel: 2 }));
+    assert_eq!(LUTS, Err(Error::InvalidLut { channel: Rgb::B }));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -934,8 +929,8 @@ fn error_messages() {
             "channel ? order 1 is not a defined rule",
         ),
         (
-            Error::InvalidLut { channel: 1 },
-            "lookup table for channel 1 needs 2 or more finite, non-decreasing entries in 0..=1",
+            Error::InvalidLut { channel: Rgb::G },
+            "lookup table for channel G needs 2 or more finite, non-decreasing entries in 0..=1",
         ),
     ];
     for (e, text) in cases {
@@ -976,7 +971,7 @@ fn batch_length_mismatch_on_empty_inputs() {
 #[test]
 fn encode_fast_input_handling() {
     for tf in transfers() {
-        for c in 0..3 {
+        for c in Rgb::ALL {
             // Exactly 0 is promised (see encode_fast_maps_nan_and_non_positive_to_exactly_zero,
             // ignored); at least 0 after quantizing and inside 0..=1.
             for low in [NAN, 0.0, -0.0, -1.0, -INF, -f32::MAX] {
@@ -1011,7 +1006,7 @@ fn encode_fast_input_handling() {
 fn encode_fast_maps_nan_and_non_positive_to_exactly_zero() {
     for tf in transfers() {
         for low in [NAN, 0.0, -0.0, -1.0, -INF] {
-            assert_eq!(tf.encode_fast(0, low), 0.0, "{tf:?} {low}");
+            assert_eq!(tf.encode_fast(Rgb::R, low), 0.0, "{tf:?} {low}");
         }
     }
 }
@@ -1030,9 +1025,9 @@ fn srgb_is_monotonic_across_its_join_for_every_f32() {
         let mut prev = f32::NEG_INFINITY;
         for x in consecutive(lo, hi) {
             let v = if decode {
-                tf.decode(0, x)
+                tf.decode(Rgb::R, x)
             } else {
-                tf.encode(0, x)
+                tf.encode(Rgb::R, x)
             };
             assert!(
                 v >= prev,
@@ -1054,7 +1049,7 @@ fn gamma_is_monotonic_between_neighbouring_f32() {
         for start in [1e-6f32, 0.01, 0.2, 0.7, 0.99] {
             let mut prev = (f32::NEG_INFINITY, f32::NEG_INFINITY);
             for x in consecutive(start, f32::from_bits(start.to_bits() + 200_000).min(1.0)) {
-                let v = (tf.encode(0, x), tf.decode(0, x));
+                let v = (tf.encode(Rgb::R, x), tf.decode(Rgb::R, x));
                 assert!(
                     v.0 >= prev.0 && v.1 >= prev.1,
                     "Gamma({g}) at {x:e}: {v:?} after {prev:?}"
@@ -1062,5 +1057,155 @@ fn gamma_is_monotonic_between_neighbouring_f32() {
                 prev = v;
             }
         }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Displays made at run time
+// ---------------------------------------------------------------------------------------------
+
+#[test]
+fn display_new_rebuilds_every_baked_display() {
+    for baked in displays::ALL {
+        let made = Display::new(
+            baked.name,
+            baked.primaries_xy,
+            baked.white_xy,
+            baked.transfer,
+        )
+        .unwrap_or_else(|e| panic!("{}: {e}", baked.name));
+        // The baked matrices come from the f64 decimals of the standards; `new` starts from the
+        // same values rounded to f32 (2⁻²⁴ relative each). The matrices' condition numbers are
+        // below 10, so the inputs' rounding moves an entry by less than 10 · 3 · 2⁻²⁴ ≈ 2e-6
+        // relative to the largest entry of its matrix, plus the output's own rounding (2⁻²⁴).
+        for (name, a, b) in [
+            ("rgb_to_xyz", made.rgb_to_xyz, baked.rgb_to_xyz),
+            ("xyz_to_rgb", made.xyz_to_rgb, baked.xyz_to_rgb),
+        ] {
+            let scale = b.iter().flatten().fold(0.0f32, |m, v| m.max(v.abs()));
+            for (r, (ra, rb)) in a.iter().zip(&b).enumerate() {
+                for (c, (x, y)) in ra.iter().zip(rb).enumerate() {
+                    assert!(
+                        (x - y).abs() <= 2e-6 * scale,
+                        "{} {name}[{r}][{c}]: {x} vs baked {y}",
+                        baked.name
+                    );
+                }
+            }
+        }
+        for (x, y) in made.a_from_rgb.iter().zip(&baked.a_from_rgb) {
+            assert!(
+                (x - y).abs() <= 2e-6 * y.abs().max(1.0),
+                "{}: A {x} vs {y}",
+                baked.name
+            );
+        }
+        assert_eq!(made.transfer, baked.transfer);
+    }
+}
+
+#[test]
+fn display_new_refuses_bad_input_with_its_error() {
+    let srgb = displays::SRGB;
+    let (p, w) = (srgb.primaries_xy, srgb.white_xy);
+    let new = |p: [[f32; 2]; 3], w: [f32; 2], t: TransferFunction| Display::new("test", p, w, t);
+    for bad in [
+        [NAN, 0.3],
+        [0.3, INF],
+        [-0.1, 0.3],
+        [0.3, 0.0],
+        [0.7, 0.5],
+        [0.3, -0.2],
+    ] {
+        assert_eq!(
+            new([bad, p[1], p[2]], w, TransferFunction::Srgb),
+            Err(Error::InvalidChromaticity),
+            "primary {bad:?}"
+        );
+        assert_eq!(
+            new(p, bad, TransferFunction::Srgb),
+            Err(Error::InvalidChromaticity),
+            "white {bad:?}"
+        );
+    }
+    // Collinear primaries (all on x = y), and two equal ones.
+    assert_eq!(
+        new(
+            [[0.2, 0.2], [0.4, 0.4], [0.3, 0.3]],
+            w,
+            TransferFunction::Srgb
+        ),
+        Err(Error::SingularPrimaries)
+    );
+    assert_eq!(
+        new([p[0], p[0], p[2]], w, TransferFunction::Srgb),
+        Err(Error::SingularPrimaries)
+    );
+    // A white no positive mix of the primaries reaches.
+    assert_eq!(
+        new(p, [0.1, 0.8], TransferFunction::Srgb),
+        Err(Error::WhiteOutsideGamut)
+    );
+    for g in [0.0, -2.2, NAN, INF, -0.0] {
+        assert_eq!(
+            new(p, w, TransferFunction::Gamma(g)),
+            Err(Error::InvalidGamma),
+            "γ = {g}"
+        );
+    }
+    assert!(new(p, w, TransferFunction::Gamma(2.2)).is_ok());
+    // Every error prints a sentence.
+    for e in [
+        Error::InvalidChromaticity,
+        Error::SingularPrimaries,
+        Error::WhiteOutsideGamut,
+        Error::InvalidGamma,
+    ] {
+        assert!(e.to_string().len() > 10);
+    }
+}
+
+#[test]
+fn display_new_never_panics_and_accepts_only_finite_matrices() {
+    // Arbitrary bit patterns, specials and near-degenerate triangles.
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    let mut next = || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        match state % 4 {
+            0 => f32::from_bits((state >> 32) as u32),
+            1 => [NAN, INF, -INF, 0.0, -0.0, SUB_MIN, 1.0, f32::MAX][(state >> 8) as usize % 8],
+            _ => ((state >> 40) as f32) / (1u64 << 24) as f32,
+        }
+    };
+    let mut accepted = 0;
+    for _ in 0..200_000 {
+        let p = [[next(), next()], [next(), next()], [next(), next()]];
+        let w = [next(), next()];
+        if let Ok(d) = Display::new("fuzz", p, w, TransferFunction::Srgb) {
+            accepted += 1;
+            let all = d.rgb_to_xyz.iter().chain(&d.xyz_to_rgb).flatten();
+            assert!(all.clone().all(|v| v.is_finite()), "{p:?} {w:?}");
+            assert!(d.a_from_rgb.iter().all(|v| v.is_finite()), "{p:?} {w:?}");
+        }
+    }
+    // A few random triangles are valid displays (22 of these 200 000 inputs).
+    assert!(accepted > 0);
+    // Every sRGB chromaticity moved by up to ±0.02 is still a valid display.
+    for k in 0..1000 {
+        let j = |i: usize| (((k * 7 + i * 13) % 41) as f32 - 20.0) / 1000.0;
+        let s = displays::SRGB;
+        let p = [0, 1, 2].map(|c| {
+            [
+                s.primaries_xy[c][0] + j(2 * c),
+                s.primaries_xy[c][1] + j(2 * c + 1),
+            ]
+        });
+        let w = [s.white_xy[0] + j(6), s.white_xy[1] + j(7)];
+        assert!(
+            Display::new("jitter", p, w, TransferFunction::Srgb).is_ok(),
+            "{p:?} {w:?}"
+        );
     }
 }

@@ -15,7 +15,7 @@ use std::hint::black_box;
 use spectral_quadrature::tables::{self, displays, folded, rules};
 use spectral_quadrature::{
     ac1c2_from_xyz, quantize_u16, quantize_u8, xyz_from_ac1c2, ChannelLuts, Display, DynamicSet,
-    Error, GamutMapping, TransferFunction,
+    Error, FoldedSet, GamutMapping, Rgb, TransferFunction,
 };
 
 struct Counting;
@@ -154,10 +154,10 @@ fn per_pixel_paths_do_not_allocate() {
             black_box(display.xyz_from_linear(black_box([0.3, 0.4, 0.5])));
             black_box(tables::TABLE2_ROW1.fold(display, 1.0 / tables::UNIT_SPECTRUM_Y));
             for mapping in MAPPINGS {
-                black_box(FOLDED_ROW1[j].encode_u8(display, mapping, &s6));
-                black_box(FOLDED_ROW1[j].encode_u16(display, mapping, &specials6));
-                black_box(FOLDED_ROW2[j].encode_u8(display, mapping, &s4));
-                black_box(FOLDED_ROW2[j].encode_u16(display, mapping, &s4));
+                black_box(FOLDED_ROW1[j].encode_u8(mapping, &s6));
+                black_box(FOLDED_ROW1[j].encode_u16(mapping, &specials6));
+                black_box(FOLDED_ROW2[j].encode_u8(mapping, &s4));
+                black_box(FOLDED_ROW2[j].encode_u16(mapping, &s4));
             }
         }
     });
@@ -203,7 +203,7 @@ fn transfer_functions_and_luts_do_not_allocate() {
     ]);
     assert_no_alloc("encode / decode / quantize", || {
         for tf in &transfers {
-            for c in 0..4 {
+            for c in Rgb::ALL {
                 for &x in &xs {
                     black_box(tf.encode(c, x));
                     black_box(tf.decode(c, x));
@@ -238,9 +238,14 @@ fn batch_apis_do_not_allocate() {
         results[0] = set.linear_rgb_batch(&pixels, &mut lin);
         results[1] = tables::TABLE2_ROW1.ac1c2_batch(&pixels, &mut ac);
         for display in &displays {
+            // The same weights with each display's transfer function, to run every encoder.
+            let set = FoldedSet {
+                display: *display,
+                ..set
+            };
             for mapping in MAPPINGS {
-                results[2] = set.encode_u8_batch(display, mapping, &pixels, &mut out8);
-                results[3] = set.encode_u16_batch(display, mapping, &pixels, &mut out16);
+                results[2] = set.encode_u8_batch(mapping, &pixels, &mut out8);
+                results[3] = set.encode_u16_batch(mapping, &pixels, &mut out16);
             }
         }
         // The error path too.
@@ -259,7 +264,11 @@ fn batch_apis_do_not_allocate() {
     assert_eq!(lin[5], set.linear_rgb(&pixels[5]));
     assert_eq!(
         out16[9],
-        set.encode_u16(&displays[4], GamutMapping::PreserveA, &pixels[9])
+        FoldedSet {
+            display: displays[displays.len() - 1],
+            ..set
+        }
+        .encode_u16(GamutMapping::PreserveA, &pixels[9])
     );
 }
 
@@ -333,7 +342,7 @@ fn dynamic_sets_and_errors_do_not_allocate() {
                 channel: 2,
                 order: 4,
             },
-            Error::InvalidLut { channel: 0 },
+            Error::InvalidLut { channel: Rgb::R },
         ] {
             text.len = 0;
             write!(text, "{e}").expect("fits in 128 bytes");
@@ -342,7 +351,7 @@ fn dynamic_sets_and_errors_do_not_allocate() {
     });
     assert_eq!(
         std::str::from_utf8(&text.buf[..text.len]).unwrap(),
-        "lookup table for channel 0 needs 2 or more finite, non-decreasing entries in 0..=1"
+        "lookup table for channel R needs 2 or more finite, non-decreasing entries in 0..=1"
     );
 }
 
@@ -362,15 +371,17 @@ fn planar_paths_never_allocate() {
     let displays = all_displays();
     assert_no_alloc("planar paths", || {
         for display in &displays {
+            let set = FoldedSet {
+                display: *display,
+                ..set
+            };
             for mapping in MAPPINGS {
-                let _ =
-                    black_box(set.encode_u8_planar(display, mapping, black_box(samples), &mut out));
+                let _ = black_box(set.encode_u8_planar(mapping, black_box(samples), &mut out));
             }
         }
         let [r, g, b] = &mut lin;
         let _ = black_box(set.linear_rgb_planar(black_box(samples), [r, g, b]));
-        let _ =
-            black_box(set.encode_u8_planar(&displays::SRGB, GamutMapping::Clip, samples, &mut bad));
+        let _ = black_box(set.encode_u8_planar(GamutMapping::Clip, samples, &mut bad));
         let _ = black_box(spectral_quadrature::srgb8_from_linear(black_box(0.5)));
     });
 }

@@ -78,6 +78,20 @@ pub fn generate(crate_dir: &Path, scene: Option<&OsStr>) -> Result<Output, Strin
         ),
     );
     let resolved = scene.resolve(&d).map_err(|e| e.to_string())?;
+    // Every data file a baked set was made from, after the observer and the scene's own files.
+    let sets = resolved.colour_sets.iter().chain(&resolved.rule_sets);
+    for label in sets.flat_map(|s| super::catalog::input_files(&s.name)) {
+        if inputs.iter().any(|(l, _)| *l == label) {
+            continue;
+        }
+        let path = super::data_path(&data_dir, &label);
+        match std::fs::read(&path) {
+            Ok(bytes) => inputs.push((label, super::sha256_hex(&bytes))),
+            // The node cache is optional: without it the build searched.
+            Err(_) if label == super::shared::CACHE_FILE => {}
+            Err(e) => return Err(std::format!("{label}: cannot read {}: {e}", path.display())),
+        }
+    }
     let tables_rs = super::codegen::tables_rs(&d, &inputs, &resolved)
         .map_err(|e| std::format!("code generation failed: {e}"))?;
     let [wgsl, glsl] = shaders(&d, &resolved)?;

@@ -96,6 +96,7 @@ pub fn resolve(d: &Derivation, name: &str) -> Result<WavelengthSet, String> {
             ),
             wavelengths_nm: u.wavelengths_nm,
             weights,
+            light: None,
         });
     }
     if let Some(n) = name.strip_prefix("INTERP_A_") {
@@ -146,6 +147,7 @@ pub fn resolve(d: &Derivation, name: &str) -> Result<WavelengthSet, String> {
                 ),
                 wavelengths_nm: r.nodes_nm.clone(),
                 weights,
+                light: None,
             });
         }
     }
@@ -172,6 +174,21 @@ pub fn colour_set_names(d: &Derivation) -> Vec<String> {
     }
     names.extend(UNIFORM_SIZES.map(|n| std::format!("UNIFORM_{n}")));
     names
+}
+
+/// The data files (labels `data/<file>`) the set called `name` is made from besides the
+/// observer: a shared set's training reflectances, its light and the node cache
+/// ([`shared::CACHE_FILE`]). Empty for the sets the observer alone determines.
+pub fn input_files(name: &str) -> Vec<String> {
+    let Some(rest) = name.strip_prefix("KQ_") else {
+        return Vec::new();
+    };
+    let mut files = std::vec![shared::TRAINING_FILE.to_string()];
+    if let Some((light, _)) = rest.rsplit_once('_') {
+        files.push(std::format!("data/illuminant_{light}.csv"));
+    }
+    files.push(shared::CACHE_FILE.to_string());
+    files
 }
 
 /// The built-in illuminants a `KQ_<light>_<n>` may name.

@@ -18,6 +18,9 @@ pub struct WavelengthSet {
     pub wavelengths_nm: Vec<f64>,
     /// `weights[channel][i]` for channels A, C1, C2, for dλ in nm.
     pub weights: [Vec<f64>; 3],
+    /// The light folded into the weights (the samples are reflectances under it), or `None`
+    /// for a set that takes radiances.
+    pub light: Option<String>,
 }
 
 /// Two nodes closer than this (nm) are the same wavelength when rules are merged; nodes printed
@@ -63,6 +66,7 @@ impl WavelengthSet {
             doc: doc.into(),
             wavelengths_nm: wavelengths,
             weights,
+            light: None,
         })
     }
 
@@ -117,6 +121,7 @@ impl WavelengthSet {
             doc: doc.into(),
             wavelengths_nm,
             weights,
+            light: self.light.clone(),
         }
     }
 

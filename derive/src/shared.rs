@@ -650,6 +650,7 @@ impl Shared {
             ),
             wavelengths_nm: self.wavelengths_nm.clone(),
             weights: super::display::fold(&d.opponent.xyz_to_ac1c2, &self.xyz_weights, 1.0),
+            light: self.light.clone(),
         }
     }
 }
@@ -905,5 +906,6 @@ pub fn interpolatory_a(d: &Derivation, n: usize, name: &str) -> Result<Wavelengt
             interpolatory_weights(&d.measures[1], &r.nodes_nm),
             interpolatory_weights(&d.measures[2], &r.nodes_nm),
         ],
+        light: None,
     })
 }

@@ -143,23 +143,23 @@ fn check_folded<const N: usize>(
     for mapping in MAPPINGS {
         let mut q8 = vec![[fill_u8; 3]; n];
         let mut q16 = vec![[fill_u16; 3]; n];
-        assert_eq!(set.encode_u8_batch(display, mapping, s, &mut q8), Ok(()));
-        assert_eq!(set.encode_u16_batch(display, mapping, s, &mut q16), Ok(()));
+        assert_eq!(set.encode_u8_batch(mapping, s, &mut q8), Ok(()));
+        assert_eq!(set.encode_u16_batch(mapping, s, &mut q16), Ok(()));
         for p in 0..n {
             assert_eq!(
                 q8[p],
-                set.encode_u8(display, mapping, &s[p]),
+                set.encode_u8(mapping, &s[p]),
                 "encode_u8_batch {name} {mapping:?} N={N} pixel {p}"
             );
             assert_eq!(
                 q16[p],
-                set.encode_u16(display, mapping, &s[p]),
+                set.encode_u16(mapping, &s[p]),
                 "encode_u16_batch {name} {mapping:?} N={N} pixel {p}"
             );
         }
         let mut bad8 = vec![[fill_u8; 3]; wrong];
         mismatch(
-            set.encode_u8_batch(display, mapping, s, &mut bad8),
+            set.encode_u8_batch(mapping, s, &mut bad8),
             n,
             wrong,
             "encode_u8_batch",
@@ -167,7 +167,7 @@ fn check_folded<const N: usize>(
         untouched(&bad8, [fill_u8; 3], "encode_u8_batch");
         let mut bad16 = vec![[fill_u16; 3]; wrong];
         mismatch(
-            set.encode_u16_batch(display, mapping, s, &mut bad16),
+            set.encode_u16_batch(mapping, s, &mut bad16),
             n,
             wrong,
             "encode_u16_batch",

@@ -574,7 +574,7 @@ fn encode_bound(transfer: TransferFunction, x: f32) -> f64 {
     }
     if x < f32::MIN_POSITIVE {
         // The device may read a subnormal as 0 and encode it as 0.
-        return f64::from(transfer.encode(0, x));
+        return f64::from(transfer.encode(spectral_quadrature::Rgb::R, x));
     }
     let xf = f64::from(x);
     match transfer {

@@ -8,7 +8,7 @@ use std::sync::OnceLock;
 
 use spectral_quadrature::tables::{self, displays, folded};
 use spectral_quadrature::{
-    f32_budget, quantize_u16, quantize_u8, Display, FoldedSet, GamutMapping, WavelengthSet,
+    f32_budget, quantize_u16, quantize_u8, Display, FoldedSet, GamutMapping, Rgb, WavelengthSet,
 };
 use spectral_quadrature_derive::{derive, Settings};
 
@@ -306,7 +306,7 @@ pub fn clamp01(v: f32) -> f32 {
 ///   otherwise keeps A (clamped to black..white) and leaves in-gamut colours alone.
 pub fn check_display(display: &Display, rgb: [f32; 3]) {
     let tf = display.transfer;
-    let zero_is_black = (0..3).all(|c| tf.encode(c, 0.0) == 0.0);
+    let zero_is_black = Rgb::ALL.into_iter().all(|c| tf.encode(c, 0.0) == 0.0);
     let has_nan = rgb.iter().any(|v| v.is_nan());
     let has_inf = rgb.iter().any(|v| v.is_infinite());
     for mapping in MAPPINGS {
@@ -331,7 +331,11 @@ pub fn check_display(display: &Display, rgb: [f32; 3]) {
             "encode {e:?} not in 0..=1: {}",
             ctx()
         );
-        let expect = [tf.encode(0, m[0]), tf.encode(1, m[1]), tf.encode(2, m[2])];
+        let expect = [
+            tf.encode(Rgb::R, m[0]),
+            tf.encode(Rgb::G, m[1]),
+            tf.encode(Rgb::B, m[2]),
+        ];
         assert_eq!(e, expect, "encode is not map_gamut + transfer: {}", ctx());
         let q8 = display.encode_u8(rgb, mapping);
         assert_eq!(
@@ -438,8 +442,8 @@ pub fn check_folded<const N: usize>(
     check_product(what, &set.weights, w64, s, lin);
     check_display(display, lin);
     for mapping in MAPPINGS {
-        let q8 = set.encode_u8(display, mapping, s);
-        let q16 = set.encode_u16(display, mapping, s);
+        let q8 = set.encode_u8(mapping, s);
+        let q16 = set.encode_u16(mapping, s);
         assert_eq!(
             q8,
             display.encode_u8(lin, mapping),

@@ -328,9 +328,11 @@ fn time_set(set: &EvalSet, stimuli: &[Stimulus], runs: usize) -> Result<f64, Str
 /// stimuli, sampled at the set's wavelengths.
 fn time_n<const N: usize>(set: &EvalSet, stimuli: &[Stimulus], runs: usize) -> f64 {
     let m = tables::XYZ_TO_AC1C2;
+    // The report times sets on radiances: the light (if any) is already in the stimuli.
     let mut ws = WavelengthSet::<N> {
         wavelengths_nm: [0.0; N],
         weights: [[0.0; N]; 3],
+        samples: spectral_quadrature::Samples::Radiance,
     };
     for i in 0..N {
         ws.wavelengths_nm[i] = set.wavelengths_nm[i] as f32;
