@@ -1,5 +1,5 @@
 //! What the runtime's `build.rs` does, as a library function: read the scene named by
-//! [`SCENE_ENV`](super::scene::SCENE_ENV) (or take the default one), run the derivation on the
+//! [`SCENE_ENV`] (or take the default one), run the derivation on the
 //! runtime crate's `data/`, and generate `tables.rs` and the shader snippets.
 //!
 //! ```no_run

@@ -2,7 +2,7 @@
 //! to Gauss rules, the shared (kernel-quadrature) sets, scenes, and the code generation of the
 //! runtime's `const` tables and shader snippets.
 //!
-//! The runtime's `build.rs` calls [`build::run`] with the path of its `data/` directory (as
+//! The runtime's `build.rs` calls [`build::generate`] with the path of its `data/` directory (as
 //! chrono-tz's build script calls chrono-tz-build); the tests compare the baked tables with a
 //! fresh derivation; the desk tools (report, planner) build on it; and users can run it with
 //! their own settings or data:
