@@ -84,12 +84,11 @@ pub fn generate(crate_dir: &Path, scene: Option<&OsStr>) -> Result<Output, Strin
         if inputs.iter().any(|(l, _)| *l == label) {
             continue;
         }
-        let path = super::data_path(&data_dir, &label);
-        match std::fs::read(&path) {
+        match super::read_data(&data_dir, &label) {
             Ok(bytes) => inputs.push((label, super::sha256_hex(&bytes))),
             // The node cache is optional: without it the build searched.
             Err(_) if label == super::shared::CACHE_FILE => {}
-            Err(e) => return Err(std::format!("{label}: cannot read {}: {e}", path.display())),
+            Err(e) => return Err(e.to_string()),
         }
     }
     let tables_rs = super::codegen::tables_rs(&d, &inputs, &resolved)

@@ -76,12 +76,7 @@ impl Spectra {
                 message: "not one of the crate's data files".into(),
             });
         }
-        let path = super::data_path(data_dir, file);
-        let text = std::fs::read_to_string(&path).map_err(|e| DataError {
-            file: file.into(),
-            line: 0,
-            message: std::format!("cannot read {}: {e}", path.display()),
-        })?;
+        let text = super::read_data_text(data_dir, file)?;
         Self::parse(file, &text)
     }
 

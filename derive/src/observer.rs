@@ -138,12 +138,7 @@ impl ObserverId {
     /// Reads and parses the table from `data_dir` (laid out like the runtime crate's `data/`).
     /// Errors name the file (as [`file`](Self::file)) and line.
     pub fn load(self, data_dir: &std::path::Path) -> Result<Observer, DataError> {
-        let path = super::data_path(data_dir, self.file());
-        let text = std::fs::read_to_string(&path).map_err(|e| DataError {
-            file: self.file().into(),
-            line: 0,
-            message: std::format!("cannot read {}: {e}", path.display()),
-        })?;
+        let text = super::read_data_text(data_dir, self.file())?;
         Observer::parse(self.name(), self.file(), &text)
     }
 }

@@ -716,11 +716,8 @@ pub struct CacheEntry {
 /// observer table, the range, the training reflectances, the light's file, and the kernel and
 /// search constants. A cached entry is used only while its fingerprint matches.
 pub fn fingerprint(d: &Derivation, light: Option<&str>) -> Result<String, String> {
-    let read = |label: &str| {
-        let path = d.settings.data_file(label);
-        std::fs::read(&path)
-            .map_err(|e| std::format!("{label}: cannot read {}: {e}", path.display()))
-    };
+    let read =
+        |label: &str| super::read_data(&d.settings.data_dir, label).map_err(|e| e.to_string());
     let mut text = std::format!(
         "observer {} {}\nrange {:?}\ntraining {}\nkernel matern52 {LENGTH_NM} empirical {EMPIRICAL_WEIGHT} nugget {NUGGET}\nsearch starts {RANDOM_STARTS} move {MAX_MOVE}\n",
         d.observer.file,
@@ -742,13 +739,7 @@ pub fn read_cache(data_dir: &std::path::Path) -> Result<Vec<CacheEntry>, super::
     let text = match std::fs::read_to_string(&path) {
         Ok(t) => t,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
-        Err(e) => {
-            return Err(super::DataError {
-                file: CACHE_FILE.into(),
-                line: 0,
-                message: std::format!("cannot read {}: {e}", path.display()),
-            })
-        }
+        Err(e) => return Err(super::read_error(CACHE_FILE, &path, &e)),
     };
     parse_cache(CACHE_FILE, &text)
 }
