@@ -13,7 +13,8 @@ fn main() {
         std::env::var_os("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR"),
     );
     let scene = std::env::var_os(SCENE_ENV);
-    let out = build::generate(&crate_dir, scene.as_deref()).unwrap_or_else(|e| fail(&e));
+    let out =
+        build::generate(&crate_dir, scene.as_deref()).unwrap_or_else(|e| fail(&e.to_string()));
     for path in &out.rerun_if_changed {
         println!("cargo:rerun-if-changed={}", path.display());
     }

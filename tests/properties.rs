@@ -73,6 +73,8 @@ fn folded64() -> &'static [[[Vec<f64>; 3]; 4]; 2] {
             assert_eq!(d.displays[j].0.name, consts[j], "display order");
             let primaries = d.displays[j].0.primaries_xy.map(|p| p.map(|v| v as f32));
             assert_eq!(display.primaries_xy, primaries, "{}", display.name);
+            // One description: the baked human name is the derivation's label.
+            assert_eq!(display.name, d.displays[j].0.label, "display name");
         }
         [0, 1].map(|k| [0, 1, 2, 3].map(|j| d.folded(&d.table2[k], &d.displays[j].1)))
     })

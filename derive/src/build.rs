@@ -17,6 +17,7 @@ use std::vec::Vec;
 
 use super::scene::{Resolved, Scene, SCENE_ENV};
 use super::shader::{snippet, Language};
+use super::{DataError, Error};
 
 /// The generated sources and what Cargo must watch.
 #[derive(Debug, Clone, PartialEq)]
@@ -33,9 +34,9 @@ pub struct Output {
 
 /// Runs the whole generation for the crate at `crate_dir` (its `data/` holds the data files).
 /// `scene`: the value of [`SCENE_ENV`], a path relative to `crate_dir` (or absolute); `None`
-/// for the default scene. Errors are messages naming the file and line where a file is at
-/// fault.
-pub fn generate(crate_dir: &Path, scene: Option<&OsStr>) -> Result<Output, String> {
+/// for the default scene. Errors name the file and line where a file is at fault (the scene,
+/// a data file); a derivation the scene's settings do not allow is [`Error::At`] the scene.
+pub fn generate(crate_dir: &Path, scene: Option<&OsStr>) -> Result<Output, Error> {
     let data_dir = crate_dir.join("data");
     let mut rerun = std::vec![data_dir.clone()];
     let mut inputs = Vec::new();
@@ -47,10 +48,13 @@ pub fn generate(crate_dir: &Path, scene: Option<&OsStr>) -> Result<Output, Strin
             // Inside the crate, name files relative to it, so the header does not depend on
             // where the crate lives.
             let label = relative_label(crate_dir, &path);
-            let text = std::fs::read_to_string(&path)
-                .map_err(|e| std::format!("{label}: cannot read the scene ({SCENE_ENV}): {e}"))?;
+            let text = std::fs::read_to_string(&path).map_err(|e| DataError {
+                file: label.clone(),
+                line: 0,
+                message: std::format!("cannot read the scene ({SCENE_ENV}): {e}"),
+            })?;
             inputs.push((label.clone(), super::sha256_hex(text.as_bytes())));
-            let mut scene = Scene::parse(&label, &text, &data_dir).map_err(|e| e.to_string())?;
+            let mut scene = Scene::parse(&label, &text, &data_dir)?;
             // The scene's own relative paths were resolved against its label: make them
             // absolute again.
             if let Some(p) = scene.plan.as_mut() {
@@ -68,8 +72,7 @@ pub fn generate(crate_dir: &Path, scene: Option<&OsStr>) -> Result<Output, Strin
             scene
         }
     };
-    let d = super::derive(&scene.settings)
-        .map_err(|e| std::format!("{}: derivation failed: {e}", scene.file))?;
+    let d = super::derive(&scene.settings).map_err(|e| e.at(&scene.file, 0))?;
     inputs.insert(
         0,
         (
@@ -77,7 +80,7 @@ pub fn generate(crate_dir: &Path, scene: Option<&OsStr>) -> Result<Output, Strin
             d.observer.sha256.clone(),
         ),
     );
-    let resolved = scene.resolve(&d).map_err(|e| e.to_string())?;
+    let resolved = scene.resolve(&d)?;
     // Every data file a baked set was made from, after the observer and the scene's own files.
     let sets = resolved.colour_sets.iter().chain(&resolved.rule_sets);
     for label in sets.flat_map(|s| super::catalog::input_files(&s.name)) {
@@ -88,11 +91,10 @@ pub fn generate(crate_dir: &Path, scene: Option<&OsStr>) -> Result<Output, Strin
             Ok(bytes) => inputs.push((label, super::sha256_hex(&bytes))),
             // The node cache is optional: without it the build searched.
             Err(_) if label == super::shared::CACHE_FILE => {}
-            Err(e) => return Err(e.to_string()),
+            Err(e) => return Err(e.into()),
         }
     }
-    let tables_rs = super::codegen::tables_rs(&d, &inputs, &resolved)
-        .map_err(|e| std::format!("code generation failed: {e}"))?;
+    let tables_rs = super::codegen::tables_rs(&d, &inputs, &resolved)?;
     let [wgsl, glsl] = shaders(&d, &resolved)?;
     Ok(Output {
         tables_rs,
@@ -103,10 +105,11 @@ pub fn generate(crate_dir: &Path, scene: Option<&OsStr>) -> Result<Output, Strin
 }
 
 /// The scene's shader snippets, WGSL and GLSL.
-fn shaders(d: &super::Derivation, scene: &Resolved) -> Result<[String; 2], String> {
-    let one =
-        |lang| snippet(d, scene, lang).map_err(|e| std::format!("shader generation failed: {e}"));
-    Ok([one(Language::Wgsl)?, one(Language::Glsl)?])
+fn shaders(d: &super::Derivation, scene: &Resolved) -> Result<[String; 2], Error> {
+    Ok([
+        snippet(d, scene, Language::Wgsl)?,
+        snippet(d, scene, Language::Glsl)?,
+    ])
 }
 
 fn relative_label(crate_dir: &Path, path: &Path) -> String {

@@ -17,7 +17,7 @@ use std::vec::Vec;
 use super::evaluate;
 use super::sets::{WavelengthSet, CHANNELS};
 use super::shared;
-use super::Derivation;
+use super::{Derivation, Error, SetNameProblem};
 
 /// Uniform sets the crate builds: `UNIFORM_3` to `UNIFORM_64`.
 pub const UNIFORM_SIZES: core::ops::RangeInclusive<usize> = 3..=64;
@@ -31,30 +31,36 @@ pub fn is_single_channel(name: &str) -> bool {
     ["A_", "C1_", "C2_"].iter().any(|p| name.starts_with(p))
 }
 
-/// The set called `name`, or a message saying why there is none (unknown form, order beyond
-/// the derivation's maximum, undefined rule and its reason).
-pub fn resolve(d: &Derivation, name: &str) -> Result<WavelengthSet, String> {
-    let order = |s: &str| -> Result<usize, String> {
-        s.parse::<usize>()
-            .map_err(|_| std::format!("{name}: {s:?} is not an order"))
+/// The set called `name`, or an error saying why there is none (unknown form, order beyond
+/// the derivation's maximum, undefined rule and its reason, a size the family lacks, an unknown
+/// light), or why building it failed ([`Error::InSet`]).
+pub fn resolve(d: &Derivation, name: &str) -> Result<WavelengthSet, Error> {
+    let problem = |problem: SetNameProblem| Error::SetName {
+        name: name.into(),
+        problem,
     };
-    let rule = |c: usize, n: usize| -> Result<&super::Rule, String> {
+    let order = |s: &str| -> Result<usize, Error> {
+        s.parse::<usize>()
+            .map_err(|_| problem(SetNameProblem::NotAnOrder(s.into())))
+    };
+    let rule = |c: usize, n: usize| -> Result<&super::Rule, Error> {
         let max = d.settings.max_order;
         let r = d.rules[c].get(n.wrapping_sub(1)).ok_or_else(|| {
-            std::format!(
-                "{name}: {} order {n} is not among the derived orders 1..={max}",
-                CHANNELS[c]
-            )
+            problem(SetNameProblem::OrderNotDerived {
+                channel: c,
+                order: n,
+                max,
+            })
         })?;
         if r.is_defined() {
             Ok(r)
         } else {
-            Err(std::format!(
-                "{name}: {} order {n} is undefined ({}: {})",
-                CHANNELS[c],
-                r.status.as_str(),
-                r.reason
-            ))
+            Err(problem(SetNameProblem::RuleUndefined {
+                channel: c,
+                order: n,
+                status: r.status.as_str(),
+                reason: r.reason.clone(),
+            }))
         }
     };
     if let Some(set) = d.table2.iter().find(|s| s.name == name) {
@@ -63,7 +69,9 @@ pub fn resolve(d: &Derivation, name: &str) -> Result<WavelengthSet, String> {
     if let Some(rest) = name.strip_prefix("AC1C2_") {
         let parts: Vec<&str> = rest.split('_').collect();
         if parts.len() != 3 {
-            return Err(std::format!("{name}: expected AC1C2_<a>_<c1>_<c2>"));
+            return Err(problem(SetNameProblem::Malformed {
+                expected: "AC1C2_<a>_<c1>_<c2>",
+            }));
         }
         let rules = [
             rule(0, order(parts[0])?)?,
@@ -81,11 +89,11 @@ pub fn resolve(d: &Derivation, name: &str) -> Result<WavelengthSet, String> {
     if let Some(n) = name.strip_prefix("UNIFORM_") {
         let n = order(n)?;
         if !UNIFORM_SIZES.contains(&n) {
-            return Err(std::format!(
-                "{name}: uniform sets have {} to {} wavelengths",
-                UNIFORM_SIZES.start(),
-                UNIFORM_SIZES.end()
-            ));
+            return Err(problem(SetNameProblem::Size {
+                family: "uniform",
+                size: n,
+                sizes: UNIFORM_SIZES,
+            }));
         }
         let u = evaluate::uniform(&d.observer, d.settings.range_nm, n);
         let weights = super::display::fold(&d.opponent.xyz_to_ac1c2, &u.xyz_weights, 1.0);
@@ -109,21 +117,24 @@ pub fn resolve(d: &Derivation, name: &str) -> Result<WavelengthSet, String> {
         };
         let n = order(n)?;
         if !shared::SIZES.contains(&n) {
-            return Err(std::format!(
-                "{name}: shared sets have {} to {} wavelengths",
-                shared::SIZES.start(),
-                shared::SIZES.end()
-            ));
+            return Err(problem(SetNameProblem::Size {
+                family: "shared",
+                size: n,
+                sizes: shared::SIZES,
+            }));
         }
         if let Some(l) = light {
             if evaluate::builtin_illuminant(&d.settings.data_dir, l, d.settings.range_nm).is_err() {
-                return Err(std::format!(
-                    "{name}: {l} is not a built-in illuminant (data/illuminant_<light>.csv: {})",
-                    builtin_lights().join(", ")
-                ));
+                return Err(problem(SetNameProblem::UnknownLight {
+                    light: l.into(),
+                    valid: builtin_lights().into_iter().map(String::from).collect(),
+                }));
             }
         }
-        let s = shared::cached_or_optimize(d, light, n).map_err(|e| std::format!("{name}: {e}"))?;
+        let s = shared::cached_or_optimize(d, light, n).map_err(|e| Error::InSet {
+            name: name.into(),
+            error: std::boxed::Box::new(e),
+        })?;
         return Ok(s.wavelength_set(d, name));
     }
     for (c, prefix) in ["A_", "C1_", "C2_"].iter().enumerate() {
@@ -151,7 +162,7 @@ pub fn resolve(d: &Derivation, name: &str) -> Result<WavelengthSet, String> {
             });
         }
     }
-    Err(std::format!("{name}: not a set name (forms: {NAME_FORMS})"))
+    Err(problem(SetNameProblem::UnknownForm))
 }
 
 /// The names of every set that serves all three channels: Table 2's rows, every defined

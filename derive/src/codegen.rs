@@ -10,13 +10,16 @@ use std::vec::Vec;
 use super::quadrature::Rule;
 use super::scene::Resolved;
 use super::sets::{WavelengthSet, CHANNELS};
-use super::Derivation;
+use super::{Derivation, Error};
 
 /// The literal for an f64 rounded to f32 (`as f32`), which must be finite.
-pub fn f32_literal(v: f64) -> Result<String, String> {
+pub fn f32_literal(v: f64) -> Result<String, Error> {
     let x = v as f32;
     if !x.is_finite() {
-        return Err(std::format!("value {v} is not finite as f32"));
+        return Err(Error::Literal {
+            value: v,
+            language: "Rust",
+        });
     }
     let mut s = std::format!("{x:?}");
     if !s.contains(['.', 'e', 'E']) {
@@ -25,12 +28,12 @@ pub fn f32_literal(v: f64) -> Result<String, String> {
     Ok(s)
 }
 
-fn list(values: &[f64]) -> Result<String, String> {
-    let items: Result<Vec<String>, String> = values.iter().map(|&v| f32_literal(v)).collect();
+fn list(values: &[f64]) -> Result<String, Error> {
+    let items: Result<Vec<String>, Error> = values.iter().map(|&v| f32_literal(v)).collect();
     Ok(std::format!("[{}]", items?.join(", ")))
 }
 
-fn matrix(m: &[[f64; 3]; 3]) -> Result<String, String> {
+fn matrix(m: &[[f64; 3]; 3]) -> Result<String, Error> {
     Ok(std::format!(
         "[{}, {}, {}]",
         list(&m[0])?,
@@ -39,7 +42,7 @@ fn matrix(m: &[[f64; 3]; 3]) -> Result<String, String> {
     ))
 }
 
-fn set_literal(set: &WavelengthSet) -> Result<String, String> {
+fn set_literal(set: &WavelengthSet) -> Result<String, Error> {
     Ok(std::format!(
         "WavelengthSet {{\n    wavelengths_nm: {},\n    weights: [\n        {},\n        {},\n        {},\n    ],\n    samples: {},\n}}",
         list(&set.wavelengths_nm)?,
@@ -58,18 +61,7 @@ fn samples_literal(set: &WavelengthSet) -> String {
     }
 }
 
-/// The display's human name for its const name.
-fn display_name(const_name: &str) -> &str {
-    match const_name {
-        "SRGB" => "sRGB",
-        "DISPLAY_P3" => "Display P3",
-        "REC2020" => "Rec. 2020",
-        "MEYER_1987" => "Meyer 1987 monitor",
-        other => other,
-    }
-}
-
-fn rule_literal(channel: usize, rule: &Rule) -> Result<String, String> {
+fn rule_literal(channel: usize, rule: &Rule) -> Result<String, Error> {
     let defined = rule.is_defined();
     let (nodes, weights) = if defined {
         (list(&rule.nodes_nm)?, list(&rule.weights)?)
@@ -114,7 +106,7 @@ pub fn tables_rs(
     d: &Derivation,
     inputs: &[(String, String)],
     scene: &Resolved,
-) -> Result<String, String> {
+) -> Result<String, Error> {
     let mut o = String::new();
     let s = &d.settings;
     let n_grid = d.grid_nm.len();
@@ -207,7 +199,7 @@ pub fn tables_rs(
             "/// The opponent sensitivities `[ā, c̄1, c̄2]` at each grid wavelength (Fig. 4)."
         )
         .ok();
-        let rows: Result<Vec<String>, String> = d.sensitivities.iter().map(|r| list(r)).collect();
+        let rows: Result<Vec<String>, Error> = d.sensitivities.iter().map(|r| list(r)).collect();
         writeln!(
             o,
             "pub const SENSITIVITIES: [[f32; 3]; GRID_LEN] = [\n    {},\n];\n",
@@ -226,7 +218,7 @@ pub fn tables_rs(
         writeln!(o, "pub const MAX_ORDER: usize = {max_order};").ok();
         for (c, name) in CHANNELS.iter().enumerate() {
             writeln!(o, "/// Channel {name}'s Gauss rules, `{name}_RULES[n - 1]` of order n: nodes and weights, or why the order is undefined.").ok();
-            let items: Result<Vec<String>, String> =
+            let items: Result<Vec<String>, Error> =
                 d.rules[c].iter().map(|r| rule_literal(c, r)).collect();
             writeln!(
                 o,
@@ -315,7 +307,7 @@ pub fn tables_rs(
                 o,
                 "    pub const {}: Display = Display {{\n        name: {:?},\n        primaries_xy: [{}, {}, {}],\n        white_xy: {},\n        rgb_to_xyz: {},\n        xyz_to_rgb: {},\n        a_from_rgb: {},\n        transfer: {transfer},\n    }};",
                 spec.name,
-                display_name(&spec.name),
+                spec.label,
                 list(&spec.primaries_xy[0])?,
                 list(&spec.primaries_xy[1])?,
                 list(&spec.primaries_xy[2])?,

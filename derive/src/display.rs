@@ -6,6 +6,8 @@ use std::vec::Vec;
 
 use nalgebra::Matrix3;
 
+use super::{DisplayProblem, Error};
+
 /// How a display encodes linear light.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Transfer {
@@ -18,10 +20,16 @@ pub enum Transfer {
 }
 
 /// A display: three primaries and a white point (CIE 1931 xy), and a transfer function.
+///
+/// [`standard_displays`] is the one description of each display the crate knows: the derivation
+/// derives its matrices once ([`crate::Derivation::displays`]), and code generation, shaders,
+/// scenes and the tools take name, label, primaries, white and transfer from there.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DisplaySpec {
-    /// The const name in generated code (upper snake case).
+    /// The const name in generated code (upper snake case), and the name scenes and tools use.
     pub name: String,
+    /// The human name (`"Display P3"`), baked as the runtime `Display`'s `name`.
+    pub label: String,
     /// One line for the doc comment.
     pub doc: String,
     /// Chromaticities of red, green and blue.
@@ -46,6 +54,7 @@ pub fn standard_displays() -> Vec<DisplaySpec> {
     std::vec![
         DisplaySpec {
             name: "SRGB".into(),
+            label: "sRGB".into(),
             doc: "sRGB / Rec. 709 primaries, D65 white, the sRGB transfer curve.".into(),
             primaries_xy: [[0.64, 0.33], [0.30, 0.60], [0.15, 0.06]],
             white_xy: D65_XY,
@@ -53,6 +62,7 @@ pub fn standard_displays() -> Vec<DisplaySpec> {
         },
         DisplaySpec {
             name: "DISPLAY_P3".into(),
+            label: "Display P3".into(),
             doc: "Display P3: DCI-P3 primaries, D65 white, the sRGB transfer curve.".into(),
             primaries_xy: [[0.680, 0.320], [0.265, 0.690], [0.150, 0.060]],
             white_xy: D65_XY,
@@ -60,6 +70,7 @@ pub fn standard_displays() -> Vec<DisplaySpec> {
         },
         DisplaySpec {
             name: "REC2020".into(),
+            label: "Rec. 2020".into(),
             doc: "Rec. 2020 primaries, D65 white, a pure 2.4 gamma (BT.1886 with zero black level).".into(),
             primaries_xy: [[0.708, 0.292], [0.170, 0.797], [0.131, 0.046]],
             white_xy: D65_XY,
@@ -67,6 +78,7 @@ pub fn standard_displays() -> Vec<DisplaySpec> {
         },
         DisplaySpec {
             name: "MEYER_1987".into(),
+            label: "Meyer 1987 monitor".into(),
             doc: "The paper's monitor: Eq. 18 phosphors, D65 white; white balance derived from them (Eq. 19 as transcribed is wrong). Its guns' measured curves are not published: a 2.2 gamma stands in; use a per-channel lookup table for a measured display.".into(),
             primaries_xy: [[0.64, 0.33], [0.29, 0.60], [0.15, 0.06]],
             white_xy: D65_XY,
@@ -88,26 +100,36 @@ pub struct DisplayMatrices {
     pub condition: f64,
 }
 
-fn xyz_of(xy: [f64; 2]) -> Result<[f64; 3], String> {
+fn xyz_of(name: &str, which: &'static str, xy: [f64; 2]) -> Result<[f64; 3], Error> {
     let [x, y] = xy;
     if !(x.is_finite() && y.is_finite()) || y <= 0.0 || x < 0.0 || x + y > 1.0 {
-        return Err(std::format!(
-            "chromaticity ({x}, {y}) is not a valid colour"
-        ));
+        return Err(Error::Display {
+            name: name.into(),
+            problem: DisplayProblem::Chromaticity { which, xy },
+        });
     }
     Ok([x / y, 1.0, (1.0 - x - y) / y])
 }
 
 /// Derives RGB ↔ XYZ: the primaries' XYZ columns scaled so that RGB = (1, 1, 1) is the white
-/// at Y = 1. Errors (naming the display) when a chromaticity is invalid, when the primaries are
-/// nearly collinear (condition number above [`MAX_CONDITION`]) or when the white point lies
-/// outside the primaries' triangle (a negative gun drive would be needed for white).
-pub fn display_matrices(spec: &DisplaySpec) -> Result<DisplayMatrices, String> {
+/// at Y = 1. Errors ([`Error::Display`], naming the display) when a chromaticity is invalid,
+/// when the primaries are nearly collinear (condition number above [`MAX_CONDITION`]) or when
+/// the white point lies outside the primaries' triangle (a negative gun drive would be needed
+/// for white).
+pub fn display_matrices(spec: &DisplaySpec) -> Result<DisplayMatrices, Error> {
     let name = &spec.name;
-    let cols: Result<Vec<[f64; 3]>, String> =
-        spec.primaries_xy.iter().map(|&p| xyz_of(p)).collect();
-    let cols = cols.map_err(|e| std::format!("display {name}: primary {e}"))?;
-    let white = xyz_of(spec.white_xy).map_err(|e| std::format!("display {name}: white {e}"))?;
+    let fail = |problem: DisplayProblem| Error::Display {
+        name: name.clone(),
+        problem,
+    };
+    let mut cols = [[0.0; 3]; 3];
+    for (c, which) in ["red primary", "green primary", "blue primary"]
+        .into_iter()
+        .enumerate()
+    {
+        cols[c] = xyz_of(name, which, spec.primaries_xy[c])?;
+    }
+    let white = xyz_of(name, "white", spec.white_xy)?;
     let p = Matrix3::from_fn(|i, j| cols[j][i]);
     let svd = p.svd(false, false);
     let (smax, smin) = (svd.singular_values.max(), svd.singular_values.min());
@@ -117,32 +139,41 @@ pub fn display_matrices(spec: &DisplaySpec) -> Result<DisplayMatrices, String> {
         f64::INFINITY
     };
     if condition.is_nan() || condition > MAX_CONDITION {
-        return Err(std::format!(
-            "display {name}: primaries are nearly collinear (condition number {condition:.3e} > threshold {MAX_CONDITION:e})"
-        ));
+        return Err(fail(DisplayProblem::Collinear { condition }));
     }
     let inv = p
         .try_inverse()
-        .ok_or_else(|| std::format!("display {name}: primaries matrix is singular"))?;
+        .ok_or_else(|| fail(DisplayProblem::Singular("primaries")))?;
     let s = inv * nalgebra::Vector3::new(white[0], white[1], white[2]);
     if s.iter().any(|v| v.is_nan() || *v <= 0.0) {
-        return Err(std::format!(
-            "display {name}: white point ({}, {}) lies outside the primaries' triangle (gun drives for white {:?})",
-            spec.white_xy[0],
-            spec.white_xy[1],
-            [s[0], s[1], s[2]]
-        ));
+        return Err(fail(DisplayProblem::WhiteOutside {
+            white_xy: spec.white_xy,
+            drives: [s[0], s[1], s[2]],
+        }));
     }
     let m = Matrix3::from_fn(|i, j| cols[j][i] * s[j]);
     let mi = m
         .try_inverse()
-        .ok_or_else(|| std::format!("display {name}: RGB to XYZ matrix is singular"))?;
+        .ok_or_else(|| fail(DisplayProblem::Singular("RGB to XYZ")))?;
     Ok(DisplayMatrices {
         rgb_to_xyz: to_array(&m),
         xyz_to_rgb: to_array(&mi),
         luminance: [s[0], s[1], s[2]],
         condition,
     })
+}
+
+/// The standard display called `name` ([`DisplaySpec::name`]), or [`Error::UnknownDisplay`]
+/// listing the valid names.
+pub fn standard_display(name: &str) -> Result<DisplaySpec, Error> {
+    let all = standard_displays();
+    match all.iter().position(|d| d.name == name) {
+        Some(i) => Ok(all[i].clone()),
+        None => Err(Error::UnknownDisplay {
+            name: name.into(),
+            valid: all.into_iter().map(|d| d.name).collect(),
+        }),
+    }
 }
 
 fn to_array(m: &Matrix3<f64>) -> [[f64; 3]; 3] {

@@ -301,7 +301,7 @@ pub fn full_integration(
     observer: &super::Observer,
     range_nm: [f64; 2],
     step: f64,
-) -> Result<EvalSet, String> {
+) -> Result<EvalSet, super::Error> {
     let rows = observer.grid_rows(range_nm[0], range_nm[1], step)?;
     let wavelengths: Vec<f64> = rows.iter().map(|&r| observer.wavelengths[r]).collect();
     let xyz_weights = [0, 1, 2].map(|c| rows.iter().map(|&r| observer.xyz[r][c] * step).collect());

@@ -35,6 +35,7 @@ pub mod build;
 pub mod catalog;
 pub mod codegen;
 pub mod display;
+pub mod error;
 pub mod evaluate;
 pub mod lab;
 pub mod observer;
@@ -51,6 +52,7 @@ use std::path::{Path, PathBuf};
 use std::string::String;
 use std::vec::Vec;
 
+pub use error::{DisplayProblem, Error, LightProblem, SetNameProblem};
 pub use observer::{Observer, ObserverId};
 pub use opponent::{Covariance, Opponent};
 pub use quadrature::{Measure, Recurrence, Rule, Status};
@@ -176,7 +178,8 @@ pub struct Derivation {
     /// ∫ ȳ dλ on the grid: the luminance Y of a spectrum of constant value 1. Folded sets divide
     /// by it, so that such a spectrum has Y = 1 (display white).
     pub unit_spectrum_y: f64,
-    /// The displays and their derived matrices.
+    /// The standard displays ([`display::standard_displays`]) and their matrices, derived once
+    /// here; scenes, code generation, shaders and the tools take them from here.
     pub displays: Vec<(display::DisplaySpec, display::DisplayMatrices)>,
 }
 
@@ -192,31 +195,20 @@ impl Derivation {
         let m = display::mul3(&matrices.xyz_to_rgb, &self.opponent.ac1c2_to_xyz);
         display::fold(&m, &set.weights, 1.0 / self.unit_spectrum_y)
     }
-}
 
-/// An error of the derivation: bad data or settings it cannot honour.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Error {
-    /// A data file is malformed.
-    Data(DataError),
-    /// The settings or the data do not allow the derivation (the message says why).
-    Settings(String),
-}
-
-impl core::fmt::Display for Error {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        match self {
-            Error::Data(e) => e.fmt(f),
-            Error::Settings(s) => f.write_str(s),
-        }
-    }
-}
-
-impl std::error::Error for Error {}
-
-impl From<DataError> for Error {
-    fn from(e: DataError) -> Self {
-        Error::Data(e)
+    /// The display called `name` and its matrices, or [`Error::UnknownDisplay`] listing the
+    /// valid names.
+    pub fn display(
+        &self,
+        name: &str,
+    ) -> Result<&(display::DisplaySpec, display::DisplayMatrices), Error> {
+        self.displays
+            .iter()
+            .find(|(s, _)| s.name == name)
+            .ok_or_else(|| Error::UnknownDisplay {
+                name: name.into(),
+                valid: self.displays.iter().map(|(s, _)| s.name.clone()).collect(),
+            })
     }
 }
 
@@ -239,9 +231,7 @@ pub fn derive_with(settings: &Settings, mut observer: Observer) -> Result<Deriva
         }
     }
     let [lo, hi] = settings.range_nm;
-    let rows = observer
-        .grid_rows(lo, hi, settings.step_nm)
-        .map_err(Error::Settings)?;
+    let rows = observer.grid_rows(lo, hi, settings.step_nm)?;
     if settings.max_order == 0 {
         return Err(Error::Settings("max_order must be at least 1".into()));
     }
@@ -256,8 +246,7 @@ pub fn derive_with(settings: &Settings, mut observer: Observer) -> Result<Deriva
     let xyz: Vec<[f64; 3]> = rows.iter().map(|&r| observer.xyz[r]).collect();
     let cones = opponent::cone_fundamentals(&xyz, &settings.cone_matrix);
     let covariance =
-        opponent::covariance_matrix(&cones, &grid_nm, settings.step_nm, &settings.covariance)
-            .map_err(Error::Settings)?;
+        opponent::covariance_matrix(&cones, &grid_nm, settings.step_nm, &settings.covariance)?;
     // Peaks are read off the observer's own (finest) table inside the range.
     let fine: Vec<[f64; 3]> = observer
         .wavelengths
@@ -266,8 +255,7 @@ pub fn derive_with(settings: &Settings, mut observer: Observer) -> Result<Deriva
         .filter(|(l, _)| **l >= lo - 1e-9 && **l <= hi + 1e-9)
         .map(|(_, v)| *v)
         .collect();
-    let opponent = opponent::karhunen_loeve(&covariance, &settings.cone_matrix, &fine)
-        .map_err(Error::Settings)?;
+    let opponent = opponent::karhunen_loeve(&covariance, &settings.cone_matrix, &fine)?;
     let sensitivities = opponent::sensitivities(&opponent, &xyz);
     let measures = [0, 1, 2].map(|c| {
         let w: Vec<f64> = sensitivities.iter().map(|s| s[c]).collect();
@@ -283,8 +271,7 @@ pub fn derive_with(settings: &Settings, mut observer: Observer) -> Result<Deriva
         "TABLE2_ROW1",
         "Table 2, first row: Gauss rules A order 3, C1 order 2, C2 order 1 (6 wavelengths).",
         [rules[0].get(2), rules[1].get(1), rules[2].first()],
-    )
-    .map_err(Error::Settings)?;
+    )?;
     let row2 = row1.snap_channel(
         "TABLE2_ROW2",
         "Table 2, second row: as row 1, with A's outer nodes moved onto C1's and A's weights made interpolatory (4 wavelengths).",
@@ -296,8 +283,7 @@ pub fn derive_with(settings: &Settings, mut observer: Observer) -> Result<Deriva
     let displays = display::standard_displays()
         .into_iter()
         .map(|spec| display::display_matrices(&spec).map(|m| (spec, m)))
-        .collect::<Result<Vec<_>, String>>()
-        .map_err(Error::Settings)?;
+        .collect::<Result<Vec<_>, Error>>()?;
     Ok(Derivation {
         unit_spectrum_y,
         displays,

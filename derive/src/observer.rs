@@ -189,45 +189,51 @@ impl Observer {
 
     /// Indices of the rows on the grid `start, start + step, ..., end` (inclusive), or an error
     /// saying why that grid is not a subset of this table.
-    pub fn grid_rows(&self, start: f64, end: f64, step: f64) -> Result<Vec<usize>, String> {
+    pub fn grid_rows(&self, start: f64, end: f64, step: f64) -> Result<Vec<usize>, super::Error> {
         let own = self.step();
-        let first = *self.wavelengths.first().ok_or("empty observer table")?;
-        let last = *self.wavelengths.last().ok_or("empty observer table")?;
+        let first = *self
+            .wavelengths
+            .first()
+            .ok_or_else(|| super::Error::Settings("empty observer table".into()))?;
+        let last = *self
+            .wavelengths
+            .last()
+            .ok_or_else(|| super::Error::Settings("empty observer table".into()))?;
         if !(start.is_finite() && end.is_finite() && step.is_finite())
             || start >= end
             || step <= 0.0
         {
-            return Err(std::format!(
+            return Err(super::Error::Settings(std::format!(
                 "range {start}-{end} nm with step {step} nm is not a valid grid"
-            ));
+            )));
         }
         if start < first - 1e-9 || end > last + 1e-9 {
-            return Err(std::format!(
+            return Err(super::Error::Settings(std::format!(
                 "range {start}-{end} nm is not covered by {} ({first}-{last} nm)",
                 self.file
-            ));
+            )));
         }
         let ratio = step / own;
         let per = ratio.round();
         if per < 1.0 || (ratio - per).abs() > 1e-9 {
-            return Err(std::format!(
+            return Err(super::Error::Settings(std::format!(
                 "step {step} nm is not a whole multiple of {}'s {own} nm",
                 self.file
-            ));
+            )));
         }
         let per = per as usize;
         let offset = (start - first) / own;
         if (offset - offset.round()).abs() > 1e-9 {
-            return Err(std::format!(
+            return Err(super::Error::Settings(std::format!(
                 "range start {start} nm is not on {}'s grid",
                 self.file
-            ));
+            )));
         }
         let span = (end - start) / step;
         if (span - span.round()).abs() > 1e-9 {
-            return Err(std::format!(
+            return Err(super::Error::Settings(std::format!(
                 "range {start}-{end} nm is not a whole number of {step} nm steps"
-            ));
+            )));
         }
         let first_row = offset.round() as usize;
         Ok((0..=span.round() as usize)

@@ -6,6 +6,8 @@ use std::vec::Vec;
 
 use nalgebra::{DMatrix, Matrix3, SymmetricEigen};
 
+use super::Error;
+
 /// Eq. 1: the fundamental spectral sensitivities s̄, m̄, l̄ as rows, from x̄, ȳ, z̄.
 /// (The transcription prints z̄ twice on the right; the columns are x̄, ȳ, z̄.)
 pub const MEYER_EQ1_XYZ_TO_SML: [[f64; 3]; 3] = [
@@ -53,16 +55,16 @@ pub fn covariance_matrix(
     wavelengths: &[f64],
     step: f64,
     covariance: &Covariance,
-) -> Result<Matrix3<f64>, String> {
+) -> Result<Matrix3<f64>, Error> {
     let n = cones.len();
     let f = DMatrix::from_fn(n, 3, |i, j| cones[i][j]);
     let c = match covariance {
         Covariance::Delta => f.transpose() * &f * step,
         Covariance::Exponential { length_nm } => {
             if !(length_nm.is_finite() && *length_nm > 0.0) {
-                return Err(std::format!(
+                return Err(Error::Settings(std::format!(
                     "exponential covariance needs a positive finite length, got {length_nm} nm"
-                ));
+                )));
             }
             let k = DMatrix::from_fn(n, n, |i, j| {
                 (-(wavelengths[i] - wavelengths[j]).abs() / length_nm).exp()
@@ -71,14 +73,16 @@ pub fn covariance_matrix(
         }
         Covariance::Empirical(spectra) => {
             if spectra.len() < 2 {
-                return Err("empirical covariance needs at least two spectra".into());
+                return Err(Error::Settings(
+                    "empirical covariance needs at least two spectra".into(),
+                ));
             }
             if let Some(bad) = spectra.iter().position(|s| s.len() != n) {
-                return Err(std::format!(
+                return Err(Error::Settings(std::format!(
                     "empirical covariance: spectrum {} has {} samples, the grid has {n}",
                     bad + 1,
                     spectra[bad].len()
-                ));
+                )));
             }
             let m = spectra.len();
             let mean: Vec<f64> = (0..n)
@@ -122,15 +126,15 @@ pub fn karhunen_loeve(
     covariance: &Matrix3<f64>,
     xyz_to_sml: &[[f64; 3]; 3],
     peak_xyz: &[[f64; 3]],
-) -> Result<Opponent, String> {
+) -> Result<Opponent, Error> {
     let eig = SymmetricEigen::new(*covariance);
     let mut order = [0usize, 1, 2];
     order.sort_by(|&a, &b| eig.eigenvalues[b].total_cmp(&eig.eigenvalues[a]));
     let eigenvalues = order.map(|k| eig.eigenvalues[k]);
     if eigenvalues.iter().any(|v| !v.is_finite() || *v <= 0.0) {
-        return Err(std::format!(
+        return Err(Error::Numerical(std::format!(
             "covariance matrix is not positive definite: eigenvalues {eigenvalues:?}"
-        ));
+        )));
     }
     let mut vectors = order.map(|k| {
         let c = eig.eigenvectors.column(k);
@@ -161,17 +165,17 @@ pub fn karhunen_loeve(
     }
     let row_scale = [1.0 / max[0], -1.0 / min[1], 1.0 / max[2]];
     if row_scale.iter().any(|s| !s.is_finite() || *s <= 0.0) {
-        return Err(std::format!(
+        return Err(Error::Numerical(std::format!(
             "opponent sensitivities do not have the expected peaks (max a {}, min c1 {}, max c2 {})",
             max[0], min[1], max[2]
-        ));
+        )));
     }
     let sml_to_ac1c2 = [0, 1, 2].map(|r| vectors[r].map(|x| x * row_scale[r]));
     let t = Matrix3::from_fn(|i, j| sml_to_ac1c2[i][j]);
     let xyz_to_ac1c2 = t * m;
     let inverse = xyz_to_ac1c2
         .try_inverse()
-        .ok_or("the XYZ to AC1C2 matrix is singular")?;
+        .ok_or_else(|| Error::Numerical("the XYZ to AC1C2 matrix is singular".into()))?;
     Ok(Opponent {
         eigenvalues,
         eigenvectors_sml: vectors,

@@ -27,7 +27,7 @@ use std::vec::Vec;
 
 use super::catalog;
 use super::evaluate::{self, EvalSet, Reference, Stimulus};
-use super::Derivation;
+use super::{Derivation, Error};
 
 /// Which statistic of ΔE00 over the stimuli the budget bounds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -55,14 +55,14 @@ impl core::fmt::Display for Metric {
 }
 
 impl core::str::FromStr for Metric {
-    type Err = String;
+    type Err = Error;
 
-    /// `mean` or `max` (any case).
-    fn from_str(s: &str) -> Result<Metric, String> {
+    /// `mean` or `max` (any case); otherwise [`Error::Metric`].
+    fn from_str(s: &str) -> Result<Metric, Error> {
         match s.to_ascii_lowercase().as_str() {
             "mean" => Ok(Metric::Mean),
             "max" => Ok(Metric::Max),
-            _ => Err(std::format!("bad metric {s:?}: expected mean or max")),
+            _ => Err(Error::Metric(s.into())),
         }
     }
 }
@@ -124,6 +124,17 @@ pub enum PlanError {
     BadBudget(f64),
     /// There were no candidates to choose from.
     NoCandidates,
+    /// There were no stimuli to measure the sets on.
+    NoStimuli,
+    /// A stimulus whose reference colour is not finite (a light that is zero everywhere).
+    NoReference {
+        /// The stimulus.
+        stimulus: String,
+        /// Its CIELAB under the full integration.
+        lab: [f64; 3],
+    },
+    /// Neither emission, nor both reflectances and illuminants, were given.
+    NoSpectra,
     /// No candidate meets the budget; `best` has the lowest error of all (ties: fewer
     /// wavelengths, then name).
     Unreachable {
@@ -146,6 +157,14 @@ impl core::fmt::Display for PlanError {
                 "bad budget: {b}: the ΔE00 budget must be a finite number greater than 0"
             ),
             PlanError::NoCandidates => f.write_str("no sets to choose from"),
+            PlanError::NoStimuli => f.write_str("no stimuli to measure the sets on"),
+            PlanError::NoReference { stimulus, lab } => write!(
+                f,
+                "stimulus {stimulus:?}: its reference colour is not finite (CIELAB {lab:?}); is the light zero?"
+            ),
+            PlanError::NoSpectra => {
+                f.write_str("give reflectances and illuminants, or emission")
+            }
             PlanError::Unreachable {
                 budget,
                 metric,
@@ -189,9 +208,9 @@ pub fn fmt_de(x: f64) -> String {
 ///
 /// Errors: no stimuli, a stimulus whose reference colour is not finite (a light that is zero
 /// everywhere), a set the catalogue cannot build.
-pub fn evaluate_all(d: &Derivation, stimuli: &[Stimulus]) -> Result<Vec<Candidate>, String> {
+pub fn evaluate_all(d: &Derivation, stimuli: &[Stimulus]) -> Result<Vec<Candidate>, Error> {
     if stimuli.is_empty() {
-        return Err("no stimuli to measure the sets on".into());
+        return Err(PlanError::NoStimuli.into());
     }
     let reference = Reference::new(
         evaluate::full_integration(&d.observer, d.settings.range_nm, 1.0)?,
@@ -199,10 +218,11 @@ pub fn evaluate_all(d: &Derivation, stimuli: &[Stimulus]) -> Result<Vec<Candidat
     );
     for (s, lab) in stimuli.iter().zip(&reference.labs) {
         if lab.iter().any(|v| !v.is_finite()) {
-            return Err(std::format!(
-                "stimulus {:?}: its reference colour is not finite (CIELAB {lab:?}); is the light zero?",
-                s.name
-            ));
+            return Err(PlanError::NoReference {
+                stimulus: s.name.clone(),
+                lab: *lab,
+            }
+            .into());
         }
     }
     let names = catalog::colour_set_names(d);
@@ -211,14 +231,14 @@ pub fn evaluate_all(d: &Derivation, stimuli: &[Stimulus]) -> Result<Vec<Candidat
         .clamp(1, names.len().max(1));
     let chunk = names.len().div_ceil(threads).max(1);
     let reference = &reference;
-    let parts: Vec<Result<Vec<Candidate>, String>> = std::thread::scope(|scope| {
+    let parts: Vec<Result<Vec<Candidate>, Error>> = std::thread::scope(|scope| {
         let handles: Vec<_> = names
             .chunks(chunk)
             .map(|part| {
                 scope.spawn(move || {
                     part.iter()
                         .map(|name| candidate(d, reference, stimuli, name))
-                        .collect::<Result<Vec<_>, String>>()
+                        .collect::<Result<Vec<_>, Error>>()
                 })
             })
             .collect();
@@ -226,7 +246,7 @@ pub fn evaluate_all(d: &Derivation, stimuli: &[Stimulus]) -> Result<Vec<Candidat
             .into_iter()
             .map(|h| {
                 h.join()
-                    .unwrap_or_else(|_| Err("a set evaluation thread panicked".to_string()))
+                    .unwrap_or(Err(Error::Panicked("a set evaluation thread")))
             })
             .collect()
     });
@@ -243,7 +263,7 @@ fn candidate(
     reference: &Reference,
     stimuli: &[Stimulus],
     name: &str,
-) -> Result<Candidate, String> {
+) -> Result<Candidate, Error> {
     let set = catalog::resolve(d, name)?;
     let eval = EvalSet::from_set(&set, "catalog", &d.opponent.ac1c2_to_xyz);
     let e = reference.errors(&eval, stimuli);
@@ -358,10 +378,10 @@ pub fn plan(
     stimuli: &[Stimulus],
     budget: f64,
     metric: Metric,
-) -> Result<Plan, String> {
-    check_budget(budget).map_err(|e| e.to_string())?;
+) -> Result<Plan, Error> {
+    check_budget(budget)?;
     let candidates = evaluate_all(d, stimuli)?;
-    plan_from(&candidates, stimuli.len(), budget, metric).map_err(|e| e.to_string())
+    Ok(plan_from(&candidates, stimuli.len(), budget, metric)?)
 }
 
 impl Plan {
@@ -406,16 +426,14 @@ pub fn stimuli_from_files(
     reflectances: Option<&std::path::Path>,
     illuminants: Option<&std::path::Path>,
     emission: Option<&std::path::Path>,
-) -> Result<Vec<Stimulus>, String> {
-    let read = |p: &std::path::Path| {
-        evaluate::Spectra::read(p)
-            .and_then(|s| s.curves(range_nm))
-            .map_err(|e| e.to_string())
+) -> Result<Vec<Stimulus>, Error> {
+    let read = |p: &std::path::Path| -> Result<_, Error> {
+        Ok(evaluate::Spectra::read(p).and_then(|s| s.curves(range_nm))?)
     };
     match (reflectances, illuminants, emission) {
         (None, None, Some(e)) => Ok(evaluate::emissions(&read(e)?)),
         (Some(r), Some(i), None) => Ok(evaluate::surfaces_under_lights(&read(r)?, &read(i)?)),
-        _ => Err("give reflectances and illuminants, or emission".into()),
+        _ => Err(PlanError::NoSpectra.into()),
     }
 }
 

@@ -34,7 +34,8 @@ use serde::Deserialize;
 use toml::Spanned;
 
 use super::display::{DisplaySpec, Transfer};
-use super::{catalog, ObserverId, Settings};
+use super::plan::Metric;
+use super::{catalog, DataError, Error, ObserverId, Settings};
 
 /// The environment variable naming the scene file.
 pub const SCENE_ENV: &str = "SPECTRAL_QUADRATURE_SCENE";
@@ -42,29 +43,6 @@ pub const SCENE_ENV: &str = "SPECTRAL_QUADRATURE_SCENE";
 /// The shared sets the default scene bakes besides Table 2's rows: kernel quadrature with
 /// illuminant C folded in at 4, 6 and 8 wavelengths (Table 2's light), and with F11 at 6.
 pub const DEFAULT_SHARED_SETS: [&str; 4] = ["KQ_C_4", "KQ_C_6", "KQ_C_8", "KQ_F11_6"];
-
-/// A mistake in a scene file.
-#[derive(Debug, Clone, PartialEq)]
-pub struct SceneError {
-    /// The scene file.
-    pub file: String,
-    /// 1-based line, or 0 for the file as a whole.
-    pub line: usize,
-    /// What is wrong, with the valid choices where there are any.
-    pub message: String,
-}
-
-impl core::fmt::Display for SceneError {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        if self.line == 0 {
-            write!(f, "{}: {}", self.file, self.message)
-        } else {
-            write!(f, "{}:{}: {}", self.file, self.line, self.message)
-        }
-    }
-}
-
-impl std::error::Error for SceneError {}
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -107,8 +85,8 @@ struct RawPlan {
 pub struct PlanRequest {
     /// The largest acceptable ΔE00.
     pub max_delta_e00: f64,
-    /// Whether the mean (`false`) or the largest (`true`) ΔE00 must meet it.
-    pub use_max: bool,
+    /// Which statistic of ΔE00 must meet it.
+    pub metric: Metric,
     /// Reflectance file (absolute, or relative to the scene file), if surfaces.
     pub reflectances: Option<std::path::PathBuf>,
     /// Illuminant file, if surfaces.
@@ -138,7 +116,7 @@ pub struct Scene {
     pub is_default: bool,
 }
 
-/// Display names a scene may use.
+/// Display names a scene may use: those of [`super::display::standard_displays`].
 pub fn display_names() -> Vec<String> {
     super::display::standard_displays()
         .into_iter()
@@ -171,13 +149,19 @@ impl Scene {
     }
 
     /// Parses a scene file; the derivation will read its data from `data_dir`
-    /// ([`Settings::data_dir`]). Errors name `file`, the line and the valid choices.
-    pub fn parse(file: &str, text: &str, data_dir: &std::path::Path) -> Result<Scene, SceneError> {
-        let err = |line: usize, message: String| SceneError {
-            file: file.into(),
-            line,
-            message,
+    /// ([`Settings::data_dir`]). Errors name `file`, the line and the valid choices: a mistake
+    /// in the file's form is [`Error::Data`]; an entry that names something that does not exist
+    /// (a display, a transfer function, a metric, an observer's table) is [`Error::At`] around
+    /// the typed error.
+    pub fn parse(file: &str, text: &str, data_dir: &std::path::Path) -> Result<Scene, Error> {
+        let err = |line: usize, message: String| {
+            Error::Data(DataError {
+                file: file.into(),
+                line: line as u64,
+                message,
+            })
         };
+        let within = |line: usize| move |e: Error| e.at(file, line as u64);
         let raw: RawScene = toml::from_str(text).map_err(|e| {
             let line = e.span().map_or(0, |s| line_of(text, s.start));
             err(line, e.message().trim().to_string())
@@ -195,8 +179,7 @@ impl Scene {
                     ),
                 )
             })?;
-            settings = Settings::for_observer(id, data_dir)
-                .map_err(|e| err(at(o.span()), std::format!("observer {}: {e}", id.name())))?;
+            settings = Settings::for_observer(id, data_dir).map_err(within(at(o.span())))?;
         }
         if let Some(r) = &raw.range_nm {
             settings.range_nm = *r.get_ref();
@@ -223,24 +206,12 @@ impl Scene {
             .into_iter()
             .map(|s| (s.get_ref().clone(), at(s.span())))
             .collect();
-        let standard = super::display::standard_displays();
         let mut displays = Vec::new();
         for d in raw.displays.unwrap_or_default() {
-            let spec = standard
-                .iter()
-                .find(|s| &s.name == d.get_ref())
-                .ok_or_else(|| {
-                    err(
-                        at(d.span()),
-                        std::format!(
-                            "unknown display {:?}; valid: {}",
-                            d.get_ref(),
-                            display_names().join(", ")
-                        ),
-                    )
-                })?;
+            let spec =
+                super::display::standard_display(d.get_ref()).map_err(within(at(d.span())))?;
             if !displays.iter().any(|s: &DisplaySpec| s.name == spec.name) {
-                displays.push(spec.clone());
+                displays.push(spec);
             }
         }
         let used: Vec<String> = displays
@@ -259,8 +230,7 @@ impl Scene {
                     ),
                 )
             })?;
-            spec.transfer =
-                parse_transfer(value.get_ref()).map_err(|m| err(at(value.span()), m))?;
+            spec.transfer = parse_transfer(value.get_ref()).map_err(within(at(value.span())))?;
         }
         let plan = match raw.plan {
             None => None,
@@ -276,15 +246,9 @@ impl Scene {
                         ),
                     ));
                 }
-                let use_max = match p.metric.as_ref().map(|m| m.get_ref().as_str()) {
-                    None | Some("mean") => false,
-                    Some("max") => true,
-                    Some(other) => {
-                        return Err(err(
-                            at(p.metric.as_ref().map_or(0..0, |m| m.span())),
-                            std::format!("unknown metric {other:?}; valid: mean, max"),
-                        ))
-                    }
+                let metric = match &p.metric {
+                    None => Metric::Mean,
+                    Some(m) => m.get_ref().parse().map_err(within(at(m.span())))?,
                 };
                 let dir = std::path::Path::new(file)
                     .parent()
@@ -309,7 +273,7 @@ impl Scene {
                 }
                 Some(PlanRequest {
                     max_delta_e00: budget,
-                    use_max,
+                    metric,
                     reflectances,
                     illuminants,
                     emission,
@@ -339,7 +303,7 @@ impl Scene {
 }
 
 /// `"srgb"`, `"linear"` or `"gamma <γ>"`.
-pub fn parse_transfer(s: &str) -> Result<Transfer, String> {
+pub fn parse_transfer(s: &str) -> Result<Transfer, Error> {
     let t = s.trim();
     match t {
         "srgb" => Ok(Transfer::Srgb),
@@ -350,7 +314,7 @@ pub fn parse_transfer(s: &str) -> Result<Transfer, String> {
                 .map(str::trim)
                 .and_then(|g| g.parse::<f64>().ok())
                 .filter(|g| g.is_finite() && *g > 0.0)
-                .ok_or_else(|| std::format!("unknown transfer function {s:?}; valid: \"srgb\", \"linear\", \"gamma <γ>\" with γ > 0"))?;
+                .ok_or_else(|| Error::Transfer(s.into()))?;
             Ok(Transfer::Gamma(g))
         }
     }
@@ -376,30 +340,28 @@ pub struct Resolved {
 
 impl Scene {
     /// Resolves the set names (and the plan, if any) against `d`, which must have been derived
-    /// with [`Scene::settings`]. Errors name the file, the line and the valid choices.
-    pub fn resolve(&self, d: &super::Derivation) -> Result<Resolved, SceneError> {
-        let err = |line: usize, message: String| SceneError {
-            file: self.file.clone(),
-            line,
-            message,
-        };
+    /// with [`Scene::settings`]. The displays' matrices are the derivation's
+    /// ([`super::Derivation::displays`]), with the scene's transfer functions. Errors name the
+    /// file, the line and the valid choices ([`Error::At`]).
+    pub fn resolve(&self, d: &super::Derivation) -> Result<Resolved, Error> {
+        let err = |line: usize| move |e: Error| e.at(&self.file, line as u64);
         let displays = self
             .displays
             .iter()
             .map(|spec| {
-                super::display::display_matrices(spec)
-                    .map(|m| (spec.clone(), m))
-                    .map_err(|e| err(0, e))
+                d.display(&spec.name)
+                    .map(|(_, m)| (spec.clone(), m.clone()))
+                    .map_err(err(0))
             })
             .collect::<Result<Vec<_>, _>>()?;
         if self.is_default {
             let rule_sets = catalog::rule_names(d)
                 .iter()
-                .map(|n| catalog::resolve(d, n).map_err(|e| err(0, e)))
+                .map(|n| catalog::resolve(d, n).map_err(err(0)))
                 .collect::<Result<Vec<_>, _>>()?;
             let mut colour_sets = d.table2.to_vec();
             for name in DEFAULT_SHARED_SETS {
-                colour_sets.push(catalog::resolve(d, name).map_err(|e| err(0, e))?);
+                colour_sets.push(catalog::resolve(d, name).map_err(err(0))?);
             }
             return Ok(Resolved {
                 file: self.file.clone(),
@@ -413,17 +375,17 @@ impl Scene {
         let mut names = self.sets.clone();
         let mut planned = None;
         if let Some(p) = &self.plan {
-            let (name, sentence) = p.resolve(d).map_err(|e| err(p.line, e))?;
+            let (name, sentence) = p.resolve(d).map_err(err(p.line))?;
             planned = Some(sentence);
             names.push((name, p.line));
         }
         let (mut colour_sets, mut rule_sets) = (Vec::new(), Vec::new());
         for (name, line) in &names {
-            let set = catalog::resolve(d, name).map_err(|e| {
-                err(
-                    *line,
-                    std::format!("{e}; {}", catalog::valid_choices_for(d, name)),
-                )
+            let set = catalog::resolve(d, name).map_err(|e| Error::At {
+                file: self.file.clone(),
+                line: *line as u64,
+                error: std::boxed::Box::new(e),
+                hint: Some(catalog::valid_choices_for(d, name)),
             })?;
             let target = if catalog::is_single_channel(name) {
                 &mut rule_sets
@@ -451,14 +413,9 @@ impl Scene {
 impl PlanRequest {
     /// Runs the planner on the request's spectra: the chosen set's name and a sentence saying
     /// what it measured.
-    pub fn resolve(&self, d: &super::Derivation) -> Result<(String, String), String> {
+    pub fn resolve(&self, d: &super::Derivation) -> Result<(String, String), Error> {
         let stimuli = self.stimuli(d.settings.range_nm)?;
-        let metric = if self.use_max {
-            super::plan::Metric::Max
-        } else {
-            super::plan::Metric::Mean
-        };
-        let plan = super::plan::plan(d, &stimuli, self.max_delta_e00, metric)?;
+        let plan = super::plan::plan(d, &stimuli, self.max_delta_e00, self.metric)?;
         let c = &plan.chosen;
         Ok((
             c.name.clone(),
@@ -469,24 +426,19 @@ impl PlanRequest {
                 c.mean_de00,
                 c.max_de00,
                 stimuli.len(),
-                if self.use_max { "max" } else { "mean" },
+                self.metric,
                 self.max_delta_e00
             ),
         ))
     }
 
     /// The stimuli the request names: surfaces under illuminants, or lights seen directly.
-    pub fn stimuli(&self, range_nm: [f64; 2]) -> Result<Vec<super::evaluate::Stimulus>, String> {
-        use super::evaluate::{emissions, surfaces_under_lights, Spectra};
-        let read = |p: &std::path::Path| {
-            Spectra::read(p)
-                .and_then(|s| s.curves(range_nm))
-                .map_err(|e| e.to_string())
-        };
-        match (&self.emission, &self.reflectances, &self.illuminants) {
-            (Some(e), _, _) => Ok(emissions(&read(e)?)),
-            (None, Some(r), Some(i)) => Ok(surfaces_under_lights(&read(r)?, &read(i)?)),
-            _ => Err("[plan] needs reflectances and illuminants, or emission".into()),
-        }
+    pub fn stimuli(&self, range_nm: [f64; 2]) -> Result<Vec<super::evaluate::Stimulus>, Error> {
+        super::plan::stimuli_from_files(
+            range_nm,
+            self.reflectances.as_deref(),
+            self.illuminants.as_deref(),
+            self.emission.as_deref(),
+        )
     }
 }

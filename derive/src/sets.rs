@@ -34,17 +34,20 @@ impl WavelengthSet {
         name: &str,
         doc: &str,
         rules: [Option<&Rule>; 3],
-    ) -> Result<WavelengthSet, String> {
+    ) -> Result<WavelengthSet, super::Error> {
         let mut wavelengths: Vec<f64> = Vec::new();
         for (c, rule) in rules.iter().enumerate() {
             if let Some(r) = rule {
                 if !r.is_defined() {
-                    return Err(std::format!(
-                        "{name}: channel {} order {} is {}",
-                        CHANNELS[c],
-                        r.order,
-                        r.status.as_str()
-                    ));
+                    return Err(super::Error::SetName {
+                        name: name.into(),
+                        problem: super::SetNameProblem::RuleUndefined {
+                            channel: c,
+                            order: r.order,
+                            status: r.status.as_str(),
+                            reason: r.reason.clone(),
+                        },
+                    });
                 }
                 wavelengths.extend(&r.nodes_nm);
             }

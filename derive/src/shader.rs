@@ -23,7 +23,7 @@ use std::vec::Vec;
 use super::codegen::f32_literal;
 use super::display::Transfer;
 use super::scene::Resolved;
-use super::Derivation;
+use super::{Derivation, Error};
 
 /// A shading language the snippets are written in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -40,11 +40,19 @@ const SRGB_LINEAR_MAX: f32 = 0.003_130_8;
 const SRGB_SLOPE: f32 = 12.92;
 
 impl Language {
+    /// `"WGSL"` or `"GLSL"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Language::Wgsl => "WGSL",
+            Language::Glsl => "GLSL",
+        }
+    }
+
     /// A literal for `v` rounded to f32, the same f32 that [`f32_literal`] bakes. The decimal
     /// text must give that f32 whether a compiler parses it straight to f32 or to f64 first
     /// (WGSL's abstract floats, many GLSL front ends); when the shortest text would not, the
     /// f32's exact value in shortest f64 form is used instead.
-    pub fn float(self, v: f64) -> Result<String, String> {
+    pub fn float(self, v: f64) -> Result<String, Error> {
         let x = v as f32;
         let mut s = f32_literal(v)?;
         let same = |t: &str| {
@@ -57,7 +65,10 @@ impl Language {
                 s.push_str(".0");
             }
             if !same(&s) {
-                return Err(std::format!("no shader literal reproduces {v} as f32"));
+                return Err(Error::Literal {
+                    value: v,
+                    language: self.name(),
+                });
             }
         }
         // WGSL: the suffix makes the literal an f32 (parsed straight to f32), not an abstract
@@ -68,7 +79,7 @@ impl Language {
         Ok(s)
     }
 
-    fn vec3(self, v: [f64; 3]) -> Result<String, String> {
+    fn vec3(self, v: [f64; 3]) -> Result<String, Error> {
         let head = match self {
             Language::Wgsl => "vec3<f32>",
             Language::Glsl => "vec3",
@@ -151,14 +162,14 @@ fn samples_arg(n: usize) -> (String, String) {
 }
 
 /// The weights as one `vec3` per wavelength (the columns of the 3×N matrix).
-fn columns(lang: Language, w: &[Vec<f64>; 3]) -> Result<Vec<String>, String> {
+fn columns(lang: Language, w: &[Vec<f64>; 3]) -> Result<Vec<String>, Error> {
     (0..w[0].len())
         .map(|i| lang.vec3([w[0][i], w[1][i], w[2][i]]))
         .collect()
 }
 
 /// The per-channel curve helpers a scene's displays use, in a fixed order.
-fn helpers(lang: Language, scene: &Resolved) -> Result<String, String> {
+fn helpers(lang: Language, scene: &Resolved) -> Result<String, Error> {
     let uses = |f: fn(&Transfer) -> bool| scene.displays.iter().any(|(s, _)| f(&s.transfer));
     let f = lang.scalar();
     let x = (std::format!("x: {f}"), String::from("float x"));
@@ -228,7 +239,7 @@ fn ascii(text: &str) -> String {
 /// The snippet for `lang`: the scene's colour sets (wavelengths, AC1C2 weights, folded
 /// weights for each display) and its displays' encodings, in ASCII. Errors on a value that is
 /// not finite as f32, or a set or display name that is not ASCII.
-pub fn snippet(d: &Derivation, scene: &Resolved, lang: Language) -> Result<String, String> {
+pub fn snippet(d: &Derivation, scene: &Resolved, lang: Language) -> Result<String, Error> {
     let mut o = String::new();
     let v3 = lang.vec3_type();
     writeln!(
@@ -241,7 +252,7 @@ pub fn snippet(d: &Derivation, scene: &Resolved, lang: Language) -> Result<Strin
     o.push_str(&helpers(lang, scene)?);
     for (spec, _) in &scene.displays {
         let name = spec.name.to_ascii_lowercase();
-        let curve = |c: &str| -> Result<String, String> {
+        let curve = |c: &str| -> Result<String, Error> {
             Ok(match spec.transfer {
                 Transfer::Linear => std::format!("sq_clip01(rgb.{c})"),
                 Transfer::Srgb => std::format!("sq_srgb_curve(rgb.{c})"),
@@ -288,7 +299,7 @@ pub fn snippet(d: &Derivation, scene: &Resolved, lang: Language) -> Result<Strin
             n
         )
         .ok();
-        let wl: Result<Vec<String>, String> =
+        let wl: Result<Vec<String>, Error> =
             set.wavelengths_nm.iter().map(|&v| lang.float(v)).collect();
         o.push_str(&lang.const_array(&std::format!("{name}_WL"), lang.scalar(), &wl?));
         writeln!(
@@ -339,7 +350,9 @@ pub fn snippet(d: &Derivation, scene: &Resolved, lang: Language) -> Result<Strin
     }
     // Some GLSL compilers refuse anything but ASCII, even in comments.
     if !o.is_ascii() {
-        return Err("shader text is not ASCII".into());
+        return Err(Error::NotAscii {
+            language: lang.name(),
+        });
     }
     Ok(o)
 }

@@ -31,7 +31,7 @@ use nalgebra::{DMatrix, DVector};
 use super::evaluate::{self, Curve, EvalSet};
 use super::quadrature::interpolatory_weights;
 use super::sets::WavelengthSet;
-use super::Derivation;
+use super::{Derivation, Error, LightProblem, SetNameProblem};
 
 /// A stationary covariance on wavelength, `k(λ, μ) = σ² ρ(|λ − μ| / ℓ)` with unit σ² (the
 /// scale cancels in the weights and in the node choice).
@@ -134,7 +134,11 @@ impl Problem {
         light_curve: Option<&Curve>,
         kernel: Kernel,
         training: &[Curve],
-    ) -> Result<Problem, String> {
+    ) -> Result<Problem, Error> {
+        let light_error = |problem: LightProblem| Error::Light {
+            name: light_curve.map_or_else(|| "equal energy".into(), |l| l.name.clone()),
+            problem,
+        };
         let reference = evaluate::full_integration(&d.observer, d.settings.range_nm, 1.0)?;
         let grid_nm = reference.wavelengths_nm.clone();
         let g = grid_nm.len();
@@ -143,7 +147,7 @@ impl Problem {
             None => std::vec![1.0; g],
         };
         if raw.iter().any(|v| !v.is_finite() || *v < 0.0) {
-            return Err("the light has a negative or non-finite value on the grid".into());
+            return Err(light_error(LightProblem::Negative));
         }
         // Scale the light to the luminance of an equal-energy spectrum of 1, so that a folded
         // set gives a reflectance of 1 the Y a radiance set gives a radiance of 1.
@@ -154,7 +158,7 @@ impl Problem {
             .sum();
         let unit: f64 = reference.xyz_weights[1].iter().sum();
         if y <= 0.0 || !y.is_finite() {
-            return Err("the light has no luminance".into());
+            return Err(light_error(LightProblem::NoLuminance));
         }
         let light: Vec<f64> = raw.iter().map(|v| v * unit / y).collect();
         let peak = light.iter().cloned().fold(0.0, f64::max);
@@ -445,16 +449,18 @@ impl Problem {
     }
 
     /// The optimised shared set of `n` wavelengths ([`optimize`](Self::optimize)).
-    pub fn shared(&self, n: usize) -> Result<Shared, String> {
+    pub fn shared(&self, n: usize) -> Result<Shared, Error> {
         let (nodes, _) = self.optimize(n);
         if nodes.len() != n {
-            return Err(std::format!(
+            return Err(Error::Numerical(std::format!(
                 "no shared set of {n} wavelengths: only {} grid points are usable",
                 nodes.len()
-            ));
+            )));
         }
         self.set_at(&nodes).ok_or_else(|| {
-            std::format!("no shared set of {n} wavelengths: the kriging system is singular")
+            Error::Numerical(std::format!(
+                "no shared set of {n} wavelengths: the kriging system is singular"
+            ))
         })
     }
 }
@@ -579,15 +585,23 @@ pub const SIZES: core::ops::RangeInclusive<usize> = 3..=32;
 /// The crate's problem for a light given by name (a built-in illuminant: `C`, `D65`, `F11`,
 /// `LED_B1`, …), or for radiances (`None`): [`Kernel::Matern52`] of [`LENGTH_NM`] plus
 /// [`EMPIRICAL_WEIGHT`] times the covariance of [`TRAINING_FILE`].
-pub fn problem(d: &Derivation, light: Option<&str>) -> Result<Problem, String> {
+pub fn problem(d: &Derivation, light: Option<&str>) -> Result<Problem, Error> {
     let range = d.settings.range_nm;
     let tcs = evaluate::Spectra::builtin(&d.settings.data_dir, TRAINING_FILE)
-        .and_then(|s| s.curves(range))
-        .map_err(|e| e.to_string())?;
+        .and_then(|s| s.curves(range))?;
     let curve = match light {
         Some(name) => Some(
-            evaluate::builtin_illuminant(&d.settings.data_dir, name, range)
-                .map_err(|_| std::format!("{name}: not a built-in illuminant"))?,
+            evaluate::builtin_illuminant(&d.settings.data_dir, name, range).map_err(|_| {
+                Error::Light {
+                    name: name.into(),
+                    problem: LightProblem::NotBuiltIn {
+                        valid: super::catalog::builtin_lights()
+                            .into_iter()
+                            .map(String::from)
+                            .collect(),
+                    },
+                }
+            })?,
         ),
         None => None,
     };
@@ -661,7 +675,7 @@ impl Shared {
 /// This runs the node search ([`Problem::optimize`]), which costs seconds at Cargo's default
 /// build-script opt-level 0; [`cached_or_optimize`] takes the nodes from [`CACHE_FILE`] where it
 /// can.
-pub fn optimize(d: &Derivation, light: Option<&str>, n: usize) -> Result<Shared, String> {
+pub fn optimize(d: &Derivation, light: Option<&str>, n: usize) -> Result<Shared, Error> {
     problem(d, light)?.shared(n)
 }
 
@@ -715,9 +729,8 @@ pub struct CacheEntry {
 /// A SHA-256 over everything the node search for `light` depends on besides its code: the
 /// observer table, the range, the training reflectances, the light's file, and the kernel and
 /// search constants. A cached entry is used only while its fingerprint matches.
-pub fn fingerprint(d: &Derivation, light: Option<&str>) -> Result<String, String> {
-    let read =
-        |label: &str| super::read_data(&d.settings.data_dir, label).map_err(|e| e.to_string());
+pub fn fingerprint(d: &Derivation, light: Option<&str>) -> Result<String, Error> {
+    let read = |label: &str| super::read_data(&d.settings.data_dir, label);
     let mut text = std::format!(
         "observer {} {}\nrange {:?}\ntraining {}\nkernel matern52 {LENGTH_NM} empirical {EMPIRICAL_WEIGHT} nugget {NUGGET}\nsearch starts {RANDOM_STARTS} move {MAX_MOVE}\n",
         d.observer.file,
@@ -826,9 +839,9 @@ pub fn write_cache(entries: &[CacheEntry]) -> String {
 /// The shared set of `n` wavelengths for a built-in light (`None`: radiances): the nodes from
 /// [`CACHE_FILE`] when it has the set with a matching [`fingerprint`] (only the weights are
 /// computed then), otherwise [`optimize`]'s search.
-pub fn cached_or_optimize(d: &Derivation, light: Option<&str>, n: usize) -> Result<Shared, String> {
+pub fn cached_or_optimize(d: &Derivation, light: Option<&str>, n: usize) -> Result<Shared, Error> {
     let name = set_name(light, n);
-    let cache = read_cache(&d.settings.data_dir).map_err(|e| e.to_string())?;
+    let cache = read_cache(&d.settings.data_dir)?;
     let Some(entry) = cache.iter().find(|e| e.name == name) else {
         return optimize(d, light, n);
     };
@@ -845,25 +858,21 @@ pub fn cached_or_optimize(d: &Derivation, light: Option<&str>, n: usize) -> Resu
                 .position(|&g| (g - nm).abs() < 1e-9)
                 .filter(|&i| p.allowed[i])
                 .ok_or_else(|| {
-                    std::format!(
-                        "{}:{}: {name}: {nm} nm is not a usable grid wavelength",
-                        CACHE_FILE,
-                        entry.line
-                    )
+                    Error::Data(super::DataError {
+                        file: CACHE_FILE.into(),
+                        line: entry.line,
+                        message: std::format!("{name}: {nm} nm is not a usable grid wavelength"),
+                    })
                 })
         })
-        .collect::<Result<Vec<usize>, String>>()?;
+        .collect::<Result<Vec<usize>, Error>>()?;
     p.set_at(&nodes).ok_or_else(|| {
-        std::format!(
-            "{}:{}: {name}: the kriging system is singular",
-            CACHE_FILE,
-            entry.line
-        )
+        Error::Numerical("the kriging system is singular".into()).at(CACHE_FILE, entry.line)
     })
 }
 
 /// The cache entry for one set, by a fresh search ([`Problem::optimize`]).
-pub fn cache_entry(d: &Derivation, light: Option<&str>, n: usize) -> Result<CacheEntry, String> {
+pub fn cache_entry(d: &Derivation, light: Option<&str>, n: usize) -> Result<CacheEntry, Error> {
     let s = optimize(d, light, n)?;
     Ok(CacheEntry {
         name: set_name(light, n),
@@ -876,15 +885,25 @@ pub fn cache_entry(d: &Derivation, light: Option<&str>, n: usize) -> Result<Cach
 /// Method (a): the A channel's Gauss rule of order `n` (its nodes and A weights), with C1 and C2
 /// integrated on the same nodes by interpolatory rules (the integral of the interpolating
 /// polynomial), so that all three channels share `n` wavelengths.
-pub fn interpolatory_a(d: &Derivation, n: usize, name: &str) -> Result<WavelengthSet, String> {
-    let r = d.rules[0]
-        .get(n.wrapping_sub(1))
-        .ok_or_else(|| std::format!("{name}: A order {n} is not among the derived orders"))?;
+pub fn interpolatory_a(d: &Derivation, n: usize, name: &str) -> Result<WavelengthSet, Error> {
+    let problem = |problem: SetNameProblem| Error::SetName {
+        name: name.into(),
+        problem,
+    };
+    let r = d.rules[0].get(n.wrapping_sub(1)).ok_or_else(|| {
+        problem(SetNameProblem::OrderNotDerived {
+            channel: 0,
+            order: n,
+            max: d.settings.max_order,
+        })
+    })?;
     if !r.is_defined() {
-        return Err(std::format!(
-            "{name}: A order {n} is undefined ({})",
-            r.reason
-        ));
+        return Err(problem(SetNameProblem::RuleUndefined {
+            channel: 0,
+            order: n,
+            status: r.status.as_str(),
+            reason: r.reason.clone(),
+        }));
     }
     Ok(WavelengthSet {
         name: name.into(),

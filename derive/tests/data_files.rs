@@ -693,7 +693,9 @@ fn grid_err(obs: &Observer, start: f64, end: f64, step: f64) -> String {
             "{start}-{end} step {step}: expected an error, got {} rows",
             rows.len()
         ),
-        Err(e) => e,
+        // Grid mistakes are settings the derivation cannot honour.
+        Err(sqd::Error::Settings(message)) => message,
+        Err(e) => panic!("{start}-{end} step {step}: expected Error::Settings, got {e:?}"),
     }
 }
 

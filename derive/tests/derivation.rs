@@ -203,7 +203,13 @@ fn covariance_errors() {
     let d = default_derivation();
     let n = d.grid_nm.len();
     let step = d.settings.step_nm;
-    let cov = |k: &Covariance| sqd::opponent::covariance_matrix(&d.cones, &d.grid_nm, step, k);
+    // Every covariance mistake is a setting the derivation cannot honour: its message.
+    let cov = |k: &Covariance| match sqd::opponent::covariance_matrix(&d.cones, &d.grid_nm, step, k)
+    {
+        Ok(m) => Ok(m),
+        Err(sqd::Error::Settings(message)) => Err(message),
+        Err(e) => panic!("{}: expected Error::Settings, got {e:?}", k.describe()),
+    };
 
     let one = Covariance::Empirical(vec![vec![1.0; n]]);
     let err = cov(&one).unwrap_err();

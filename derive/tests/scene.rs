@@ -5,7 +5,7 @@ use spectral_quadrature_derive as sqd;
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");
 
-use sqd::scene::{Scene, SceneError};
+use sqd::scene::Scene;
 use sqd::{derive, Derivation};
 use std::sync::OnceLock;
 
@@ -14,7 +14,7 @@ fn default_derivation() -> &'static Derivation {
     D.get_or_init(|| derive(&sqd::Settings::new(DATA_DIR)).unwrap())
 }
 
-fn generate(file: &str, text: &str) -> Result<String, SceneError> {
+fn generate(file: &str, text: &str) -> Result<String, sqd::Error> {
     let scene = Scene::parse(file, text, std::path::Path::new(DATA_DIR))?;
     let d = derive(&scene.settings).unwrap();
     let resolved = scene.resolve(&d)?;
@@ -108,8 +108,29 @@ fn extras_transfer_and_named_rules_are_honoured() {
     assert!(!src.contains("A_4_DISPLAY_P3"));
 }
 
-fn error(text: &str) -> SceneError {
-    generate("scene.toml", text).unwrap_err()
+/// A scene's error with the file and line it names: every scene error names one.
+struct Located {
+    file: String,
+    line: u64,
+    error: sqd::Error,
+}
+
+impl std::fmt::Display for Located {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.error.fmt(f)
+    }
+}
+
+fn error(text: &str) -> Located {
+    let error = generate("scene.toml", text).unwrap_err();
+    let (file, line) = error
+        .location()
+        .unwrap_or_else(|| panic!("the error names no file: {error:?}"));
+    Located {
+        file: file.into(),
+        line,
+        error,
+    }
 }
 
 #[test]

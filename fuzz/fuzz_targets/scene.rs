@@ -29,8 +29,8 @@ use std::sync::OnceLock;
 
 use libfuzzer_sys::fuzz_target;
 use spectral_quadrature_derive::display::{standard_displays, DisplaySpec, Transfer};
-use spectral_quadrature_derive::scene::{Scene, SceneError};
-use spectral_quadrature_derive::{ObserverId, Settings};
+use spectral_quadrature_derive::scene::Scene;
+use spectral_quadrature_derive::{Error, ObserverId, Settings};
 
 const FILE: &str = "fuzz.toml";
 
@@ -57,17 +57,21 @@ fn check_line(what: &str, line: usize, text: &str) {
     );
 }
 
-fn check_error(e: &SceneError, text: &str) {
+fn check_error(e: &Error, text: &str) {
     let shown = e.to_string();
-    assert_eq!(e.file, FILE, "the error names another file: {shown}");
+    let Some((file, line)) = e.location() else {
+        panic!("a scene error names no file: {e:?}");
+    };
+    let line = line as usize;
+    assert_eq!(file, FILE, "the error names another file: {shown}");
     assert!(
         shown.starts_with(&format!("{FILE}:")),
         "the error does not start with the file: {shown:?}"
     );
-    if e.line != 0 {
-        check_line(&format!("error {shown:?}"), e.line, text);
+    if line != 0 {
+        check_line(&format!("error {shown:?}"), line, text);
         assert!(
-            shown.starts_with(&format!("{FILE}:{}: ", e.line)),
+            shown.starts_with(&format!("{FILE}:{}: ", line)),
             "the error does not start with file:line: {shown:?}"
         );
     } else {

@@ -16,11 +16,12 @@
 //! between samples, the way ASTM E308's weighting tables fold the illuminant (E308 itself uses
 //! a Lagrange scheme with bandpass correction; these are the plain version).
 
-use std::string::{String, ToString};
 use std::vec::Vec;
 
 use spectral_quadrature_derive::evaluate::{self, Curve, EvalSet, Reference, Spectra, Stimulus};
-use spectral_quadrature_derive::{shared, Derivation};
+use spectral_quadrature_derive::{self as sqd, shared, Derivation};
+
+use crate::Error;
 
 /// The lights the crate judges its shared sets under.
 pub const LIGHTS: [&str; 4] = ["C", "D65", "A", "F11"];
@@ -60,20 +61,17 @@ pub struct Entry {
 }
 
 /// The judged stimuli: the ColorChecker under `light`.
-pub fn judge_stimuli(d: &Derivation, light: &str) -> Result<Vec<Stimulus>, String> {
+pub fn judge_stimuli(d: &Derivation, light: &str) -> Result<Vec<Stimulus>, Error> {
     let range = d.settings.range_nm;
-    let cc = Spectra::builtin(&d.settings.data_dir, JUDGE_FILE)
-        .and_then(|s| s.curves(range))
-        .map_err(|e| e.to_string())?;
-    let l = evaluate::builtin_illuminant(&d.settings.data_dir, light, range)
-        .map_err(|e| e.to_string())?;
+    let cc = Spectra::builtin(&d.settings.data_dir, JUDGE_FILE).and_then(|s| s.curves(range))?;
+    let l = evaluate::builtin_illuminant(&d.settings.data_dir, light, range)?;
     Ok(evaluate::surfaces_under_lights(&cc, &[l]))
 }
 
 /// Reflectance sampled every `step_nm` over the range with `light` folded in: weights
 /// `Σ_j x̄ȳz̄(λ_j) L(λ_j) h_i(λ_j)` on the 1 nm table (h_i the hat function of node i), as a
 /// set on radiances (divided by L at each node, which must be positive there).
-pub fn interval_set(d: &Derivation, light: &Curve, step_nm: f64) -> Result<EvalSet, String> {
+pub fn interval_set(d: &Derivation, light: &Curve, step_nm: f64) -> Result<EvalSet, Error> {
     let range = d.settings.range_nm;
     let full = evaluate::full_integration(&d.observer, range, 1.0)?;
     let mut nodes = Vec::new();
@@ -82,7 +80,11 @@ pub fn interval_set(d: &Derivation, light: &Curve, step_nm: f64) -> Result<EvalS
         nodes.push(nm);
         nm += step_nm;
     }
-    let last = *nodes.last().ok_or("empty range")?;
+    let last = *nodes.last().ok_or_else(|| {
+        sqd::Error::Settings(std::format!(
+            "no interval nodes on the range {range:?} at {step_nm} nm"
+        ))
+    })?;
     let mut w: [Vec<f64>; 3] = Default::default();
     for row in w.iter_mut() {
         *row = std::vec![0.0; nodes.len()];
@@ -104,10 +106,10 @@ pub fn interval_set(d: &Derivation, light: &Curve, step_nm: f64) -> Result<EvalS
     for (i, &l) in nodes.iter().enumerate() {
         let e = light.at(l);
         if e <= 0.0 || !e.is_finite() {
-            return Err(std::format!(
-                "{}: no power at {l} nm to fold into an interval set",
-                light.name
-            ));
+            return Err(Error::NoPower {
+                light: light.name.clone(),
+                nm: l,
+            });
         }
         for row in w.iter_mut() {
             row[i] /= e;
@@ -125,7 +127,7 @@ pub fn interval_set(d: &Derivation, light: &Curve, step_nm: f64) -> Result<EvalS
 /// The shared sets at every budget for radiances (`light` `None`, named `KQ_<n>`, method
 /// `KQ radiance`) or with a built-in light folded in (`KQ_<light>_<n>`, `KQ folded`), from
 /// one [`shared::problem`].
-pub fn shared_sets(d: &Derivation, light: Option<&str>) -> Result<Vec<EvalSet>, String> {
+pub fn shared_sets(d: &Derivation, light: Option<&str>) -> Result<Vec<EvalSet>, Error> {
     let problem = shared::problem(d, light)?;
     BUDGETS
         .map(|n| {
@@ -144,11 +146,13 @@ pub fn shared_sets(d: &Derivation, light: Option<&str>) -> Result<Vec<EvalSet>, 
 pub fn rule_spaces(
     d: &Derivation,
     max_order: usize,
-) -> Result<[(&'static str, Vec<EvalSet>); 3], String> {
+) -> Result<[(&'static str, Vec<EvalSet>); 3], Error> {
     let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
     let sml_to_xyz = {
         let m = nalgebra::Matrix3::from_fn(|r, c| d.settings.cone_matrix[r][c]);
-        let inv = m.try_inverse().ok_or("the cone matrix is singular")?;
+        let inv = m
+            .try_inverse()
+            .ok_or_else(|| sqd::Error::Numerical("the cone matrix is singular".into()))?;
         [0, 1, 2].map(|r| [0, 1, 2].map(|c| inv[(r, c)]))
     };
     let spaces: [Space; 3] = [
@@ -200,7 +204,7 @@ pub fn compare(
     others: &[(&'static str, EvalSet)],
     radiance: &[EvalSet],
     folded: &[EvalSet],
-) -> Result<Comparison, String> {
+) -> Result<Comparison, Error> {
     let stimuli = judge_stimuli(d, light)?;
     let full = evaluate::full_integration(&d.observer, d.settings.range_nm, 1.0)?;
     let reference = Reference::new(full, &stimuli);
@@ -219,7 +223,7 @@ pub fn compare(
         let k = METHODS
             .iter()
             .position(|m| *m == method)
-            .ok_or_else(|| std::format!("unknown method {method}"))?;
+            .ok_or_else(|| Error::UnknownMethod(method.into()))?;
         let errors = reference.errors(set, &stimuli);
         if slot.1[k]
             .as_ref()
@@ -236,8 +240,7 @@ pub fn compare(
         .into_iter()
         .map(|(n, e)| (n, e.into_iter().flatten().collect()))
         .collect();
-    let l = evaluate::builtin_illuminant(&d.settings.data_dir, light, d.settings.range_nm)
-        .map_err(|e| e.to_string())?;
+    let l = evaluate::builtin_illuminant(&d.settings.data_dir, light, d.settings.range_nm)?;
     let mut intervals = Vec::new();
     for (method, step) in [("interval 10 nm", 10.0), ("interval 20 nm", 20.0)] {
         let set = interval_set(d, &l, step)?;

@@ -9,6 +9,8 @@
 //! - [`sensitivity`]: how rules move with the grid, the range and the observer (section 6c).
 #![deny(missing_docs)]
 
+use std::path::PathBuf;
+
 pub mod budget;
 pub mod prefilter;
 pub mod sensitivity;
@@ -21,4 +23,78 @@ pub const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");
 /// The paper's settings on the workspace's data ([`DATA_DIR`]).
 pub fn settings() -> spectral_quadrature_derive::Settings {
     spectral_quadrature_derive::Settings::new(DATA_DIR)
+}
+
+/// An error of the tools: the derivation's ([`spectral_quadrature_derive::Error`], which names
+/// the file and line where a file is at fault), or one of the tools' own.
+#[derive(Debug)]
+#[non_exhaustive]
+pub enum Error {
+    /// From the derivation: data, settings, sets, lights, scenes, the planner.
+    Derive(spectral_quadrature_derive::Error),
+    /// A light with no power at a node where an interval set divides by it.
+    NoPower {
+        /// The light.
+        light: String,
+        /// The node, nm.
+        nm: f64,
+    },
+    /// A comparison method that is not in [`budget::METHODS`].
+    UnknownMethod(String),
+    /// A set size the report has no timing path for.
+    NoTimingPath(usize),
+    /// A file or directory that could not be written.
+    Write {
+        /// The path.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// A plot that could not be drawn: the plotting library's error.
+    Plot(String),
+}
+
+impl std::fmt::Display for Error {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Error::Derive(e) => e.fmt(f),
+            Error::NoPower { light, nm } => {
+                write!(
+                    f,
+                    "{light}: no power at {nm} nm to fold into an interval set"
+                )
+            }
+            Error::UnknownMethod(m) => write!(f, "unknown method {m}"),
+            Error::NoTimingPath(n) => write!(f, "no timing path for a set of {n} wavelengths"),
+            Error::Write { path, source } => write!(f, "cannot write {}: {source}", path.display()),
+            Error::Plot(message) => write!(f, "plotting failed: {message}"),
+        }
+    }
+}
+
+impl std::error::Error for Error {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            Error::Write { source, .. } => Some(source),
+            _ => None,
+        }
+    }
+}
+
+impl From<spectral_quadrature_derive::Error> for Error {
+    fn from(e: spectral_quadrature_derive::Error) -> Self {
+        Error::Derive(e)
+    }
+}
+
+impl From<spectral_quadrature_derive::DataError> for Error {
+    fn from(e: spectral_quadrature_derive::DataError) -> Self {
+        Error::Derive(e.into())
+    }
+}
+
+impl From<spectral_quadrature_derive::plan::PlanError> for Error {
+    fn from(e: spectral_quadrature_derive::plan::PlanError) -> Self {
+        Error::Derive(e.into())
+    }
 }

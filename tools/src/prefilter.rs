@@ -47,7 +47,8 @@
 //! | Table 2 row 2 | 4 | 5.96  | 4.60       | 4.33            | 4.33      | 3.79    | 4.56         |
 //! | uniform 8     | 8 | 2.69  | 1.83       | 1.83            | 1.95      | 1.42    | 1.65         |
 
-use std::string::{String, ToString};
+use crate::Error;
+use std::string::String;
 use std::vec::Vec;
 
 use spectral_quadrature_derive::evaluate::{
@@ -179,28 +180,31 @@ pub const LED_LAMPS: [&str; 9] = [
 ];
 
 /// The F-series lamps F1 to F12 as curves named `F1`, ...
-pub fn f_series(range_nm: [f64; 2]) -> Result<Vec<Curve>, String> {
+pub fn f_series(range_nm: [f64; 2]) -> Result<Vec<Curve>, Error> {
     lamps(&F_SERIES, range_nm)
 }
 
 /// The CIE LED lamps ([`LED_LAMPS`]) as curves.
-pub fn led_lamps(range_nm: [f64; 2]) -> Result<Vec<Curve>, String> {
+pub fn led_lamps(range_nm: [f64; 2]) -> Result<Vec<Curve>, Error> {
     lamps(&LED_LAMPS, range_nm)
 }
 
-fn lamps(names: &[&str], range_nm: [f64; 2]) -> Result<Vec<Curve>, String> {
+fn lamps(names: &[&str], range_nm: [f64; 2]) -> Result<Vec<Curve>, Error> {
     names
         .iter()
         .map(|n| {
-            evaluate::builtin_illuminant(std::path::Path::new(crate::DATA_DIR), n, range_nm)
-                .map_err(|e| e.to_string())
+            Ok(evaluate::builtin_illuminant(
+                std::path::Path::new(crate::DATA_DIR),
+                n,
+                range_nm,
+            )?)
         })
         .collect()
 }
 
 /// The report's default surfaces: the ColorChecker (Ohta, 24) and the CIE test colour samples
 /// 1-14.
-pub fn default_surfaces(range_nm: [f64; 2]) -> Result<Vec<Curve>, String> {
+pub fn default_surfaces(range_nm: [f64; 2]) -> Result<Vec<Curve>, Error> {
     let mut v = Vec::new();
     for f in [
         "data/reflectance_colorchecker_ohta.csv",
@@ -208,8 +212,7 @@ pub fn default_surfaces(range_nm: [f64; 2]) -> Result<Vec<Curve>, String> {
     ] {
         v.extend(
             Spectra::builtin(std::path::Path::new(crate::DATA_DIR), f)
-                .and_then(|s| s.curves(range_nm))
-                .map_err(|e| e.to_string())?,
+                .and_then(|s| s.curves(range_nm))?,
         );
     }
     Ok(v)
@@ -1084,7 +1087,7 @@ pub const BAND_CENTRE_STEP_NM: f64 = 5.0;
 /// The sets [`summary`] is meant for: Table 2's two rows, uniform 4, 6, 8 and 16, AC1C2
 /// combinations 4+2+2, 6+4+3 and 8+8+7 (orders A+C1+C2; C1's odd orders and C2's orders 4-6
 /// and 8 are undefined), all with their channels, and the full 5 nm integration.
-pub fn default_sets(d: &spectral_quadrature_derive::Derivation) -> Result<Vec<ChannelSet>, String> {
+pub fn default_sets(d: &spectral_quadrature_derive::Derivation) -> Result<Vec<ChannelSet>, Error> {
     let range = d.settings.range_nm;
     let m = &d.opponent.ac1c2_to_xyz;
     let mut sets = Vec::new();
@@ -1123,7 +1126,7 @@ pub fn default_sets(d: &spectral_quadrature_derive::Derivation) -> Result<Vec<Ch
 pub fn summary(
     d: &spectral_quadrature_derive::Derivation,
     sets: &[ChannelSet],
-) -> Result<Summary, String> {
+) -> Result<Summary, Error> {
     let range = d.settings.range_nm;
     let reference_set = evaluate::full_integration(&d.observer, range, 1.0)?;
     let surfaces = default_surfaces(range)?;

@@ -245,8 +245,12 @@ fn an_impossible_budget_states_the_best_achievable() {
             "{msg}"
         );
         // plan() reports the same.
-        let msg2 = plan::plan(&f.d, &f.stimuli, 1e-9, metric).unwrap_err();
-        assert_eq!(msg2, msg);
+        let e = plan::plan(&f.d, &f.stimuli, 1e-9, metric).unwrap_err();
+        assert!(
+            matches!(&e, sqd::Error::Plan(PlanError::Unreachable { .. })),
+            "{e:?}"
+        );
+        assert_eq!(e.to_string(), msg);
     }
 }
 
@@ -258,8 +262,12 @@ fn bad_budgets_are_rejected() {
             plan::choose(&f.candidates, b, Metric::Mean),
             Err(PlanError::BadBudget(_))
         ));
-        let msg = plan::plan(&f.d, &f.stimuli, b, Metric::Max).unwrap_err();
-        assert!(msg.starts_with("bad budget: "), "{msg}");
+        let e = plan::plan(&f.d, &f.stimuli, b, Metric::Max).unwrap_err();
+        assert!(
+            matches!(&e, sqd::Error::Plan(PlanError::BadBudget(_))),
+            "{e:?}"
+        );
+        assert!(e.to_string().starts_with("bad budget: "), "{e}");
     }
 }
 
@@ -375,14 +383,21 @@ fn input_errors_name_the_file() {
         None,
     )
     .unwrap_err();
-    assert!(e.contains("no_such_file.csv"), "{e}");
+    let (file, _) = e.location().expect("a missing file names it");
+    assert!(file.contains("no_such_file.csv"), "{e}");
     let e =
         plan::stimuli_from_files(f.d.settings.range_nm, Some(&missing), None, None).unwrap_err();
-    assert!(e.contains("emission"), "{e}");
+    assert_eq!(e, sqd::Error::Plan(PlanError::NoSpectra));
+    assert!(e.to_string().contains("emission"), "{e}");
     let e = plan::evaluate_all(&f.d, &[]).unwrap_err();
-    assert!(e.contains("no stimuli"), "{e}");
+    assert_eq!(e, sqd::Error::Plan(PlanError::NoStimuli));
+    assert!(e.to_string().contains("no stimuli"), "{e}");
     // A light that is zero everywhere has no colour to compare with.
     let dark = evaluate::Curve::constant("dark", 0.0, f.d.settings.range_nm);
     let e = plan::evaluate_all(&f.d, &evaluate::emissions(&[dark])).unwrap_err();
-    assert!(e.contains("\"dark\""), "{e}");
+    assert!(
+        matches!(&e, sqd::Error::Plan(PlanError::NoReference { stimulus, .. }) if stimulus == "dark"),
+        "{e:?}"
+    );
+    assert!(e.to_string().contains("\"dark\""), "{e}");
 }

@@ -7,6 +7,7 @@ use spectral_quadrature_tools as tools;
 const DATA_DIR: &str = spectral_quadrature_tools::DATA_DIR;
 
 use sqd::display::{display_matrices, DisplaySpec, Transfer, MAX_CONDITION};
+use sqd::DisplayProblem;
 use sqd::{Settings, Status};
 use tools::sensitivity::{shifts, standard_variants};
 
@@ -64,6 +65,7 @@ fn node_shifts_between_grids_ranges_and_observers() {
 fn spec(name: &str, primaries: [[f64; 2]; 3], white: [f64; 2]) -> DisplaySpec {
     DisplaySpec {
         name: name.into(),
+        label: name.into(),
         doc: String::new(),
         primaries_xy: primaries,
         white_xy: white,
@@ -82,6 +84,16 @@ fn nearly_collinear_primaries_are_refused_with_condition_number_and_threshold() 
         red[1] + t * (blue[1] - red[1]) + 1e-5,
     ];
     let e = display_matrices(&spec("FLAT", [red, on_line, blue], [0.3127, 0.329])).unwrap_err();
+    let sqd::Error::Display {
+        name,
+        problem: DisplayProblem::Collinear { condition },
+    } = &e
+    else {
+        panic!("expected collinear primaries, got {e:?}");
+    };
+    assert_eq!(name, "FLAT");
+    assert!(*condition > MAX_CONDITION, "{condition}");
+    let e = e.to_string();
     assert!(e.contains("FLAT") && e.contains("collinear"), "{e}");
     assert!(
         e.contains("condition number") && e.contains(&format!("{MAX_CONDITION:e}")),
@@ -98,6 +110,15 @@ fn white_outside_the_primaries_triangle_is_refused() {
     ))
     .unwrap_err();
     assert!(
+        matches!(
+            &e,
+            sqd::Error::Display { problem: DisplayProblem::WhiteOutside { drives, .. }, .. }
+                if drives.iter().any(|d| *d <= 0.0)
+        ),
+        "{e:?}"
+    );
+    let e = e.to_string();
+    assert!(
         e.contains("ODD_WHITE") && e.contains("outside the primaries' triangle"),
         "{e}"
     );
@@ -112,6 +133,20 @@ fn invalid_chromaticities_are_refused() {
             [0.3127, 0.329],
         ))
         .unwrap_err();
+        assert!(
+            matches!(
+                &e,
+                sqd::Error::Display {
+                    problem: DisplayProblem::Chromaticity {
+                        which: "red primary",
+                        ..
+                    },
+                    ..
+                }
+            ),
+            "{e:?}"
+        );
+        let e = e.to_string();
         assert!(e.contains("BAD") && e.contains("not a valid colour"), "{e}");
     }
 }

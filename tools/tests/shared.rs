@@ -177,9 +177,31 @@ fn the_catalog_builds_the_same_sets_the_comparison_judged() {
         (y - unit).abs() / unit
     );
     assert!((y - unit).abs() <= 1e-12 * unit, "{y} vs {unit}");
+    // Mistakes in a KQ name are typed, and their messages list the choices.
     let err = catalog::resolve(d, "KQ_Z9_6").unwrap_err();
-    assert!(err.contains("Z9 is not a built-in illuminant"), "{err}");
-    assert!(err.contains("F11"), "{err}");
-    assert!(catalog::resolve(d, "KQ_2").unwrap_err().contains("3 to 32"));
+    let sqd::Error::SetName {
+        problem: sqd::SetNameProblem::UnknownLight { light, valid },
+        ..
+    } = &err
+    else {
+        panic!("expected an unknown light, got {err:?}");
+    };
+    assert_eq!(light, "Z9");
+    assert!(valid.iter().any(|l| l == "F11"), "{valid:?}");
+    let shown = err.to_string();
+    assert!(shown.contains("Z9 is not a built-in illuminant"), "{shown}");
+    assert!(shown.contains("F11"), "{shown}");
+    let err = catalog::resolve(d, "KQ_2").unwrap_err();
+    assert!(
+        matches!(
+            &err,
+            sqd::Error::SetName {
+                problem: sqd::SetNameProblem::Size { size: 2, .. },
+                ..
+            }
+        ),
+        "{err:?}"
+    );
+    assert!(err.to_string().contains("3 to 32"), "{err}");
     let _ = Reference::new;
 }

@@ -15,6 +15,7 @@
 
 use spectral_quadrature_derive as sqd;
 use spectral_quadrature_tools as tools;
+use tools::Error;
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -81,18 +82,17 @@ fn main() {
     }
 }
 
-fn run(args: &Args) -> Result<(), String> {
+fn run(args: &Args) -> Result<(), Error> {
     let start = Instant::now();
     let budget = args.max_delta_e;
     let metric = Metric::from(args.metric);
-    plan::check_budget(budget).map_err(|e| e.to_string())?;
-    let d = sqd::derive(&tools::settings()).map_err(|e| e.to_string())?;
+    plan::check_budget(budget)?;
+    let d = sqd::derive(&tools::settings())?;
     let displays = check_displays(&d, &args.displays)?;
     let range = d.settings.range_nm;
     let (stimuli, described) = load_stimuli(args, range)?;
     let candidates = plan::evaluate_all(&d, &stimuli)?;
-    let p =
-        plan::plan_from(&candidates, stimuli.len(), budget, metric).map_err(|e| e.to_string())?;
+    let p = plan::plan_from(&candidates, stimuli.len(), budget, metric)?;
     let elapsed = start.elapsed().as_secs_f64();
 
     let note = format!(
@@ -114,42 +114,43 @@ fn run(args: &Args) -> Result<(), String> {
         print!("{scene}");
         eprintln!("scene written to standard output");
     } else {
-        std::fs::write(&args.out, &scene)
-            .map_err(|e| format!("cannot write {}: {e}", args.out.display()))?;
+        std::fs::write(&args.out, &scene).map_err(|source| Error::Write {
+            path: args.out.clone(),
+            source,
+        })?;
         print!("{summary}");
         println!("scene written to {}", args.out.display());
     }
     Ok(())
 }
 
-/// The displays, by the names the scene uses; an unknown name is an error listing the valid ones.
-fn check_displays(d: &sqd::Derivation, names: &[String]) -> Result<Vec<String>, String> {
-    let valid: Vec<&str> = d.displays.iter().map(|(s, _)| s.name.as_str()).collect();
+/// The displays, by the names the scene uses (any case); an unknown name is
+/// [`sqd::Error::UnknownDisplay`], listing the valid ones.
+fn check_displays(d: &sqd::Derivation, names: &[String]) -> Result<Vec<String>, Error> {
     let mut out: Vec<String> = Vec::new();
     for n in names {
-        let found = valid
-            .iter()
-            .find(|v| v.eq_ignore_ascii_case(n))
-            .ok_or_else(|| format!("unknown display {n:?}; valid: {}", valid.join(", ")))?;
-        if !out.iter().any(|o| o == found) {
-            out.push(found.to_string());
+        let (spec, _) = d.display(&n.to_ascii_uppercase()).map_err(|e| match e {
+            sqd::Error::UnknownDisplay { valid, .. } => sqd::Error::UnknownDisplay {
+                name: n.clone(),
+                valid,
+            },
+            other => other,
+        })?;
+        if !out.contains(&spec.name) {
+            out.push(spec.name.clone());
         }
     }
     Ok(out)
 }
 
 /// The stimuli and a few words saying what they are.
-fn load_stimuli(args: &Args, range: [f64; 2]) -> Result<(Vec<Stimulus>, String), String> {
+fn load_stimuli(args: &Args, range: [f64; 2]) -> Result<(Vec<Stimulus>, String), Error> {
     if let Some(path) = &args.emission {
         let s = plan::stimuli_from_files(range, None, None, Some(path))?;
         let described = format!("{} in {}", plural(s.len(), "light"), path.display());
         return Ok((s, described));
     }
-    let read = |p: &std::path::Path| {
-        evaluate::Spectra::read(p)
-            .and_then(|s| s.curves(range))
-            .map_err(|e| e.to_string())
-    };
+    let read = |p: &std::path::Path| evaluate::Spectra::read(p).and_then(|s| s.curves(range));
     let (surfaces, surfaces_from) = match &args.reflectances {
         Some(p) => (read(p)?, p.display().to_string()),
         None => (
@@ -160,10 +161,11 @@ fn load_stimuli(args: &Args, range: [f64; 2]) -> Result<(Vec<Stimulus>, String),
     let (lights, lights_from): (Vec<Curve>, String) = match &args.illuminants {
         Some(p) => (read(p)?, p.display().to_string()),
         None => (
-            vec![
-                evaluate::builtin_illuminant(std::path::Path::new(tools::DATA_DIR), "C", range)
-                    .map_err(|e| e.to_string())?,
-            ],
+            vec![evaluate::builtin_illuminant(
+                std::path::Path::new(tools::DATA_DIR),
+                "C",
+                range,
+            )?],
             "illuminant C".to_string(),
         ),
     };

@@ -56,15 +56,15 @@ fn other_observers() -> Vec<sqd::Derivation> {
 }
 
 /// Searches every set of `shared::CACHED` afresh and prints the cache file.
-fn print_shared_cache() -> Result<(), String> {
-    let d = sqd::derive(&tools::settings()).map_err(|e| e.to_string())?;
+fn print_shared_cache() -> Result<(), sqd::Error> {
+    let d = sqd::derive(&tools::settings())?;
     let entries = sqd::shared::CACHED
         .iter()
         .map(|&(light, n)| {
             eprintln!("searching {}", sqd::shared::set_name(light, n));
             sqd::shared::cache_entry(&d, light, n)
         })
-        .collect::<Result<Vec<_>, String>>()?;
+        .collect::<Result<Vec<_>, _>>()?;
     print!("{}", sqd::shared::write_cache(&entries));
     Ok(())
 }

@@ -9,7 +9,7 @@ use plotters::prelude::*;
 use crate::sqd::evaluate::EvalSet;
 use crate::sqd::{shared, Derivation};
 use crate::tools::budget::{self, Entry, LIGHTS, METHODS};
-use crate::{plot_err, time_set, write};
+use crate::{plot_err, time_set, write, Error};
 
 /// Text, and the files written (budget.csv, budget.svg). `spaces` and `radiance`: the rule
 /// combinations and the shared sets for radiances the report has built for sections 2-4.
@@ -19,12 +19,12 @@ pub fn section(
     radiance: &[EvalSet],
     out: &Path,
     runs: usize,
-) -> Result<(String, Vec<PathBuf>), String> {
+) -> Result<(String, Vec<PathBuf>), Error> {
     let others = budget::other_sets(d, spaces);
     let folded = LIGHTS
         .iter()
         .map(|l| budget::shared_sets(d, Some(l)))
-        .collect::<Result<Vec<_>, String>>()?;
+        .collect::<Result<Vec<_>, Error>>()?;
     let mut tables = Vec::new();
     for (light, f) in LIGHTS.iter().zip(&folded) {
         tables.push(budget::compare(d, light, &others, radiance, f)?);
@@ -140,7 +140,7 @@ fn csv_row(csv: &mut String, light: &str, n: usize, e: &Entry) {
 
 use crate::tools::budget::Comparison as Table;
 
-fn plot(out: &Path, tables: &[Table]) -> Result<PathBuf, String> {
+fn plot(out: &Path, tables: &[Table]) -> Result<PathBuf, Error> {
     const FLOOR: f64 = 0.01;
     let path = out.join("budget.svg");
     let root = SVGBackend::new(&path, (1100, 800)).into_drawing_area();

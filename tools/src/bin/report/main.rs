@@ -15,6 +15,7 @@
 mod budget;
 use spectral_quadrature_derive as sqd;
 use spectral_quadrature_tools as tools;
+use tools::Error;
 mod stability;
 
 use std::fmt::Write as _;
@@ -106,13 +107,13 @@ struct Row {
     ns_per_pixel: f64,
 }
 
-fn run(args: &Args) -> Result<(), String> {
+fn run(args: &Args) -> Result<(), Error> {
     let mut progress = Progress {
         step: 0,
         start: Instant::now(),
     };
     progress.next();
-    let d = sqd::derive(&tools::settings()).map_err(|e| e.to_string())?;
+    let d = sqd::derive(&tools::settings())?;
     let range = d.settings.range_nm;
     let reference_set = evaluate::full_integration(&d.observer, range, 1.0)?;
 
@@ -124,16 +125,16 @@ fn run(args: &Args) -> Result<(), String> {
             &d.settings.data_dir,
             "data/reflectance_colorchecker_ohta.csv",
         )
-        .and_then(|s| s.curves(range))
-        .map_err(|e| e.to_string())?;
-        let c = evaluate::builtin_illuminant(&d.settings.data_dir, "C", range)
-            .map_err(|e| e.to_string())?;
+        .and_then(|s| s.curves(range))?;
+        let c = evaluate::builtin_illuminant(&d.settings.data_dir, "C", range)?;
         let st = evaluate::surfaces_under_lights(&cc, &[c]);
         let r = Reference::new(reference_set.clone(), &st);
         (st, r)
     };
-    std::fs::create_dir_all(&args.out)
-        .map_err(|e| format!("cannot create {}: {e}", args.out.display()))?;
+    std::fs::create_dir_all(&args.out).map_err(|source| Error::Write {
+        path: args.out.clone(),
+        source,
+    })?;
 
     progress.next();
     let table2 = table2_rows(&d, &cc_under_c, &cc_reference);
@@ -255,12 +256,8 @@ fn run(args: &Args) -> Result<(), String> {
     Ok(())
 }
 
-fn load_stimuli(args: &Args, range: [f64; 2]) -> Result<Vec<Stimulus>, String> {
-    let read = |p: &Path| {
-        Spectra::read(p)
-            .and_then(|s| s.curves(range))
-            .map_err(|e| e.to_string())
-    };
+fn load_stimuli(args: &Args, range: [f64; 2]) -> Result<Vec<Stimulus>, Error> {
+    let read = |p: &Path| Spectra::read(p).and_then(|s| s.curves(range));
     if let Some(path) = &args.emission {
         return Ok(evaluate::emissions(&read(path)?));
     }
@@ -272,10 +269,7 @@ fn load_stimuli(args: &Args, range: [f64; 2]) -> Result<Vec<Stimulus>, String> {
         Some(p) => read(p)?,
         None => DEFAULT_ILLUMINANTS
             .iter()
-            .map(|n| {
-                evaluate::builtin_illuminant(std::path::Path::new(tools::DATA_DIR), n, range)
-                    .map_err(|e| e.to_string())
-            })
+            .map(|n| evaluate::builtin_illuminant(std::path::Path::new(tools::DATA_DIR), n, range))
             .collect::<Result<_, _>>()?,
     };
     Ok(evaluate::surfaces_under_lights(&surfaces, &lights))
@@ -317,11 +311,11 @@ macro_rules! dispatch {
     };
 }
 
-fn time_set(set: &EvalSet, stimuli: &[Stimulus], runs: usize) -> Result<f64, String> {
+fn time_set(set: &EvalSet, stimuli: &[Stimulus], runs: usize) -> Result<f64, Error> {
     dispatch!(set.len(), set, stimuli, runs;
         1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20 21 22 23 24 25 26 27 28 29 30 31 32
         33 34 35 36 37 38 39 40 41 42 43 44 45 46 47 48 79 391)
-    .ok_or_else(|| format!("no timing path for a set of {} wavelengths", set.len()))
+    .ok_or(Error::NoTimingPath(set.len()))
 }
 
 /// Median ns per pixel of `FoldedSet::<N>::linear_rgb_batch` over pixels cycling through the
@@ -712,20 +706,23 @@ fn print_sections_2_to_4(
     }
 }
 
-fn write(dir: &Path, name: &str, text: &str) -> Result<PathBuf, String> {
+fn write(dir: &Path, name: &str, text: &str) -> Result<PathBuf, Error> {
     let path = dir.join(name);
-    std::fs::write(&path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    std::fs::write(&path, text).map_err(|source| Error::Write {
+        path: path.clone(),
+        source,
+    })?;
     Ok(path)
 }
 
 // ---------------------------------------------------------------------------------------------
 // Plots (SVG).
 
-fn plot_err<E: std::fmt::Debug>(e: E) -> String {
-    format!("plotting failed: {e:?}")
+fn plot_err<E: std::fmt::Debug>(e: E) -> Error {
+    Error::Plot(format!("{e:?}"))
 }
 
-fn plot_fig6(out: &Path, f: &Fig6) -> Result<PathBuf, String> {
+fn plot_fig6(out: &Path, f: &Fig6) -> Result<PathBuf, Error> {
     let path = out.join("fig6.svg");
     let root = SVGBackend::new(&path, (720, 480)).into_drawing_area();
     root.fill(&WHITE).map_err(plot_err)?;
@@ -795,7 +792,7 @@ fn heat(t: f64) -> RGBColor {
     RGBColor((r * 255.0) as u8, (g * 255.0) as u8, (b * 255.0) as u8)
 }
 
-fn plot_fig7(out: &Path, f: &Fig7) -> Result<PathBuf, String> {
+fn plot_fig7(out: &Path, f: &Fig7) -> Result<PathBuf, Error> {
     let path = out.join("fig7.svg");
     let (w, h) = (640i32, 600i32);
     let root = SVGBackend::new(&path, (w as u32, h as u32)).into_drawing_area();
@@ -876,7 +873,7 @@ fn plot_fig7(out: &Path, f: &Fig7) -> Result<PathBuf, String> {
     Ok(path)
 }
 
-fn plot_error_vs_time(out: &Path, rows: &[Row]) -> Result<PathBuf, String> {
+fn plot_error_vs_time(out: &Path, rows: &[Row]) -> Result<PathBuf, Error> {
     let path = out.join("error_vs_time.svg");
     let root = SVGBackend::new(&path, (800, 540)).into_drawing_area();
     root.fill(&WHITE).map_err(plot_err)?;
@@ -959,7 +956,7 @@ fn draw_swatches(
     d: &Derivation,
     cc_under_c: &[Stimulus],
     rows: &[Row],
-) -> Result<PathBuf, String> {
+) -> Result<PathBuf, Error> {
     let path = out.join("swatches.svg");
     let chosen: Vec<&Row> = [
         "table2 row1",
@@ -975,7 +972,7 @@ fn draw_swatches(
     let reference = rows
         .iter()
         .find(|r| r.set.name == "full 1 nm")
-        .ok_or("the reference set is missing")?;
+        .ok_or_else(|| Error::Plot("the swatches' reference set is missing".into()))?;
     let cell = 36i32;
     let (cols, rows_n) = (6i32, 4i32);
     let panel_w = cols * cell + 20;

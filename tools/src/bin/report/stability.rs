@@ -10,13 +10,13 @@ use spectral_quadrature::tables;
 use crate::sqd::{derive, Settings, Status};
 use crate::tools::sensitivity::{shifts, standard_variants};
 use crate::tools::stability;
+use crate::Error;
 
 const CHANNELS: [&str; 3] = ["A", "C1", "C2"];
 
 /// The sensitivity table: node shifts against the baseline for each variant, orders 1-8.
-pub fn sensitivity(o: &mut String, csv: &mut String) -> Result<(), String> {
-    let rows =
-        shifts(&crate::tools::settings(), &standard_variants(), 8).map_err(|e| e.to_string())?;
+pub fn sensitivity(o: &mut String, csv: &mut String) -> Result<(), Error> {
+    let rows = shifts(&crate::tools::settings(), &standard_variants(), 8)?;
     writeln!(o, "   6c. sensitivity: how far each rule moves (largest node shift in nm; '-' where either is undefined)").ok();
     writeln!(
         o,
@@ -82,8 +82,8 @@ fn short(status: &str) -> &'static str {
 }
 
 /// 6a: every order's margin from being undefined (orders 1-16).
-fn margins(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(), String> {
-    let d = derive(&crate::tools::settings()).map_err(|e| e.to_string())?;
+fn margins(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(), Error> {
+    let d = derive(&crate::tools::settings())?;
     let m = stability::margins(&d);
     writeln!(o, "   6a. margins: how far each order is from changing class (clear: norm ratio > 1e3 x threshold,").ok();
     writeln!(o, "       |Im| > 1 nm for complex nodes, deciding node > 1 nm from 380/770 nm, nodes > 1 nm apart)").ok();
@@ -197,12 +197,11 @@ fn margins(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(), S
 }
 
 /// 6b: where the unstable alternatives lose accuracy (orders 1-30).
-fn breakdown(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(), String> {
+fn breakdown(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(), Error> {
     let d = derive(&Settings {
         max_order: 30,
         ..crate::tools::settings()
-    })
-    .map_err(|e| e.to_string())?;
+    })?;
     let cmp = stability::compare(&d, 30, stability::BREAKDOWN_TOLERANCE);
     writeln!(o, "   6b. breakdown: the first order at which each way of computing the rules fails, orders 1-30").ok();
     for t in [
@@ -296,9 +295,9 @@ fn breakdown(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(),
 }
 
 /// 6d: spiky spectra and the two pre-filters.
-fn spiky(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(), String> {
+fn spiky(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(), Error> {
     use crate::tools::prefilter::{self, Method};
-    let d = derive(&crate::tools::settings()).map_err(|e| e.to_string())?;
+    let d = derive(&crate::tools::settings())?;
     let sets = prefilter::default_sets(&d)?;
     let sum = prefilter::summary(&d, &sets)?;
     let methods = [
@@ -491,8 +490,8 @@ fn spiky(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(), Str
 }
 
 /// 6e: the f32 runtime on extreme inputs (the same pool as tests/extremes.rs).
-fn extremes(o: &mut String) -> Result<(), String> {
-    let d = derive(&crate::tools::settings()).map_err(|e| e.to_string())?;
+fn extremes(o: &mut String) -> Result<(), Error> {
+    let d = derive(&crate::tools::settings())?;
     let w = &d.table2[1].weights;
     let pool = [
         0.0f32,
@@ -540,7 +539,7 @@ fn extremes(o: &mut String) -> Result<(), String> {
 }
 
 /// Runs every part of the section; returns the text and the files written.
-pub fn section(out: &Path) -> Result<(String, Vec<PathBuf>), String> {
+pub fn section(out: &Path) -> Result<(String, Vec<PathBuf>), Error> {
     let mut o = String::new();
     let mut files = Vec::new();
     writeln!(o, "6. Stability").ok();
