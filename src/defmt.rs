@@ -21,6 +21,18 @@ impl Format for Samples {
         match self {
             Samples::Radiance => write!(f, "radiance"),
             Samples::Reflectance { light } => write!(f, "reflectance under {=str}", light),
+            Samples::Readings {
+                sensor,
+                light: Some(light),
+            } => write!(
+                f,
+                "readings of sensor {=str}, fitted under {=str}",
+                sensor, light
+            ),
+            Samples::Readings {
+                sensor,
+                light: None,
+            } => write!(f, "readings of sensor {=str}, fitted for radiances", sensor),
         }
     }
 }

@@ -68,22 +68,43 @@ impl RuleStatus {
 /// gives wrong colours, silently, so the set carries this field and the docs, `Debug` and
 /// `defmt` output show it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub enum Samples {
     /// Samples of a spectral radiance (or of any spectrum whose colour is wanted as given).
     Radiance,
     /// Samples of a reflectance lit by a light that is folded into the weights.
     Reflectance {
-        /// The light's name, e.g. `"C"`, `"F11"` (a built-in illuminant).
+        /// The light's name, e.g. `"C"`, `"F11"` (a built-in illuminant), or the name a scene
+        /// gave a light read from a file.
         light: &'static str,
+    },
+    /// The readings of a spectral sensor's channels, in the sensor's order: the set's
+    /// `wavelengths_nm` are each channel's peak, not wavelengths to sample at. A reading is
+    /// `∫ S_k(λ) e(λ) dλ` of the radiance e reaching the sensor, in the units of the scene's
+    /// sensor file times nm.
+    Readings {
+        /// The sensor's name in the scene.
+        sensor: &'static str,
+        /// The light the weights were fitted for (reflectances under it), or `None` (radiances).
+        light: Option<&'static str>,
     },
 }
 
 impl Samples {
-    /// The light folded into the weights, if any.
+    /// The light folded into (or, for sensor readings, assumed by) the weights, if any.
     pub const fn light(self) -> Option<&'static str> {
         match self {
             Samples::Radiance => None,
             Samples::Reflectance { light } => Some(light),
+            Samples::Readings { light, .. } => light,
+        }
+    }
+
+    /// The sensor whose channel readings the samples are, if any.
+    pub const fn sensor(self) -> Option<&'static str> {
+        match self {
+            Samples::Readings { sensor, .. } => Some(sensor),
+            _ => None,
         }
     }
 }

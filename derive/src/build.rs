@@ -57,18 +57,20 @@ pub fn generate(crate_dir: &Path, scene: Option<&OsStr>) -> Result<Output, Error
             let mut scene = Scene::parse(&label, &text, &data_dir)?;
             // The scene's own relative paths were resolved against its label: make them
             // absolute again.
-            if let Some(p) = scene.plan.as_mut() {
-                for f in [&mut p.reflectances, &mut p.illuminants, &mut p.emission]
+            let plan_files = scene.plan.as_mut().into_iter().flat_map(|p| {
+                [&mut p.reflectances, &mut p.illuminants, &mut p.emission]
                     .into_iter()
                     .flatten()
-                {
-                    *f = crate_dir.join(&*f);
-                    rerun.push(f.clone());
-                    if let Ok(bytes) = std::fs::read(&*f) {
-                        inputs.push((relative_label(crate_dir, f), super::sha256_hex(&bytes)));
-                    }
+            });
+            let mut user = std::mem::take(&mut scene.user);
+            for f in plan_files.chain(user.files_mut()) {
+                *f = crate_dir.join(&*f);
+                rerun.push(f.clone());
+                if let Ok(bytes) = std::fs::read(&*f) {
+                    inputs.push((relative_label(crate_dir, f), super::sha256_hex(&bytes)));
                 }
             }
+            scene.user = user;
             scene
         }
     };
@@ -83,7 +85,11 @@ pub fn generate(crate_dir: &Path, scene: Option<&OsStr>) -> Result<Output, Error
     let resolved = scene.resolve(&d)?;
     // Every data file a baked set was made from, after the observer and the scene's own files.
     let sets = resolved.colour_sets.iter().chain(&resolved.rule_sets);
-    for label in sets.flat_map(|s| super::catalog::input_files(&s.name)) {
+    let own = scene.user.data_files();
+    for label in sets
+        .flat_map(|s| super::catalog::input_files(&s.name))
+        .chain(own)
+    {
         if inputs.iter().any(|(l, _)| *l == label) {
             continue;
         }

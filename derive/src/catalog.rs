@@ -8,7 +8,7 @@
 //! | `AC1C2_<a>_<c1>_<c2>` | the union of A order a, C1 order c1 and C2 order c2 |
 //! | `UNIFORM_<n>` | n wavelengths at the centres of equal bins, box-filter weights |
 //! | `KQ_<n>` | a shared set by kernel quadrature for radiances ([`super::shared`]), n = 3..=32 |
-//! | `KQ_<light>_<n>` | the same with a built-in illuminant folded in (`KQ_C_6`, `KQ_F11_6`, `KQ_LED_B1_4`): samples are reflectances |
+//! | `KQ_<light>_<n>` | the same with a built-in illuminant (`KQ_C_6`, `KQ_F11_6`, `KQ_LED_B1_4`) or a scene's `[lights]` light folded in ([`resolve_with`]): samples are reflectances |
 //! | `INTERP_A_<n>` | A's Gauss nodes of order n, C1 and C2 by interpolatory rules on them |
 
 use std::string::{String, ToString};
@@ -35,6 +35,16 @@ pub fn is_single_channel(name: &str) -> bool {
 /// the derivation's maximum, undefined rule and its reason, a size the family lacks, an unknown
 /// light), or why building it failed ([`Error::InSet`]).
 pub fn resolve(d: &Derivation, name: &str) -> Result<WavelengthSet, Error> {
+    resolve_with(d, name, &[])
+}
+
+/// [`resolve`], where `KQ_<light>_<n>` may also name one of `lights` (lights a scene reads from
+/// files): their sets are searched afresh (the node cache holds built-in lights only).
+pub fn resolve_with(
+    d: &Derivation,
+    name: &str,
+    lights: &[super::user::UserLight],
+) -> Result<WavelengthSet, Error> {
     let problem = |problem: SetNameProblem| Error::SetName {
         name: name.into(),
         problem,
@@ -105,6 +115,7 @@ pub fn resolve(d: &Derivation, name: &str) -> Result<WavelengthSet, Error> {
             wavelengths_nm: u.wavelengths_nm,
             weights,
             light: None,
+            sensor: None,
         });
     }
     if let Some(n) = name.strip_prefix("INTERP_A_") {
@@ -122,6 +133,15 @@ pub fn resolve(d: &Derivation, name: &str) -> Result<WavelengthSet, Error> {
                 size: n,
                 sizes: shared::SIZES,
             }));
+        }
+        if let Some(user) = light.and_then(|l| lights.iter().find(|u| u.name == l)) {
+            let s = shared::problem_for(d, Some(&user.curve))
+                .and_then(|p| p.shared(n))
+                .map_err(|e| Error::InSet {
+                    name: name.into(),
+                    error: std::boxed::Box::new(e),
+                })?;
+            return Ok(s.wavelength_set(d, name));
         }
         if let Some(l) = light {
             if evaluate::builtin_illuminant(&d.settings.data_dir, l, d.settings.range_nm).is_err() {
@@ -159,6 +179,7 @@ pub fn resolve(d: &Derivation, name: &str) -> Result<WavelengthSet, Error> {
                 wavelengths_nm: r.nodes_nm.clone(),
                 weights,
                 light: None,
+                sensor: None,
             });
         }
     }
@@ -188,7 +209,7 @@ pub fn colour_set_names(d: &Derivation) -> Vec<String> {
 }
 
 /// The data files (labels `data/<file>`) the set called `name` is made from besides the
-/// observer: a shared set's training reflectances, its light and the node cache
+/// observer: a shared set's training reflectances, its light if built in, and the node cache
 /// ([`shared::CACHE_FILE`]). Empty for the sets the observer alone determines.
 pub fn input_files(name: &str) -> Vec<String> {
     let Some(rest) = name.strip_prefix("KQ_") else {
@@ -196,6 +217,11 @@ pub fn input_files(name: &str) -> Vec<String> {
     };
     let mut files = std::vec![shared::TRAINING_FILE.to_string()];
     if let Some((light, _)) = rest.rsplit_once('_') {
+        // A light a scene reads from a file is among the scene's own inputs, and its sets are
+        // searched afresh, without the node cache.
+        if !builtin_lights().contains(&light) {
+            return files;
+        }
         files.push(std::format!("data/illuminant_{light}.csv"));
     }
     files.push(shared::CACHE_FILE.to_string());

@@ -55,9 +55,13 @@ fn set_literal(set: &WavelengthSet) -> Result<String, Error> {
 
 /// The runtime's `Samples` value for a set.
 fn samples_literal(set: &WavelengthSet) -> String {
-    match &set.light {
-        Some(l) => std::format!("Samples::Reflectance {{ light: {l:?} }}"),
-        None => "Samples::Radiance".into(),
+    match (&set.sensor, &set.light) {
+        (Some(s), Some(l)) => {
+            std::format!("Samples::Readings {{ sensor: {s:?}, light: Some({l:?}) }}")
+        }
+        (Some(s), None) => std::format!("Samples::Readings {{ sensor: {s:?}, light: None }}"),
+        (None, Some(l)) => std::format!("Samples::Reflectance {{ light: {l:?} }}"),
+        (None, None) => "Samples::Radiance".into(),
     }
 }
 

@@ -47,6 +47,7 @@ pub mod sets;
 pub mod shader;
 pub mod shared;
 pub mod table;
+pub mod user;
 
 use std::path::{Path, PathBuf};
 use std::string::String;

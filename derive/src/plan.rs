@@ -257,6 +257,84 @@ pub fn evaluate_all(d: &Derivation, stimuli: &[Stimulus]) -> Result<Vec<Candidat
     Ok(out)
 }
 
+/// Measures sets built elsewhere (a scene's fixed-wavelength and sensor sets, shared sets) on
+/// `stimuli` like [`evaluate_all`]: `(name, samples per pixel, set)`.
+pub fn evaluate_sets(
+    d: &Derivation,
+    stimuli: &[Stimulus],
+    sets: &[(String, usize, EvalSet)],
+) -> Result<Vec<Candidate>, Error> {
+    if stimuli.is_empty() {
+        return Err(PlanError::NoStimuli.into());
+    }
+    let reference = Reference::new(
+        evaluate::full_integration(&d.observer, d.settings.range_nm, 1.0)?,
+        stimuli,
+    );
+    Ok(sets
+        .iter()
+        .map(|(name, n, set)| {
+            let e = reference.errors(set, stimuli);
+            Candidate {
+                name: name.clone(),
+                wavelengths: *n,
+                mean_de00: e.mean_de00(),
+                max_de00: e.max_de00(),
+                mean_de76: e.mean_de76(),
+                max_de76: e.max_de76(),
+            }
+        })
+        .collect())
+}
+
+/// The shared sets the planner adds to the catalogue's: `KQ_<n>` for radiances, and, when every
+/// stimulus is a surface under one light that is built in or among `lights` (by its name),
+/// `KQ_<light>_<n>` with that light folded in; n in [`SHARED_SIZES`]. Measured on radiances.
+pub fn shared_sets(
+    d: &Derivation,
+    stimuli: &[Stimulus],
+    lights: &[super::user::UserLight],
+) -> Result<Vec<(String, usize, EvalSet)>, Error> {
+    let mut out = Vec::new();
+    for n in SHARED_SIZES {
+        let name = std::format!("KQ_{n}");
+        let set = catalog::resolve_with(d, &name, lights)?;
+        out.push((
+            name,
+            n,
+            EvalSet::from_set(&set, "KQ radiance", &d.opponent.ac1c2_to_xyz),
+        ));
+    }
+    let Some(first) = stimuli.first() else {
+        return Ok(out);
+    };
+    let one_light = stimuli
+        .iter()
+        .all(|s| s.reflectance.is_some() && s.light == first.light);
+    let name = &first.light.name;
+    let known = catalog::builtin_lights().contains(&name.as_str())
+        || lights.iter().any(|l| &l.name == name);
+    if !(one_light && known) {
+        return Ok(out);
+    }
+    let p = super::shared::problem_for(d, Some(&first.light))?;
+    for n in SHARED_SIZES {
+        let set_name = std::format!("KQ_{name}_{n}");
+        let set = catalog::resolve_with(d, &set_name, lights)?;
+        let mut eval = EvalSet::from_set(&set, "KQ folded", &d.opponent.ac1c2_to_xyz);
+        for row in eval.xyz_weights.iter_mut() {
+            for (w, nm) in row.iter_mut().zip(&set.wavelengths_nm) {
+                *w /= p.light_at(*nm);
+            }
+        }
+        out.push((set_name, n, eval));
+    }
+    Ok(out)
+}
+
+/// The shared-set sizes the planner tries: those the node cache holds for the built-in lights.
+pub const SHARED_SIZES: [usize; 3] = [4, 6, 8];
+
 /// Builds the set `name` and measures it.
 fn candidate(
     d: &Derivation,
@@ -379,8 +457,21 @@ pub fn plan(
     budget: f64,
     metric: Metric,
 ) -> Result<Plan, Error> {
+    plan_with(d, stimuli, budget, metric, &[])
+}
+
+/// [`plan`], with more candidates: `extra` from [`shared_sets`] or a scene's own sets
+/// (`(name, samples per pixel, set)`), measured by [`evaluate_sets`].
+pub fn plan_with(
+    d: &Derivation,
+    stimuli: &[Stimulus],
+    budget: f64,
+    metric: Metric,
+    extra: &[(String, usize, EvalSet)],
+) -> Result<Plan, Error> {
     check_budget(budget)?;
-    let candidates = evaluate_all(d, stimuli)?;
+    let mut candidates = evaluate_all(d, stimuli)?;
+    candidates.extend(evaluate_sets(d, stimuli, extra)?);
     Ok(plan_from(&candidates, stimuli.len(), budget, metric)?)
 }
 

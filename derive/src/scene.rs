@@ -21,7 +21,20 @@
 //! metric = "mean"                  # or "max"
 //! reflectances = "surfaces.csv"    # relative to the scene file
 //! illuminants = "lamps.csv"        # or emission = "leds.csv"
+//!
+//! [lights]                         # optional: lights read from files (one column of power)
+//! SHOP_LED = "shop_led.csv"        # KQ_SHOP_LED_<n> folds it in; light = "SHOP_LED" below
+//!
+//! [fixed.BINS8]                    # optional: the best weights for exactly these wavelengths
+//! wavelengths_nm = [450, 550, 650]
+//! light = "C"                      # optional: fold a light in (else radiances)
+//!
+//! [sensors.AS7341]                 # optional: the best matrix from a sensor's readings
+//! file = "as7341.csv"              # wavelength, then one column per channel
+//! light = "C"                      # optional: fit for reflectances under it (else radiances)
 //! ```
+//!
+//! `[fixed.*]` and `[sensors.*]` sets are baked whenever declared ([`super::user`]).
 //!
 //! Every mistake (unknown key, set, observer or display, an undefined order, a bad budget) is
 //! an error naming the file, the line and the valid choices.
@@ -55,7 +68,119 @@ struct RawScene {
     transfer: Option<BTreeMap<Spanned<String>, Spanned<String>>>,
     extras: Option<Extras>,
     plan: Option<Spanned<RawPlan>>,
+    lights: Option<BTreeMap<Spanned<String>, Spanned<String>>>,
+    fixed: Option<BTreeMap<Spanned<String>, Spanned<RawFixed>>>,
+    sensors: Option<BTreeMap<Spanned<String>, Spanned<RawSensor>>>,
 }
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawFixed {
+    wavelengths_nm: Spanned<Vec<f64>>,
+    light: Option<Spanned<String>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawSensor {
+    file: Spanned<String>,
+    light: Option<Spanned<String>>,
+}
+
+/// A light a scene reads from a file (`[lights] NAME = "file.csv"`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneLight {
+    /// Its name: `KQ_<NAME>_<n>`, and `light = "NAME"` in `[fixed.*]` and `[sensors.*]`.
+    pub name: String,
+    /// The file, relative to the scene's directory (or absolute).
+    pub path: std::path::PathBuf,
+    /// The line that names it.
+    pub line: usize,
+}
+
+/// A set for wavelengths the user fixes (`[fixed.NAME]`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneFixed {
+    /// The set's name.
+    pub name: String,
+    /// The wavelengths, nm.
+    pub wavelengths_nm: Vec<f64>,
+    /// The light folded in (a built-in illuminant or a `[lights]` name), or `None`: radiances.
+    pub light: Option<String>,
+    /// The line of its table.
+    pub line: usize,
+}
+
+/// A set for a spectral sensor's readings (`[sensors.NAME]`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneSensor {
+    /// The set's (and the sensor's) name.
+    pub name: String,
+    /// The channel sensitivities' CSV file, relative to the scene's directory (or absolute).
+    pub path: std::path::PathBuf,
+    /// The light the weights are fitted for (a built-in illuminant or a `[lights]` name), or
+    /// `None`: radiances.
+    pub light: Option<String>,
+    /// The line of its table.
+    pub line: usize,
+}
+
+/// What a scene brings of the user's own: lights, fixed wavelengths, sensors.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct UserInputs {
+    /// Lights read from files.
+    pub lights: Vec<SceneLight>,
+    /// Sets for fixed wavelengths, baked whenever declared.
+    pub fixed: Vec<SceneFixed>,
+    /// Sets for sensors, baked whenever declared.
+    pub sensors: Vec<SceneSensor>,
+}
+
+impl UserInputs {
+    /// The crate's data files the fixed and sensor sets are made from: the training
+    /// reflectances of the prior, and the built-in lights they name.
+    pub fn data_files(&self) -> Vec<String> {
+        if self.fixed.is_empty() && self.sensors.is_empty() {
+            return Vec::new();
+        }
+        let mut files = std::vec![super::shared::TRAINING_FILE.to_string()];
+        let lights = self
+            .fixed
+            .iter()
+            .map(|f| &f.light)
+            .chain(self.sensors.iter().map(|s| &s.light))
+            .flatten();
+        for l in lights {
+            if catalog::builtin_lights().contains(&l.as_str()) {
+                let file = std::format!("data/illuminant_{l}.csv");
+                if !files.contains(&file) {
+                    files.push(file);
+                }
+            }
+        }
+        files
+    }
+
+    /// The files the scene's own inputs read (lights, then sensors).
+    pub fn files_mut(&mut self) -> impl Iterator<Item = &mut std::path::PathBuf> {
+        self.lights
+            .iter_mut()
+            .map(|l| &mut l.path)
+            .chain(self.sensors.iter_mut().map(|s| &mut s.path))
+    }
+}
+
+/// Prefixes of the catalogue's set names: a scene's own set may not start with one.
+const CATALOG_PREFIXES: [&str; 8] = [
+    "TABLE2_",
+    "A_",
+    "C1_",
+    "C2_",
+    "AC1C2_",
+    "UNIFORM_",
+    "KQ_",
+    "INTERP_A_",
+];
 
 /// Optional tables.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
@@ -112,6 +237,8 @@ pub struct Scene {
     pub extras: Extras,
     /// A budget to plan for.
     pub plan: Option<PlanRequest>,
+    /// The user's lights, fixed wavelengths and sensors.
+    pub user: UserInputs,
     /// Whether this is the default scene (everything).
     pub is_default: bool,
 }
@@ -144,6 +271,7 @@ impl Scene {
                 rules: true,
             },
             plan: None,
+            user: UserInputs::default(),
             is_default: true,
         }
     }
@@ -162,11 +290,12 @@ impl Scene {
             })
         };
         let within = |line: usize| move |e: Error| e.at(file, line as u64);
-        let raw: RawScene = toml::from_str(text).map_err(|e| {
+        let mut raw: RawScene = toml::from_str(text).map_err(|e| {
             let line = e.span().map_or(0, |s| line_of(text, s.start));
             err(line, e.message().trim().to_string())
         })?;
         let at = |span: core::ops::Range<usize>| line_of(text, span.start);
+        let own = (raw.lights.take(), raw.fixed.take(), raw.sensors.take());
         let mut settings = Settings::new(data_dir);
         if let Some(o) = &raw.observer {
             let id = ObserverId::from_name(o.get_ref()).ok_or_else(|| {
@@ -281,11 +410,15 @@ impl Scene {
                 })
             }
         };
-        if sets.is_empty() && plan.is_none() {
+        let dir = std::path::Path::new(file)
+            .parent()
+            .unwrap_or(std::path::Path::new("."));
+        let user = parse_user(own, dir, &at, &err)?;
+        if sets.is_empty() && plan.is_none() && user.fixed.is_empty() && user.sensors.is_empty() {
             return Err(err(
                 0,
                 std::format!(
-                    "the scene names no sets (sets = [...] or a [plan]); valid forms: {}",
+                    "the scene names no sets (sets = [...], a [plan], [fixed.*] or [sensors.*]); valid forms: {}",
                     catalog::NAME_FORMS
                 ),
             ));
@@ -297,9 +430,117 @@ impl Scene {
             displays,
             extras: raw.extras.unwrap_or_default(),
             plan,
+            user,
             is_default: false,
         })
     }
+}
+
+/// The `[lights]`, `[fixed.*]` and `[sensors.*]` tables: names in upper snake case, each used
+/// once across the three (and a light not named like a built-in one), scene sets not named like
+/// catalogue sets, every light they use declared or built in.
+type OwnTables = (
+    Option<BTreeMap<Spanned<String>, Spanned<String>>>,
+    Option<BTreeMap<Spanned<String>, Spanned<RawFixed>>>,
+    Option<BTreeMap<Spanned<String>, Spanned<RawSensor>>>,
+);
+
+fn parse_user(
+    (lights, fixed, sensors): OwnTables,
+    dir: &std::path::Path,
+    at: &dyn Fn(core::ops::Range<usize>) -> usize,
+    err: &dyn Fn(usize, String) -> Error,
+) -> Result<UserInputs, Error> {
+    let mut user = UserInputs::default();
+    let mut seen: Vec<String> = Vec::new();
+    let mut check_name = |name: &Spanned<String>, what: &str| -> Result<(), Error> {
+        let (n, line) = (name.get_ref(), at(name.span()));
+        if !super::user::is_const_name(n) {
+            return Err(err(
+                line,
+                std::format!(
+                    "{what} name {n:?} is not upper snake case (A-Z, 0-9, _; a letter first): it names generated consts"
+                ),
+            ));
+        }
+        if seen.contains(n) {
+            return Err(err(
+                line,
+                std::format!("{n} is declared twice among [lights], [fixed.*] and [sensors.*]"),
+            ));
+        }
+        seen.push(n.clone());
+        Ok(())
+    };
+    for (name, path) in lights.iter().flatten() {
+        check_name(name, "light")?;
+        if catalog::builtin_lights().contains(&name.get_ref().as_str()) {
+            return Err(err(
+                at(name.span()),
+                std::format!(
+                    "light {} is a built-in illuminant's name; give the file's light another name",
+                    name.get_ref()
+                ),
+            ));
+        }
+        user.lights.push(SceneLight {
+            name: name.get_ref().clone(),
+            path: dir.join(path.get_ref()),
+            line: at(name.span()),
+        });
+    }
+    let light_names: Vec<String> = user.lights.iter().map(|l| l.name.clone()).collect();
+    let check_light = |light: &Option<Spanned<String>>| -> Result<Option<String>, Error> {
+        let Some(l) = light else {
+            return Ok(None);
+        };
+        let n = l.get_ref();
+        if light_names.contains(n) || catalog::builtin_lights().contains(&n.as_str()) {
+            Ok(Some(n.clone()))
+        } else {
+            Err(err(
+                at(l.span()),
+                std::format!(
+                    "unknown light {n:?}; valid: the scene's [lights] ({}) and the built-in illuminants ({})",
+                    light_names.join(", "),
+                    catalog::builtin_lights().join(", ")
+                ),
+            ))
+        }
+    };
+    let check_set_name = |name: &Spanned<String>| -> Result<(), Error> {
+        let n = name.get_ref();
+        match CATALOG_PREFIXES.iter().find(|p| n.starts_with(*p)) {
+            Some(p) => Err(err(
+                at(name.span()),
+                std::format!("{n}: a scene's own set may not start with {p}, a catalogue form"),
+            )),
+            None => Ok(()),
+        }
+    };
+    for (name, table) in fixed.iter().flatten() {
+        check_name(name, "set")?;
+        check_set_name(name)?;
+        let t = table.get_ref();
+        user.fixed.push(SceneFixed {
+            name: name.get_ref().clone(),
+            wavelengths_nm: t.wavelengths_nm.get_ref().clone(),
+            light: check_light(&t.light)?,
+            line: at(name.span()),
+        });
+    }
+    for (name, table) in sensors.iter().flatten() {
+        check_name(name, "sensor")?;
+        check_set_name(name)?;
+        let t = table.get_ref();
+        user.sensors.push(SceneSensor {
+            name: name.get_ref().clone(),
+            path: dir.join(t.file.get_ref()),
+            light: check_light(&t.light)?,
+            line: at(name.span()),
+        });
+    }
+    Ok(user)
 }
 
 /// `"srgb"`, `"linear"` or `"gamma <γ>"`.
@@ -372,16 +613,21 @@ impl Scene {
                 planned: None,
             });
         }
+        let user = self.resolve_user(d)?;
+        let lights = &user.0;
         let mut names = self.sets.clone();
         let mut planned = None;
         if let Some(p) = &self.plan {
-            let (name, sentence) = p.resolve(d).map_err(err(p.line))?;
+            let (name, sentence) = p.resolve_with(d, &user.0, &user.1).map_err(err(p.line))?;
             planned = Some(sentence);
-            names.push((name, p.line));
+            // A scene's own set is baked anyway.
+            if !user.1.iter().any(|f| f.name == name) {
+                names.push((name, p.line));
+            }
         }
         let (mut colour_sets, mut rule_sets) = (Vec::new(), Vec::new());
         for (name, line) in &names {
-            let set = catalog::resolve(d, name).map_err(|e| Error::At {
+            let set = catalog::resolve_with(d, name, lights).map_err(|e| Error::At {
                 file: self.file.clone(),
                 line: *line as u64,
                 error: std::boxed::Box::new(e),
@@ -399,6 +645,9 @@ impl Scene {
                 target.push(set);
             }
         }
+        for set in user.1 {
+            colour_sets.push(set.wavelength_set(d));
+        }
         Ok(Resolved {
             file: self.file.clone(),
             colour_sets,
@@ -408,14 +657,93 @@ impl Scene {
             planned,
         })
     }
+
+    /// Reads the scene's lights and builds its fixed and sensor sets. Errors name the scene's
+    /// line that declares the input, around the file's own error (which names its line).
+    pub fn resolve_user(
+        &self,
+        d: &super::Derivation,
+    ) -> Result<(Vec<super::user::UserLight>, Vec<super::user::Fitted>), Error> {
+        use super::user::{fixed_set, sensor_set, Sensor, UserLight};
+        let range = d.settings.range_nm;
+        let err = |line: usize| move |e: Error| e.at(&self.file, line as u64);
+        let lights = self
+            .user
+            .lights
+            .iter()
+            .map(|l| {
+                UserLight::read(&l.name, &l.path, &l.path.display().to_string(), range).map_err(
+                    |e| Error::At {
+                        file: self.file.clone(),
+                        line: l.line as u64,
+                        error: std::boxed::Box::new(e),
+                        hint: None,
+                    },
+                )
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let curve =
+            |name: &Option<String>, line: usize| -> Result<Option<super::evaluate::Curve>, Error> {
+                let Some(n) = name else {
+                    return Ok(None);
+                };
+                if let Some(l) = lights.iter().find(|l| &l.name == n) {
+                    return Ok(Some(l.curve.clone()));
+                }
+                super::evaluate::builtin_illuminant(&d.settings.data_dir, n, range)
+                    .map(Some)
+                    .map_err(|e| err(line)(e.into()))
+            };
+        let mut sets = Vec::new();
+        for f in &self.user.fixed {
+            let light = curve(&f.light, f.line)?;
+            sets.push(
+                fixed_set(d, &f.name, &f.wavelengths_nm, light.as_ref()).map_err(err(f.line))?,
+            );
+        }
+        for s in &self.user.sensors {
+            let light = curve(&s.light, s.line)?;
+            let sensor =
+                Sensor::read(&s.path, &s.path.display().to_string(), range).map_err(|e| {
+                    Error::At {
+                        file: self.file.clone(),
+                        line: s.line as u64,
+                        error: std::boxed::Box::new(e),
+                        hint: None,
+                    }
+                })?;
+            sets.push(
+                sensor_set(d, &s.name, &s.name, &sensor, light.as_ref()).map_err(err(s.line))?,
+            );
+        }
+        Ok((lights, sets))
+    }
 }
 
 impl PlanRequest {
     /// Runs the planner on the request's spectra: the chosen set's name and a sentence saying
     /// what it measured.
     pub fn resolve(&self, d: &super::Derivation) -> Result<(String, String), Error> {
+        self.resolve_with(d, &[], &[])
+    }
+
+    /// [`resolve`](Self::resolve) for a scene with its own lights and sets: the planner also
+    /// considers the shared sets ([`super::plan::shared_sets`]: for radiances, and folded for
+    /// the stimuli's light when they share one the scene knows) and the scene's fixed-wavelength
+    /// and sensor sets.
+    pub fn resolve_with(
+        &self,
+        d: &super::Derivation,
+        lights: &[super::user::UserLight],
+        own: &[super::user::Fitted],
+    ) -> Result<(String, String), Error> {
         let stimuli = self.stimuli(d.settings.range_nm)?;
-        let plan = super::plan::plan(d, &stimuli, self.max_delta_e00, self.metric)?;
+        let mut extra = super::plan::shared_sets(d, &stimuli, lights)?;
+        extra.extend(
+            own.iter()
+                .map(|f| (f.name.clone(), f.wavelengths_nm.len(), f.eval.clone())),
+        );
+        let plan = super::plan::plan_with(d, &stimuli, self.max_delta_e00, self.metric, &extra)?;
         let c = &plan.chosen;
         Ok((
             c.name.clone(),

@@ -21,6 +21,9 @@ pub struct WavelengthSet {
     /// The light folded into the weights (the samples are reflectances under it), or `None`
     /// for a set that takes radiances.
     pub light: Option<String>,
+    /// For a sensor set ([`crate::user::sensor_set`]): the sensor's name. Its samples are the
+    /// channels' readings, and `wavelengths_nm` holds each channel's peak.
+    pub sensor: Option<String>,
 }
 
 /// Two nodes closer than this (nm) are the same wavelength when rules are merged; nodes printed
@@ -70,6 +73,7 @@ impl WavelengthSet {
             wavelengths_nm: wavelengths,
             weights,
             light: None,
+            sensor: None,
         })
     }
 
@@ -125,6 +129,7 @@ impl WavelengthSet {
             wavelengths_nm,
             weights,
             light: self.light.clone(),
+            sensor: self.sensor.clone(),
         }
     }
 

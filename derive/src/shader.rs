@@ -293,11 +293,17 @@ pub fn snippet(d: &Derivation, scene: &Resolved, lang: Language) -> Result<Strin
         let name = &set.name;
         let lower = name.to_ascii_lowercase();
         let arg = samples_arg(n);
-        writeln!(
-            o,
-            "// {name}: {} wavelengths. Sample the spectrum at {name}_WL, in that order.",
-            n
-        )
+        match &set.sensor {
+            Some(sensor) => writeln!(
+                o,
+                "// {name}: the readings of sensor {}'s {n} channels, in their order ({name}_WL holds each channel's peak, not wavelengths to sample at).",
+                ascii(sensor)
+            ),
+            None => writeln!(
+                o,
+                "// {name}: {n} wavelengths. Sample the spectrum at {name}_WL, in that order."
+            ),
+        }
         .ok();
         let wl: Result<Vec<String>, Error> =
             set.wavelengths_nm.iter().map(|&v| lang.float(v)).collect();

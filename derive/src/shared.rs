@@ -281,6 +281,13 @@ impl Problem {
         for c in 0..3 {
             b[(n, c)] = self.f1[c];
         }
+        self.finish(a, b)
+    }
+
+    /// Solves the kriging system `a x = b` ((N+1)×(N+1), (N+1)×3) and forms the weights and the
+    /// expected error.
+    fn finish(&self, a: DMatrix<f64>, b: DMatrix<f64>) -> Option<([Vec<f64>; 3], f64)> {
+        let n = a.nrows() - 1;
         let x = a.clone().lu().solve(&b)?;
         // Σ = FKFᵀ − W Kf − Kfᵀ Wᵀ + W K_XX Wᵀ (the nugget belongs to the samples' model).
         let w = x.rows(0, n).transpose(); // 3×n
@@ -300,6 +307,113 @@ impl Problem {
         }
         let weights: [Vec<f64>; 3] = [0, 1, 2].map(|c| (0..n).map(|i| w[(c, i)]).collect());
         Some((weights, obj))
+    }
+
+    /// Rows of point samples at `wavelengths_nm` on the grid: each the linear interpolation
+    /// between its two nearest grid points (a grid point itself is one 1). `None` for a
+    /// wavelength outside the grid or not finite.
+    pub fn point_rows(&self, wavelengths_nm: &[f64]) -> Option<Vec<Vec<f64>>> {
+        let (first, last) = (self.grid_nm[0], self.grid_nm[self.g - 1]);
+        wavelengths_nm
+            .iter()
+            .map(|&nm| {
+                if !(nm >= first && nm <= last) {
+                    return None;
+                }
+                let mut row = std::vec![0.0; self.g];
+                let i = self.grid_nm.partition_point(|&l| l < nm);
+                if self.grid_nm[i] == nm {
+                    row[i] = 1.0;
+                } else {
+                    let t = (nm - self.grid_nm[i - 1]) / (self.grid_nm[i] - self.grid_nm[i - 1]);
+                    row[i - 1] = 1.0 - t;
+                    row[i] = t;
+                }
+                Some(row)
+            })
+            .collect()
+    }
+
+    /// Rows of channel readings: a channel's reading is `∫ S(λ) L(λ) r(λ) dλ`, S its
+    /// sensitivity and L this problem's light (ones for radiances), on the 1 nm grid.
+    pub fn channel_rows(&self, channels: &[Curve]) -> Vec<Vec<f64>> {
+        channels
+            .iter()
+            .map(|c| {
+                self.grid_nm
+                    .iter()
+                    .zip(&self.light)
+                    .map(|(&nm, l)| c.at(nm) * l)
+                    .collect()
+            })
+            .collect()
+    }
+
+    /// The light on the grid at `nm`, linearly interpolated ([`point_rows`](Self::point_rows)).
+    pub fn light_at(&self, nm: f64) -> f64 {
+        self.point_rows(&[nm]).map_or(f64::NAN, |r| {
+            r[0].iter().zip(&self.light).map(|(h, l)| h * l).sum()
+        })
+    }
+
+    /// [`solve`](Self::solve) for samples that are any linear functionals of r, given as rows
+    /// on the grid (`sample_i = Σ_g rows[i][g] · r(λ_g)`): point samples ([`point_rows`](Self::point_rows))
+    /// or channel readings ([`channel_rows`](Self::channel_rows)). A constant spectrum is
+    /// integrated exactly (each sample's reading of 1 enters the constraint), and the nugget
+    /// scales with that reading squared, so rows of grid points give exactly [`solve`](Self::solve)'s
+    /// weights.
+    pub fn solve_rows(&self, rows: &[Vec<f64>]) -> Option<([Vec<f64>; 3], f64)> {
+        let n = rows.len();
+        if n == 0 || rows.iter().any(|r| r.len() != self.g) {
+            return None;
+        }
+        let g = self.g;
+        // H K, row by row (only the non-zero entries of H contribute).
+        let hk: Vec<Vec<f64>> = rows
+            .iter()
+            .map(|h| {
+                let mut out = std::vec![0.0; g];
+                for (a, &ha) in h.iter().enumerate() {
+                    if ha != 0.0 {
+                        let k = &self.k[a * g..(a + 1) * g];
+                        for (o, kv) in out.iter_mut().zip(k) {
+                            *o += ha * kv;
+                        }
+                    }
+                }
+                out
+            })
+            .collect();
+        let ones: Vec<f64> = rows.iter().map(|h| h.iter().sum()).collect();
+        let mut a = DMatrix::<f64>::zeros(n + 1, n + 1);
+        for i in 0..n {
+            for j in 0..n {
+                a[(i, j)] = rows[j]
+                    .iter()
+                    .zip(&hk[i])
+                    .filter(|(h, _)| **h != 0.0)
+                    .map(|(h, k)| h * k)
+                    .sum();
+            }
+            a[(i, i)] += NUGGET * ones[i] * ones[i];
+            a[(i, n)] = ones[i];
+            a[(n, i)] = ones[i];
+        }
+        let mut b = DMatrix::<f64>::zeros(n + 1, 3);
+        for (i, h) in rows.iter().enumerate() {
+            for c in 0..3 {
+                b[(i, c)] = h
+                    .iter()
+                    .zip(&self.kf)
+                    .filter(|(h, _)| **h != 0.0)
+                    .map(|(h, kf)| h * kf[c])
+                    .sum();
+            }
+        }
+        for c in 0..3 {
+            b[(n, c)] = self.f1[c];
+        }
+        self.finish(a, b)
     }
 
     /// The expected error of [`solve`](Self::solve), infinite where it fails.
@@ -587,8 +701,6 @@ pub const SIZES: core::ops::RangeInclusive<usize> = 3..=32;
 /// [`EMPIRICAL_WEIGHT`] times the covariance of [`TRAINING_FILE`].
 pub fn problem(d: &Derivation, light: Option<&str>) -> Result<Problem, Error> {
     let range = d.settings.range_nm;
-    let tcs = evaluate::Spectra::builtin(&d.settings.data_dir, TRAINING_FILE)
-        .and_then(|s| s.curves(range))?;
     let curve = match light {
         Some(name) => Some(
             evaluate::builtin_illuminant(&d.settings.data_dir, name, range).map_err(|_| {
@@ -605,9 +717,18 @@ pub fn problem(d: &Derivation, light: Option<&str>) -> Result<Problem, Error> {
         ),
         None => None,
     };
+    problem_for(d, curve.as_ref())
+}
+
+/// [`problem`] for a light given as a curve (a user's measured light; `None`: radiances): the
+/// same kernel, prior and training, so a light read from a copy of a built-in illuminant's
+/// file gives the built-in light's sets to the last digit.
+pub fn problem_for(d: &Derivation, light: Option<&Curve>) -> Result<Problem, Error> {
+    let tcs = evaluate::Spectra::builtin(&d.settings.data_dir, TRAINING_FILE)
+        .and_then(|s| s.curves(d.settings.range_nm))?;
     Ok(Problem::new(
         d,
-        curve.as_ref(),
+        light,
         Kernel::Matern52 {
             length_nm: LENGTH_NM,
         },
@@ -665,6 +786,7 @@ impl Shared {
             wavelengths_nm: self.wavelengths_nm.clone(),
             weights: super::display::fold(&d.opponent.xyz_to_ac1c2, &self.xyz_weights, 1.0),
             light: self.light.clone(),
+            sensor: None,
         }
     }
 }
@@ -917,5 +1039,6 @@ pub fn interpolatory_a(d: &Derivation, n: usize, name: &str) -> Result<Wavelengt
             interpolatory_weights(&d.measures[2], &r.nodes_nm),
         ],
         light: None,
+        sensor: None,
     })
 }

@@ -128,12 +128,25 @@ pub fn interval_set(d: &Derivation, light: &Curve, step_nm: f64) -> Result<EvalS
 /// `KQ radiance`) or with a built-in light folded in (`KQ_<light>_<n>`, `KQ folded`), from
 /// one [`shared::problem`].
 pub fn shared_sets(d: &Derivation, light: Option<&str>) -> Result<Vec<EvalSet>, Error> {
-    let problem = shared::problem(d, light)?;
+    let curve = match light {
+        Some(l) => Some(evaluate::builtin_illuminant(
+            &d.settings.data_dir,
+            l,
+            d.settings.range_nm,
+        )?),
+        None => None,
+    };
+    shared_sets_for(d, curve.as_ref())
+}
+
+/// [`shared_sets`] for any light given as a curve (a user's light: `KQ_<curve name>_<n>`).
+pub fn shared_sets_for(d: &Derivation, light: Option<&Curve>) -> Result<Vec<EvalSet>, Error> {
+    let problem = shared::problem_for(d, light)?;
     BUDGETS
         .map(|n| {
             let set = problem.shared(n)?;
             Ok(match light {
-                Some(l) => set.eval_set(&std::format!("KQ_{l}_{n}"), "KQ folded"),
+                Some(l) => set.eval_set(&std::format!("KQ_{}_{n}", l.name), "KQ folded"),
                 None => set.eval_set(&std::format!("KQ_{n}"), "KQ radiance"),
             })
         })
@@ -206,6 +219,21 @@ pub fn compare(
     folded: &[EvalSet],
 ) -> Result<Comparison, Error> {
     let stimuli = judge_stimuli(d, light)?;
+    let l = evaluate::builtin_illuminant(&d.settings.data_dir, light, d.settings.range_nm)?;
+    compare_on(d, &l, &stimuli, others, radiance, folded)
+}
+
+/// [`compare`] for any light, judged on any `stimuli` (a user's reflectances under the user's
+/// light, say): the interval references fold `light`.
+pub fn compare_on(
+    d: &Derivation,
+    light: &Curve,
+    stimuli: &[Stimulus],
+    others: &[(&'static str, EvalSet)],
+    radiance: &[EvalSet],
+    folded: &[EvalSet],
+) -> Result<Comparison, Error> {
+    let stimuli = stimuli.to_vec();
     let full = evaluate::full_integration(&d.observer, d.settings.range_nm, 1.0)?;
     let reference = Reference::new(full, &stimuli);
     let mut best: Vec<(usize, Vec<Option<Entry>>)> = BUDGETS
@@ -240,10 +268,13 @@ pub fn compare(
         .into_iter()
         .map(|(n, e)| (n, e.into_iter().flatten().collect()))
         .collect();
-    let l = evaluate::builtin_illuminant(&d.settings.data_dir, light, d.settings.range_nm)?;
     let mut intervals = Vec::new();
     for (method, step) in [("interval 10 nm", 10.0), ("interval 20 nm", 20.0)] {
-        let set = interval_set(d, &l, step)?;
+        // A light without power at a node cannot be divided out there: no reference then.
+        let set = match interval_set(d, light, step) {
+            Err(Error::NoPower { .. }) => continue,
+            other => other?,
+        };
         let errors = reference.errors(&set, &stimuli);
         intervals.push(Entry {
             method,

@@ -361,7 +361,18 @@ fn a_scene_plan_table_resolves_to_the_planners_choice() {
     )
     .unwrap();
     let resolved = scene.resolve(&f.d).unwrap();
-    let chosen = plan::choose(&f.candidates, 3.0, Metric::Max).unwrap();
+    // The planner considers the shared sets beside the catalogue's: here KQ_4 (4 wavelengths)
+    // meets the budget where the catalogue needs UNIFORM_7.
+    let mut candidates = f.candidates.clone();
+    let shared = plan::shared_sets(&f.d, &f.stimuli, &[]).unwrap();
+    candidates.extend(plan::evaluate_sets(&f.d, &f.stimuli, &shared).unwrap());
+    let chosen = plan::choose(&candidates, 3.0, Metric::Max).unwrap();
+    let catalogue_only = plan::choose(&f.candidates, 3.0, Metric::Max).unwrap();
+    eprintln!(
+        "chosen {} ({}); the catalogue alone: {} ({})",
+        chosen.name, chosen.wavelengths, catalogue_only.name, catalogue_only.wavelengths
+    );
+    assert!(chosen.wavelengths <= catalogue_only.wavelengths);
     let names: Vec<&str> = resolved
         .colour_sets
         .iter()

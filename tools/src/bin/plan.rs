@@ -69,7 +69,7 @@ impl From<MetricArg> for Metric {
 }
 
 /// The catalogue's families, by name prefix, for the summary.
-const FAMILIES: [&str; 3] = ["TABLE2", "AC1C2", "UNIFORM"];
+const FAMILIES: [&str; 4] = ["TABLE2", "AC1C2", "UNIFORM", "KQ"];
 
 /// Count rows shown on each side of the chosen set's in the summary.
 const AROUND: usize = 3;
@@ -91,7 +91,11 @@ fn run(args: &Args) -> Result<(), Error> {
     let displays = check_displays(&d, &args.displays)?;
     let range = d.settings.range_nm;
     let (stimuli, described) = load_stimuli(args, range)?;
-    let candidates = plan::evaluate_all(&d, &stimuli)?;
+    let mut candidates = plan::evaluate_all(&d, &stimuli)?;
+    // The shared sets: for radiances, and folded for the stimuli's light when they share a
+    // built-in one.
+    let shared = plan::shared_sets(&d, &stimuli, &[])?;
+    candidates.extend(plan::evaluate_sets(&d, &stimuli, &shared)?);
     let p = plan::plan_from(&candidates, stimuli.len(), budget, metric)?;
     let elapsed = start.elapsed().as_secs_f64();
 

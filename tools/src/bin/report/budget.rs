@@ -13,10 +13,15 @@ use crate::{plot_err, time_set, write, Error};
 
 /// Text, and the files written (budget.csv, budget.svg). `spaces` and `radiance`: the rule
 /// combinations and the shared sets for radiances the report has built for sections 2-4.
+/// `user`: the lights of `--illuminants`, with the shared sets folded for each and the
+/// stimuli they are judged on (the user's reflectances, `surfaces_from`, under that light);
+/// each gets a table after the built-in lights'.
 pub fn section(
     d: &Derivation,
     spaces: &[(&'static str, Vec<EvalSet>); 3],
     radiance: &[EvalSet],
+    user: &[crate::user::Folded],
+    surfaces_from: &str,
     out: &Path,
     runs: usize,
 ) -> Result<(String, Vec<PathBuf>), Error> {
@@ -26,8 +31,18 @@ pub fn section(
         .map(|l| budget::shared_sets(d, Some(l)))
         .collect::<Result<Vec<_>, Error>>()?;
     let mut tables = Vec::new();
+    // (heading, the light's name for the CSV)
+    let mut names: Vec<(String, String)> = Vec::new();
     for (light, f) in LIGHTS.iter().zip(&folded) {
         tables.push(budget::compare(d, light, &others, radiance, f)?);
+        names.push((light.to_string(), light.to_string()));
+    }
+    for (light, f, stimuli) in user {
+        tables.push(budget::compare_on(d, light, stimuli, &others, radiance, f)?);
+        names.push((
+            format!("{} (yours; on {surfaces_from})", light.name),
+            light.name.clone(),
+        ));
     }
     let stimuli = budget::judge_stimuli(d, "C")?;
     // Run time depends only on N: time the folded shared set at each budget.
@@ -61,7 +76,7 @@ pub fn section(
     .ok();
     let mut csv =
         String::from("light,n,method,set,wavelengths_nm,mean_de76,max_de76,mean_de00,max_de00\n");
-    for (light, (table, intervals)) in LIGHTS.iter().zip(&tables) {
+    for ((light, csv_light), (table, intervals)) in names.iter().zip(&tables) {
         writeln!(o, "\n   under {light}:").ok();
         let mut header = format!("   {:>3}", "N");
         for m in METHODS {
@@ -96,7 +111,7 @@ pub fn section(
             }
             writeln!(o, "{line}").ok();
             for e in row {
-                csv_row(&mut csv, light, *n, e);
+                csv_row(&mut csv, csv_light, *n, e);
             }
         }
         for e in intervals {
@@ -109,7 +124,7 @@ pub fn section(
                 e.errors.mean_de76()
             )
             .ok();
-            csv_row(&mut csv, light, e.set.len(), e);
+            csv_row(&mut csv, csv_light, e.set.len(), e);
         }
     }
     let mut files = vec![write(out, "budget.csv", &csv)?];

@@ -17,6 +17,7 @@ use spectral_quadrature_derive as sqd;
 use spectral_quadrature_tools as tools;
 use tools::Error;
 mod stability;
+mod user;
 
 use std::fmt::Write as _;
 use std::io::Write as _;
@@ -41,6 +42,10 @@ struct Args {
     /// and LED-B2.
     #[arg(long, value_name = "FILE")]
     illuminants: Option<PathBuf>,
+    /// A scene file whose sets join section 4 (catalogue names, its lights' shared sets, fixed
+    /// wavelengths and sensors). Paths in it are relative to it.
+    #[arg(long, value_name = "FILE")]
+    scene: Option<PathBuf>,
     /// Light spectra seen directly (CSV), instead of surfaces under illuminants.
     #[arg(long, value_name = "FILE", conflicts_with_all = ["reflectances", "illuminants"])]
     emission: Option<PathBuf>,
@@ -103,8 +108,13 @@ impl Progress {
 /// One row of section 4.
 struct Row {
     set: EvalSet,
+    /// Samples per pixel: the set's wavelengths, or a sensor's channels.
+    samples: usize,
     errors: Errors,
     ns_per_pixel: f64,
+    /// What the set is judged on, when not every stimulus (a set with a light folded in is
+    /// judged under that light only).
+    judged_on: Option<String>,
 }
 
 fn run(args: &Args) -> Result<(), Error> {
@@ -118,7 +128,8 @@ fn run(args: &Args) -> Result<(), Error> {
     let reference_set = evaluate::full_integration(&d.observer, range, 1.0)?;
 
     progress.next();
-    let stimuli = load_stimuli(args, range)?;
+    let inputs = load_inputs(args, range)?;
+    let stimuli = inputs.stimuli.clone();
     let reference = Reference::new(reference_set.clone(), &stimuli);
     let (cc_under_c, cc_reference) = {
         let cc = Spectra::builtin(
@@ -199,9 +210,37 @@ fn run(args: &Args) -> Result<(), Error> {
         }
         let ns_per_pixel = time_set(&set, &stimuli, args.runs as usize)?;
         rows.push(Row {
+            samples: set.len(),
             set,
             errors,
             ns_per_pixel,
+            judged_on: None,
+        });
+    }
+    // The user's: shared sets folded for each light of --illuminants, and a scene's sets.
+    let folded_user = user::folded_for_lights(&d, &inputs.user_lights, &inputs.surfaces)?;
+    let mut extras = user::light_extras(&folded_user, &inputs.surfaces_from);
+    if let Some(path) = &args.scene {
+        extras.extend(user::scene_extras(
+            &d,
+            path,
+            &inputs.surfaces,
+            &inputs.surfaces_from,
+        )?);
+    }
+    for x in extras {
+        let (own, judged_on) = match x.judged_on {
+            Some((s, what)) => (s, Some(what)),
+            None => (stimuli.clone(), None),
+        };
+        let errors = Reference::new(reference_set.clone(), &own).errors(&x.set, &own);
+        let ns_per_pixel = time_set(&x.timing, &own, args.runs as usize)?;
+        rows.push(Row {
+            set: x.set,
+            samples: x.samples,
+            errors,
+            ns_per_pixel,
+            judged_on,
         });
     }
 
@@ -221,8 +260,15 @@ fn run(args: &Args) -> Result<(), Error> {
     files.push(draw_swatches(out, &d, &cc_under_c, &rows)?);
 
     progress.next();
-    let (budget_text, budget_files) =
-        budget::section(&d, &spaces, &radiance, out, args.runs as usize)?;
+    let (budget_text, budget_files) = budget::section(
+        &d,
+        &spaces,
+        &radiance,
+        &folded_user,
+        &inputs.surfaces_from,
+        out,
+        args.runs as usize,
+    )?;
     files.extend(budget_files);
 
     progress.next();
@@ -256,23 +302,48 @@ fn run(args: &Args) -> Result<(), Error> {
     Ok(())
 }
 
-fn load_stimuli(args: &Args, range: [f64; 2]) -> Result<Vec<Stimulus>, Error> {
+/// What the report measures on.
+struct Inputs {
+    /// Every stimulus: surfaces under lights, or lights seen directly.
+    stimuli: Vec<Stimulus>,
+    /// The surfaces (the user's, or the ColorChecker and the CIE test colours).
+    surfaces: Vec<Curve>,
+    /// Where the surfaces come from, in words.
+    surfaces_from: String,
+    /// The lights of --illuminants (empty without it).
+    user_lights: Vec<Curve>,
+}
+
+fn load_inputs(args: &Args, range: [f64; 2]) -> Result<Inputs, Error> {
     let read = |p: &Path| Spectra::read(p).and_then(|s| s.curves(range));
-    if let Some(path) = &args.emission {
-        return Ok(evaluate::emissions(&read(path)?));
-    }
-    let surfaces = match &args.reflectances {
-        Some(p) => read(p)?,
-        None => tools::prefilter::default_surfaces(range)?,
+    let (surfaces, surfaces_from) = match &args.reflectances {
+        Some(p) => (read(p)?, p.display().to_string()),
+        None => (
+            tools::prefilter::default_surfaces(range)?,
+            "the ColorChecker and CIE TCS 1-14".to_string(),
+        ),
     };
-    let lights: Vec<Curve> = match &args.illuminants {
+    let user_lights = match &args.illuminants {
         Some(p) => read(p)?,
-        None => DEFAULT_ILLUMINANTS
+        None => Vec::new(),
+    };
+    let stimuli = if let Some(path) = &args.emission {
+        evaluate::emissions(&read(path)?)
+    } else if user_lights.is_empty() {
+        let lights: Vec<Curve> = DEFAULT_ILLUMINANTS
             .iter()
             .map(|n| evaluate::builtin_illuminant(std::path::Path::new(tools::DATA_DIR), n, range))
-            .collect::<Result<_, _>>()?,
+            .collect::<Result<_, _>>()?;
+        evaluate::surfaces_under_lights(&surfaces, &lights)
+    } else {
+        evaluate::surfaces_under_lights(&surfaces, &user_lights)
     };
-    Ok(evaluate::surfaces_under_lights(&surfaces, &lights))
+    Ok(Inputs {
+        stimuli,
+        surfaces,
+        surfaces_from,
+        user_lights,
+    })
 }
 
 /// Errors of many sets, on both cores.
@@ -518,19 +589,20 @@ fn fig7_csv(f: &Fig7) -> String {
 
 fn section4_csv(rows: &[Row]) -> String {
     let mut s = String::from(
-        "set,distinct_wavelengths,mean_de76,max_de76,mean_de00,max_de00,ns_per_pixel\n",
+        "set,distinct_wavelengths,mean_de76,max_de76,mean_de00,max_de00,ns_per_pixel,judged_on\n",
     );
     for r in rows {
         writeln!(
             s,
-            "{},{},{:.4},{:.4},{:.4},{:.4},{:.2}",
+            "{},{},{:.4},{:.4},{:.4},{:.4},{:.2},{}",
             r.set.name,
-            r.set.len(),
+            r.samples,
             r.errors.mean_de76(),
             r.errors.max_de76(),
             r.errors.mean_de00(),
             r.errors.max_de00(),
-            r.ns_per_pixel
+            r.ns_per_pixel,
+            r.judged_on.as_deref().unwrap_or("all stimuli")
         )
         .ok();
     }
@@ -685,12 +757,38 @@ fn print_sections_2_to_4(
         rows.iter()
             .filter(|r| r.set.family != "AC1C2" && r.set.family != "XYZ"),
     );
-    for r in shown {
+    for r in shown.clone().filter(|r| r.judged_on.is_none()) {
         writeln!(
             o,
             "   {:<22} {:>5} {:>9.3} {:>9.3} {:>9.3} {:>9.3} {:>9.1}",
             r.set.name,
-            r.set.len(),
+            r.samples,
+            r.errors.mean_de76(),
+            r.errors.max_de76(),
+            r.errors.mean_de00(),
+            r.errors.max_de00(),
+            r.ns_per_pixel
+        )
+        .ok();
+    }
+    let mut own: Vec<&Row> = shown.filter(|r| r.judged_on.is_some()).collect();
+    own.sort_by_key(|r| r.judged_on.clone());
+    let mut last: Option<&str> = None;
+    for r in own {
+        let on = r.judged_on.as_deref().unwrap_or_default();
+        if last != Some(on) {
+            writeln!(
+                o,
+                "   judged on {on} only (a light folded in, or a sensor fitted under it):"
+            )
+            .ok();
+            last = Some(on);
+        }
+        writeln!(
+            o,
+            "   {:<22} {:>5} {:>9.3} {:>9.3} {:>9.3} {:>9.3} {:>9.1}",
+            r.set.name,
+            r.samples,
             r.errors.mean_de76(),
             r.errors.max_de76(),
             r.errors.mean_de00(),

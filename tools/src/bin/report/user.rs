@@ -1,0 +1,177 @@
+//! The sets the user brings: shared sets folded for each light of `--illuminants`, and the sets of
+//! a scene (`--scene`): catalogue names, its lights' shared sets, fixed wavelengths and sensors.
+//! A set with a light folded in (or a sensor fitted under a light) is judged on the report's
+//! reflectances under that light only; a set for radiances on every stimulus.
+
+use std::path::Path;
+
+use crate::sqd::evaluate::{self, Curve, EvalSet, Stimulus};
+use crate::sqd::scene::Scene;
+use crate::sqd::{self, shared, user, Derivation};
+use crate::tools::budget;
+use crate::Error;
+
+/// A light with the shared sets folded for it and the stimuli they are judged on.
+pub type Folded = (Curve, Vec<EvalSet>, Vec<Stimulus>);
+
+/// A set beside the report's own, with what it is judged on.
+pub struct Extra {
+    /// The set as measured (on radiances).
+    pub set: EvalSet,
+    /// The number of samples per pixel (a sensor's channels; otherwise the set's wavelengths).
+    pub samples: usize,
+    /// The stimuli it is judged on, and their description; `None`: every stimulus.
+    pub judged_on: Option<(Vec<Stimulus>, String)>,
+    /// The set timed for run time: the same N as the runtime's product.
+    pub timing: EvalSet,
+}
+
+/// The shared sets at every budget folded for each of `lights` (the user's), with the
+/// stimuli they are judged on: `surfaces` under that light.
+pub fn folded_for_lights(
+    d: &Derivation,
+    lights: &[Curve],
+    surfaces: &[Curve],
+) -> Result<Vec<Folded>, Error> {
+    lights
+        .iter()
+        .map(|l| {
+            let sets = budget::shared_sets_for(d, Some(l))?;
+            let stimuli = evaluate::surfaces_under_lights(surfaces, std::slice::from_ref(l));
+            Ok((l.clone(), sets, stimuli))
+        })
+        .collect()
+}
+
+/// Section 4's rows for the folded sets of [`folded_for_lights`].
+pub fn light_extras(folded: &[Folded], surfaces_from: &str) -> Vec<Extra> {
+    folded
+        .iter()
+        .flat_map(|(l, sets, stimuli)| {
+            sets.iter().map(move |s| Extra {
+                set: s.clone(),
+                samples: s.len(),
+                judged_on: Some((stimuli.clone(), format!("{surfaces_from} under {}", l.name))),
+                timing: s.clone(),
+            })
+        })
+        .collect()
+}
+
+/// The sets of the scene at `path` (read with the report's derivation, whose settings the
+/// scene must keep), each with what it is judged on. Sensor sets come with the plain
+/// least-squares fit beside them (trained on the CIE test colour samples under the sensor's
+/// light, or C for a sensor fitted for radiances).
+pub fn scene_extras(
+    d: &Derivation,
+    path: &Path,
+    surfaces: &[Curve],
+    surfaces_from: &str,
+) -> Result<Vec<Extra>, Error> {
+    let label = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| sqd::DataError {
+        file: label.clone(),
+        line: 0,
+        message: format!("cannot read the scene: {e}"),
+    })?;
+    let scene = Scene::parse(&label, &text, &d.settings.data_dir)?;
+    if scene.settings != d.settings {
+        return Err(sqd::Error::Settings(format!(
+            "{label}: the report runs on the default settings ({}); the scene asks for {}",
+            d.settings.describe(),
+            scene.settings.describe()
+        ))
+        .into());
+    }
+    let (lights, fitted) = scene.resolve_user(d)?;
+    let light_curve = |name: &str| -> Result<Curve, Error> {
+        if let Some(l) = lights.iter().find(|l| l.name == name) {
+            return Ok(l.curve.clone());
+        }
+        Ok(evaluate::builtin_illuminant(
+            &d.settings.data_dir,
+            name,
+            d.settings.range_nm,
+        )?)
+    };
+    let under = |light: &Curve| {
+        Some((
+            evaluate::surfaces_under_lights(surfaces, std::slice::from_ref(light)),
+            format!("{surfaces_from} under {}", light.name),
+        ))
+    };
+    let mut out = Vec::new();
+    for (name, line) in &scene.sets {
+        let set =
+            sqd::catalog::resolve_with(d, name, &lights).map_err(|e| e.at(&label, *line as u64))?;
+        let eval = match &set.light {
+            Some(l) => {
+                let curve = light_curve(l)?;
+                let p = shared::problem_for(d, Some(&curve))?;
+                let mut e = EvalSet::from_set(&set, "scene", &d.opponent.ac1c2_to_xyz);
+                for row in e.xyz_weights.iter_mut() {
+                    for (w, nm) in row.iter_mut().zip(&set.wavelengths_nm) {
+                        *w /= p.light_at(*nm);
+                    }
+                }
+                Extra {
+                    samples: e.len(),
+                    timing: e.clone(),
+                    set: e,
+                    judged_on: under(&curve),
+                }
+            }
+            None => {
+                let e = EvalSet::from_set(&set, "scene", &d.opponent.ac1c2_to_xyz);
+                Extra {
+                    samples: e.len(),
+                    timing: e.clone(),
+                    set: e,
+                    judged_on: None,
+                }
+            }
+        };
+        out.push(eval);
+    }
+    let tcs = evaluate::Spectra::builtin(&d.settings.data_dir, shared::TRAINING_FILE)
+        .and_then(|s| s.curves(d.settings.range_nm))?;
+    for f in fitted {
+        let timing = EvalSet {
+            name: f.name.clone(),
+            family: "scene".into(),
+            orders: None,
+            wavelengths_nm: f.wavelengths_nm.clone(),
+            xyz_weights: f.xyz_weights.clone(),
+        };
+        let light = f.light.as_deref().map(light_curve).transpose()?;
+        let judged_on = light.as_ref().and_then(under);
+        let sensor = scene.user.sensors.iter().find(|s| s.name == f.name);
+        let samples = f.wavelengths_nm.len();
+        out.push(Extra {
+            samples,
+            judged_on,
+            timing: timing.clone(),
+            set: EvalSet {
+                family: "scene".into(),
+                ..f.eval
+            },
+        });
+        if let Some(sensor) = sensor {
+            let channels = user::Sensor::read(&sensor.path, &label, d.settings.range_nm)?;
+            let fit_light = match &light {
+                Some(l) => l.clone(),
+                None => light_curve("C")?,
+            };
+            let name = format!("{} least squares", f.name);
+            if let Some(ls) = user::least_squares(d, &name, &channels, &fit_light, &tcs)? {
+                out.push(Extra {
+                    samples,
+                    judged_on: under(&fit_light),
+                    timing,
+                    set: ls,
+                });
+            }
+        }
+    }
+    Ok(out)
+}
