@@ -136,11 +136,48 @@ fn check_scene(scene: &Scene, text: &str, data_dir: &Path) {
     );
 
     // Something to bake.
+    let own = &scene.user;
     assert!(
-        !scene.sets.is_empty() || scene.plan.is_some(),
-        "neither sets nor a plan: {}",
+        !scene.sets.is_empty()
+            || scene.plan.is_some()
+            || !own.fixed.is_empty()
+            || !own.sensors.is_empty(),
+        "neither sets, a plan, fixed nor sensor sets: {}",
         ctx()
     );
+    // The scene's own inputs: const names, each once, lines inside the text, and every light
+    // they use declared or built in.
+    let mut names: Vec<&str> = Vec::new();
+    for (name, line) in own
+        .lights
+        .iter()
+        .map(|l| (&l.name, l.line))
+        .chain(own.fixed.iter().map(|f| (&f.name, f.line)))
+        .chain(own.sensors.iter().map(|s| (&s.name, s.line)))
+    {
+        assert!(
+            spectral_quadrature_derive::user::is_const_name(name),
+            "name {name:?} accepted: {}",
+            ctx()
+        );
+        assert!(!names.contains(&name.as_str()), "{name} twice: {}", ctx());
+        names.push(name);
+        check_line(&format!("{name}"), line, text);
+    }
+    let builtin = spectral_quadrature_derive::catalog::builtin_lights();
+    for light in own
+        .fixed
+        .iter()
+        .map(|f| &f.light)
+        .chain(own.sensors.iter().map(|s| &s.light))
+        .flatten()
+    {
+        assert!(
+            builtin.contains(&light.as_str()) || own.lights.iter().any(|l| &l.name == light),
+            "unknown light {light:?} accepted: {}",
+            ctx()
+        );
+    }
     for (name, line) in &scene.sets {
         check_line(&format!("set {name:?}"), *line, text);
     }

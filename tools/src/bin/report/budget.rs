@@ -1,4 +1,5 @@
-//! Section 5: every method at each wavelength budget, per light, judged on the ColorChecker.
+//! Section 5: every method at each wavelength budget, per light, judged on the ColorChecker (or
+//! on the user's reflectances when given).
 //! The shared sets were trained on the CIE test colour samples only.
 
 use std::fmt::Write as _;
@@ -6,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use plotters::prelude::*;
 
-use crate::sqd::evaluate::EvalSet;
+use crate::sqd::evaluate::{self, Curve, EvalSet};
 use crate::sqd::{shared, Derivation};
 use crate::tools::budget::{self, Entry, LIGHTS, METHODS};
 use crate::{plot_err, time_set, write, Error};
@@ -15,12 +16,15 @@ use crate::{plot_err, time_set, write, Error};
 /// combinations and the shared sets for radiances the report has built for sections 2-4.
 /// `user`: the lights of `--illuminants`, with the shared sets folded for each and the
 /// stimuli they are judged on (the user's reflectances, `surfaces_from`, under that light);
-/// each gets a table after the built-in lights'.
+/// each gets a table after the built-in lights'. `surfaces`: the user's reflectances, which
+/// replace the ColorChecker as what every table is judged on.
+#[allow(clippy::too_many_arguments)]
 pub fn section(
     d: &Derivation,
     spaces: &[(&'static str, Vec<EvalSet>); 3],
     radiance: &[EvalSet],
     user: &[crate::user::Folded],
+    surfaces: Option<&[Curve]>,
     surfaces_from: &str,
     out: &Path,
     runs: usize,
@@ -34,7 +38,15 @@ pub fn section(
     // (heading, the light's name for the CSV)
     let mut names: Vec<(String, String)> = Vec::new();
     for (light, f) in LIGHTS.iter().zip(&folded) {
-        tables.push(budget::compare(d, light, &others, radiance, f)?);
+        tables.push(match surfaces {
+            None => budget::compare(d, light, &others, radiance, f)?,
+            Some(s) => {
+                let l =
+                    evaluate::builtin_illuminant(&d.settings.data_dir, light, d.settings.range_nm)?;
+                let stimuli = evaluate::surfaces_under_lights(s, std::slice::from_ref(&l));
+                budget::compare_on(d, &l, &stimuli, &others, radiance, f)?
+            }
+        });
         names.push((light.to_string(), light.to_string()));
     }
     for (light, f, stimuli) in user {
@@ -59,7 +71,12 @@ pub fn section(
     .ok();
     writeln!(
         o,
-        "   judged on the ColorChecker (Ohta), white integrated by the same set; the KQ sets were trained on the"
+        "   judged on {}, white integrated by the same set; the KQ sets were trained on the",
+        if surfaces.is_some() {
+            surfaces_from
+        } else {
+            "the ColorChecker (Ohta)"
+        }
     )
     .ok();
     writeln!(

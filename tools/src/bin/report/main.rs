@@ -265,6 +265,9 @@ fn run(args: &Args) -> Result<(), Error> {
         &spaces,
         &radiance,
         &folded_user,
+        args.reflectances
+            .as_ref()
+            .map(|_| inputs.surfaces.as_slice()),
         &inputs.surfaces_from,
         out,
         args.runs as usize,
