@@ -28,6 +28,9 @@
 //! fundamentals (Eq. 1), the covariance (Eq. 4-5) and the KL transform (Eq. 9-10);
 //! [`quadrature`] runs the recurrence (Eq. 16) and forms each order's rule; [`sets`] merges rules
 //! into wavelength sets (Table 2); [`codegen`] writes the tables the runtime includes.
+//! [`shared`] finds the shared sets by kernel quadrature, and [`user`] fits sets to what a
+//! scene brings: a light by file, fixed wavelengths, a sensor's channels. Every fallible
+//! function returns [`Error`].
 
 #![deny(missing_docs)]
 
