@@ -46,6 +46,7 @@ pub mod sets;
 pub mod shader;
 pub mod shared;
 pub mod table;
+pub mod transfer_tables;
 
 use std::path::{Path, PathBuf};
 use std::string::String;
