@@ -112,7 +112,7 @@ impl TransferFunction {
     ///
     /// This is the reference encoder: sRGB and `Gamma(γ)` compute their power in f64 and round
     /// once, so the curve is monotone between neighbouring f32. On a microcontroller without a
-    /// double-precision FPU that is soft-float, some 4 700 instructions per value on a
+    /// double-precision FPU that is soft-float, about 5 800 instructions per value on a
     /// Cortex-M4F (the README's "On a microcontroller" has the measurement). The per-pixel
     /// encoders of displays and sets ([`encode_u8`](Self::encode_u8),
     /// [`encode_u16`](Self::encode_u16), [`Display::encode_u8`],
@@ -500,6 +500,19 @@ impl Display {
     /// arithmetic. Input handling as [`map_gamut`](Self::map_gamut): NaN anywhere → black.
     #[inline]
     pub fn encode_u8(&self, rgb: [f32; 3], mapping: GamutMapping) -> [u8; 3] {
+        // The common case inline and without branches: the sRGB table clamps as `Clip` does,
+        // and a NaN anywhere selects black afterwards.
+        if let (GamutMapping::Clip, TransferFunction::Srgb) = (mapping, self.transfer) {
+            let nan = rgb[0].is_nan() | rgb[1].is_nan() | rgb[2].is_nan();
+            let px = rgb.map(crate::encode::srgb8_not_nan);
+            return if nan { [0; 3] } else { px };
+        }
+        self.encode_u8_other(rgb, mapping)
+    }
+
+    /// [`encode_u8`](Self::encode_u8) for every transfer function and mapping but sRGB with
+    /// `Clip`.
+    fn encode_u8_other(&self, rgb: [f32; 3], mapping: GamutMapping) -> [u8; 3] {
         let m = match mapping {
             // Every 8-bit encoder clamps to 0..=1 itself, exactly as `Clip` does for a colour
             // without NaN: only the NaN rule is left to apply here.

@@ -165,10 +165,17 @@ pub(crate) fn segment_bits(x: f32) -> u32 {
 /// and −Inf are negative integers; +Inf lies above 1.0). Fewer instructions where compares of
 /// floats cost a transfer of flags (the Cortex-M FPU). A NaN gives 0 or 255 here, never a
 /// panic; callers exclude it first.
+///
+/// Only on Arm: elsewhere (x86) the float clamp of [`segment_bits`] is two branch-free
+/// `maxss`/`minss`, where the integer clamp compiled to branches.
 #[inline(always)]
 pub(crate) fn srgb8_not_nan(x: f32) -> u8 {
-    let b = (x.to_bits() as i32).clamp(LO_BITS as i32, 0x3f80_0000);
-    lookup((b as u32).wrapping_sub(LO_BITS))
+    if cfg!(target_arch = "arm") {
+        let b = (x.to_bits() as i32).clamp(LO_BITS as i32, 0x3f80_0000);
+        lookup((b as u32).wrapping_sub(LO_BITS))
+    } else {
+        lookup(segment_bits(x))
+    }
 }
 
 /// The table entry for [`segment_bits`]' result `v`, to be added to `v << 8`.

@@ -93,44 +93,15 @@ fn product_for_encoding<const N: usize>(
 /// Whether the target has vector units for f32 that the chunked loops vectorize for (SSE2 on
 /// x86, NEON, WebAssembly SIMD). Without them (microcontrollers such as the Cortex-M4F, whose
 /// FPU is scalar) the chunks' buffers are only extra loads and stores, and
-/// [`encode_srgb8_scalar`] goes pixel by pixel instead: on the M4F 79 instead of 143
-/// instructions per pixel (N = 4, opt-level 3; the README's "On a microcontroller" has the
-/// commands). Both give the same bytes (a unit test checks it on every target).
+/// [`FoldedSet::encode_u8_planar`] goes pixel by pixel through
+/// [`FoldedSet::encode_u8`] instead: on the M4F 73 instead of 143 instructions per pixel (N = 4,
+/// opt-level 3; the README's "On a microcontroller" has the commands). `tests/soa.rs` checks
+/// that the chunked form equals `encode_u8`.
 const VECTOR_UNITS: bool = cfg!(any(
     target_feature = "sse2",
     target_feature = "neon",
     target_feature = "simd128"
 ));
-
-/// The planar sRGB, `Clip` encoder pixel by pixel: the same product as [`product_for_encoding`]
-/// (from the first product, in index order), NaN anywhere → black, then the table encoder.
-/// The lengths were checked by the caller; a short plane reads as zeros, as [`gather`] pads.
-#[inline]
-fn encode_srgb8_scalar<const N: usize>(
-    weights: &[[f32; N]; 3],
-    samples: [&[f32]; N],
-    out: &mut [[u8; 3]],
-) {
-    let [w0, w1, w2] = weights;
-    for (p, o) in out.iter_mut().enumerate() {
-        let s: [f32; N] = core::array::from_fn(|i| samples[i].get(p).copied().unwrap_or(0.0));
-        let (mut r, mut g, mut b) = (0.0f32, 0.0f32, 0.0f32);
-        for i in 0..N {
-            let (vr, vg, vb) = (w0[i] * s[i], w1[i] * s[i], w2[i] * s[i]);
-            (r, g, b) = if i == 0 {
-                (vr, vg, vb)
-            } else {
-                (r + vr, g + vg, b + vb)
-            };
-        }
-        let rgb = [r, g, b];
-        *o = if r.is_nan() | g.is_nan() | b.is_nan() {
-            [0; 3]
-        } else {
-            rgb.map(crate::encode::srgb8_not_nan)
-        };
-    }
-}
 
 /// Bytes one chunk of interleaved 8-bit RGB takes.
 const CHUNK_BYTES: usize = 3 * CHUNK;
@@ -282,13 +253,14 @@ impl<const N: usize> FoldedSet<N> {
     /// images and frame buffers, and of [`encode_u8_batch`](Self::encode_u8_batch).
     ///
     /// When the display's transfer function is [`TransferFunction::Srgb`] (sRGB, Display P3)
-    /// and [`GamutMapping::Clip`], this is the fast path: a vectorized product, a clip and the
-    /// table encoder of [`srgb8_from_linear`](crate::srgb8_from_linear), correctly rounded and
-    /// branch-free (the README's Performance section has its speed against the memory bound,
-    /// several times the speed of [`encode_u8`](Self::encode_u8) per pixel). It
-    /// equals [`encode_u8`](Self::encode_u8) exactly
+    /// and [`GamutMapping::Clip`], on a target with f32 vector units (x86, NEON), this is the
+    /// fast path: a vectorized product, a clip and the table encoder of
+    /// [`srgb8_from_linear`](crate::srgb8_from_linear), correctly rounded and branch-free (the
+    /// README's Performance section has its speed against the memory bound). It equals
+    /// [`encode_u8`](Self::encode_u8) exactly
     /// ([`SRGB8_MAX_STEP_ERROR`](crate::SRGB8_MAX_STEP_ERROR) is 0): both use the same table.
-    /// Any other transfer function or [`GamutMapping::PreserveA`] goes pixel by pixel through
+    /// On other targets (microcontrollers), any other transfer function, or
+    /// [`GamutMapping::PreserveA`] it goes pixel by pixel through
     /// [`encode_u8`](Self::encode_u8) and equals it exactly.
     ///
     /// Input handling as [`encode_u8`](Self::encode_u8): NaN anywhere in a pixel (a NaN sample,
@@ -315,18 +287,17 @@ impl<const N: usize> FoldedSet<N> {
         out: &mut [[u8; 3]],
     ) -> Result<(), Error> {
         let pixels = check_planes(&samples, &[out.len()])?;
-        let fast = matches!(self.display.transfer, TransferFunction::Srgb)
+        let fast = VECTOR_UNITS
+            && matches!(self.display.transfer, TransferFunction::Srgb)
             && matches!(mapping, GamutMapping::Clip);
         if !fast {
-            for (p, o) in out.iter_mut().enumerate() {
-                let s: [f32; N] =
-                    core::array::from_fn(|i| samples[i].get(p).copied().unwrap_or(0.0));
+            // Every plane has `pixels` values (checked above), so the slices are in range, and
+            // with them the compiler sees that every index below is.
+            let planes: [&[f32]; N] = samples.map(|plane| &plane[..pixels]);
+            for (p, o) in out[..pixels].iter_mut().enumerate() {
+                let s: [f32; N] = core::array::from_fn(|i| planes[i][p]);
                 *o = self.encode_u8(mapping, &s);
             }
-            return Ok(());
-        }
-        if !VECTOR_UNITS {
-            encode_srgb8_scalar(&self.weights, samples, out);
             return Ok(());
         }
         let full: [&[[f32; CHUNK]]; N] = samples.map(|p| p.as_chunks::<CHUNK>().0);
@@ -349,41 +320,6 @@ impl<const N: usize> FoldedSet<N> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// The pixel-by-pixel form that targets without vector units take gives the chunked form's
-    /// bytes: specials, and values across the curve, over lengths that are and are not whole
-    /// chunks.
-    #[test]
-    fn scalar_planar_equals_chunked() {
-        let set = crate::tables::folded::TABLE2_ROW2_SRGB;
-        let specials = [
-            f32::NAN,
-            f32::INFINITY,
-            -f32::INFINITY,
-            f32::MAX,
-            -1.0,
-            -0.0,
-            f32::from_bits(1),
-            1e-40,
-        ];
-        for len in [0usize, 1, 15, 16, 17, 40] {
-            let planes: [[f32; 40]; 4] = core::array::from_fn(|i| {
-                core::array::from_fn(|p| match (p * 7 + i * 3) % 11 {
-                    k @ 0..=7 if (p + i) % 5 == 0 => specials[k],
-                    k => (k as f32 + 1.0) * 0.09 * (1.0 + p as f32 / 40.0),
-                })
-            });
-            let refs = planes.each_ref().map(|p| &p[..len]);
-            let mut chunked = [[0u8; 3]; 40];
-            let mut scalar = [[7u8; 3]; 40];
-            assert_eq!(
-                set.encode_u8_planar(GamutMapping::Clip, refs, &mut chunked[..len]),
-                Ok(())
-            );
-            encode_srgb8_scalar(&set.weights, refs, &mut scalar[..len]);
-            assert_eq!(chunked[..len], scalar[..len], "{len} pixels");
-        }
-    }
 
     /// Both interleaves give the same bytes, so [`WORD_INTERLEAVE`] changes only speed: every
     /// segment of the table, at its start, its middle and its end, for each channel.
