@@ -514,8 +514,9 @@ fn bandwidth_set<const N: usize>(
     let mut differ = 0;
     for (p, o) in check.iter().enumerate() {
         let one = set.encode_u8(clip, &core::array::from_fn(|i| samples[i][p]));
+        // SRGB8_MAX_STEP_ERROR is 0: the same bytes.
         assert!(
-            (0..3).all(|c| o[c].abs_diff(one[c]) <= SRGB8_MAX_STEP_ERROR),
+            (0..3).all(|c| u16::from(o[c].abs_diff(one[c])) <= u16::from(SRGB8_MAX_STEP_ERROR)),
             "pixel {p}: {o:?} {one:?}"
         );
         differ += usize::from(*o != one);

@@ -109,6 +109,15 @@ impl TransferFunction {
     /// ends are not 0 and 1: zero drive is black, full drive is the brightest). Subnormal inputs
     /// are the tiny positive numbers they are: sRGB gives 12.92·x, `Gamma(γ)` gives x^(1/γ)
     /// (4e-21 for 1e-45 at γ = 2.2). The output is always in 0..=1. Never panics.
+    ///
+    /// This is the reference encoder: sRGB and `Gamma(γ)` compute their power in f64 and round
+    /// once, so the curve is monotone between neighbouring f32. On a microcontroller without a
+    /// double-precision FPU that is soft-float, about 5 800 instructions per value on a
+    /// Cortex-M4F (the README's "On a microcontroller" has the measurement). The per-pixel
+    /// encoders of displays and sets ([`encode_u8`](Self::encode_u8),
+    /// [`encode_u16`](Self::encode_u16), [`Display::encode_u8`],
+    /// [`FoldedSet::encode_u8`](crate::FoldedSet::encode_u8) and their batch forms) do not use
+    /// it and have no f64 arithmetic.
     pub fn encode(&self, c: Rgb, linear: f32) -> f32 {
         let x = clamp01(linear);
         if x == 0.0 || x == 1.0 {
@@ -141,6 +150,48 @@ impl TransferFunction {
         clamp01(e)
     }
 
+    /// Encodes linear light on channel `c` to 8 bits, without f64 arithmetic. Input handling
+    /// as [`encode`](Self::encode): NaN, ≤ 0 → 0; ≥ 1 → 255. Never panics.
+    ///
+    /// - [`Srgb`](Self::Srgb): [`srgb8_from_linear`](crate::srgb8_from_linear), the exact curve
+    ///   (f64) times 255 rounded to nearest for every f32: a table lookup.
+    /// - `Gamma(γ)` with the γ of a baked display (`Gamma(2.4)` and `Gamma(2.2)` in the default
+    ///   scene): the same, correctly rounded, from thresholds the build script computed (8
+    ///   comparisons). Any other γ: f32 `powf` (libm), then [`quantize_u8`]; within 1 step of
+    ///   the correctly rounded value (f32 rounding near a step's half).
+    /// - [`Linear`](Self::Linear) and [`Lut`](Self::Lut): the f32 value quantized with
+    ///   [`quantize_u8`].
+    #[inline]
+    pub fn encode_u8(&self, c: Rgb, linear: f32) -> u8 {
+        match *self {
+            TransferFunction::Linear => quantize_u8(linear),
+            TransferFunction::Srgb => crate::srgb8_from_linear(linear),
+            TransferFunction::Gamma(g) => match crate::encode::gamma_encoder(g) {
+                Some(e) => e.encode(linear),
+                None => quantize_u8(gamma_f32(g, linear)),
+            },
+            TransferFunction::Lut(l) => quantize_u8(lut_encode(l.table(c), linear)),
+        }
+    }
+
+    /// Encodes linear light on channel `c` to 16 bits, without f64 arithmetic: the curve in f32
+    /// (libm's f32 `powf` for sRGB and `Gamma(γ)`), then [`quantize_u16`]. Input handling as
+    /// [`encode`](Self::encode): NaN, ≤ 0 → 0; ≥ 1 → 65535. Never panics.
+    ///
+    /// Within [`U16_MAX_STEP_ERROR`] (1 step) of the exact curve (f64) times 65 535 rounded to
+    /// nearest; tests/transfer.rs measures it at every 8- and 16-bit code boundary of sRGB,
+    /// `Gamma(2.2)` and `Gamma(2.4)`.
+    #[inline]
+    pub fn encode_u16(&self, c: Rgb, linear: f32) -> u16 {
+        let e = match *self {
+            TransferFunction::Linear => linear,
+            TransferFunction::Srgb => srgb_f32(linear),
+            TransferFunction::Gamma(g) => gamma_f32(g, linear),
+            TransferFunction::Lut(l) => lut_encode(l.table(c), linear),
+        };
+        quantize_u16(e)
+    }
+
     /// Decodes a display value on channel `c` back to linear light: the inverse of
     /// [`encode`](Self::encode). Same input handling: NaN → 0, ≤ 0 → exactly 0, ≥ 1 →
     /// exactly 1; output in 0..=1. For a table with flat stretches, the lowest linear value of
@@ -171,6 +222,50 @@ impl TransferFunction {
         };
         clamp01(x)
     }
+}
+
+/// The largest difference, in 16-bit steps, between
+/// [`TransferFunction::encode_u16`] (and so [`Display::encode_u16`] and the sets' `encode_u16`)
+/// and the exact curve (f64) times 65 535 rounded to nearest, for sRGB and power laws: the f32
+/// curve is within a few units in the last place, so it can only land on the other side of a
+/// step's half. tests/transfer.rs checks every 8- and 16-bit code boundary.
+pub const U16_MAX_STEP_ERROR: u16 = 1;
+
+/// The sRGB curve in f32 (libm's `powf`), held at the join's value above it so it never drops
+/// below the linear segment; clamped input, output in 0..=1.
+#[inline]
+fn srgb_f32(linear: f32) -> f32 {
+    let x = clamp01(linear);
+    if x == 0.0 || x == 1.0 {
+        return x;
+    }
+    let e = if x <= SRGB_LINEAR_MAX {
+        12.92 * x
+    } else {
+        (1.055 * libm::powf(x, 1.0 / 2.4) - 0.055).max(12.92 * SRGB_LINEAR_MAX)
+    };
+    clamp01(e)
+}
+
+/// x^(1/γ) in f32 (libm's `powf`); a γ that is not finite and positive is linear. Clamped
+/// input, output in 0..=1.
+#[inline]
+fn gamma_f32(g: f32, linear: f32) -> f32 {
+    let x = clamp01(linear);
+    if x == 0.0 || x == 1.0 || !(g.is_finite() && g > 0.0) {
+        return x;
+    }
+    clamp01(libm::powf(x, 1.0 / g))
+}
+
+/// A lookup table's encoding of clamped input, as [`TransferFunction::encode`].
+#[inline]
+fn lut_encode(t: &[f32], linear: f32) -> f32 {
+    let x = clamp01(linear);
+    if x == 0.0 || x == 1.0 {
+        return x;
+    }
+    clamp01(interpolate(t, x))
 }
 
 /// The end of the sRGB curve's linear segment, in linear light.
@@ -372,6 +467,7 @@ impl Display {
     /// Any NaN channel gives black `[0, 0, 0]`. With `PreserveA`, a colour with an infinite
     /// channel is clipped as with `Clip` (+Inf → 1, −Inf → 0). Never panics; the output is
     /// always in 0..=1.
+    #[inline]
     pub fn map_gamut(&self, rgb: [f32; 3], mapping: GamutMapping) -> [f32; 3] {
         if rgb.iter().any(|v| v.is_nan()) {
             return [0.0; 3];
@@ -398,14 +494,62 @@ impl Display {
         ]
     }
 
-    /// [`encode`](Self::encode) quantized to 8 bits (round to nearest). NaN anywhere → black.
+    /// Gamut-maps and encodes to 8 bits with [`TransferFunction::encode_u8`]: for sRGB and the
+    /// baked displays' power laws the exact curve rounded to nearest (which
+    /// `quantize_u8(encode(..))`, rounding twice, misses by one step on a few inputs). No f64
+    /// arithmetic. Input handling as [`map_gamut`](Self::map_gamut): NaN anywhere → black.
+    #[inline]
     pub fn encode_u8(&self, rgb: [f32; 3], mapping: GamutMapping) -> [u8; 3] {
-        self.encode(rgb, mapping).map(quantize_u8)
+        // The common case inline and without branches: the sRGB table clamps as `Clip` does,
+        // and a NaN anywhere selects black afterwards.
+        if let (GamutMapping::Clip, TransferFunction::Srgb) = (mapping, self.transfer) {
+            let nan = rgb[0].is_nan() | rgb[1].is_nan() | rgb[2].is_nan();
+            let px = rgb.map(crate::encode::srgb8_not_nan);
+            return if nan { [0; 3] } else { px };
+        }
+        self.encode_u8_other(rgb, mapping)
     }
 
-    /// [`encode`](Self::encode) quantized to 16 bits (round to nearest). NaN anywhere → black.
+    /// [`encode_u8`](Self::encode_u8) for every transfer function and mapping but sRGB with
+    /// `Clip`.
+    fn encode_u8_other(&self, rgb: [f32; 3], mapping: GamutMapping) -> [u8; 3] {
+        let m = match mapping {
+            // Every 8-bit encoder clamps to 0..=1 itself, exactly as `Clip` does for a colour
+            // without NaN: only the NaN rule is left to apply here.
+            GamutMapping::Clip => {
+                if rgb[0].is_nan() | rgb[1].is_nan() | rgb[2].is_nan() {
+                    return [0; 3];
+                }
+                rgb
+            }
+            GamutMapping::PreserveA => self.map_gamut(rgb, mapping),
+        };
+        // The transfer function is matched once per pixel, not per channel. `m` has no NaN.
+        match self.transfer {
+            TransferFunction::Srgb => m.map(crate::encode::srgb8_not_nan),
+            TransferFunction::Gamma(g) => match crate::encode::gamma_encoder(g) {
+                Some(e) => m.map(|x| e.encode(x)),
+                None => m.map(|x| quantize_u8(gamma_f32(g, x))),
+            },
+            t => [
+                t.encode_u8(Rgb::R, m[0]),
+                t.encode_u8(Rgb::G, m[1]),
+                t.encode_u8(Rgb::B, m[2]),
+            ],
+        }
+    }
+
+    /// Gamut-maps and encodes to 16 bits with [`TransferFunction::encode_u16`] (f32, within
+    /// [`U16_MAX_STEP_ERROR`] of the exact curve rounded). No f64 arithmetic. Input handling as
+    /// [`map_gamut`](Self::map_gamut): NaN anywhere → black.
+    #[inline]
     pub fn encode_u16(&self, rgb: [f32; 3], mapping: GamutMapping) -> [u16; 3] {
-        self.encode(rgb, mapping).map(quantize_u16)
+        let m = self.map_gamut(rgb, mapping);
+        [
+            self.transfer.encode_u16(Rgb::R, m[0]),
+            self.transfer.encode_u16(Rgb::G, m[1]),
+            self.transfer.encode_u16(Rgb::B, m[2]),
+        ]
     }
 }
 

@@ -26,15 +26,16 @@ const TABLE_LEN: usize = 2048;
 /// The largest difference, per channel in 8-bit steps, between the fast sRGB paths
 /// ([`srgb8_from_linear`] and [`FoldedSet::encode_u8_planar`](crate::FoldedSet::encode_u8_planar)
 /// with the sRGB curve and [`Clip`](crate::GamutMapping::Clip)) and the per-pixel
-/// [`Display::encode_u8`](crate::Display::encode_u8).
+/// [`Display::encode_u8`](crate::Display::encode_u8): 0, since the per-pixel encoder uses the
+/// same table ([`TransferFunction::encode_u8`](crate::TransferFunction::encode_u8)).
 ///
 /// The fast encoder is the exact curve rounded to nearest: against the exact curve its error
-/// is at most ½ step before rounding and 0 steps after, for every f32. The per-pixel encoder
-/// rounds twice (the curve to f32, then `e · 255 + ½` in f32), so for inputs within a few units
-/// in the last place of a rounding boundary it lands one step away. `tests/soa.rs` checks every
-/// f32 in 0..=1: the two differ on 268 of them, by 1 step. [`SRGB8_MAX_DELTA_E`] is what that
-/// can cost in colour.
-pub const SRGB8_MAX_STEP_ERROR: u8 = 1;
+/// is at most ½ step before rounding and 0 steps after, for every f32. Quantizing the f32
+/// curve instead (`quantize_u8(TransferFunction::Srgb.encode(..))`, what the per-pixel
+/// encoder did before) rounds twice: `tests/soa.rs` checks every f32 in 0..=1, and that form
+/// differs on 268 of them, by 1 step. [`SRGB8_MAX_DELTA_E`] is what one step can cost in
+/// colour.
+pub const SRGB8_MAX_STEP_ERROR: u8 = 0;
 
 /// The largest CIELAB ΔE*ab (CIE 1976, white of the sRGB display) between two 8-bit sRGB
 /// colours that differ by at most [`SRGB8_MAX_STEP_ERROR`] (one step) in each channel, anywhere
@@ -159,6 +160,24 @@ pub(crate) fn segment_bits(x: f32) -> u32 {
     x.to_bits().wrapping_sub(LO_BITS)
 }
 
+/// [`srgb8_from_linear`] for an `x` that is not NaN, clamped in integer arithmetic: an f32's
+/// bits read as an i32 are ordered as the f32 for every value but NaN (negative values, −0.0
+/// and −Inf are negative integers; +Inf lies above 1.0). Fewer instructions where compares of
+/// floats cost a transfer of flags (the Cortex-M FPU). A NaN gives 0 or 255 here, never a
+/// panic; callers exclude it first.
+///
+/// Only on Arm: elsewhere (x86) the float clamp of [`segment_bits`] is two branch-free
+/// `maxss`/`minss`, where the integer clamp compiled to branches.
+#[inline(always)]
+pub(crate) fn srgb8_not_nan(x: f32) -> u8 {
+    if cfg!(target_arch = "arm") {
+        let b = (x.to_bits() as i32).clamp(LO_BITS as i32, 0x3f80_0000);
+        lookup((b as u32).wrapping_sub(LO_BITS))
+    } else {
+        lookup(segment_bits(x))
+    }
+}
+
 /// The table entry for [`segment_bits`]' result `v`, to be added to `v << 8`.
 #[inline(always)]
 pub(crate) fn entry(v: u32) -> u32 {
@@ -171,9 +190,85 @@ pub(crate) fn lookup(v: u32) -> u8 {
     (entry(v).wrapping_add(v << 8) >> 24) as u8
 }
 
+/// An 8-bit encoder of the power law x^(1/γ), baked by the build script for each distinct γ
+/// among the scene's displays (`tables::GAMMA_ENCODERS`): 255 thresholds, searched in 8
+/// comparisons, so the result is the exact curve (in f64) times 255 rounded to nearest for
+/// every f32, with no power function per value.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct GammaEncoder8 {
+    /// γ, as in [`TransferFunction::Gamma`](crate::TransferFunction::Gamma).
+    pub(crate) gamma: f32,
+    /// Entry k (1..=255): the bits of the smallest f32 x with x^(1/γ) · 255 ≥ k − ½ (in f64);
+    /// entry 0 is 0. Non-decreasing.
+    pub(crate) thresholds: [u32; 256],
+}
+
+impl GammaEncoder8 {
+    /// The code value of `x` clamped to 0..=1 (NaN → 0): the number of thresholds at or below
+    /// it. Branch-free binary search.
+    #[inline]
+    pub(crate) fn encode(&self, x: f32) -> u8 {
+        let bits = crate::display::clamp01(x).to_bits();
+        let t = &self.thresholds;
+        let mut k = 0usize;
+        let mut step = 128;
+        while step > 0 {
+            // k + step ≤ 255: the index is in range.
+            if t[(k + step) & 255] <= bits {
+                k += step;
+            }
+            step /= 2;
+        }
+        k as u8
+    }
+}
+
+/// The baked encoder for `Gamma(gamma)`, if a baked display has that γ.
+#[inline]
+pub(crate) fn gamma_encoder(gamma: f32) -> Option<&'static GammaEncoder8> {
+    crate::tables::GAMMA_ENCODERS
+        .iter()
+        .find(|e| e.gamma.to_bits() == gamma.to_bits())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn not_nan_form_equals_the_float_form() {
+        let specials = [
+            0.0,
+            -0.0,
+            1.0,
+            -1.0,
+            f32::INFINITY,
+            -f32::INFINITY,
+            f32::MAX,
+            f32::MIN,
+        ];
+        let small = [
+            f32::from_bits(1),
+            f32::MIN_POSITIVE,
+            LO,
+            f32::from_bits(LO_BITS - 1),
+        ];
+        let near_one = [
+            f32::from_bits(0x3f7f_ffff),
+            f32::from_bits(0x3f80_0001),
+            2.0,
+        ];
+        for x in specials.into_iter().chain(small).chain(near_one) {
+            assert_eq!(srgb8_not_nan(x), srgb8_from_linear(x), "{x:e}");
+        }
+        // Every 4099th f32 bit pattern of either sign that is not NaN.
+        for bits in (0..=u32::MAX).step_by(4099) {
+            let x = f32::from_bits(bits);
+            if !x.is_nan() {
+                assert_eq!(srgb8_not_nan(x), srgb8_from_linear(x), "{x:e}");
+            }
+        }
+    }
 
     #[test]
     fn table_ends() {

@@ -54,7 +54,7 @@ pub mod paper;
 
 pub use display::{
     quantize_u16, quantize_u8, ChannelLuts, Display, GamutMapping, Rgb, TransferFunction,
-    MAX_PRIMARIES_CONDITION, MIN_WHITE_SHARE,
+    MAX_PRIMARIES_CONDITION, MIN_WHITE_SHARE, U16_MAX_STEP_ERROR,
 };
 pub use dynamic::DynamicSet;
 pub use encode::{srgb8_from_linear, SRGB8_MAX_DELTA_E, SRGB8_MAX_STEP_ERROR};

@@ -90,6 +90,19 @@ fn product_for_encoding<const N: usize>(
     out
 }
 
+/// Whether the target has vector units for f32 that the chunked loops vectorize for (SSE2 on
+/// x86, NEON, WebAssembly SIMD). Without them (microcontrollers such as the Cortex-M4F, whose
+/// FPU is scalar) the chunks' buffers are only extra loads and stores, and
+/// [`FoldedSet::encode_u8_planar`] goes pixel by pixel through
+/// [`FoldedSet::encode_u8`] instead: on the M4F 73 instead of 143 instructions per pixel (N = 4,
+/// opt-level 3; the README's "On a microcontroller" has the commands). `tests/soa.rs` checks
+/// that the chunked form equals `encode_u8`.
+const VECTOR_UNITS: bool = cfg!(any(
+    target_feature = "sse2",
+    target_feature = "neon",
+    target_feature = "simd128"
+));
+
 /// Bytes one chunk of interleaved 8-bit RGB takes.
 const CHUNK_BYTES: usize = 3 * CHUNK;
 
@@ -240,14 +253,14 @@ impl<const N: usize> FoldedSet<N> {
     /// images and frame buffers, and of [`encode_u8_batch`](Self::encode_u8_batch).
     ///
     /// When the display's transfer function is [`TransferFunction::Srgb`] (sRGB, Display P3)
-    /// and [`GamutMapping::Clip`], this is the fast path: a vectorized product, a clip and the
-    /// table encoder of [`srgb8_from_linear`](crate::srgb8_from_linear), correctly rounded and
-    /// branch-free (the README's Performance section has its speed against the memory bound,
-    /// 60 to 100 times that of [`encode_u8`](Self::encode_u8) per pixel). Each
-    /// channel is then within [`SRGB8_MAX_STEP_ERROR`](crate::SRGB8_MAX_STEP_ERROR) (1 step,
-    /// at most [`SRGB8_MAX_DELTA_E`](crate::SRGB8_MAX_DELTA_E) ΔE*ab) of
-    /// [`encode_u8`](Self::encode_u8), and equal to it almost everywhere. Any other transfer
-    /// function or [`GamutMapping::PreserveA`] goes pixel by pixel through
+    /// and [`GamutMapping::Clip`], on a target with f32 vector units (x86, NEON), this is the
+    /// fast path: a vectorized product, a clip and the table encoder of
+    /// [`srgb8_from_linear`](crate::srgb8_from_linear), correctly rounded and branch-free (the
+    /// README's Performance section has its speed against the memory bound). It equals
+    /// [`encode_u8`](Self::encode_u8) exactly
+    /// ([`SRGB8_MAX_STEP_ERROR`](crate::SRGB8_MAX_STEP_ERROR) is 0): both use the same table.
+    /// On other targets (microcontrollers), any other transfer function, or
+    /// [`GamutMapping::PreserveA`] it goes pixel by pixel through
     /// [`encode_u8`](Self::encode_u8) and equals it exactly.
     ///
     /// Input handling as [`encode_u8`](Self::encode_u8): NaN anywhere in a pixel (a NaN sample,
@@ -274,12 +287,15 @@ impl<const N: usize> FoldedSet<N> {
         out: &mut [[u8; 3]],
     ) -> Result<(), Error> {
         let pixels = check_planes(&samples, &[out.len()])?;
-        let fast = matches!(self.display.transfer, TransferFunction::Srgb)
+        let fast = VECTOR_UNITS
+            && matches!(self.display.transfer, TransferFunction::Srgb)
             && matches!(mapping, GamutMapping::Clip);
         if !fast {
-            for (p, o) in out.iter_mut().enumerate() {
-                let s: [f32; N] =
-                    core::array::from_fn(|i| samples[i].get(p).copied().unwrap_or(0.0));
+            // Every plane has `pixels` values (checked above), so the slices are in range, and
+            // with them the compiler sees that every index below is.
+            let planes: [&[f32]; N] = samples.map(|plane| &plane[..pixels]);
+            for (p, o) in out[..pixels].iter_mut().enumerate() {
+                let s: [f32; N] = core::array::from_fn(|i| planes[i][p]);
                 *o = self.encode_u8(mapping, &s);
             }
             return Ok(());

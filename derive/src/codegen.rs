@@ -443,5 +443,8 @@ pub fn tables_rs(
     writeln!(o, "];").ok();
     writeln!(o, "/// Bytes of the numeric tables above (f32 values; rule tables count their nodes and weights): what the scene bakes.").ok();
     writeln!(o, "pub const TABLE_BYTES: usize = {};", 4 * floats).ok();
+    o.push_str(&super::transfer_tables::gamma_encoders_rs(
+        scene.displays.iter().map(|(spec, _)| &spec.transfer),
+    ));
     Ok(o)
 }

@@ -50,6 +50,7 @@ pub mod sets;
 pub mod shader;
 pub mod shared;
 pub mod table;
+pub mod transfer_tables;
 pub mod user;
 
 use std::path::{Path, PathBuf};
