@@ -317,16 +317,10 @@ pub fn shared_sets(
     if !(one_light && known) {
         return Ok(out);
     }
-    let p = super::shared::problem_for(d, Some(&first.light))?;
     for n in SHARED_SIZES {
         let set_name = std::format!("KQ_{name}_{n}");
         let set = catalog::resolve_with(d, &set_name, lights)?;
-        let mut eval = EvalSet::from_set(&set, "KQ folded", &d.opponent.ac1c2_to_xyz);
-        for row in eval.xyz_weights.iter_mut() {
-            for (w, nm) in row.iter_mut().zip(&set.wavelengths_nm) {
-                *w /= p.light_at(*nm);
-            }
-        }
+        let eval = super::shared::eval_on_radiance(d, &set, "KQ folded", Some(&first.light))?;
         out.push((set_name, n, eval));
     }
     Ok(out)

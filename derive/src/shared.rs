@@ -791,6 +791,28 @@ impl Shared {
     }
 }
 
+/// A set as the report and the planner measure it, on radiances: its AC1C2 weights taken to XYZ
+/// and, for a set with `light` folded in (the curve the set was fitted for), divided by that
+/// light at each wavelength, as [`Shared::eval_set`] does, so that applied to `r · L` it equals
+/// the folded set applied to r. `light` `None`: a set for radiances, taken as it is.
+pub fn eval_on_radiance(
+    d: &Derivation,
+    set: &WavelengthSet,
+    family: &str,
+    light: Option<&Curve>,
+) -> Result<EvalSet, Error> {
+    let mut eval = EvalSet::from_set(set, family, &d.opponent.ac1c2_to_xyz);
+    if let Some(l) = light {
+        let p = problem_for(d, Some(l))?;
+        for row in eval.xyz_weights.iter_mut() {
+            for (w, nm) in row.iter_mut().zip(&set.wavelengths_nm) {
+                *w /= p.light_at(*nm);
+            }
+        }
+    }
+    Ok(eval)
+}
+
 /// The shared set of `n` wavelengths for a built-in light (`None`: radiances). To build
 /// several sizes for one light, set up [`problem`] once and call [`Problem::shared`].
 ///

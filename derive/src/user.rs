@@ -35,6 +35,21 @@ pub fn is_const_name(name: &str) -> bool {
         && chars.all(|c| c.is_ascii_uppercase() || c.is_ascii_digit() || c == '_')
 }
 
+/// A file's text; an error names `label` and the path ([`crate::read_data`]'s error).
+fn read_labelled(path: &std::path::Path, label: &str) -> Result<String, Error> {
+    std::fs::read_to_string(path).map_err(|e| super::read_error(label, path, &e).into())
+}
+
+/// Whether every value of `curve`'s data inside `range_nm` is zero.
+fn is_zero_over(curve: &Curve, range_nm: [f64; 2]) -> bool {
+    curve
+        .wavelengths
+        .iter()
+        .zip(&curve.values)
+        .filter(|(l, _)| **l >= range_nm[0] && **l <= range_nm[1])
+        .all(|(_, v)| *v == 0.0)
+}
+
 /// A light given by the user as a CSV file (wavelength in nm, one column of spectral power).
 #[derive(Debug, Clone, PartialEq)]
 pub struct UserLight {
@@ -69,12 +84,7 @@ impl UserLight {
             .into());
         }
         let mut curve = spectra.curve(0, range_nm)?;
-        let inside = curve
-            .wavelengths
-            .iter()
-            .zip(&curve.values)
-            .filter(|(l, _)| **l >= range_nm[0] && **l <= range_nm[1]);
-        if inside.clone().all(|(_, v)| *v == 0.0) {
+        if is_zero_over(&curve, range_nm) {
             return Err(DataError {
                 file: file.into(),
                 line: 0,
@@ -101,12 +111,7 @@ impl UserLight {
         label: &str,
         range_nm: [f64; 2],
     ) -> Result<UserLight, Error> {
-        let text = std::fs::read_to_string(path).map_err(|e| DataError {
-            file: label.into(),
-            line: 0,
-            message: std::format!("cannot read {}: {e}", path.display()),
-        })?;
-        Self::parse(name, label, &text, range_nm)
+        Self::parse(name, label, &read_labelled(path, label)?, range_nm)
     }
 }
 
@@ -139,13 +144,7 @@ impl Sensor {
         }
         let channels = spectra.curves(range_nm)?;
         for (k, c) in channels.iter().enumerate() {
-            let zero = c
-                .wavelengths
-                .iter()
-                .zip(&c.values)
-                .filter(|(l, _)| **l >= range_nm[0] && **l <= range_nm[1])
-                .all(|(_, v)| *v == 0.0);
-            if zero {
+            if is_zero_over(c, range_nm) {
                 return Err(DataError {
                     file: file.into(),
                     line: 1,
@@ -169,12 +168,7 @@ impl Sensor {
 
     /// Reads a sensor file (see [`parse`](Self::parse)); `label` names it in errors.
     pub fn read(path: &std::path::Path, label: &str, range_nm: [f64; 2]) -> Result<Sensor, Error> {
-        let text = std::fs::read_to_string(path).map_err(|e| DataError {
-            file: label.into(),
-            line: 0,
-            message: std::format!("cannot read {}: {e}", path.display()),
-        })?;
-        Self::parse(label, &text, range_nm)
+        Self::parse(label, &read_labelled(path, label)?, range_nm)
     }
 
     /// Each channel's peak wavelength (the first maximum on the 1 nm grid of `range_nm`), in
@@ -208,6 +202,8 @@ pub struct Fitted {
     pub light: Option<String>,
     /// The sensor's name for a sensor set.
     pub sensor: Option<String>,
+    /// The sensor's channels, for a sensor set (to fit other matrices on the same readings).
+    pub channels: Option<Sensor>,
     /// Sampling wavelengths in nm; for a sensor, each channel's peak.
     pub wavelengths_nm: Vec<f64>,
     /// `w[c][i]`: XYZ from the samples (reflectances under the light, radiances, or readings).
@@ -316,6 +312,7 @@ pub fn fixed_set(
         name: name.into(),
         light: light.map(|l| l.name.clone()),
         sensor: None,
+        channels: None,
         wavelengths_nm: wavelengths_nm.to_vec(),
         xyz_weights,
         expected_error,
@@ -380,6 +377,7 @@ pub fn sensor_set(
         name: name.into(),
         light: light.map(|l| l.name.clone()),
         sensor: Some(sensor_name.to_string()),
+        channels: Some(sensor.clone()),
         wavelengths_nm: sensor.peaks_nm(d.settings.range_nm),
         xyz_weights,
         expected_error,

@@ -761,18 +761,7 @@ fn print_sections_2_to_4(
             .filter(|r| r.set.family != "AC1C2" && r.set.family != "XYZ"),
     );
     for r in shown.clone().filter(|r| r.judged_on.is_none()) {
-        writeln!(
-            o,
-            "   {:<22} {:>5} {:>9.3} {:>9.3} {:>9.3} {:>9.3} {:>9.1}",
-            r.set.name,
-            r.samples,
-            r.errors.mean_de76(),
-            r.errors.max_de76(),
-            r.errors.mean_de00(),
-            r.errors.max_de00(),
-            r.ns_per_pixel
-        )
-        .ok();
+        section4_line(o, r);
     }
     let mut own: Vec<&Row> = shown.filter(|r| r.judged_on.is_some()).collect();
     own.sort_by_key(|r| r.judged_on.clone());
@@ -787,24 +776,29 @@ fn print_sections_2_to_4(
             .ok();
             last = Some(on);
         }
-        writeln!(
-            o,
-            "   {:<22} {:>5} {:>9.3} {:>9.3} {:>9.3} {:>9.3} {:>9.1}",
-            r.set.name,
-            r.samples,
-            r.errors.mean_de76(),
-            r.errors.max_de76(),
-            r.errors.mean_de00(),
-            r.errors.max_de00(),
-            r.ns_per_pixel
-        )
-        .ok();
+        section4_line(o, r);
     }
     let full = rows.iter().find(|r| r.set.name == "full 1 nm");
     let row2 = rows.iter().find(|r| r.set.name == "table2 row2");
     if let (Some(f), Some(r)) = (full, row2) {
         writeln!(o, "   table 2 row 2 is {:.0}x faster than the full 1 nm integration (medians of this run)", f.ns_per_pixel / r.ns_per_pixel).ok();
     }
+}
+
+/// One row of section 4's text table.
+fn section4_line(o: &mut String, r: &Row) {
+    writeln!(
+        o,
+        "   {:<22} {:>5} {:>9.3} {:>9.3} {:>9.3} {:>9.3} {:>9.1}",
+        r.set.name,
+        r.samples,
+        r.errors.mean_de76(),
+        r.errors.max_de76(),
+        r.errors.mean_de00(),
+        r.errors.max_de00(),
+        r.ns_per_pixel
+    )
+    .ok();
 }
 
 fn write(dir: &Path, name: &str, text: &str) -> Result<PathBuf, Error> {

@@ -104,32 +104,13 @@ pub fn scene_extras(
     for (name, line) in &scene.sets {
         let set =
             sqd::catalog::resolve_with(d, name, &lights).map_err(|e| e.at(&label, *line as u64))?;
-        let eval = match &set.light {
-            Some(l) => {
-                let curve = light_curve(l)?;
-                let p = shared::problem_for(d, Some(&curve))?;
-                let mut e = EvalSet::from_set(&set, "scene", &d.opponent.ac1c2_to_xyz);
-                for row in e.xyz_weights.iter_mut() {
-                    for (w, nm) in row.iter_mut().zip(&set.wavelengths_nm) {
-                        *w /= p.light_at(*nm);
-                    }
-                }
-                Extra {
-                    samples: e.len(),
-                    timing: e.clone(),
-                    set: e,
-                    judged_on: under(&curve),
-                }
-            }
-            None => {
-                let e = EvalSet::from_set(&set, "scene", &d.opponent.ac1c2_to_xyz);
-                Extra {
-                    samples: e.len(),
-                    timing: e.clone(),
-                    set: e,
-                    judged_on: None,
-                }
-            }
+        let light = set.light.as_deref().map(light_curve).transpose()?;
+        let e = shared::eval_on_radiance(d, &set, "scene", light.as_ref())?;
+        let eval = Extra {
+            samples: e.len(),
+            timing: e.clone(),
+            set: e,
+            judged_on: light.as_ref().and_then(under),
         };
         out.push(eval);
     }
@@ -145,7 +126,7 @@ pub fn scene_extras(
         };
         let light = f.light.as_deref().map(light_curve).transpose()?;
         let judged_on = light.as_ref().and_then(under);
-        let sensor = scene.user.sensors.iter().find(|s| s.name == f.name);
+        let channels = f.channels.clone();
         let samples = f.wavelengths_nm.len();
         out.push(Extra {
             samples,
@@ -156,8 +137,7 @@ pub fn scene_extras(
                 ..f.eval
             },
         });
-        if let Some(sensor) = sensor {
-            let channels = user::Sensor::read(&sensor.path, &label, d.settings.range_nm)?;
+        if let Some(channels) = channels {
             let fit_light = match &light {
                 Some(l) => l.clone(),
                 None => light_curve("C")?,
