@@ -13,15 +13,15 @@
 //! against the exact curve for every f32 from 2⁻¹³ to 1.
 
 /// Bits of 2⁻¹³, the lower clamp: the exact curve stays below ½ step up to 1.5e-4 > 2⁻¹³.
-const LO_BITS: u32 = (127 - 13) << 23;
+pub(crate) const LO_BITS: u32 = (127 - 13) << 23;
 /// 2⁻¹³.
-const LO: f32 = f32::from_bits(LO_BITS);
+pub(crate) const LO: f32 = f32::from_bits(LO_BITS);
 /// Segments per octave: 2⁷, indexed by the top 7 mantissa bits.
 const PER_OCTAVE: usize = 128;
 /// 13 octaves from 2⁻¹³ up to 1, and one segment for exactly 1.0.
 const SEGMENTS: usize = 13 * PER_OCTAVE + 1;
 /// Table entries: a power of two, so that masking the index keeps it in range without a check.
-const TABLE_LEN: usize = 2048;
+pub(crate) const TABLE_LEN: usize = 2048;
 
 /// The largest difference, per channel in 8-bit steps, between the fast sRGB paths
 /// ([`srgb8_from_linear`] and [`FoldedSet::encode_u8_planar`](crate::FoldedSet::encode_u8_planar)

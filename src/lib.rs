@@ -33,7 +33,7 @@
 #![cfg_attr(docsrs, feature(doc_cfg))]
 #![deny(missing_docs)]
 
-#[cfg(feature = "std")]
+#[cfg(any(test, feature = "std"))]
 extern crate std;
 
 mod batch;
@@ -43,6 +43,7 @@ mod encode;
 mod error;
 mod lab;
 mod set;
+mod simd;
 mod soa;
 
 #[cfg(feature = "defmt")]

@@ -262,9 +262,24 @@ impl<const N: usize> FoldedSet<N> {
 
     /// Samples → gamut-mapped, encoded 8-bit RGB with the set's [`display`](Self::display).
     /// NaN anywhere → black; see [`Display::encode_u8`](crate::Display::encode_u8).
+    ///
+    /// The bytes of `self.display.encode_u8(self.linear_rgb(samples), mapping)`. Each channel's
+    /// sum starts from its first product instead of 0.0 (one addition less), which differs
+    /// only where the sum is an exact zero (−0.0 instead of +0.0, and both encode to 0). On
+    /// x86-64, the sRGB curve with `Clip` runs with the three channels in one SSE2 register:
+    /// the same f32 operations, so the same bytes.
     #[inline]
     pub fn encode_u8(&self, mapping: crate::GamutMapping, samples: &[f32; N]) -> [u8; 3] {
-        self.display.encode_u8(self.linear_rgb(samples), mapping)
+        // x86-64: the product and the encoder with the channels in the lanes of one SSE2
+        // register (the same operations, so the same bytes; see `simd`).
+        #[cfg(target_arch = "x86_64")]
+        if let (crate::GamutMapping::Clip, crate::TransferFunction::Srgb) =
+            (mapping, self.display.transfer)
+        {
+            return crate::simd::sse2::encode_srgb8(&self.weights, samples);
+        }
+        self.display
+            .encode_u8(mat_vec_for_encoding(&self.weights, samples), mapping)
     }
 
     /// As [`encode_u8`](Self::encode_u8), 16 bits.
@@ -284,6 +299,30 @@ pub(crate) fn mat_vec<const N: usize>(weights: &[[f32; N]; 3], samples: &[f32; N
     let [w0, w1, w2] = weights;
     let (mut a, mut b, mut c) = (0.0f32, 0.0f32, 0.0f32);
     for i in 0..N {
+        let s = samples[i];
+        a += w0[i] * s;
+        b += w1[i] * s;
+        c += w2[i] * s;
+    }
+    [a, b, c]
+}
+
+/// [`mat_vec`] starting each sum from its first product instead of 0.0: one addition less on
+/// each channel's chain, and the same value except that an exact zero may come out as −0.0
+/// where `mat_vec` gives +0.0 (0.0 + (−0.0) = +0.0). Every encoder maps both zeros to code 0,
+/// so the encoded colour is the same.
+#[inline]
+pub(crate) fn mat_vec_for_encoding<const N: usize>(
+    weights: &[[f32; N]; 3],
+    samples: &[f32; N],
+) -> [f32; 3] {
+    if N == 0 {
+        return [0.0; 3];
+    }
+    let [w0, w1, w2] = weights;
+    let s = samples[0];
+    let (mut a, mut b, mut c) = (w0[0] * s, w1[0] * s, w2[0] * s);
+    for i in 1..N {
         let s = samples[i];
         a += w0[i] * s;
         b += w1[i] * s;

@@ -198,6 +198,60 @@ fn encode_chunk_buffered(rgb: &[[f32; CHUNK]; 3], out: &mut [u8]) {
     out[..n].copy_from_slice(&buffer[..n]);
 }
 
+/// The portable planar linear loop (chunks of [`CHUNK`] pixels that the compiler vectorizes
+/// for the baseline target). Every plane and output holds the same number of pixels.
+pub(crate) fn linear_planar_portable<const N: usize>(
+    weights: &[[f32; N]; 3],
+    samples: [&[f32]; N],
+    out: [&mut [f32]; 3],
+) {
+    let pixels = out[0].len();
+    let [r, g, b] = out;
+    let (r_chunks, r_rest) = r.as_chunks_mut::<CHUNK>();
+    let (g_chunks, g_rest) = g.as_chunks_mut::<CHUNK>();
+    let (b_chunks, b_rest) = b.as_chunks_mut::<CHUNK>();
+    let full: [&[[f32; CHUNK]]; N] = samples.map(|p| p.as_chunks::<CHUNK>().0);
+    let chunks = r_chunks.iter_mut().zip(g_chunks).zip(b_chunks);
+    for (j, ((r, g), b)) in chunks.enumerate() {
+        let rgb = product(weights, full.map(|p| &p[j]));
+        *r = rgb[0];
+        *g = rgb[1];
+        *b = rgb[2];
+    }
+    let done = pixels - r_rest.len();
+    if done < pixels {
+        let tail = gather(&samples, done);
+        let rgb = product(weights, core::array::from_fn(|i| &tail[i]));
+        let n = r_rest.len();
+        r_rest.copy_from_slice(&rgb[0][..n]);
+        g_rest.copy_from_slice(&rgb[1][..n]);
+        b_rest.copy_from_slice(&rgb[2][..n]);
+    }
+}
+
+/// The portable planar sRGB 8-bit loop with `Clip` (chunks of [`CHUNK`] pixels that the
+/// compiler vectorizes for the baseline target). Every plane holds `out.len()` pixels.
+pub(crate) fn encode_srgb8_planar_portable<const N: usize>(
+    weights: &[[f32; N]; 3],
+    samples: [&[f32]; N],
+    out: &mut [[u8; 3]],
+) {
+    let pixels = out.len();
+    let full: [&[[f32; CHUNK]]; N] = samples.map(|p| p.as_chunks::<CHUNK>().0);
+    let bytes = out.as_flattened_mut();
+    let (byte_chunks, byte_rest) = bytes.as_chunks_mut::<CHUNK_BYTES>();
+    for (j, dst) in byte_chunks.iter_mut().enumerate() {
+        let rgb = product_for_encoding(weights, full.map(|p| &p[j]));
+        encode_chunk(&rgb, dst);
+    }
+    if !byte_rest.is_empty() {
+        let done = pixels - byte_rest.len() / 3;
+        let tail = gather(&samples, done);
+        let rgb = product_for_encoding(weights, core::array::from_fn(|i| &tail[i]));
+        encode_chunk_buffered(&rgb, byte_rest);
+    }
+}
+
 impl<const N: usize> FoldedSet<N> {
     /// [`linear_rgb`](Self::linear_rgb) for planar samples: `samples[i][p]` is pixel p's sample
     /// at `wavelengths_nm[i]`, and `out[c][p]` receives channel c (R, G, B) of pixel p.
@@ -205,7 +259,10 @@ impl<const N: usize> FoldedSet<N> {
     /// Bit for bit the same as [`linear_rgb`](Self::linear_rgb) on every pixel (NaN payloads
     /// aside), so the same IEEE input handling and [`f32_budget`](crate::f32_budget) accuracy
     /// apply: NaN samples give NaN channels, infinities give ±Inf or NaN, overflow gives ±Inf.
-    /// Never panics. The loop runs over chunks of 16 pixels and vectorizes.
+    /// Never panics. On x86-64 CPUs with AVX2 (detected at run time, once) the loop runs
+    /// eight pixels per AVX2 register; elsewhere over chunks of 16 pixels that the compiler
+    /// vectorizes for the target (SSE2, NEON). Every loop computes each channel with the same
+    /// f32 operations in the same order, so all give the same bits.
     ///
     /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless every plane and every
     /// output has the same length; `inputs` is then the length of `samples[0]` and `outputs`
@@ -223,28 +280,16 @@ impl<const N: usize> FoldedSet<N> {
         samples: [&[f32]; N],
         out: [&mut [f32]; 3],
     ) -> Result<(), Error> {
-        let pixels = check_planes(&samples, &[out[0].len(), out[1].len(), out[2].len()])?;
+        check_planes(&samples, &[out[0].len(), out[1].len(), out[2].len()])?;
         let [r, g, b] = out;
-        let (r_chunks, r_rest) = r.as_chunks_mut::<CHUNK>();
-        let (g_chunks, g_rest) = g.as_chunks_mut::<CHUNK>();
-        let (b_chunks, b_rest) = b.as_chunks_mut::<CHUNK>();
-        let full: [&[[f32; CHUNK]]; N] = samples.map(|p| p.as_chunks::<CHUNK>().0);
-        let chunks = r_chunks.iter_mut().zip(g_chunks).zip(b_chunks);
-        for (j, ((r, g), b)) in chunks.enumerate() {
-            let rgb = product(&self.weights, full.map(|p| &p[j]));
-            *r = rgb[0];
-            *g = rgb[1];
-            *b = rgb[2];
-        }
-        let done = pixels - r_rest.len();
-        if done < pixels {
-            let tail = gather(&samples, done);
-            let rgb = product(&self.weights, core::array::from_fn(|i| &tail[i]));
-            let n = r_rest.len();
-            r_rest.copy_from_slice(&rgb[0][..n]);
-            g_rest.copy_from_slice(&rgb[1][..n]);
-            b_rest.copy_from_slice(&rgb[2][..n]);
-        }
+        // The AVX2 loop where the CPU has it (the same bits; see `simd`), then the rest in the
+        // portable one.
+        let done = crate::simd::linear_planar(&self.weights, samples, [&mut *r, &mut *g, &mut *b]);
+        linear_planar_portable(
+            &self.weights,
+            samples.map(|p| &p[done..]),
+            [&mut r[done..], &mut g[done..], &mut b[done..]],
+        );
         Ok(())
     }
 
@@ -256,9 +301,13 @@ impl<const N: usize> FoldedSet<N> {
     /// and [`GamutMapping::Clip`], on a target with f32 vector units (x86, NEON), this is the
     /// fast path: a vectorized product, a clip and the table encoder of
     /// [`srgb8_from_linear`](crate::srgb8_from_linear), correctly rounded and branch-free (the
-    /// README's Performance section has its speed against the memory bound). It equals
+    /// README's Performance section has its speed against the memory bound). On x86-64 CPUs
+    /// with AVX2 (detected at run time, once) it runs eight pixels per AVX2 register, else
+    /// chunks of 16 pixels that the compiler vectorizes for the target. It equals
     /// [`encode_u8`](Self::encode_u8) exactly
-    /// ([`SRGB8_MAX_STEP_ERROR`](crate::SRGB8_MAX_STEP_ERROR) is 0): both use the same table.
+    /// ([`SRGB8_MAX_STEP_ERROR`](crate::SRGB8_MAX_STEP_ERROR) is 0): every loop uses the same
+    /// f32 operations in the same order and the same table, and the unit tests compare each
+    /// loop with the per-pixel function on a million random pixels and the edge inputs.
     /// On other targets (microcontrollers), any other transfer function, or
     /// [`GamutMapping::PreserveA`] it goes pixel by pixel through
     /// [`encode_u8`](Self::encode_u8) and equals it exactly.
@@ -300,19 +349,14 @@ impl<const N: usize> FoldedSet<N> {
             }
             return Ok(());
         }
-        let full: [&[[f32; CHUNK]]; N] = samples.map(|p| p.as_chunks::<CHUNK>().0);
-        let bytes = out.as_flattened_mut();
-        let (byte_chunks, byte_rest) = bytes.as_chunks_mut::<CHUNK_BYTES>();
-        for (j, dst) in byte_chunks.iter_mut().enumerate() {
-            let rgb = product_for_encoding(&self.weights, full.map(|p| &p[j]));
-            encode_chunk(&rgb, dst);
-        }
-        if !byte_rest.is_empty() {
-            let done = pixels - byte_rest.len() / 3;
-            let tail = gather(&samples, done);
-            let rgb = product_for_encoding(&self.weights, core::array::from_fn(|i| &tail[i]));
-            encode_chunk_buffered(&rgb, byte_rest);
-        }
+        // The AVX2 loop where the CPU has it (the same bytes; see `simd`), then the rest in the
+        // portable one.
+        let done = crate::simd::encode_srgb8_planar(&self.weights, samples, out.as_flattened_mut());
+        encode_srgb8_planar_portable(
+            &self.weights,
+            samples.map(|p| &p[done..]),
+            &mut out[done..pixels],
+        );
         Ok(())
     }
 }
