@@ -495,6 +495,43 @@ fn stream<const N: usize, const B: usize>(planes: [&[f32]; N], out: &mut [u8]) {
     }
 }
 
+/// As [`stream`], writing 4 bytes per pixel into each of three planes: the bound for planar
+/// f32 output, with the same buffers as `linear_rgb_planar`. It differs from the interleaved
+/// 12-byte bound in the layout alone: seven streams (four in, three out) whose buffers, each a
+/// large allocation of its own, start at the same offset within a page, so they compete for the
+/// same sets of the first-level cache. On this machine that costs about a third: with the three
+/// output planes shifted against each other by a few cache lines, `soa/linear/N4` runs at 99 %
+/// of `stream/read_write_12B/N4`.
+fn stream_planes<const N: usize>(planes: [&[f32]; N], out: [&mut [f32]; 3]) {
+    const CHUNK: usize = 16;
+    let pixels = planes[0].len();
+    assert!(
+        pixels.is_multiple_of(CHUNK)
+            && out.iter().all(|o| o.len() == pixels)
+            && planes.iter().all(|p| p.len() == pixels)
+    );
+    let full: [&[[f32; CHUNK]]; N] = planes.map(|p| p.as_chunks::<CHUNK>().0);
+    let [r, g, b] = out;
+    let chunks = r
+        .as_chunks_mut::<CHUNK>()
+        .0
+        .iter_mut()
+        .zip(g.as_chunks_mut::<CHUNK>().0)
+        .zip(b.as_chunks_mut::<CHUNK>().0);
+    let mut acc = [0u32; CHUNK];
+    for (j, ((r, g), b)) in chunks.enumerate() {
+        for plane in &full {
+            for (a, x) in acc.iter_mut().zip(&plane[j]) {
+                *a ^= x.to_bits();
+            }
+        }
+        let v = acc.map(f32::from_bits);
+        *r = v;
+        *g = v;
+        *b = v;
+    }
+}
+
 /// One set's part of the bandwidth group: the streaming bounds for its input, the planar path
 /// into linear f32 and into sRGB u8 (all on `BIG_PIXELS` pixels), the sRGB u8 path again on the
 /// first `IN_CACHE_PIXELS`, and the per-pixel API on the first `SMALL_PIXELS`.
@@ -526,17 +563,28 @@ fn bandwidth_set<const N: usize>(
     g.throughput(Throughput::Elements(BIG_PIXELS as u64));
     let mut bytes = vec![0u8; 3 * BIG_PIXELS];
     g.bench_function(format!("stream/read_write_3B/N{N}"), |b| {
+        ran(&format!("stream/read_write_3B/N{N}"));
         b.iter(|| stream::<N, 3>(black_box(samples), black_box(&mut bytes)))
     });
     drop(bytes);
     let mut bytes = vec![0u8; 12 * BIG_PIXELS];
     g.bench_function(format!("stream/read_write_12B/N{N}"), |b| {
+        ran(&format!("stream/read_write_12B/N{N}"));
         b.iter(|| stream::<N, 12>(black_box(samples), black_box(&mut bytes)))
     });
     drop(bytes);
 
     let mut lin = [0, 1, 2].map(|_| vec![0.0f32; BIG_PIXELS]);
+    g.bench_function(format!("stream/read_write_3x4B/N{N}"), |b| {
+        ran(&format!("stream/read_write_3x4B/N{N}"));
+        b.iter(|| {
+            let [r, gr, bl] = &mut lin;
+            stream_planes::<N>(black_box(samples), [r, gr, bl]);
+            black_box(&mut lin);
+        })
+    });
     g.bench_function(format!("soa/linear/N{N}"), |b| {
+        ran(&format!("soa/linear/N{N}"));
         b.iter(|| {
             let [r, gr, bl] = &mut lin;
             set.linear_rgb_planar(black_box(samples), [r, gr, bl])
@@ -547,11 +595,28 @@ fn bandwidth_set<const N: usize>(
     drop(lin);
     let mut out = vec![[0u8; 3]; BIG_PIXELS];
     g.bench_function(format!("soa/srgb_u8/N{N}"), |b| {
+        ran(&format!("soa/srgb_u8/N{N}"));
         b.iter(|| {
             set.encode_u8_planar(clip, black_box(samples), black_box(&mut out))
                 .unwrap()
         })
     });
+
+    // The same pixels interleaved, one `[f32; N]` each (`encode_u8_batch`): the same bytes
+    // read and written as the planar case, so the same streaming bound.
+    drop(out);
+    let aos: Vec<[f32; N]> = (0..BIG_PIXELS)
+        .map(|p| core::array::from_fn(|i| samples[i][p]))
+        .collect();
+    let mut out = vec![[0u8; 3]; BIG_PIXELS];
+    g.bench_function(format!("aos/srgb_u8/N{N}"), |b| {
+        ran(&format!("aos/srgb_u8/N{N}"));
+        b.iter(|| {
+            set.encode_u8_batch(clip, black_box(&aos), black_box(&mut out))
+                .unwrap()
+        })
+    });
+    drop(aos);
 
     // The same on the first `IN_CACHE_PIXELS`, whose planes stay in the first-level cache:
     // the cost of the work itself, without waiting for memory.
@@ -578,13 +643,74 @@ fn bandwidth_set<const N: usize>(
     });
 }
 
+/// Criterion ids (within the `bandwidth` group) of the cases this process has run: the ratios
+/// are printed only between cases measured in the same run.
+static RAN: std::sync::Mutex<Vec<String>> = std::sync::Mutex::new(Vec::new());
+
+/// Records that case `id` of the `bandwidth` group runs in this process (criterion calls a
+/// case's closure only when the filter selects it).
+fn ran(id: &str) {
+    let mut ran = RAN.lock().unwrap();
+    if !ran.iter().any(|r| r == id) {
+        ran.push(id.to_owned());
+    }
+}
+
+/// The median time of case `id` of the `bandwidth` group from criterion's estimates file, if it
+/// ran in this process.
+fn median_ns(id: &str) -> Option<f64> {
+    if !RAN.lock().unwrap().iter().any(|r| r == id) {
+        return None;
+    }
+    let dir = std::env::var_os("CARGO_TARGET_DIR").map_or_else(
+        || std::path::PathBuf::from("target"),
+        std::path::PathBuf::from,
+    );
+    let path = dir
+        .join("criterion/bandwidth")
+        .join(id.replace('/', "_"))
+        .join("new/estimates.json");
+    let text = std::fs::read_to_string(&path).ok()?;
+    let json: serde_json::Value = serde_json::from_str(&text).ok()?;
+    json["median"]["point_estimate"].as_f64()
+}
+
+/// Prints, for set width `n`, each path's median against its streaming bound's: the share of
+/// the memory bound it reaches (the bound's time over the path's).
+fn print_ratios(n: usize) {
+    let cases = [
+        ("soa/srgb_u8", "stream/read_write_3B"),
+        ("soa/linear", "stream/read_write_3x4B"),
+        ("soa/linear", "stream/read_write_12B"),
+        ("aos/srgb_u8", "stream/read_write_3B"),
+    ];
+    for (path, bound) in cases {
+        let (Some(p), Some(b)) = (
+            median_ns(&format!("{path}/N{n}")),
+            median_ns(&format!("{bound}/N{n}")),
+        ) else {
+            continue;
+        };
+        eprintln!(
+            "ratio bandwidth/{path}/N{n}: {:.1} % of the memory bound ({bound}: {:.2} ms, path: {:.2} ms median, {:.3} ns/pixel)",
+            100.0 * b / p,
+            b / 1e6,
+            p / 1e6,
+            p / BIG_PIXELS as f64
+        );
+    }
+}
+
 /// Everything the README's Performance section quotes, in one run: for N = 4 (Table 2 row 2),
 /// 6 (row 1), 8 and 16 (uniform sets, see [`uniform_set`]):
 ///
 /// - `stream/read_write_3B/N<n>`: read N·4 bytes per pixel, write 3 (the bound for sRGB u8);
-///   `stream/read_write_12B/N<n>`: write 12 (the bound for linear f32);
+///   `stream/read_write_12B/N<n>`: write 12, interleaved; `stream/read_write_3x4B/N<n>`: write
+///   4 into each of three planes, the buffers of `soa/linear` (the bound for planar linear f32;
+///   see [`stream_planes`]);
 /// - `soa/linear/N<n>`: `linear_rgb_planar`, N planes → 3 planes of f32;
 /// - `soa/srgb_u8/N<n>`: `encode_u8_planar` (sRGB, Clip) → interleaved `[u8; 3]`;
+///   `aos/srgb_u8/N<n>`: `encode_u8_batch` on the same pixels interleaved (`[f32; N]` each);
 ///   `soa/srgb_u8_in_cache/N<n>`: the same on the first `IN_CACHE_PIXELS` only, in cache;
 /// - `per_pixel/srgb_u8/N<n>`: `encode_u8` per pixel on the same planes;
 /// - `full_1nm/srgb_u8`, `full_1nm_8acc/srgb_u8`: the 1 nm integration of the same spectra
@@ -595,6 +721,9 @@ fn bandwidth_set<const N: usize>(
 /// `IN_CACHE_PIXELS` = 1024. The per-pixel and 1 nm cases take 180 to 1000 ns per pixel, far
 /// from any memory bound, and run over the first `SMALL_PIXELS` = 65 536 of them (1 nm:
 /// 100 MiB of samples). Throughput is in pixels, so criterion's time per element is ns/pixel.
+///
+/// At the end it prints, for each path, its median against its bound's from this run, as
+/// `ratio bandwidth/<path>/N<n>: … % of the memory bound`.
 fn bandwidth(c: &mut Criterion) {
     let refl = spectra();
     let full = Full1nm::new();
@@ -634,6 +763,99 @@ fn bandwidth(c: &mut Criterion) {
         })
     });
     g.finish();
+    for n in [4, 6, 8, 16] {
+        print_ratios(n);
+    }
+}
+
+/// The 8-bit sRGB encoders side by side, on the same linear values: the linear RGB of the
+/// first `SMALL_PIXELS` pixels of Table 2 row 2 (3 · 65 536 values, in cache), one value per
+/// call, throughput in values:
+///
+/// - `encoder/srgb8_from_linear`: the crate's table encoder, correctly rounded;
+/// - `encoder/fast_srgb8`: the `fast-srgb8` crate's `f32_to_srgb8`, and `encoder/fast_srgb8_x4`
+///   its four-at-a-time `f32x4_to_srgb8`;
+/// - `encoder/powf`: the sRGB formula with f32 `powf`, times 255, rounded.
+///
+/// Untimed, it prints on how many of the values each differs from the crate's (which
+/// `tests/soa.rs` checks against the exact curve for every f32).
+fn encoders(c: &mut Criterion) {
+    let refl = spectra();
+    let set = &folded::TABLE2_ROW2_SRGB;
+    let planes = planes(&refl, &set.wavelengths_nm);
+    let samples: [&[f32]; 4] = core::array::from_fn(|i| &planes[i][..SMALL_PIXELS]);
+    let mut lin = [0, 1, 2].map(|_| vec![0.0f32; SMALL_PIXELS]);
+    {
+        let [r, g, b] = &mut lin;
+        set.linear_rgb_planar(samples, [r, g, b]).unwrap();
+    }
+    drop(planes);
+    let values: Vec<f32> = lin.concat();
+    let powf = |x: f32| -> u8 {
+        let x = x.clamp(0.0, 1.0);
+        let e = if x <= 0.003_130_8 {
+            12.92 * x
+        } else {
+            1.055 * x.powf(1.0 / 2.4) - 0.055
+        };
+        (e * 255.0 + 0.5) as u8
+    };
+    let ours: Vec<u8> = values
+        .iter()
+        .map(|&x| spectral_quadrature::srgb8_from_linear(x))
+        .collect();
+    let differ = |f: &dyn Fn(f32) -> u8| {
+        values
+            .iter()
+            .zip(&ours)
+            .filter(|(x, o)| f(**x) != **o)
+            .count()
+    };
+    eprintln!(
+        "encoder: of {} values, fast_srgb8 differs from the correctly rounded code on {}, powf on {}",
+        values.len(),
+        differ(&fast_srgb8::f32_to_srgb8),
+        differ(&powf)
+    );
+
+    let mut g = c.benchmark_group("encoder");
+    g.throughput(Throughput::Elements(values.len() as u64));
+    let mut out = vec![0u8; values.len()];
+    g.bench_function("srgb8_from_linear", |b| {
+        b.iter(|| {
+            for (o, x) in out.iter_mut().zip(black_box(&values)) {
+                *o = spectral_quadrature::srgb8_from_linear(*x);
+            }
+            black_box(&mut out);
+        })
+    });
+    g.bench_function("fast_srgb8", |b| {
+        b.iter(|| {
+            for (o, x) in out.iter_mut().zip(black_box(&values)) {
+                *o = fast_srgb8::f32_to_srgb8(*x);
+            }
+            black_box(&mut out);
+        })
+    });
+    g.bench_function("fast_srgb8_x4", |b| {
+        b.iter(|| {
+            let (o4, _) = out.as_chunks_mut::<4>();
+            let (v4, _) = black_box(&values).as_chunks::<4>();
+            for (o, x) in o4.iter_mut().zip(v4) {
+                *o = fast_srgb8::f32x4_to_srgb8(*x);
+            }
+            black_box(&mut out);
+        })
+    });
+    g.bench_function("powf", |b| {
+        b.iter(|| {
+            for (o, x) in out.iter_mut().zip(black_box(&values)) {
+                *o = powf(*x);
+            }
+            black_box(&mut out);
+        })
+    });
+    g.finish();
 }
 
 criterion_group! {
@@ -642,6 +864,6 @@ criterion_group! {
         .warm_up_time(Duration::from_millis(500))
         .measurement_time(Duration::from_secs(2))
         .sample_size(50);
-    targets = runtime, bandwidth
+    targets = runtime, bandwidth, encoders
 }
 criterion_main!(benches);
