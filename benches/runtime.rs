@@ -402,7 +402,7 @@ fn runtime(c: &mut Criterion) {
 // Bandwidth: the planar batch path against the memory bound
 
 /// Pixels of the large planar inputs: 2²⁵ (33.5 million). One plane is 128 MiB, so N = 4 reads
-/// 512 MiB and N = 16 reads 2 GiB per pass, against a 260 MiB last-level cache on the machine
+/// 512 MiB and N = 16 reads 2 GiB per pass, against a 32 MiB last-level cache on the machine
 /// the README's figures come from: every pass streams from memory.
 const BIG_PIXELS: usize = 1 << 25;
 /// Pixels of the per-pixel API and the 1 nm integrations, which are far from the memory bound:

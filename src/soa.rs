@@ -114,7 +114,7 @@ const CHUNK_BYTES: usize = 3 * CHUNK;
 /// for the planes (1.28 against 2.09 in cache). With SSE2 alone it is the other way round,
 /// 3.56 against 2.77 (3.31 against 2.49 in cache). Measured with
 /// `cargo bench --bench runtime -- 'bandwidth/(stream/read_write_3B|soa/srgb_u8.*)/N4'` and
-/// this constant forced each way, on the machine of the README's Performance section.
+/// this constant forced each way, on a Xeon of the Sapphire Rapids generation (AVX-512).
 const WORD_INTERLEAVE: bool = cfg!(all(
     target_feature = "avx512f",
     target_feature = "avx512bw",
