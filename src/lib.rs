@@ -44,6 +44,7 @@ mod error;
 mod lab;
 mod set;
 mod soa;
+pub(crate) mod soa_scalar;
 
 #[cfg(feature = "defmt")]
 mod defmt;
