@@ -96,7 +96,8 @@ const THRESHOLDS: [u32; 256] = {
 /// `code · 2²⁴ + (2¹⁶ − t mod 2¹⁶) · 2⁸ − s · 2²⁴` (mod 2³²). Adding `v · 2⁸` for
 /// `v = bits − LO_BITS = s · 2¹⁶ + position` cancels the last term and carries into bit 24
 /// exactly when `position ≥ t`, so the top byte of the sum is the code value. Entries past the
-/// last segment repeat it (unreachable after the clamp).
+/// last segment repeat it (code 255): unreachable after the clamp of [`segment_bits`], but the
+/// planar loop of `soa_scalar` clamps only at 2²⁷ − 1 and reads them.
 pub(crate) static SEGMENT_TABLE: [u32; TABLE_LEN] = {
     let mut table = [0u32; TABLE_LEN];
     // Number of thresholds at or below the current segment's start.

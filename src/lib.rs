@@ -45,6 +45,7 @@ mod lab;
 mod set;
 mod simd;
 mod soa;
+pub(crate) mod soa_scalar;
 
 #[cfg(feature = "defmt")]
 mod defmt;

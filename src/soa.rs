@@ -93,10 +93,10 @@ fn product_for_encoding<const N: usize>(
 /// Whether the target has vector units for f32 that the chunked loops vectorize for (SSE2 on
 /// x86, NEON, WebAssembly SIMD). Without them (microcontrollers such as the Cortex-M4F, whose
 /// FPU is scalar) the chunks' buffers are only extra loads and stores, and
-/// [`FoldedSet::encode_u8_planar`] goes pixel by pixel through
-/// [`FoldedSet::encode_u8`] instead: on the M4F 73 instead of 143 instructions per pixel (N = 4,
-/// opt-level 3; the README's "On a microcontroller" has the commands). `tests/soa.rs` checks
-/// that the chunked form equals `encode_u8`.
+/// [`FoldedSet::encode_u8_planar`] goes one pixel at a time instead (`soa_scalar` for sRGB with
+/// `Clip`): on the M4F 54 instead of 143 instructions per pixel (N = 4, opt-level 3; the
+/// README's "On a microcontroller" has the commands). `tests/soa.rs` checks that the chunked
+/// form equals `encode_u8`.
 const VECTOR_UNITS: bool = cfg!(any(
     target_feature = "sse2",
     target_feature = "neon",
@@ -308,8 +308,10 @@ impl<const N: usize> FoldedSet<N> {
     /// ([`SRGB8_MAX_STEP_ERROR`](crate::SRGB8_MAX_STEP_ERROR) is 0): every loop uses the same
     /// f32 operations in the same order and the same table, and the unit tests compare each
     /// loop with the per-pixel function on a million random pixels and the edge inputs.
-    /// On other targets (microcontrollers), any other transfer function, or
-    /// [`GamutMapping::PreserveA`] it goes pixel by pixel through
+    /// On targets without vector units (microcontrollers) the same case runs a scalar loop, one
+    /// pixel at a time with the weights held in registers, and equals
+    /// [`encode_u8`](Self::encode_u8) exactly too (same sums, same table). Any other transfer
+    /// function, or [`GamutMapping::PreserveA`], goes pixel by pixel through
     /// [`encode_u8`](Self::encode_u8) and equals it exactly.
     ///
     /// Input handling as [`encode_u8`](Self::encode_u8): NaN anywhere in a pixel (a NaN sample,
@@ -340,6 +342,13 @@ impl<const N: usize> FoldedSet<N> {
             && matches!(self.display.transfer, TransferFunction::Srgb)
             && matches!(mapping, GamutMapping::Clip);
         if !fast {
+            if matches!(self.display.transfer, TransferFunction::Srgb)
+                && matches!(mapping, GamutMapping::Clip)
+            {
+                // No vector units: one pixel at a time, the weights in registers.
+                crate::soa_scalar::encode_srgb8_clip(&self.weights, samples, out);
+                return Ok(());
+            }
             // Every plane has `pixels` values (checked above), so the slices are in range, and
             // with them the compiler sees that every index below is.
             let planes: [&[f32]; N] = samples.map(|plane| &plane[..pixels]);

@@ -1,0 +1,331 @@
+//! The planar sRGB encoder for targets without f32 vector units (microcontrollers such as the
+//! Cortex-M4F): one pixel at a time, with the weights held in registers across the loop.
+//!
+//! [`FoldedSet::encode_u8_planar`](crate::FoldedSet::encode_u8_planar) calls it for the sRGB
+//! curve with [`GamutMapping::Clip`](crate::GamutMapping::Clip) where the chunked loops of
+//! `soa` would not vectorize. Its bytes equal [`FoldedSet::encode_u8`](crate::FoldedSet::encode_u8)
+//! on every pixel: the same sums in the same order, the same table.
+
+use crate::encode::{lookup, LO_BITS};
+
+/// Steps over the samples written out one by one; steps beyond these (N > 8) run in a loop.
+///
+/// Written out, every weight is a value of its own that stays in a register for the whole loop
+/// over pixels, and every plane's length is known. As a loop over the samples (what
+/// `set::mat_vec` is), the weights are read from memory for every pixel, since opt-level "s" on
+/// Arm unrolls no loop.
+const UNROLLED: usize = 8;
+
+/// Whether [`encode_srgb8_clip`] looks for NaN in a pixel's sum first, and in each channel only
+/// where the sum is NaN (also where infinities of both signs meet): one test instead of three
+/// where f32 arithmetic is an instruction. Not on Arm without an FPU (the Cortex-M0+), where
+/// each addition is a call and the three tests are integer compares.
+const SUM_FIRST: bool = !cfg!(all(target_arch = "arm", not(target_feature = "fpregs")));
+
+/// `$body` for each `$k` in `0..N` in order: written out for `$k < UNROLLED` (steps with
+/// `$k ≥ N` are constant `false` and compile to nothing), then a loop over the rest.
+macro_rules! each_sample {
+    (|$k:ident| $body:block) => {{
+        each_sample!(@written $k $body; 0 1 2 3 4 5 6 7);
+        // The same body by index as the written-out steps, not an iterator.
+        #[allow(clippy::needless_range_loop)]
+        for $k in UNROLLED..N $body
+    }};
+    (@written $k:ident $body:block; $($i:literal)*) => {
+        $({
+            let $k: usize = $i;
+            if $k < N $body
+        })*
+    };
+}
+
+/// Linear RGB of pixel `p`: `weights · samples` with each channel summed in index order, a
+/// product rounded then a sum rounded, as [`FoldedSet::linear_rgb`](crate::FoldedSet::linear_rgb)
+/// does, but starting from the first product instead of 0.0. That only turns a sum of exact
+/// zeros from +0.0 into −0.0 where the first product is −0.0, and both encode as 0.
+#[inline(always)]
+fn linear<const N: usize>(w: &[[f32; N]; 3], planes: &[&[f32]; N], p: usize) -> [f32; 3] {
+    let mut acc = [0.0f32; 3];
+    each_sample!(|k| {
+        let s = planes[k][p];
+        let terms = [w[0][k] * s, w[1][k] * s, w[2][k] * s];
+        if k == 0 {
+            acc = terms;
+        } else {
+            acc = [acc[0] + terms[0], acc[1] + terms[1], acc[2] + terms[2]];
+        }
+    });
+    acc
+}
+
+/// [`srgb8_from_linear`](crate::srgb8_from_linear) for an `x` that is not NaN, in three integer
+/// instructions before the table on a Cortex-M4F (`qadd`, `usat`, `ubfx`) where the clamp of
+/// `encode::srgb8_not_nan` takes six.
+///
+/// The f32's bits read as an i32 are ordered as the f32 (NaN aside). Their distance above 2⁻¹³
+/// (a saturating subtraction, so that negative values stay negative), clamped to 0..=2²⁷ − 1,
+/// is what the lookup takes: below 2⁻¹³ (negative values, zeros, subnormals, −Inf) it is 0,
+/// code 0; from 1.0 up (+Inf and huge values clamped at 2²⁷ − 1, about 8.0) it lands in the
+/// segment of exactly 1.0 or past it, in the table's entries that repeat that segment (the
+/// table has all 2¹¹ entries that 27 bits address), code 255. A NaN gives 0 or 255, never a
+/// panic; the caller excludes it. The clamp is written as two comparisons rather than
+/// `i32::clamp`: sharing that function with `srgb8_not_nan` cost the per-pixel
+/// [`FoldedSet::encode_u8`](crate::FoldedSet::encode_u8) three instructions at opt-level 3 in
+/// the firmware example, which the comparisons do not.
+#[inline(always)]
+fn srgb8_sat(x: f32) -> u8 {
+    let v = (x.to_bits() as i32).saturating_sub(LO_BITS as i32);
+    let v = if v > 0 { v } else { 0 };
+    let v = if v < (1 << 27) - 1 { v } else { (1 << 27) - 1 };
+    lookup(v as u32)
+}
+
+/// Planar samples → sRGB-encoded 8-bit RGB with `Clip`, pixel by pixel: `out[p]` from
+/// `samples[i][p]`, equal to `FoldedSet::encode_u8(GamutMapping::Clip, ..)` with these weights
+/// and the sRGB curve. A pixel with a NaN channel is black; ±Inf and huge values clip.
+///
+/// The caller has checked that every plane holds `out.len()` samples; if one held fewer, this
+/// would write nothing (it never panics).
+pub(crate) fn encode_srgb8_clip<const N: usize>(
+    weights: &[[f32; N]; 3],
+    samples: [&[f32]; N],
+    out: &mut [[u8; 3]],
+) {
+    let pixels = out.len();
+    // Every plane cut to `pixels`, so that the compiler sees every index below in range.
+    let mut planes = samples;
+    each_sample!(|k| {
+        match planes[k].get(..pixels) {
+            Some(plane) => planes[k] = plane,
+            None => return,
+        }
+    });
+    // The weights copied, so that they are values of their own and not reloaded.
+    let w = *weights;
+    for (p, o) in out.iter_mut().enumerate() {
+        let [r, g, b] = linear(&w, &planes, p);
+        let px = [srgb8_sat(r), srgb8_sat(g), srgb8_sat(b)];
+        // NaN anywhere makes the pixel black, as the per-pixel path does. The sum is NaN where
+        // a channel is, and also where infinities of both signs meet: the channels themselves
+        // decide then.
+        let nan = (!SUM_FIRST || (r + g + b).is_nan()) && (r.is_nan() | g.is_nan() | b.is_nan());
+        *o = if nan { [0; 3] } else { px };
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::tables::folded::TABLE2_ROW2_SRGB;
+    use crate::{FoldedSet, GamutMapping};
+
+    /// Pixels as `[[f32; N]]` to planes, encoded here and per pixel: the same bytes. In batches
+    /// of up to `BATCH` pixels, on the stack (the library's tests link no allocator).
+    fn check<const N: usize>(set: &FoldedSet<N>, pixels: &[[f32; N]]) {
+        const BATCH: usize = 256;
+        for batch in pixels.chunks(BATCH) {
+            let n = batch.len();
+            let planes: [[f32; BATCH]; N] = core::array::from_fn(|i| {
+                core::array::from_fn(|p| batch.get(p).map_or(0.0, |px| px[i]))
+            });
+            let mut out = [[7u8; 3]; BATCH];
+            encode_srgb8_clip(
+                &set.weights,
+                planes.each_ref().map(|p| &p[..n]),
+                &mut out[..n],
+            );
+            for (px, o) in batch.iter().zip(&out) {
+                assert_eq!(*o, set.encode_u8(GamutMapping::Clip, px), "{px:?}");
+            }
+        }
+    }
+
+    /// A small deterministic generator (xorshift), so the test needs no dependency.
+    struct XorShift(u64);
+
+    impl XorShift {
+        fn next(&mut self) -> u64 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 7;
+            self.0 ^= self.0 << 17;
+            self.0
+        }
+    }
+
+    const EDGES: [f32; 16] = [
+        f32::NAN,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+        0.0,
+        -0.0,
+        -1.0,
+        -1e-3,
+        f32::MIN_POSITIVE,
+        1.0e-40, // subnormal
+        1.4e-45, // the smallest subnormal
+        1e30,
+        -1e30,
+        f32::MAX,
+        f32::MIN,
+        0.5,
+        1.0,
+    ];
+
+    #[test]
+    fn edge_inputs_equal_per_pixel() {
+        let set = TABLE2_ROW2_SRGB;
+        // Every edge value in every position, the other samples ordinary; then every pair of
+        // edge values in the first two and in the last two positions.
+        let mut pixels = [[0.0f32; 4]; 4 * EDGES.len() + 2 * EDGES.len() * EDGES.len() + 2];
+        let mut n = 0;
+        let mut push = |px: [f32; 4]| {
+            pixels[n] = px;
+            n += 1;
+        };
+        for pos in 0..4 {
+            for &x in &EDGES {
+                let mut px = [0.3f32, 0.2, 0.25, 0.1];
+                px[pos] = x;
+                push(px);
+            }
+        }
+        for &x in &EDGES {
+            for &y in &EDGES {
+                push([x, y, 0.2, 0.4]);
+                push([0.1, 0.6, x, y]);
+            }
+        }
+        push([f32::INFINITY, f32::NEG_INFINITY, 0.0, 0.0]);
+        push([-0.0; 4]);
+        assert_eq!(n, pixels.len());
+        check(&set, &pixels);
+        // Weights with both signs and zeros of both signs: first products of −0.0.
+        let mut mixed = set;
+        mixed.weights[1] = [-0.5, 0.0, 0.25, -0.0];
+        mixed.weights[2] = [-0.0, -1.0, 0.0, 2.0];
+        check(&mixed, &pixels);
+        // Channels of +Inf and −Inf (a NaN sum, but no NaN channel, so not black) for the
+        // pixels with an infinite sample.
+        let mut opposite = set;
+        opposite.weights = [
+            [1.0, 0.5, 0.5, 0.5],
+            [-1.0, 0.5, 0.5, 0.5],
+            [1.0, -2.0, 3.0, 4.0],
+        ];
+        check(&opposite, &pixels);
+        let px = [f32::INFINITY, 0.2, 0.25, 0.1];
+        let [r, g, b] = opposite.linear_rgb(&px);
+        assert!((r + g + b).is_nan() && !(r.is_nan() | g.is_nan() | b.is_nan()));
+        assert_eq!(opposite.encode_u8(GamutMapping::Clip, &px), [255, 0, 255]);
+    }
+
+    /// `count` pixels of N samples: values in 0..2 (in and out of gamut, across the table's
+    /// segments), small and negative ones, and now and then any bit pattern; checked in turn.
+    fn check_random<const N: usize>(set: &FoldedSet<N>, seed: u64, count: usize) {
+        let mut rng = XorShift(seed);
+        let mut sample = || {
+            let r = rng.next();
+            let x = (r >> 40) as f32 / (1u64 << 23) as f32;
+            match r & 15 {
+                0 => f32::from_bits((r >> 16) as u32),
+                1 => -x,
+                2 => x * 1e-3,
+                _ => x,
+            }
+        };
+        let mut batch = [[0.0f32; N]; 100];
+        for _ in 0..count / batch.len() {
+            for px in &mut batch {
+                *px = core::array::from_fn(|_| sample());
+            }
+            check(set, &batch);
+        }
+    }
+
+    #[test]
+    fn random_pixels_equal_per_pixel() {
+        let set = TABLE2_ROW2_SRGB;
+        check_random(&set, 0x9E37_79B9_7F4A_7C15, 5000);
+        // Other lengths of the product: only written-out terms, and terms in the loop (N = 9).
+        let with = |weights| FoldedSet {
+            wavelengths_nm: [0.0; 9],
+            weights,
+            samples: set.samples,
+            display: set.display,
+        };
+        let weights9 = core::array::from_fn(|c| {
+            core::array::from_fn(|i| set.weights[c][i % 4] * (1.0 - 0.1 * i as f32))
+        });
+        check_random(&with(weights9), 1, 2000);
+        let one = FoldedSet {
+            wavelengths_nm: [0.0; 1],
+            weights: [[0.7], [0.5], [-0.2]],
+            samples: set.samples,
+            display: set.display,
+        };
+        check_random(&one, 2, 2000);
+        let none = FoldedSet::<0> {
+            wavelengths_nm: [],
+            weights: [[]; 3],
+            samples: set.samples,
+            display: set.display,
+        };
+        check(&none, &[[]; 5]);
+    }
+
+    /// `srgb8_sat` equals `srgb8_from_linear` on every f32 but NaN: all of them near the clamps,
+    /// every segment of the table at both ends, and a stride through the rest.
+    #[test]
+    fn saturating_clamp_equals_the_float_clamp() {
+        let same = |bits: u32| {
+            let x = f32::from_bits(bits);
+            if !x.is_nan() {
+                assert_eq!(
+                    srgb8_sat(x),
+                    crate::srgb8_from_linear(x),
+                    "{x:e} ({bits:#x})"
+                );
+            }
+        };
+        let one = 1.0f32.to_bits();
+        for sign in [0, 0x8000_0000] {
+            for bits in (0..0x20_0000).chain(LO_BITS - 0x1_0000..LO_BITS + 0x1_0000) {
+                same(sign | bits);
+            }
+            for bits in one - 0x1_0000..one + 0x1_0000 {
+                same(sign | bits);
+            }
+            // Where bits − 2⁻¹³ reaches 2²⁷ (about 8.0), where it would wrap for negative
+            // values, and the top (±Inf, NaN).
+            for centre in [
+                LO_BITS + (1 << 27),
+                LO_BITS.wrapping_add(0x8000_0000),
+                0x7f80_0000,
+            ] {
+                for bits in centre - 0x1_0000..=centre.saturating_add(0x1_0000).min(0x7fff_ffff) {
+                    same(sign | bits);
+                }
+            }
+        }
+        for seg in 0..(1u32 << 15) {
+            same(seg << 16);
+            same((seg << 16) | 0xFFFF);
+        }
+        for bits in (0..=u32::MAX).step_by(997) {
+            same(bits);
+        }
+    }
+
+    #[test]
+    fn shorter_planes_are_not_read_past() {
+        let set = TABLE2_ROW2_SRGB;
+        let a = [0.5f32; 5];
+        let b = [0.4f32; 3];
+        let mut out = [[9u8; 3]; 5];
+        encode_srgb8_clip(&set.weights, [&a, &b, &a, &a], &mut out);
+        assert_eq!(out, [[9; 3]; 5]);
+        encode_srgb8_clip(&set.weights, [&a, &b, &a, &a], &mut out[..3]);
+        let one = set.encode_u8(GamutMapping::Clip, &[0.5, 0.4, 0.5, 0.5]);
+        assert_eq!(out, [one, one, one, [9; 3], [9; 3]]);
+    }
+}
