@@ -338,13 +338,10 @@ impl<const N: usize> FoldedSet<N> {
         out: &mut [[u8; 3]],
     ) -> Result<(), Error> {
         let pixels = check_planes(&samples, &[out.len()])?;
-        let fast = VECTOR_UNITS
-            && matches!(self.display.transfer, TransferFunction::Srgb)
+        let srgb_clip = matches!(self.display.transfer, TransferFunction::Srgb)
             && matches!(mapping, GamutMapping::Clip);
-        if !fast {
-            if matches!(self.display.transfer, TransferFunction::Srgb)
-                && matches!(mapping, GamutMapping::Clip)
-            {
+        if !(VECTOR_UNITS && srgb_clip) {
+            if srgb_clip {
                 // No vector units: one pixel at a time, the weights in registers.
                 crate::soa_scalar::encode_srgb8_clip(&self.weights, samples, out);
                 return Ok(());
