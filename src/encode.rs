@@ -16,6 +16,15 @@
 pub(crate) const LO_BITS: u32 = (127 - 13) << 23;
 /// 2⁻¹³.
 pub(crate) const LO: f32 = f32::from_bits(LO_BITS);
+/// The top 16 bits of [`LO`] and of 1.0: an f32 clamped to `LO..=1` has its segment at
+/// `(bits >> 16) − FIRST_TOP`. And since `LO_BITS · 2⁸` is a multiple of 2³², the position
+/// term of [`lookup`], `(bits − LO_BITS) · 2⁸`, equals `bits · 2⁸` (mod 2³²): the vector paths
+/// index by the top bits and add `bits << 8`, with no subtraction.
+pub(crate) const FIRST_TOP: u32 = LO_BITS >> 16;
+/// See [`FIRST_TOP`].
+pub(crate) const LAST_TOP: u32 = 0x3f80_0000 >> 16;
+const _: () =
+    assert!(LO_BITS.wrapping_shl(8) == 0 && (LAST_TOP - FIRST_TOP) as usize == SEGMENTS - 1);
 /// Segments per octave: 2⁷, indexed by the top 7 mantissa bits.
 const PER_OCTAVE: usize = 128;
 /// 13 octaves from 2⁻¹³ up to 1, and one segment for exactly 1.0.
@@ -183,6 +192,22 @@ pub(crate) fn srgb8_not_nan(x: f32) -> u8 {
 #[inline(always)]
 pub(crate) fn entry(v: u32) -> u32 {
     SEGMENT_TABLE[(v >> 16) as usize & (TABLE_LEN - 1)]
+}
+
+/// The table entry of an f32 in [`LO`]`..=1` from its top 16 bits, `top` (see [`FIRST_TOP`]):
+/// `entry(bits − LO_BITS)`, without the mask.
+///
+/// # Safety
+///
+/// `top` must lie in `FIRST_TOP..=LAST_TOP` (it does for any f32 in `LO..=1`); then the index
+/// `top − FIRST_TOP` is at most 1 664, inside the table.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+pub(crate) unsafe fn entry_at_top(top: u32) -> u32 {
+    debug_assert!((FIRST_TOP..=LAST_TOP).contains(&top));
+    // SAFETY: `top − FIRST_TOP` ≤ LAST_TOP − FIRST_TOP = SEGMENTS − 1 < TABLE_LEN (the caller's
+    // promise and the assertion next to `FIRST_TOP`).
+    unsafe { *SEGMENT_TABLE.get_unchecked((top as usize).wrapping_sub(FIRST_TOP as usize)) }
 }
 
 /// The code value for [`segment_bits`]' result `v`: the top byte of `entry(v) + v · 2⁸`.
