@@ -170,22 +170,37 @@ pub(crate) fn segment_bits(x: f32) -> u32 {
     x.to_bits().wrapping_sub(LO_BITS)
 }
 
-/// [`srgb8_from_linear`] for an `x` that is not NaN, clamped in integer arithmetic: an f32's
-/// bits read as an i32 are ordered as the f32 for every value but NaN (negative values, −0.0
-/// and −Inf are negative integers; +Inf lies above 1.0). Fewer instructions where compares of
-/// floats cost a transfer of flags (the Cortex-M FPU). A NaN gives 0 or 255 here, never a
-/// panic; callers exclude it first.
+/// [`srgb8_from_linear`] for an `x` that is not NaN. A NaN gives 0 or 255 here, never a panic;
+/// callers exclude it first.
 ///
-/// Only on Arm: elsewhere (x86) the float clamp of [`segment_bits`] is two branch-free
-/// `maxss`/`minss`, where the integer clamp compiled to branches.
+/// On Arm this is [`srgb8_sat`], a clamp in integer arithmetic, where comparisons of floats
+/// cost a transfer of flags from the FPU. Elsewhere (x86) the float clamp of [`segment_bits`]
+/// is two branch-free `maxss`/`minss`, where the integer clamp compiled to branches.
 #[inline(always)]
 pub(crate) fn srgb8_not_nan(x: f32) -> u8 {
     if cfg!(target_arch = "arm") {
-        let b = (x.to_bits() as i32).clamp(LO_BITS as i32, 0x3f80_0000);
-        lookup((b as u32).wrapping_sub(LO_BITS))
+        srgb8_sat(x)
     } else {
         lookup(segment_bits(x))
     }
+}
+
+/// [`srgb8_from_linear`] for an `x` that is not NaN, clamped in integer arithmetic: three
+/// instructions before the table on a Cortex-M4F (`qadd`, `usat`, `ubfx`).
+///
+/// An f32's bits read as an i32 are ordered as the f32 for every value but NaN. Their distance
+/// above 2⁻¹³ (a saturating subtraction, so that negative values stay negative), clamped to
+/// 0..=2²⁷ − 1, is what the lookup takes: below 2⁻¹³ (negative values, zeros, subnormals, −Inf)
+/// it is 0, code 0; from 1.0 up (+Inf and huge values clamped at 2²⁷ − 1, about 8.0) it lands
+/// in the segment of exactly 1.0 or past it, in the entries that repeat that segment (the
+/// table has all 2¹¹ entries that 27 bits address), code 255. A NaN gives 0 or 255. The clamp
+/// is written as two comparisons: `i32::clamp` took six instructions.
+#[inline(always)]
+fn srgb8_sat(x: f32) -> u8 {
+    let v = (x.to_bits() as i32).saturating_sub(LO_BITS as i32);
+    let v = if v > 0 { v } else { 0 };
+    let v = if v < (1 << 27) - 1 { v } else { (1 << 27) - 1 };
+    lookup(v as u32)
 }
 
 /// The table entry for [`segment_bits`]' result `v`, to be added to `v << 8`.
@@ -293,6 +308,49 @@ mod tests {
             if !x.is_nan() {
                 assert_eq!(srgb8_not_nan(x), srgb8_from_linear(x), "{x:e}");
             }
+        }
+    }
+
+    /// `srgb8_sat` equals `srgb8_from_linear` on every f32 but NaN: all of them near the clamps,
+    /// every segment of the table at both ends, and a stride through the rest.
+    #[test]
+    fn saturating_clamp_equals_the_float_clamp() {
+        let same = |bits: u32| {
+            let x = f32::from_bits(bits);
+            if !x.is_nan() {
+                assert_eq!(
+                    srgb8_sat(x),
+                    crate::srgb8_from_linear(x),
+                    "{x:e} ({bits:#x})"
+                );
+            }
+        };
+        let one = 1.0f32.to_bits();
+        for sign in [0, 0x8000_0000] {
+            for bits in (0..0x20_0000).chain(LO_BITS - 0x1_0000..LO_BITS + 0x1_0000) {
+                same(sign | bits);
+            }
+            for bits in one - 0x1_0000..one + 0x1_0000 {
+                same(sign | bits);
+            }
+            // Where bits − 2⁻¹³ reaches 2²⁷ (about 8.0), where it would wrap for negative
+            // values, and the top (±Inf, NaN).
+            for centre in [
+                LO_BITS + (1 << 27),
+                LO_BITS.wrapping_add(0x8000_0000),
+                0x7f80_0000,
+            ] {
+                for bits in centre - 0x1_0000..=centre.saturating_add(0x1_0000).min(0x7fff_ffff) {
+                    same(sign | bits);
+                }
+            }
+        }
+        for seg in 0..(1u32 << 15) {
+            same(seg << 16);
+            same((seg << 16) | 0xFFFF);
+        }
+        for bits in (0..=u32::MAX).step_by(997) {
+            same(bits);
         }
     }
 

@@ -6,7 +6,7 @@
 //! `soa` would not vectorize. Its bytes equal [`FoldedSet::encode_u8`](crate::FoldedSet::encode_u8)
 //! on every pixel: the same sums in the same order, the same table.
 
-use crate::encode::{lookup, LO_BITS};
+use crate::encode::srgb8_not_nan;
 
 /// Steps over the samples written out one by one; steps beyond these (N > 8) run in a loop.
 ///
@@ -58,28 +58,6 @@ fn linear<const N: usize>(w: &[[f32; N]; 3], planes: &[&[f32]; N], p: usize) -> 
     acc
 }
 
-/// [`srgb8_from_linear`](crate::srgb8_from_linear) for an `x` that is not NaN, in three integer
-/// instructions before the table on a Cortex-M4F (`qadd`, `usat`, `ubfx`) where the clamp of
-/// `encode::srgb8_not_nan` takes six.
-///
-/// The f32's bits read as an i32 are ordered as the f32 (NaN aside). Their distance above 2⁻¹³
-/// (a saturating subtraction, so that negative values stay negative), clamped to 0..=2²⁷ − 1,
-/// is what the lookup takes: below 2⁻¹³ (negative values, zeros, subnormals, −Inf) it is 0,
-/// code 0; from 1.0 up (+Inf and huge values clamped at 2²⁷ − 1, about 8.0) it lands in the
-/// segment of exactly 1.0 or past it, in the table's entries that repeat that segment (the
-/// table has all 2¹¹ entries that 27 bits address), code 255. A NaN gives 0 or 255, never a
-/// panic; the caller excludes it. The clamp is written as two comparisons rather than
-/// `i32::clamp`: sharing that function with `srgb8_not_nan` cost the per-pixel
-/// [`FoldedSet::encode_u8`](crate::FoldedSet::encode_u8) three instructions at opt-level 3 in
-/// the firmware example, which the comparisons do not.
-#[inline(always)]
-fn srgb8_sat(x: f32) -> u8 {
-    let v = (x.to_bits() as i32).saturating_sub(LO_BITS as i32);
-    let v = if v > 0 { v } else { 0 };
-    let v = if v < (1 << 27) - 1 { v } else { (1 << 27) - 1 };
-    lookup(v as u32)
-}
-
 /// Planar samples → sRGB-encoded 8-bit RGB with `Clip`, pixel by pixel: `out[p]` from
 /// `samples[i][p]`, equal to `FoldedSet::encode_u8(GamutMapping::Clip, ..)` with these weights
 /// and the sRGB curve. A pixel with a NaN channel is black; ±Inf and huge values clip.
@@ -104,7 +82,7 @@ pub(crate) fn encode_srgb8_clip<const N: usize>(
     let w = *weights;
     for (p, o) in out.iter_mut().enumerate() {
         let [r, g, b] = linear(&w, &planes, p);
-        let px = [srgb8_sat(r), srgb8_sat(g), srgb8_sat(b)];
+        let px = [srgb8_not_nan(r), srgb8_not_nan(g), srgb8_not_nan(b)];
         // NaN anywhere makes the pixel black, as the per-pixel path does. The sum is NaN where
         // a channel is, and also where infinities of both signs meet: the channels themselves
         // decide then.
@@ -271,49 +249,6 @@ mod tests {
             display: set.display,
         };
         check(&none, &[[]; 5]);
-    }
-
-    /// `srgb8_sat` equals `srgb8_from_linear` on every f32 but NaN: all of them near the clamps,
-    /// every segment of the table at both ends, and a stride through the rest.
-    #[test]
-    fn saturating_clamp_equals_the_float_clamp() {
-        let same = |bits: u32| {
-            let x = f32::from_bits(bits);
-            if !x.is_nan() {
-                assert_eq!(
-                    srgb8_sat(x),
-                    crate::srgb8_from_linear(x),
-                    "{x:e} ({bits:#x})"
-                );
-            }
-        };
-        let one = 1.0f32.to_bits();
-        for sign in [0, 0x8000_0000] {
-            for bits in (0..0x20_0000).chain(LO_BITS - 0x1_0000..LO_BITS + 0x1_0000) {
-                same(sign | bits);
-            }
-            for bits in one - 0x1_0000..one + 0x1_0000 {
-                same(sign | bits);
-            }
-            // Where bits − 2⁻¹³ reaches 2²⁷ (about 8.0), where it would wrap for negative
-            // values, and the top (±Inf, NaN).
-            for centre in [
-                LO_BITS + (1 << 27),
-                LO_BITS.wrapping_add(0x8000_0000),
-                0x7f80_0000,
-            ] {
-                for bits in centre - 0x1_0000..=centre.saturating_add(0x1_0000).min(0x7fff_ffff) {
-                    same(sign | bits);
-                }
-            }
-        }
-        for seg in 0..(1u32 << 15) {
-            same(seg << 16);
-            same((seg << 16) | 0xFFFF);
-        }
-        for bits in (0..=u32::MAX).step_by(997) {
-            same(bits);
-        }
     }
 
     #[test]
