@@ -2,7 +2,7 @@
 //! output per pixel. Nothing allocates; a length mismatch is an [`Error`], checked before any
 //! output is written.
 
-use crate::{Error, FoldedSet, GamutMapping, TransferFunction, WavelengthSet};
+use crate::{Error, FoldedSet, GamutMapping, WavelengthSet};
 
 fn check(inputs: usize, outputs: usize) -> Result<(), Error> {
     if inputs == outputs {
@@ -59,11 +59,10 @@ impl<const N: usize> FoldedSet<N> {
         check(samples.len(), out.len())?;
         // The AVX2 loop for the sRGB curve with `Clip` where the CPU has it (the same bytes;
         // see `simd`), then pixel by pixel.
-        let done = match (mapping, self.display.transfer) {
-            (GamutMapping::Clip, TransferFunction::Srgb) => {
-                crate::simd::encode_srgb8_batch(&self.weights, samples, out.as_flattened_mut())
-            }
-            _ => 0,
+        let done = if self.display.is_srgb_clip(mapping) {
+            crate::simd::encode_srgb8_batch(&self.weights, samples, out.as_flattened_mut())
+        } else {
+            0
         };
         for (o, s) in out[done..].iter_mut().zip(&samples[done..]) {
             *o = self.encode_u8(mapping, s);

@@ -502,12 +502,23 @@ impl Display {
     pub fn encode_u8(&self, rgb: [f32; 3], mapping: GamutMapping) -> [u8; 3] {
         // The common case inline and without branches: the sRGB table clamps as `Clip` does,
         // and a NaN anywhere selects black afterwards.
-        if let (GamutMapping::Clip, TransferFunction::Srgb) = (mapping, self.transfer) {
+        if self.is_srgb_clip(mapping) {
             let nan = rgb[0].is_nan() | rgb[1].is_nan() | rgb[2].is_nan();
             let px = rgb.map(crate::encode::srgb8_not_nan);
             return if nan { [0; 3] } else { px };
         }
         self.encode_u8_other(rgb, mapping)
+    }
+
+    /// Whether 8-bit encoding with `mapping` is the sRGB table with `Clip`: the case every fast
+    /// path (per pixel, batch, planar, vector loops) takes, and the one `srgb8_from_linear`
+    /// computes.
+    #[inline]
+    pub(crate) fn is_srgb_clip(&self, mapping: GamutMapping) -> bool {
+        matches!(
+            (mapping, self.transfer),
+            (GamutMapping::Clip, TransferFunction::Srgb)
+        )
     }
 
     /// [`encode_u8`](Self::encode_u8) for every transfer function and mapping but sRGB with

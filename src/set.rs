@@ -273,9 +273,7 @@ impl<const N: usize> FoldedSet<N> {
         // x86-64: the product and the encoder with the channels in the lanes of one SSE2
         // register (the same operations, so the same bytes; see `simd`).
         #[cfg(target_arch = "x86_64")]
-        if let (crate::GamutMapping::Clip, crate::TransferFunction::Srgb) =
-            (mapping, self.display.transfer)
-        {
+        if self.display.is_srgb_clip(mapping) {
             return crate::simd::sse2::encode_srgb8(&self.weights, samples);
         }
         self.display

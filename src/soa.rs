@@ -6,7 +6,7 @@
 //! mismatch is an [`Error`], checked before any output is written.
 
 use crate::encode::{entry, segment_bits};
-use crate::{Error, FoldedSet, GamutMapping, TransferFunction};
+use crate::{Error, FoldedSet, GamutMapping};
 
 /// Pixels per step of the planar loops. A partial last chunk is padded with zeros on the stack.
 const CHUNK: usize = 16;
@@ -338,8 +338,7 @@ impl<const N: usize> FoldedSet<N> {
         out: &mut [[u8; 3]],
     ) -> Result<(), Error> {
         let pixels = check_planes(&samples, &[out.len()])?;
-        let srgb_clip = matches!(self.display.transfer, TransferFunction::Srgb)
-            && matches!(mapping, GamutMapping::Clip);
+        let srgb_clip = self.display.is_srgb_clip(mapping);
         if !(VECTOR_UNITS && srgb_clip) {
             if srgb_clip {
                 // No vector units: one pixel at a time, the weights in registers.
