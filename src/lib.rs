@@ -46,6 +46,8 @@ mod set;
 mod simd;
 mod soa;
 pub(crate) mod soa_scalar;
+#[cfg(test)]
+mod test_inputs;
 
 #[cfg(feature = "defmt")]
 mod defmt;

@@ -363,41 +363,8 @@ mod tests {
 
     use crate::set::{mat_vec, mat_vec_for_encoding};
     use crate::tables::folded::{KQ_C_8_SRGB, TABLE2_ROW1_SRGB, TABLE2_ROW2_SRGB};
+    use crate::test_inputs::{Rng, EDGES};
     use crate::GamutMapping;
-
-    /// xorshift64*: deterministic inputs.
-    struct Rng(u64);
-    impl Rng {
-        fn next(&mut self) -> u64 {
-            self.0 ^= self.0 >> 12;
-            self.0 ^= self.0 << 25;
-            self.0 ^= self.0 >> 27;
-            self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
-        }
-        fn unit(&mut self) -> f32 {
-            (self.next() >> 40) as f32 / (1u64 << 24) as f32
-        }
-    }
-
-    /// The edge inputs: NaN, ±Inf, ±0, negative, subnormal, tiny, huge, and values next to 1.
-    const EDGES: [f32; 16] = [
-        f32::NAN,
-        f32::INFINITY,
-        f32::NEG_INFINITY,
-        0.0,
-        -0.0,
-        -1.0,
-        -1e-30,
-        1.0e-45,
-        1.1e-38,
-        f32::MIN_POSITIVE,
-        1.0e-4,
-        1.0,
-        0.999_999_94,
-        1.000_000_1,
-        1.0e30,
-        f32::MAX,
-    ];
 
     /// A sample: mostly reflectance-like, the rest negative, any bit pattern, or an edge.
     fn sample(rng: &mut Rng) -> f32 {

@@ -95,6 +95,7 @@ pub(crate) fn encode_srgb8_clip<const N: usize>(
 mod tests {
     use super::*;
     use crate::tables::folded::TABLE2_ROW2_SRGB;
+    use crate::test_inputs::{Rng, EDGES};
     use crate::{FoldedSet, GamutMapping};
 
     /// Pixels as `[[f32; N]]` to planes, encoded here and per pixel: the same bytes. In batches
@@ -117,37 +118,6 @@ mod tests {
             }
         }
     }
-
-    /// A small deterministic generator (xorshift), so the test needs no dependency.
-    struct XorShift(u64);
-
-    impl XorShift {
-        fn next(&mut self) -> u64 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            self.0
-        }
-    }
-
-    const EDGES: [f32; 16] = [
-        f32::NAN,
-        f32::INFINITY,
-        f32::NEG_INFINITY,
-        0.0,
-        -0.0,
-        -1.0,
-        -1e-3,
-        f32::MIN_POSITIVE,
-        1.0e-40, // subnormal
-        1.4e-45, // the smallest subnormal
-        1e30,
-        -1e30,
-        f32::MAX,
-        f32::MIN,
-        0.5,
-        1.0,
-    ];
 
     #[test]
     fn edge_inputs_equal_per_pixel() {
@@ -200,7 +170,7 @@ mod tests {
     /// `count` pixels of N samples: values in 0..2 (in and out of gamut, across the table's
     /// segments), small and negative ones, and now and then any bit pattern; checked in turn.
     fn check_random<const N: usize>(set: &FoldedSet<N>, seed: u64, count: usize) {
-        let mut rng = XorShift(seed);
+        let mut rng = Rng(seed);
         let mut sample = || {
             let r = rng.next();
             let x = (r >> 40) as f32 / (1u64 << 23) as f32;

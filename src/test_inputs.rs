@@ -1,0 +1,48 @@
+//! Inputs shared by the unit tests that compare the encoding paths with each other: a small
+//! deterministic generator (the library's tests take no dependency for it) and the edge values
+//! every path must treat alike.
+
+/// xorshift64*: deterministic inputs. The seed must not be 0.
+pub(crate) struct Rng(pub(crate) u64);
+
+impl Rng {
+    /// The next 64 random bits.
+    pub(crate) fn next(&mut self) -> u64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
+    }
+
+    /// Uniform in 0..1, 24 bits.
+    pub(crate) fn unit(&mut self) -> f32 {
+        (self.next() >> 40) as f32 / (1u64 << 24) as f32
+    }
+}
+
+/// The edge inputs: NaN, ±Inf, ±0, negative (tiny to huge), subnormal (the smallest, a middle
+/// one, the largest), the smallest normal, tiny, ½, values next to 1, huge, and the f32 ends.
+pub(crate) const EDGES: [f32; 22] = [
+    f32::NAN,
+    f32::INFINITY,
+    f32::NEG_INFINITY,
+    0.0,
+    -0.0,
+    -1.0,
+    -1e-30,
+    -1e-3,
+    1.4e-45,
+    1.0e-40,
+    1.1e-38,
+    f32::MIN_POSITIVE,
+    1.0e-4,
+    0.5,
+    1.0,
+    0.999_999_94,
+    1.000_000_1,
+    1.0e30,
+    -1.0e30,
+    f32::MAX,
+    f32::MIN,
+    -f32::MIN_POSITIVE,
+];
