@@ -515,10 +515,8 @@ fn stream<const N: usize, const B: usize>(planes: [&[f32]; N], out: &mut [u8]) {
 /// As [`stream`], writing 4 bytes per pixel into each of three planes: the bound for planar
 /// f32 output, with the same buffers as `linear_rgb_planar`. It differs from the interleaved
 /// 12-byte bound in the layout alone: seven streams (four in, three out) whose buffers, each a
-/// large allocation of its own, start at the same offset within a page, so they compete for the
-/// same sets of the first-level cache. On this machine that costs about a third: with the three
-/// output planes shifted against each other by a few cache lines, `soa/linear/N4` runs at 99 %
-/// of `stream/read_write_12B/N4`.
+/// large allocation of its own, start at the same offset within a page. On the machine of the
+/// README's figures it is the slower of the two (1.96 against 1.48 ns/pixel at N = 4).
 fn stream_planes<const N: usize>(planes: [&[f32]; N], out: [&mut [f32]; 3]) {
     const CHUNK: usize = 16;
     let pixels = planes[0].len();
@@ -610,6 +608,21 @@ fn bandwidth_set<const N: usize>(
         })
     });
     drop(lin);
+    // The same with the output planes shifted against each other by `c` cache lines (at
+    // different offsets within a page): the layout's share of the gap to the bound.
+    let mut shifted = [0, 1, 2].map(|_| vec![0.0f32; BIG_PIXELS + 32]);
+    g.bench_function(format!("soa/linear_offset/N{N}"), |b| {
+        ran(&format!("soa/linear_offset/N{N}"));
+        b.iter(|| {
+            let [r, gr, bl] = &mut shifted;
+            let [r, gr, bl] =
+                [(r, 0), (gr, 1), (bl, 2)].map(|(p, c)| &mut p[16 * c..16 * c + BIG_PIXELS]);
+            set.linear_rgb_planar(black_box(samples), [r, gr, bl])
+                .unwrap();
+            black_box(&mut shifted);
+        })
+    });
+    drop(shifted);
     let mut out = vec![[0u8; 3]; BIG_PIXELS];
     g.bench_function(format!("soa/srgb_u8/N{N}"), |b| {
         ran(&format!("soa/srgb_u8/N{N}"));
@@ -642,6 +655,23 @@ fn bandwidth_set<const N: usize>(
     g.bench_function(format!("soa/srgb_u8_in_cache/N{N}"), |b| {
         b.iter(|| {
             set.encode_u8_planar(clip, black_box(head), &mut out[..IN_CACHE_PIXELS])
+                .unwrap();
+            black_box(&mut out);
+        })
+    });
+    // The same samples copied into one allocation, plane after plane, each 64 bytes past a
+    // multiple of 4 KiB from the last: the planes of `soa/srgb_u8_in_cache` start at the same
+    // offset within a page, as separate large allocations of one size do.
+    let stride = IN_CACHE_PIXELS + 16;
+    let mut copied = vec![0.0f32; N * stride];
+    for (i, plane) in head.iter().enumerate() {
+        copied[i * stride..i * stride + IN_CACHE_PIXELS].copy_from_slice(plane);
+    }
+    let copies: [&[f32]; N] =
+        core::array::from_fn(|i| &copied[i * stride..i * stride + IN_CACHE_PIXELS]);
+    g.bench_function(format!("soa/srgb_u8_in_cache_offset/N{N}"), |b| {
+        b.iter(|| {
+            set.encode_u8_planar(clip, black_box(copies), &mut out[..IN_CACHE_PIXELS])
                 .unwrap();
             black_box(&mut out);
         })
@@ -699,6 +729,7 @@ fn print_ratios(n: usize) {
         ("soa/srgb_u8", "stream/read_write_3B"),
         ("soa/linear", "stream/read_write_3x4B"),
         ("soa/linear", "stream/read_write_12B"),
+        ("soa/linear_offset", "stream/read_write_12B"),
         ("aos/srgb_u8", "stream/read_write_3B"),
     ];
     for (path, bound) in cases {
@@ -726,9 +757,12 @@ fn print_ratios(n: usize) {
 ///   4 into each of three planes, the buffers of `soa/linear` (the bound for planar linear f32;
 ///   see [`stream_planes`]);
 /// - `soa/linear/N<n>`: `linear_rgb_planar`, N planes → 3 planes of f32;
+///   `soa/linear_offset/N<n>`: the same into output planes shifted by 0, 1 and 2 cache lines;
 /// - `soa/srgb_u8/N<n>`: `encode_u8_planar` (sRGB, Clip) → interleaved `[u8; 3]`;
 ///   `aos/srgb_u8/N<n>`: `encode_u8_batch` on the same pixels interleaved (`[f32; N]` each);
 ///   `soa/srgb_u8_in_cache/N<n>`: the same on the first `IN_CACHE_PIXELS` only, in cache;
+///   `soa/srgb_u8_in_cache_offset/N<n>`: those samples copied to planes 64 bytes apart modulo
+///   4 KiB;
 /// - `per_pixel/srgb_u8/N<n>`: `encode_u8` per pixel on the same planes;
 /// - `full_1nm/srgb_u8`, `full_1nm_8acc/srgb_u8`: the 1 nm integration of the same spectra
 ///   (in-order sums, and 8 partial sums that vectorize), then the same encode.
