@@ -297,7 +297,7 @@ impl<const N: usize> FoldedSet<N> {
     /// encoded 8-bit RGB with the set's [`display`](Self::display), interleaved: `out[p] = [r, g, b]`, the layout of RGB8
     /// images and frame buffers, and of [`encode_u8_batch`](Self::encode_u8_batch).
     ///
-    /// When the display's transfer function is [`TransferFunction::Srgb`] (sRGB, Display P3)
+    /// When the display's transfer function is [`TransferFunction::Srgb`](crate::TransferFunction::Srgb) (sRGB, Display P3)
     /// and [`GamutMapping::Clip`], on a target with f32 vector units (x86, NEON), this is the
     /// fast path: a vectorized product, a clip and the table encoder of
     /// [`srgb8_from_linear`](crate::srgb8_from_linear), correctly rounded and branch-free (the
