@@ -6,6 +6,10 @@
 //! - [`avx2`]: the batch and planar loops, eight pixels per AVX2 register, chosen at run time
 //!   when the CPU has AVX2 ([`avx2::available`], detected once with the `cpufeatures` crate,
 //!   which works without `std`). Otherwise the portable loops of `soa.rs` and `batch.rs` run.
+//!   The sRGB 8-bit loops pass each group of eight pixels through three stages (vector
+//!   product and clamp, scalar table loads, vector code values and interleave), a group apart,
+//!   so that the table loads overlap the vector work; the planar loops ask for their samples
+//!   a few cache lines ahead.
 //!
 //! Every path computes each channel with the same f32 operations in the same order as
 //! [`set::mat_vec_for_encoding`](crate::set::mat_vec_for_encoding) (or
@@ -34,7 +38,8 @@ pub(crate) fn encode_srgb8_planar<const N: usize>(
     0
 }
 
-/// As [`encode_srgb8_planar`], for linear f32 output (three planes).
+/// As [`encode_srgb8_planar`], for linear f32 output (three planes); the accelerated loop
+/// writes a multiple of 16 pixels.
 #[inline]
 pub(crate) fn linear_planar<const N: usize>(
     weights: &[[f32; N]; 3],
@@ -140,6 +145,13 @@ pub(crate) mod avx2 {
     /// Pixels per AVX2 register.
     pub(crate) const LANES: usize = 8;
 
+    /// How far ahead of the group being computed the loops over planes ask for the samples,
+    /// in groups of [`LANES`] pixels (256 bytes per plane). The hardware prefetchers keep up
+    /// with one stream, but a loop that reads four to sixteen planes and does work between
+    /// the loads waited for memory on the CPU measured (AMD Zen 3): the README's Performance
+    /// section has what this changed. 16 and 32 groups measured the same as 8 there.
+    const PREFETCH_GROUPS: usize = 8;
+
     /// Whether this CPU (and its operating system) supports AVX2: `cpuid` and `xgetbv` on the
     /// first call, a cached flag afterwards.
     #[inline]
@@ -153,6 +165,14 @@ pub(crate) mod avx2 {
     fn load(a: &[f32; LANES]) -> __m256 {
         // SAFETY: `a` is valid for reading 8 f32; the load has no alignment requirement.
         unsafe { _mm256_loadu_ps(a.as_ptr()) }
+    }
+
+    /// Asks for the cache line at `p` ahead of its use. A hint: any address is allowed, and
+    /// nothing is read from it here.
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    fn prefetch<T>(p: *const T) {
+        _mm_prefetch::<_MM_HINT_T0>(p.cast());
     }
 
     /// `weights · samples` for eight pixels (one per lane), each channel from its first product
@@ -175,77 +195,115 @@ pub(crate) mod avx2 {
         out
     }
 
-    /// As [`products_for_encoding`] but from 0.0, as `set::mat_vec`: bit for bit
-    /// [`FoldedSet::linear_rgb`](crate::FoldedSet::linear_rgb) (a −0.0 sum comes out +0.0).
-    #[inline]
-    #[target_feature(enable = "avx2")]
-    fn products<const N: usize>(weights: &[[f32; N]; 3], s: &[__m256; N]) -> [__m256; 3] {
-        let mut out = [_mm256_setzero_ps(); 3];
-        for (acc, row) in out.iter_mut().zip(weights) {
-            for (w, s) in row.iter().zip(s) {
-                *acc = _mm256_add_ps(*acc, _mm256_mul_ps(_mm256_set1_ps(*w), *s));
-            }
-        }
-        out
+    // --- The sRGB 8-bit loop ------------------------------------------------------------------
+    //
+    // Each group of eight pixels passes three stages:
+    //
+    // 1. vector: the 3×N product, the NaN rule and the clamp of `encode::segment_bits`; the
+    //    clamped values' bits go to the group's slot;
+    // 2. scalar: the table entry of each of the 24 values (`encode::SEGMENT_TABLE`, indexed by
+    //    the top 16 bits), a load each, into the slot;
+    // 3. vector: the code values, the top byte of entry + bits · 2⁸ (see `encode::FIRST_TOP`),
+    //    interleaved into 24 bytes.
+    //
+    // A step of the loop runs stage 1 of group j, stage 2 of group j − 1 and stage 3 of group
+    // j − 2, so that the table loads, which run on the load and integer units, overlap the
+    // vector work of the other two groups. Moving the indices and entries through vector
+    // registers instead (`vpextrq`, `vpinsrd`, the loop this one replaced) kept the vector
+    // units busy with shuffles, and `vpgatherdd` issues its eight loads more slowly than
+    // scalar loads on the CPU measured (AMD Zen 3); the README's Performance section has the
+    // figures.
+
+    /// Groups in flight between the stages: slots for groups j, j − 1 and j − 2, rounded up to a
+    /// power of two so that the slot of group j is `j % RING`.
+    const RING: usize = 4;
+
+    /// One group's 24 values (channel by channel, eight lanes each) as the stages pass them on.
+    #[repr(C, align(32))]
+    #[derive(Clone, Copy)]
+    struct Slot {
+        /// The bits of the clamped values (stage 1).
+        bits: [u32; 3 * LANES],
+        /// Their table entries (stage 2), two to a word: value 2k in the low half of word k.
+        entries: [u64; 3 * LANES / 2],
     }
 
-    /// The 8-bit sRGB code of each lane (in the low byte of its 32 bits), as
-    /// `encode::srgb8_from_linear`: a NaN lane gives 0.
-    #[inline]
-    #[target_feature(enable = "avx2")]
-    fn srgb8(x: __m256) -> __m256i {
-        let c = _mm256_min_ps(_mm256_max_ps(x, _mm256_set1_ps(LO)), _mm256_set1_ps(1.0));
-        let bits = _mm256_castps_si256(c);
-        let top = _mm256_srli_epi32::<16>(bits);
-        // The table entries by scalar loads, the indices taken out two at a time (64-bit
-        // extracts, then a shift): on the CPUs measured (AMD Zen 3) this beats one
-        // `vpgatherdd` (1.93 against 2.14 ns per pixel in cache) and 32-bit extracts.
-        let lo = _mm256_castsi256_si128(top);
-        let hi = _mm256_extracti128_si256::<1>(top);
-        let [a, b, c, d] = [
-            _mm_cvtsi128_si64(lo),
-            _mm_extract_epi64::<1>(lo),
-            _mm_cvtsi128_si64(hi),
-            _mm_extract_epi64::<1>(hi),
-        ]
-        .map(|p| p as u64);
-        // SAFETY: both halves of each pair are the top 16 bits of a lane clamped to LO..=1
-        // (`maxps` and `minps`, which turn NaN into LO), as `entry_at_top` requires.
-        let at = |top: u64| unsafe { entry_at_top(top as u32) } as i32;
-        let e = _mm256_setr_epi32(
-            at(a),
-            at(a >> 32),
-            at(b),
-            at(b >> 32),
-            at(c),
-            at(c >> 32),
-            at(d),
-            at(d >> 32),
-        );
-        // `bits << 8` is `(bits − LO_BITS) << 8`: see `encode::FIRST_TOP`.
-        _mm256_srli_epi32::<24>(_mm256_add_epi32(e, _mm256_slli_epi32::<8>(bits)))
+    impl Slot {
+        const ZERO: Slot = Slot {
+            bits: [0; 3 * LANES],
+            entries: [0; 3 * LANES / 2],
+        };
     }
 
-    /// Eight pixels of linear RGB → 24 bytes of interleaved 8-bit sRGB; a pixel with a NaN
-    /// channel is black.
+    /// Stage 1: the channels of eight pixels, clamped to `LO..=1` as `encode::segment_bits`
+    /// clamps them (NaN → `LO`), with every channel of a pixel that has a NaN channel set to
+    /// `LO` first (code 0: the pixel is black, the NaN rule of the per-pixel function).
     #[inline]
     #[target_feature(enable = "avx2")]
-    fn encode8(rgb: [__m256; 3], dst: &mut [u8; 3 * LANES]) {
+    fn clamp_into(rgb: [__m256; 3], slot: &mut Slot) {
         let [r, g, b] = rgb;
+        // Unordered compares: true where either operand is NaN.
         let nan = _mm256_or_ps(
-            _mm256_or_ps(
-                _mm256_cmp_ps::<_CMP_UNORD_Q>(r, r),
-                _mm256_cmp_ps::<_CMP_UNORD_Q>(g, g),
-            ),
+            _mm256_cmp_ps::<_CMP_UNORD_Q>(r, g),
             _mm256_cmp_ps::<_CMP_UNORD_Q>(b, b),
         );
+        let (dst, _) = slot.bits.as_chunks_mut::<LANES>();
+        for (d, x) in dst.iter_mut().zip(rgb) {
+            // +0.0 in every channel of a NaN pixel; then max(x, LO), which is LO for 0.0.
+            let x = _mm256_andnot_ps(nan, x);
+            let c = _mm256_min_ps(_mm256_max_ps(x, _mm256_set1_ps(LO)), _mm256_set1_ps(1.0));
+            // SAFETY: `d` is valid for writing 8 u32; no alignment requirement.
+            unsafe { _mm256_storeu_si256(d.as_mut_ptr().cast(), _mm256_castps_si256(c)) };
+        }
+    }
+
+    /// Stage 2: the table entry of each clamped value, one scalar load each. The reads and
+    /// writes are volatile: the compiler otherwise sees through stage 1's stores and moves the
+    /// values through vector registers again (`vpextrq`, `vpinsrd`), which is what these stages
+    /// avoid.
+    #[inline(always)]
+    fn look_up(slot: &mut Slot) {
+        let bits = slot.bits.as_ptr().cast::<u16>();
+        for (k, e) in slot.entries.iter_mut().enumerate() {
+            // SAFETY: u16 2·(2k) + 1 and 2·(2k + 1) + 1 lie inside `bits` (2 · 24 u16 for
+            // k < 12): the upper halves of values 2k and 2k + 1, their top 16 bits on a
+            // little-endian CPU (x86-64 is). Stage 1 clamped every value to `LO..=1`, so each
+            // top lies in `FIRST_TOP..=LAST_TOP`, as `entry_at_top` requires.
+            let (lo, hi) = unsafe {
+                let lo = core::ptr::read_volatile(bits.add(4 * k + 1));
+                let hi = core::ptr::read_volatile(bits.add(4 * k + 3));
+                (entry_at_top(u32::from(lo)), entry_at_top(u32::from(hi)))
+            };
+            // SAFETY: `e` is a valid, aligned u64.
+            unsafe { core::ptr::write_volatile(e, u64::from(lo) | u64::from(hi) << 32) };
+        }
+    }
+
+    /// Stage 3: the code values of a slot, interleaved into 24 bytes `r, g, b, r, …`.
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    fn codes_into(slot: &Slot, dst: &mut [u8; 3 * LANES]) {
+        let (bits, _) = slot.bits.as_chunks::<LANES>();
+        // SAFETY: `entries` holds 24 u32 (12 u64) in the order of `bits`; both arrays are
+        // valid for reading 8 u32 at each channel's offset; no alignment requirement.
+        let code = |c: usize| unsafe {
+            let b = _mm256_loadu_si256(bits[c].as_ptr().cast());
+            let e = _mm256_loadu_si256(slot.entries.as_ptr().cast::<u32>().add(LANES * c).cast());
+            // `bits << 8` is `(bits − LO_BITS) << 8`: see `encode::FIRST_TOP`.
+            _mm256_srli_epi32::<24>(_mm256_add_epi32(e, _mm256_slli_epi32::<8>(b)))
+        };
         let words = _mm256_or_si256(
-            _mm256_or_si256(srgb8(r), _mm256_slli_epi32::<8>(srgb8(g))),
-            _mm256_slli_epi32::<16>(srgb8(b)),
+            _mm256_or_si256(code(0), _mm256_slli_epi32::<8>(code(1))),
+            _mm256_slli_epi32::<16>(code(2)),
         );
-        let words = _mm256_andnot_si256(_mm256_castps_si256(nan), words);
-        // Bytes 0-2 of each word, packed to the front of each 128-bit half, then the two
-        // halves' 12 bytes joined.
+        store_rgb8(words, dst);
+    }
+
+    /// Eight words `r | g << 8 | b << 16` → 24 bytes: bytes 0-2 of each word, packed to the
+    /// front of each 128-bit half, then the two halves' 12 bytes joined.
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    fn store_rgb8(words: __m256i, dst: &mut [u8; 3 * LANES]) {
         #[rustfmt::skip]
         let pick = _mm256_setr_epi8(
             0, 1, 2, 4, 5, 6, 8, 9, 10, 12, 13, 14, -1, -1, -1, -1,
@@ -265,6 +323,126 @@ pub(crate) mod avx2 {
         }
     }
 
+    /// Group `$j` of `$planes` (`[&[[f32; LANES]]; N]`, every plane longer than `$j`), sample i
+    /// of the eight pixels in register i, with the samples of group `$j + PREFETCH_GROUPS`
+    /// asked for. A macro, so that it is inlined at every width (a function with target
+    /// features may not be `#[inline(always)]`, and at N = 8 and 16 the compiler called it).
+    macro_rules! plane_group {
+        ($planes:expr, $j:expr) => {{
+            let (planes, j) = (&$planes, $j);
+            if j % 2 == 0 {
+                // One 64-byte line per plane every two groups.
+                for p in planes {
+                    prefetch(p.as_ptr().wrapping_add(j + PREFETCH_GROUPS));
+                }
+            }
+            let mut s = [_mm256_setzero_ps(); N];
+            for (s, p) in s.iter_mut().zip(planes) {
+                debug_assert!(j < p.len());
+                // SAFETY: every caller passes a `$j` below the length of every plane (the
+                // number of groups it loops over is the minimum of those lengths).
+                *s = load(unsafe { p.get_unchecked(j) });
+            }
+            s
+        }};
+    }
+
+    /// Sample i of eight pixels in register i (lane k: pixel k): four at a time by
+    /// [`transpose4`], the last N mod 4 one by one.
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    fn transpose<const N: usize>(px: &[[f32; N]; LANES]) -> [__m256; N] {
+        let mut s = [_mm256_setzero_ps(); N];
+        for b in 0..N / 4 {
+            s[4 * b..4 * b + 4].copy_from_slice(&transpose4(px, 4 * b));
+        }
+        for (i, s) in s.iter_mut().enumerate().skip(N / 4 * 4) {
+            *s = _mm256_setr_ps(
+                px[0][i], px[1][i], px[2][i], px[3][i], px[4][i], px[5][i], px[6][i], px[7][i],
+            );
+        }
+        s
+    }
+
+    /// Samples `i..i + 4` of eight pixels, one register per sample (lane k: pixel k): the
+    /// pixels' four values loaded two rows to a register (pixel k in the low half, k + 4 in
+    /// the high) and transposed 4 × 4 within each half. Eight loads and eight shuffles where
+    /// inserting lane by lane takes 32 of each. `i + 4 ≤ N`.
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    fn transpose4<const N: usize>(px: &[[f32; N]; LANES], i: usize) -> [__m256; 4] {
+        let mut rows = [_mm256_setzero_ps(); 4];
+        for (k, row) in rows.iter_mut().enumerate() {
+            let (lo, hi) = (&px[k][i..i + 4], &px[k + 4][i..i + 4]);
+            // SAFETY: `lo` and `hi` are valid for reading 4 f32 each; no alignment requirement.
+            *row = unsafe { _mm256_loadu2_m128(hi.as_ptr(), lo.as_ptr()) };
+        }
+        let [r0, r1, r2, r3] = rows;
+        let (t0, t1) = (_mm256_unpacklo_ps(r0, r1), _mm256_unpackhi_ps(r0, r1));
+        let (t2, t3) = (_mm256_unpacklo_ps(r2, r3), _mm256_unpackhi_ps(r2, r3));
+        // Per half: t0 = [a0 b0 a1 b1], t2 = [c0 d0 c1 d1] → [a0 b0 c0 d0] and [a1 b1 c1 d1].
+        let pd = _mm256_castps_pd;
+        [
+            _mm256_castpd_ps(_mm256_unpacklo_pd(pd(t0), pd(t2))),
+            _mm256_castpd_ps(_mm256_unpackhi_pd(pd(t0), pd(t2))),
+            _mm256_castpd_ps(_mm256_unpacklo_pd(pd(t1), pd(t3))),
+            _mm256_castpd_ps(_mm256_unpackhi_pd(pd(t1), pd(t3))),
+        ]
+    }
+
+    /// The three-stage sRGB 8-bit loop over groups `0..groups` into `dst` (24 bytes per group,
+    /// at least `groups` of them), with group j's samples from `$load` (`j` bound to the group,
+    /// written as a closure but substituted, so that no closure is called); evaluates to the
+    /// number of pixels written (a multiple of 8; 0 for fewer than two groups, which the
+    /// caller's other loop encodes). A macro, so that each source's loads are inlined into the
+    /// loop: functions with target features may not be `#[inline(always)]`, and the compiler
+    /// did not inline a shared function that took the source as a parameter.
+    macro_rules! encode_srgb8 {
+        ($weights:expr, $groups:expr, $dst:expr, |$j:ident| $load:expr) => {{
+            let (weights, groups, dst) = ($weights, $groups, $dst);
+            if groups < 2 {
+                0
+            } else {
+                let mut ring = [Slot::ZERO; RING];
+                // One step: stage 1 of group `$j` into slot `$a`, stage 2 of slot `$b` (group
+                // j − 1) and stage 3 of slot `$c` (group j − 2).
+                macro_rules! step {
+                    ($group:expr, $a:expr, $b:expr, $c:expr) => {{
+                        let $j = $group;
+                        clamp_into(products_for_encoding(weights, &$load), &mut ring[$a]);
+                        look_up(&mut ring[$b]);
+                        codes_into(&ring[$c], &mut dst[$j - 2]);
+                    }};
+                }
+                // Stage 1 of groups 0 and 1, stage 2 of group 0.
+                for k in 0..2 {
+                    let $j = k;
+                    clamp_into(products_for_encoding(weights, &$load), &mut ring[k]);
+                }
+                look_up(&mut ring[0]);
+                let mut j = 2;
+                // Steady state, RING steps at a time so that every slot index is a constant
+                // (j ≡ 2 mod RING here).
+                while j + RING <= groups {
+                    step!(j, 2, 1, 0);
+                    step!(j + 1, 3, 2, 1);
+                    step!(j + 2, 0, 3, 2);
+                    step!(j + 3, 1, 0, 3);
+                    j += RING;
+                }
+                while j < groups {
+                    step!(j, j % RING, (j - 1) % RING, (j - 2) % RING);
+                    j += 1;
+                }
+                // Drain: stage 2 of the last group, stage 3 of the last two.
+                look_up(&mut ring[(j - 1) % RING]);
+                codes_into(&ring[(j - 2) % RING], &mut dst[j - 2]);
+                codes_into(&ring[(j - 1) % RING], &mut dst[j - 1]);
+                groups * LANES
+            }
+        }};
+    }
+
     /// The planar sRGB 8-bit loop over whole groups of eight pixels: `planes[i]` and `out`
     /// (3 bytes per pixel) hold the same number of pixels. Returns how many pixels it wrote
     /// (a multiple of 8); the caller encodes the rest.
@@ -274,59 +452,11 @@ pub(crate) mod avx2 {
         planes: [&[f32]; N],
         out: &mut [u8],
     ) -> usize {
-        let full: [&[[f32; LANES]]; N] = planes.map(|p| p.as_chunks::<LANES>().0);
+        let planes: [&[[f32; LANES]]; N] = planes.map(|p| p.as_chunks::<LANES>().0);
         let (dst, _) = out.as_chunks_mut::<{ 3 * LANES }>();
-        let mut done = 0;
-        for (j, dst) in dst.iter_mut().enumerate() {
-            let Some(s) = gather_planes(&full, j) else {
-                break;
-            };
-            encode8(products_for_encoding(weights, &s), dst);
-            done += LANES;
-        }
-        done
-    }
-
-    /// Group `j` of every plane, or `None` past the shortest plane.
-    #[inline]
-    #[target_feature(enable = "avx2")]
-    fn gather_planes<const N: usize>(full: &[&[[f32; LANES]]; N], j: usize) -> Option<[__m256; N]> {
-        let mut s = [_mm256_setzero_ps(); N];
-        for (s, plane) in s.iter_mut().zip(full) {
-            *s = load(plane.get(j)?);
-        }
-        Some(s)
-    }
-
-    /// The planar linear f32 loop over whole groups of eight pixels; returns how many pixels it
-    /// wrote.
-    #[target_feature(enable = "avx2")]
-    pub(crate) fn linear_planar<const N: usize>(
-        weights: &[[f32; N]; 3],
-        planes: [&[f32]; N],
-        out: [&mut [f32]; 3],
-    ) -> usize {
-        let full: [&[[f32; LANES]]; N] = planes.map(|p| p.as_chunks::<LANES>().0);
-        let [r, g, b] = out;
-        let chunks = r
-            .as_chunks_mut::<LANES>()
-            .0
-            .iter_mut()
-            .zip(g.as_chunks_mut::<LANES>().0)
-            .zip(b.as_chunks_mut::<LANES>().0);
-        let mut done = 0;
-        for (j, ((r, g), b)) in chunks.enumerate() {
-            let Some(s) = gather_planes(&full, j) else {
-                break;
-            };
-            let rgb = products(weights, &s);
-            for (o, v) in [r, g, b].into_iter().zip(rgb) {
-                // SAFETY: `o` is valid for writing 8 f32; no alignment requirement.
-                unsafe { _mm256_storeu_ps(o.as_mut_ptr(), v) };
-            }
-            done += LANES;
-        }
-        done
+        let groups = planes.iter().map(|p| p.len()).fold(dst.len(), usize::min);
+        let dst = &mut dst[..groups];
+        encode_srgb8!(weights, groups, dst, |j| plane_group!(planes, j))
     }
 
     /// The interleaved (one `[f32; N]` per pixel) sRGB 8-bit loop over whole groups of eight
@@ -337,19 +467,51 @@ pub(crate) mod avx2 {
         samples: &[[f32; N]],
         out: &mut [u8],
     ) -> usize {
-        let (src, _) = samples.as_chunks::<LANES>();
+        let (pixels, _) = samples.as_chunks::<LANES>();
         let (dst, _) = out.as_chunks_mut::<{ 3 * LANES }>();
+        let groups = pixels.len().min(dst.len());
+        let (pixels, dst) = (&pixels[..groups], &mut dst[..groups]);
+        encode_srgb8!(weights, groups, dst, |j| transpose(&pixels[j]))
+    }
+
+    /// The planar linear f32 loop over whole pairs of groups (16 pixels); returns how many
+    /// pixels it wrote (a multiple of 16).
+    ///
+    /// Each step writes 64 bytes to the red plane, then 64 to green, then 64 to blue, a cache
+    /// line's worth at a time, rather than eight pixels of each plane in turn, which filled
+    /// every output line in two visits and was slower from memory on the CPU measured (AMD
+    /// Zen 3; the README's Performance section has the figures).
+    #[target_feature(enable = "avx2")]
+    pub(crate) fn linear_planar<const N: usize>(
+        weights: &[[f32; N]; 3],
+        planes: [&[f32]; N],
+        out: [&mut [f32]; 3],
+    ) -> usize {
+        let planes: [&[[f32; LANES]]; N] = planes.map(|p| p.as_chunks::<LANES>().0);
+        let [r, g, b] = out;
+        let chunks = r
+            .as_chunks_mut::<{ 2 * LANES }>()
+            .0
+            .iter_mut()
+            .zip(g.as_chunks_mut::<{ 2 * LANES }>().0)
+            .zip(b.as_chunks_mut::<{ 2 * LANES }>().0);
+        let pairs = planes.iter().map(|p| p.len()).min().unwrap_or(0) / 2;
         let mut done = 0;
-        for (px, dst) in src.iter().zip(dst) {
-            // Sample i of the eight pixels in one register.
-            let mut s = [_mm256_setzero_ps(); N];
-            for (i, s) in s.iter_mut().enumerate() {
-                *s = _mm256_setr_ps(
-                    px[0][i], px[1][i], px[2][i], px[3][i], px[4][i], px[5][i], px[6][i], px[7][i],
-                );
+        for (j, ((r, g), b)) in chunks.take(pairs).enumerate() {
+            let s = [plane_group!(planes, 2 * j), plane_group!(planes, 2 * j + 1)];
+            for (o, row) in [r, g, b].into_iter().zip(weights) {
+                for (half, s) in o.as_chunks_mut::<LANES>().0.iter_mut().zip(&s) {
+                    // From 0.0, in index order: `set::mat_vec`, lane by lane, so bit for bit
+                    // `FoldedSet::linear_rgb` (a −0.0 sum comes out +0.0).
+                    let mut acc = _mm256_setzero_ps();
+                    for (w, s) in row.iter().zip(s) {
+                        acc = _mm256_add_ps(acc, _mm256_mul_ps(_mm256_set1_ps(*w), *s));
+                    }
+                    // SAFETY: `half` is valid for writing 8 f32; no alignment requirement.
+                    unsafe { _mm256_storeu_ps(half.as_mut_ptr(), acc) };
+                }
             }
-            encode8(products_for_encoding(weights, &s), dst);
-            done += LANES;
+            done += 2 * LANES;
         }
         done
     }
@@ -444,28 +606,31 @@ mod tests {
         }
         compare_linear("portable planar linear", &lin);
 
-        // The AVX2 loops, where this CPU has AVX2.
+        // The AVX2 loops, where this CPU has AVX2. The sRGB loops write whole groups of 8 once
+        // there are two (their pipeline holds two groups in flight).
         #[cfg(target_arch = "x86_64")]
         if super::avx2::available() {
+            let srgb8_done = if pixels >= 16 { pixels / 8 * 8 } else { 0 };
             let mut got = std::vec![[0u8; 3]; pixels];
             // SAFETY: the CPU has AVX2.
             let done = unsafe {
                 super::avx2::encode_srgb8_planar(&set.weights, planes, got.as_flattened_mut())
             };
-            assert_eq!(done, pixels / 8 * 8);
+            assert_eq!(done, srgb8_done);
             compare("AVX2 planar", &got[..done]);
             let mut got = std::vec![[0u8; 3]; pixels];
             // SAFETY: the CPU has AVX2.
             let done = unsafe {
                 super::avx2::encode_srgb8_batch(&set.weights, &aos, got.as_flattened_mut())
             };
-            assert_eq!(done, pixels / 8 * 8);
+            assert_eq!(done, srgb8_done);
             compare("AVX2 batch", &got[..done]);
             let mut lin = [0, 1, 2].map(|_| std::vec![0.0f32; pixels]);
             let [r, g, b] = &mut lin;
             // SAFETY: the CPU has AVX2.
             let done = unsafe { super::avx2::linear_planar(&set.weights, planes, [r, g, b]) };
-            assert_eq!(done, pixels / 8 * 8);
+            // Whole steps of 16 pixels.
+            assert_eq!(done, pixels / 16 * 16);
             let lin = lin.map(|mut c| {
                 c.truncate(done);
                 c
@@ -527,8 +692,14 @@ mod tests {
         check(&random_set::<3>(6), 100_007, 7);
         check(&random_set::<5>(8), 100_009, 9);
         check(&random_set::<16>(10), 100_011, 11);
-        // Fewer pixels than one group: the tails alone.
+        // Fewer pixels than one group: the tails alone; one group and a part; two, three and
+        // five groups (the pipeline's shortest runs), and one step of the linear loop and a
+        // part.
         check(&TABLE2_ROW2_SRGB, 7, 12);
         check(&TABLE2_ROW2_SRGB, 0, 13);
+        for (pixels, seed) in [(9, 14), (16, 15), (17, 16), (24, 17), (40, 18), (31, 19)] {
+            check(&TABLE2_ROW2_SRGB, pixels, seed);
+            check(&random_set::<16>(seed), pixels, seed + 100);
+        }
     }
 }
