@@ -149,7 +149,7 @@ pub(crate) mod avx2 {
     /// in groups of [`LANES`] pixels (256 bytes per plane). The hardware prefetchers keep up
     /// with one stream, but a loop that reads four to sixteen planes and does work between
     /// the loads waited for memory on the CPU measured (AMD Zen 3): the README's Performance
-    /// section has what this changed. 16 and 32 groups measured the same as 8 there.
+    /// section has what this changed. 16 and 32 groups measured no better than 8.
     const PREFETCH_GROUPS: usize = 8;
 
     /// Whether this CPU (and its operating system) supports AVX2: `cpuid` and `xgetbv` on the
