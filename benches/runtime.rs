@@ -431,6 +431,8 @@ const BIG_PIXELS: usize = 1 << 25;
 /// Pixels of the per-pixel API and the 1 nm integrations, which are far from the memory bound:
 /// the first 65 536 of the large inputs (16 copies of the 4096 spectra).
 const SMALL_PIXELS: usize = 1 << 16;
+/// Padding in f32 between the planes of the `_spaced` cases: 8 KiB.
+const SPACING: usize = 2048;
 /// Pixels of the in-cache planar case: N · 4 KiB of samples and 3 KiB out fit the 48 KiB
 /// first-level data cache for N ≤ 8.
 const IN_CACHE_PIXELS: usize = 1 << 10;
@@ -638,6 +640,32 @@ fn bandwidth_set<const N: usize>(
         })
     });
 
+    // The same planes in one allocation, each starting 8 KiB past the end of the one before.
+    // Separate allocations of 2²⁵ f32 (the planes above) come from the system allocator 128 MiB
+    // and 4 KiB apart, and planes that far apart slow the streaming loads on the CPU of the
+    // README's figures (AMD Zen 3): the bound and the path are measured again on these, each
+    // against the other.
+    let stride = BIG_PIXELS + SPACING;
+    let mut spaced = vec![0.0f32; N * stride];
+    for (i, plane) in samples.iter().enumerate() {
+        spaced[i * stride..i * stride + BIG_PIXELS].copy_from_slice(plane);
+    }
+    let spaced_planes: [&[f32]; N] =
+        core::array::from_fn(|i| &spaced[i * stride..i * stride + BIG_PIXELS]);
+    let bytes = out.as_flattened_mut();
+    g.bench_function(format!("stream/read_write_3B_spaced/N{N}"), |b| {
+        ran(&format!("stream/read_write_3B_spaced/N{N}"));
+        b.iter(|| stream::<N, 3>(black_box(spaced_planes), black_box(&mut *bytes)))
+    });
+    g.bench_function(format!("soa/srgb_u8_spaced/N{N}"), |b| {
+        ran(&format!("soa/srgb_u8_spaced/N{N}"));
+        b.iter(|| {
+            set.encode_u8_planar(clip, black_box(spaced_planes), black_box(&mut out))
+                .unwrap()
+        })
+    });
+    drop(spaced);
+
     // The same pixels interleaved, one `[f32; N]` each (`encode_u8_batch`): the same bytes
     // read and written as the planar case, so the same streaming bound.
     drop(out);
@@ -733,6 +761,7 @@ fn median_ns(id: &str) -> Option<f64> {
 fn print_ratios(n: usize) {
     let cases = [
         ("soa/srgb_u8", "stream/read_write_3B"),
+        ("soa/srgb_u8_spaced", "stream/read_write_3B_spaced"),
         ("soa/linear", "stream/read_write_3x4B"),
         ("soa/linear", "stream/read_write_12B"),
         ("soa/linear_offset", "stream/read_write_12B"),
@@ -766,6 +795,8 @@ fn print_ratios(n: usize) {
 ///   `soa/linear_offset/N<n>`: the same into output planes shifted by 0, 1 and 2 cache lines;
 /// - `soa/srgb_u8/N<n>`: `encode_u8_planar` (sRGB, Clip) → interleaved `[u8; 3]`;
 ///   `aos/srgb_u8/N<n>`: `encode_u8_batch` on the same pixels interleaved (`[f32; N]` each);
+///   `soa/srgb_u8_spaced/N<n>`: the same planes copied into one allocation 8 KiB apart,
+///   against `stream/read_write_3B_spaced/N<n>`, the bound on those planes;
 ///   `soa/srgb_u8_in_cache/N<n>`: the same on the first `IN_CACHE_PIXELS` only, in cache;
 ///   `soa/srgb_u8_in_cache_offset/N<n>`: those samples copied to planes 64 bytes apart modulo
 ///   4 KiB;

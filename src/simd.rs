@@ -284,18 +284,28 @@ pub(crate) mod avx2 {
     #[target_feature(enable = "avx2")]
     fn codes_into(slot: &Slot, dst: &mut [u8; 3 * LANES]) {
         let (bits, _) = slot.bits.as_chunks::<LANES>();
-        // SAFETY: `entries` holds 24 u32 (12 u64) in the order of `bits`; both arrays are
-        // valid for reading 8 u32 at each channel's offset; no alignment requirement.
-        let code = |c: usize| unsafe {
-            let b = _mm256_loadu_si256(bits[c].as_ptr().cast());
-            let e = _mm256_loadu_si256(slot.entries.as_ptr().cast::<u32>().add(LANES * c).cast());
+        let entries = slot.entries.as_ptr().cast::<u32>();
+        // Channel c's code values, shifted to byte c of each word. A loop, not a closure: a
+        // closure is compiled without this function's target features.
+        let mut words = _mm256_setzero_si256();
+        for (c, bits) in bits.iter().enumerate() {
+            // SAFETY: `bits` is valid for reading 8 u32, and so is `entries` (24 u32, in the
+            // order of `bits`) at channel c's offset; no alignment requirement.
+            let (b, e) = unsafe {
+                (
+                    _mm256_loadu_si256(bits.as_ptr().cast()),
+                    _mm256_loadu_si256(entries.add(LANES * c).cast()),
+                )
+            };
             // `bits << 8` is `(bits − LO_BITS) << 8`: see `encode::FIRST_TOP`.
-            _mm256_srli_epi32::<24>(_mm256_add_epi32(e, _mm256_slli_epi32::<8>(b)))
-        };
-        let words = _mm256_or_si256(
-            _mm256_or_si256(code(0), _mm256_slli_epi32::<8>(code(1))),
-            _mm256_slli_epi32::<16>(code(2)),
-        );
+            let code = _mm256_srli_epi32::<24>(_mm256_add_epi32(e, _mm256_slli_epi32::<8>(b)));
+            let code = match c {
+                0 => code,
+                1 => _mm256_slli_epi32::<8>(code),
+                _ => _mm256_slli_epi32::<16>(code),
+            };
+            words = _mm256_or_si256(words, code);
+        }
         store_rgb8(words, dst);
     }
 
