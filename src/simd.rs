@@ -279,10 +279,12 @@ pub(crate) mod avx2 {
         }
     }
 
-    /// Stage 3: the code values of a slot, interleaved into 24 bytes `r, g, b, r, …`.
+    /// Stage 3: the code values of a slot, interleaved into 24 bytes `r, g, b, r, …`. With
+    /// `even_odd` (a constant where it is inlined) the slot's lanes hold pixels 0, 2, 4, 6, 1,
+    /// 3, 5, 7 (see [`transpose_even_odd`]) and are put back in order first.
     #[inline]
     #[target_feature(enable = "avx2")]
-    fn codes_into(slot: &Slot, dst: &mut [u8; 3 * LANES]) {
+    fn codes_into(slot: &Slot, even_odd: bool, dst: &mut [u8; 3 * LANES]) {
         let (bits, _) = slot.bits.as_chunks::<LANES>();
         let entries = slot.entries.as_ptr().cast::<u32>();
         // Channel c's code values, shifted to byte c of each word. A loop, not a closure: a
@@ -305,6 +307,9 @@ pub(crate) mod avx2 {
                 _ => _mm256_slli_epi32::<16>(code),
             };
             words = _mm256_or_si256(words, code);
+        }
+        if even_odd {
+            words = _mm256_permutevar8x32_epi32(words, _mm256_setr_epi32(0, 4, 1, 5, 2, 6, 3, 7));
         }
         store_rgb8(words, dst);
     }
@@ -363,6 +368,10 @@ pub(crate) mod avx2 {
     #[target_feature(enable = "avx2")]
     fn transpose<const N: usize>(px: &[[f32; N]; LANES]) -> [__m256; N] {
         let mut s = [_mm256_setzero_ps(); N];
+        if N == 4 {
+            s.copy_from_slice(&transpose_even_odd(px.as_flattened()));
+            return s;
+        }
         for b in 0..N / 4 {
             s[4 * b..4 * b + 4].copy_from_slice(&transpose4(px, 4 * b));
         }
@@ -372,6 +381,32 @@ pub(crate) mod avx2 {
             );
         }
         s
+    }
+
+    /// The four samples of eight pixels of four samples each (`px`: 32 f32, pixel by pixel),
+    /// one register per sample with the pixels in lanes 0, 2, 4, 6, 1, 3, 5, 7: pixels 2k and
+    /// 2k + 1 in one 32-byte load, then 4 × 4 transposes within each 128-bit half. Four loads
+    /// and eight shuffles where [`transpose4`] takes eight loads and eight inserts besides;
+    /// stage 3 puts the pixels back in order ([`codes_into`] with `even_odd`).
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    fn transpose_even_odd(px: &[f32]) -> [__m256; 4] {
+        let (pairs, _) = px.as_chunks::<{ 2 * 4 }>();
+        let mut rows = [_mm256_setzero_ps(); 4];
+        for (row, pair) in rows.iter_mut().zip(pairs) {
+            *row = load(pair);
+        }
+        let [r0, r1, r2, r3] = rows;
+        // Low halves hold pixels 0, 2, 4, 6; high halves 1, 3, 5, 7.
+        let (t0, t1) = (_mm256_unpacklo_ps(r0, r1), _mm256_unpackhi_ps(r0, r1));
+        let (t2, t3) = (_mm256_unpacklo_ps(r2, r3), _mm256_unpackhi_ps(r2, r3));
+        let pd = _mm256_castps_pd;
+        [
+            _mm256_castpd_ps(_mm256_unpacklo_pd(pd(t0), pd(t2))),
+            _mm256_castpd_ps(_mm256_unpackhi_pd(pd(t0), pd(t2))),
+            _mm256_castpd_ps(_mm256_unpacklo_pd(pd(t1), pd(t3))),
+            _mm256_castpd_ps(_mm256_unpackhi_pd(pd(t1), pd(t3))),
+        ]
     }
 
     /// Samples `i..i + 4` of eight pixels, one register per sample (lane k: pixel k): the
@@ -408,7 +443,7 @@ pub(crate) mod avx2 {
     /// loop: functions with target features may not be `#[inline(always)]`, and the compiler
     /// did not inline a shared function that took the source as a parameter.
     macro_rules! encode_srgb8 {
-        ($weights:expr, $groups:expr, $dst:expr, |$j:ident| $load:expr) => {{
+        ($weights:expr, $groups:expr, $dst:expr, $even_odd:expr, |$j:ident| $load:expr) => {{
             let (weights, groups, dst) = ($weights, $groups, $dst);
             if groups < 2 {
                 0
@@ -421,7 +456,7 @@ pub(crate) mod avx2 {
                         let $j = $group;
                         clamp_into(products_for_encoding(weights, &$load), &mut ring[$a]);
                         look_up(&mut ring[$b]);
-                        codes_into(&ring[$c], &mut dst[$j - 2]);
+                        codes_into(&ring[$c], $even_odd, &mut dst[$j - 2]);
                     }};
                 }
                 // Stage 1 of groups 0 and 1, stage 2 of group 0.
@@ -446,8 +481,8 @@ pub(crate) mod avx2 {
                 }
                 // Drain: stage 2 of the last group, stage 3 of the last two.
                 look_up(&mut ring[(j - 1) % RING]);
-                codes_into(&ring[(j - 2) % RING], &mut dst[j - 2]);
-                codes_into(&ring[(j - 1) % RING], &mut dst[j - 1]);
+                codes_into(&ring[(j - 2) % RING], $even_odd, &mut dst[j - 2]);
+                codes_into(&ring[(j - 1) % RING], $even_odd, &mut dst[j - 1]);
                 groups * LANES
             }
         }};
@@ -466,7 +501,7 @@ pub(crate) mod avx2 {
         let (dst, _) = out.as_chunks_mut::<{ 3 * LANES }>();
         let groups = planes.iter().map(|p| p.len()).fold(dst.len(), usize::min);
         let dst = &mut dst[..groups];
-        encode_srgb8!(weights, groups, dst, |j| plane_group!(planes, j))
+        encode_srgb8!(weights, groups, dst, false, |j| plane_group!(planes, j))
     }
 
     /// The interleaved (one `[f32; N]` per pixel) sRGB 8-bit loop over whole groups of eight
@@ -481,7 +516,7 @@ pub(crate) mod avx2 {
         let (dst, _) = out.as_chunks_mut::<{ 3 * LANES }>();
         let groups = pixels.len().min(dst.len());
         let (pixels, dst) = (&pixels[..groups], &mut dst[..groups]);
-        encode_srgb8!(weights, groups, dst, |j| transpose(&pixels[j]))
+        encode_srgb8!(weights, groups, dst, N == 4, |j| transpose(&pixels[j]))
     }
 
     /// The planar linear f32 loop over whole pairs of groups (16 pixels); returns how many
@@ -508,7 +543,19 @@ pub(crate) mod avx2 {
         let pairs = planes.iter().map(|p| p.len()).min().unwrap_or(0) / 2;
         let mut done = 0;
         for (j, ((r, g), b)) in chunks.take(pairs).enumerate() {
-            let s = [plane_group!(planes, 2 * j), plane_group!(planes, 2 * j + 1)];
+            // Both halves of each plane's 64-byte line together, plane after plane: planes that
+            // lie 128 MiB and 4 KiB apart (consecutive allocations of 2²⁵ f32) are read more
+            // slowly on the CPU measured (AMD Zen 3; README, Performance), and reading each
+            // line at once measured faster there from N = 8 up than reading all planes' first
+            // halves, then all second halves.
+            let mut s = [[_mm256_setzero_ps(); N]; 2];
+            for (i, p) in planes.iter().enumerate() {
+                prefetch(p.as_ptr().wrapping_add(2 * j + PREFETCH_GROUPS));
+                // SAFETY: j < pairs, so 2j + 1 is below every plane's length.
+                let (a, b) = unsafe { (p.get_unchecked(2 * j), p.get_unchecked(2 * j + 1)) };
+                s[0][i] = load(a);
+                s[1][i] = load(b);
+            }
             for (o, row) in [r, g, b].into_iter().zip(weights) {
                 for (half, s) in o.as_chunks_mut::<LANES>().0.iter_mut().zip(&s) {
                     // From 0.0, in index order: `set::mat_vec`, lane by lane, so bit for bit
