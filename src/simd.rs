@@ -211,8 +211,8 @@ pub(crate) mod avx2 {
     // vector work of the other two groups. Moving the indices and entries through vector
     // registers instead (`vpextrq`, `vpinsrd`, the loop this one replaced) kept the vector
     // units busy with shuffles, and `vpgatherdd` issues its eight loads more slowly than
-    // scalar loads on the CPU measured (AMD Zen 3); the README's Performance section has the
-    // figures.
+    // scalar loads on the CPU measured (AMD Zen 3); the README's Performance section lists
+    // what else was measured.
 
     /// Groups in flight between the stages: slots for groups j, j − 1 and j − 2, rounded up to a
     /// power of two so that the slot of group j is `j % RING`.
