@@ -45,9 +45,12 @@ impl<const N: usize> FoldedSet<N> {
     /// [`encode_u8`](Self::encode_u8) for every pixel (NaN anywhere in a pixel → black).
     ///
     /// With the sRGB curve and [`GamutMapping::Clip`] on an x86-64 CPU with AVX2 (detected at
-    /// run time, once), eight pixels go through each AVX2 register; the bytes are
-    /// [`encode_u8`](Self::encode_u8)'s, bit for bit (the same f32 operations in the same
-    /// order and the same table).
+    /// run time, once), eight pixels go through each AVX2 register; on other targets with f32
+    /// vector units (SSE2, NEON, WebAssembly SIMD) chunks of 16 pixels are transposed into
+    /// planes on the stack and encoded as by [`encode_u8_planar`](Self::encode_u8_planar), in
+    /// loops the compiler vectorizes; without vector units (microcontrollers), pixel by pixel.
+    /// Every way gives [`encode_u8`](Self::encode_u8)'s bytes, bit for bit (the same f32
+    /// operations in the same order and the same table).
     ///
     /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless the lengths agree.
     pub fn encode_u8_batch(
@@ -57,13 +60,24 @@ impl<const N: usize> FoldedSet<N> {
         out: &mut [[u8; 3]],
     ) -> Result<(), Error> {
         check(samples.len(), out.len())?;
-        // The AVX2 loop for the sRGB curve with `Clip` where the CPU has it (the same bytes;
-        // see `simd`), then pixel by pixel.
+        // For the sRGB curve with `Clip`: the AVX2 loop where the CPU has it (the same bytes;
+        // see `simd`), then the portable loop where the target has vector units.
         let done = if self.display.is_srgb_clip(mapping) {
-            crate::simd::encode_srgb8_batch(&self.weights, samples, out.as_flattened_mut())
+            let done =
+                crate::simd::encode_srgb8_batch(&self.weights, samples, out.as_flattened_mut());
+            if crate::soa::VECTOR_UNITS {
+                crate::soa::encode_srgb8_batch_portable(
+                    &self.weights,
+                    &samples[done..],
+                    &mut out[done..],
+                );
+                return Ok(());
+            }
+            done
         } else {
             0
         };
+        // Pixel by pixel: other curves and mappings, and targets without vector units.
         for (o, s) in out[done..].iter_mut().zip(&samples[done..]) {
             *o = self.encode_u8(mapping, s);
         }

@@ -656,6 +656,9 @@ mod tests {
         let mut got = std::vec![[0u8; 3]; pixels];
         crate::soa::encode_srgb8_planar_portable(&set.weights, planes, &mut got);
         compare("portable planar", &got);
+        let mut got = std::vec![[0u8; 3]; pixels];
+        crate::soa::encode_srgb8_batch_portable(&set.weights, &aos, &mut got);
+        compare("portable batch", &got);
         let mut lin = [0, 1, 2].map(|_| std::vec![0.0f32; pixels]);
         {
             let [r, g, b] = &mut lin;

@@ -97,7 +97,7 @@ fn product_for_encoding<const N: usize>(
 /// `Clip`): on the M4F 54 instead of 143 instructions per pixel (N = 4, opt-level 3; the
 /// README's "On a microcontroller" has the commands). `tests/soa.rs` checks that the chunked
 /// form equals `encode_u8`.
-const VECTOR_UNITS: bool = cfg!(any(
+pub(crate) const VECTOR_UNITS: bool = cfg!(any(
     target_feature = "sse2",
     target_feature = "neon",
     target_feature = "simd128"
@@ -250,6 +250,36 @@ pub(crate) fn encode_srgb8_planar_portable<const N: usize>(
         let rgb = product_for_encoding(weights, core::array::from_fn(|i| &tail[i]));
         encode_chunk_buffered(&rgb, byte_rest);
     }
+}
+
+/// The portable interleaved sRGB 8-bit loop with `Clip`, for
+/// [`FoldedSet::encode_u8_batch`]: each chunk of [`CHUNK`] pixels transposed into planes on
+/// the stack, then encoded as by [`encode_srgb8_planar_portable`] (a partial last chunk padded
+/// with zeros). `out` holds as many pixels as `samples`.
+pub(crate) fn encode_srgb8_batch_portable<const N: usize>(
+    weights: &[[f32; N]; 3],
+    samples: &[[f32; N]],
+    out: &mut [[u8; 3]],
+) {
+    debug_assert_eq!(samples.len(), out.len());
+    let (chunks, rest) = samples.as_chunks::<CHUNK>();
+    let (byte_chunks, byte_rest) = out.as_flattened_mut().as_chunks_mut::<CHUNK_BYTES>();
+    for (pixels, dst) in chunks.iter().zip(byte_chunks) {
+        let planes = transpose(pixels);
+        encode_chunk(&product_for_encoding(weights, planes.each_ref()), dst);
+    }
+    if !rest.is_empty() {
+        let mut tail = [[0.0f32; N]; CHUNK];
+        tail[..rest.len()].copy_from_slice(rest);
+        let planes = transpose(&tail);
+        encode_chunk_buffered(&product_for_encoding(weights, planes.each_ref()), byte_rest);
+    }
+}
+
+/// One chunk of pixels as planes: `out[i][p]` is sample i of pixel p.
+#[inline(always)]
+fn transpose<const N: usize>(pixels: &[[f32; N]; CHUNK]) -> [[f32; CHUNK]; N] {
+    core::array::from_fn(|i| core::array::from_fn(|p| pixels[p][i]))
 }
 
 impl<const N: usize> FoldedSet<N> {
