@@ -396,17 +396,8 @@ pub(crate) mod avx2 {
         for (row, pair) in rows.iter_mut().zip(pairs) {
             *row = load(pair);
         }
-        let [r0, r1, r2, r3] = rows;
         // Low halves hold pixels 0, 2, 4, 6; high halves 1, 3, 5, 7.
-        let (t0, t1) = (_mm256_unpacklo_ps(r0, r1), _mm256_unpackhi_ps(r0, r1));
-        let (t2, t3) = (_mm256_unpacklo_ps(r2, r3), _mm256_unpackhi_ps(r2, r3));
-        let pd = _mm256_castps_pd;
-        [
-            _mm256_castpd_ps(_mm256_unpacklo_pd(pd(t0), pd(t2))),
-            _mm256_castpd_ps(_mm256_unpackhi_pd(pd(t0), pd(t2))),
-            _mm256_castpd_ps(_mm256_unpacklo_pd(pd(t1), pd(t3))),
-            _mm256_castpd_ps(_mm256_unpackhi_pd(pd(t1), pd(t3))),
-        ]
+        transpose_halves(rows)
     }
 
     /// Samples `i..i + 4` of eight pixels, one register per sample (lane k: pixel k): the
@@ -422,6 +413,14 @@ pub(crate) mod avx2 {
             // SAFETY: `lo` and `hi` are valid for reading 4 f32 each; no alignment requirement.
             *row = unsafe { _mm256_loadu2_m128(hi.as_ptr(), lo.as_ptr()) };
         }
+        transpose_halves(rows)
+    }
+
+    /// A 4 × 4 transpose within each 128-bit half: value k of row i (in its half) becomes
+    /// value i of row k, in both halves at once. Eight shuffles.
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    fn transpose_halves(rows: [__m256; 4]) -> [__m256; 4] {
         let [r0, r1, r2, r3] = rows;
         let (t0, t1) = (_mm256_unpacklo_ps(r0, r1), _mm256_unpackhi_ps(r0, r1));
         let (t2, t3) = (_mm256_unpacklo_ps(r2, r3), _mm256_unpackhi_ps(r2, r3));
