@@ -60,25 +60,20 @@ impl<const N: usize> FoldedSet<N> {
         out: &mut [[u8; 3]],
     ) -> Result<(), Error> {
         check(samples.len(), out.len())?;
-        // For the sRGB curve with `Clip`: the AVX2 loop where the CPU has it (the same bytes;
-        // see `simd`), then the portable loop where the target has vector units.
-        let done = if self.display.is_srgb_clip(mapping) {
+        // For the sRGB curve with `Clip` on a target with vector units: the AVX2 loop where the
+        // CPU has it (the same bytes; see `simd`), then the portable loop for the rest.
+        if crate::soa::VECTOR_UNITS && self.display.is_srgb_clip(mapping) {
             let done =
                 crate::simd::encode_srgb8_batch(&self.weights, samples, out.as_flattened_mut());
-            if crate::soa::VECTOR_UNITS {
-                crate::soa::encode_srgb8_batch_portable(
-                    &self.weights,
-                    &samples[done..],
-                    &mut out[done..],
-                );
-                return Ok(());
-            }
-            done
-        } else {
-            0
-        };
+            crate::soa::encode_srgb8_batch_portable(
+                &self.weights,
+                &samples[done..],
+                &mut out[done..],
+            );
+            return Ok(());
+        }
         // Pixel by pixel: other curves and mappings, and targets without vector units.
-        for (o, s) in out[done..].iter_mut().zip(&samples[done..]) {
+        for (o, s) in out.iter_mut().zip(samples) {
             *o = self.encode_u8(mapping, s);
         }
         Ok(())
