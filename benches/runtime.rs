@@ -710,6 +710,36 @@ fn bandwidth_set<const N: usize>(
             black_box(&mut out);
         })
     });
+    drop(copied);
+    // The same samples in one allocation, each plane 16 KiB after the last, so at the same
+    // offset within a page as the planes of `soa/srgb_u8_in_cache`: these differ from those
+    // only in how far apart they lie (separate allocations of 2²⁵ f32 lie 128 MiB and 4 KiB
+    // apart).
+    const CLOSE_STRIDE: usize = 4096;
+    let mut close = vec![0.0f32; N * CLOSE_STRIDE + 1024];
+    let page_offset = |p: *const f32| p as usize % 4096;
+    // Both addresses are multiples of 4 (f32), so their difference is too.
+    let first = (page_offset(head[0].as_ptr()) + 4096 - page_offset(close.as_ptr())) % 4096 / 4;
+    for (i, plane) in head.iter().enumerate() {
+        let at = first + i * CLOSE_STRIDE;
+        close[at..at + IN_CACHE_PIXELS].copy_from_slice(plane);
+    }
+    let close_planes: [&[f32]; N] = core::array::from_fn(|i| {
+        let at = first + i * CLOSE_STRIDE;
+        &close[at..at + IN_CACHE_PIXELS]
+    });
+    assert!(close_planes
+        .iter()
+        .zip(&head)
+        .all(|(c, h)| page_offset(c.as_ptr()) == page_offset(h.as_ptr())));
+    g.bench_function(format!("soa/srgb_u8_in_cache_close/N{N}"), |b| {
+        b.iter(|| {
+            set.encode_u8_planar(clip, black_box(close_planes), &mut out[..IN_CACHE_PIXELS])
+                .unwrap();
+            black_box(&mut out);
+        })
+    });
+    drop(close);
 
     // The per-pixel API on the same samples, as a renderer would call it per pixel.
     g.throughput(Throughput::Elements(SMALL_PIXELS as u64));
@@ -799,7 +829,8 @@ fn print_ratios(n: usize) {
 ///   against `stream/read_write_3B_spaced/N<n>`, the bound on those planes;
 ///   `soa/srgb_u8_in_cache/N<n>`: the same on the first `IN_CACHE_PIXELS` only, in cache;
 ///   `soa/srgb_u8_in_cache_offset/N<n>`: those samples copied to planes 64 bytes apart modulo
-///   4 KiB;
+///   4 KiB; `soa/srgb_u8_in_cache_close/N<n>`: copied to planes 16 KiB apart, at the same
+///   offset within a page as the bench's planes;
 /// - `per_pixel/srgb_u8/N<n>`: `encode_u8` per pixel on the same planes;
 /// - `full_1nm/srgb_u8`, `full_1nm_8acc/srgb_u8`: the 1 nm integration of the same spectra
 ///   (in-order sums, and 8 partial sums that vectorize), then the same encode.
