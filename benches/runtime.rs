@@ -483,6 +483,28 @@ fn plane_refs<const N: usize>(planes: &[Vec<f32>]) -> [&[f32]; N] {
     core::array::from_fn(|i| &planes[i][..])
 }
 
+/// Case `soa/srgb_u8_in_cache<layout>/N<n>`: `encode_u8_planar` (sRGB, `Clip`) on `planes` of
+/// `IN_CACHE_PIXELS` pixels each, into the front of `out`.
+fn planar_in_cache<const N: usize>(
+    g: &mut BenchmarkGroup<'_, WallTime>,
+    layout: &str,
+    set: &FoldedSet<N>,
+    planes: [&[f32]; N],
+    out: &mut [[u8; 3]],
+) {
+    g.bench_function(format!("soa/srgb_u8_in_cache{layout}/N{N}"), |b| {
+        b.iter(|| {
+            set.encode_u8_planar(
+                GamutMapping::Clip,
+                black_box(planes),
+                &mut out[..IN_CACHE_PIXELS],
+            )
+            .unwrap();
+            black_box(&mut *out);
+        })
+    });
+}
+
 /// The streaming bound: reads every sample of every plane once and writes `B` bytes per pixel
 /// taken from what it read. Nothing else: any conversion must read and write at least this
 /// much.
@@ -686,13 +708,7 @@ fn bandwidth_set<const N: usize>(
     // the cost of the work itself, without waiting for memory.
     g.throughput(Throughput::Elements(IN_CACHE_PIXELS as u64));
     let head: [&[f32]; N] = samples.map(|p| &p[..IN_CACHE_PIXELS]);
-    g.bench_function(format!("soa/srgb_u8_in_cache/N{N}"), |b| {
-        b.iter(|| {
-            set.encode_u8_planar(clip, black_box(head), &mut out[..IN_CACHE_PIXELS])
-                .unwrap();
-            black_box(&mut out);
-        })
-    });
+    planar_in_cache(g, "", set, head, &mut out);
     // The same samples copied into one allocation, plane after plane, each 64 bytes past a
     // multiple of 4 KiB from the last: the planes of `soa/srgb_u8_in_cache` start at the same
     // offset within a page, as separate large allocations of one size do.
@@ -703,13 +719,7 @@ fn bandwidth_set<const N: usize>(
     }
     let copies: [&[f32]; N] =
         core::array::from_fn(|i| &copied[i * stride..i * stride + IN_CACHE_PIXELS]);
-    g.bench_function(format!("soa/srgb_u8_in_cache_offset/N{N}"), |b| {
-        b.iter(|| {
-            set.encode_u8_planar(clip, black_box(copies), &mut out[..IN_CACHE_PIXELS])
-                .unwrap();
-            black_box(&mut out);
-        })
-    });
+    planar_in_cache(g, "_offset", set, copies, &mut out);
     drop(copied);
     // The same samples in one allocation, each plane 16 KiB after the last, so at the same
     // offset within a page as the planes of `soa/srgb_u8_in_cache`: these differ from those
@@ -732,13 +742,7 @@ fn bandwidth_set<const N: usize>(
         .iter()
         .zip(&head)
         .all(|(c, h)| page_offset(c.as_ptr()) == page_offset(h.as_ptr())));
-    g.bench_function(format!("soa/srgb_u8_in_cache_close/N{N}"), |b| {
-        b.iter(|| {
-            set.encode_u8_planar(clip, black_box(close_planes), &mut out[..IN_CACHE_PIXELS])
-                .unwrap();
-            black_box(&mut out);
-        })
-    });
+    planar_in_cache(g, "_close", set, close_planes, &mut out);
     drop(close);
 
     // The per-pixel API on the same samples, as a renderer would call it per pixel.
