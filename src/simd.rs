@@ -437,36 +437,32 @@ pub(crate) mod avx2 {
     /// The three-stage sRGB 8-bit loop over groups `0..groups` into `dst` (24 bytes per group,
     /// at least `groups` of them), with group j's samples from `$load` (`j` bound to the group,
     /// written as a closure but substituted, so that no closure is called); evaluates to the
-    /// number of pixels written (a multiple of 8; 0 for fewer than two groups, which the
-    /// caller's other loop encodes). A macro, so that each source's loads are inlined into the
-    /// loop: functions with target features may not be `#[inline(always)]`, and the compiler
-    /// did not inline a shared function that took the source as a parameter.
+    /// number of pixels written (`groups · 8`: every whole group, even one alone, since a step
+    /// runs only the stages whose group exists). A macro, so that each source's loads are
+    /// inlined into the loop: functions with target features may not be `#[inline(always)]`,
+    /// and the compiler did not inline a shared function that took the source as a parameter.
     macro_rules! encode_srgb8 {
         ($weights:expr, $groups:expr, $dst:expr, $even_odd:expr, |$j:ident| $load:expr) => {{
             let (weights, groups, dst) = ($weights, $groups, $dst);
-            if groups < 2 {
-                0
-            } else {
-                let mut ring = [Slot::ZERO; RING];
-                // Step j: stage 1 of group j, stage 2 of group j − 1, stage 3 of group j − 2,
-                // each where that group exists. One step per iteration, slot indices computed:
-                // unrolled by RING with constant slots, the loop was no faster in cache and
-                // slower from memory on the CPU measured (AMD Zen 3; the commit that made this
-                // change has the figures).
-                for j in 0..groups + 2 {
-                    if j < groups {
-                        let $j = j;
-                        clamp_into(products_for_encoding(weights, &$load), &mut ring[j % RING]);
-                    }
-                    if (1..=groups).contains(&j) {
-                        look_up(&mut ring[(j - 1) % RING]);
-                    }
-                    if j >= 2 {
-                        codes_into(&ring[(j - 2) % RING], $even_odd, &mut dst[j - 2]);
-                    }
+            let mut ring = [Slot::ZERO; RING];
+            // Step j: stage 1 of group j, stage 2 of group j − 1, stage 3 of group j − 2,
+            // each where that group exists. One step per iteration, slot indices computed:
+            // unrolled by RING with constant slots, the loop was no faster in cache and
+            // slower from memory on the CPU measured (AMD Zen 3; the commit that made this
+            // change has the figures).
+            for j in 0..groups + 2 {
+                if j < groups {
+                    let $j = j;
+                    clamp_into(products_for_encoding(weights, &$load), &mut ring[j % RING]);
                 }
-                groups * LANES
+                if (1..=groups).contains(&j) {
+                    look_up(&mut ring[(j - 1) % RING]);
+                }
+                if j >= 2 {
+                    codes_into(&ring[(j - 2) % RING], $even_odd, &mut dst[j - 2]);
+                }
             }
+            groups * LANES
         }};
     }
 
@@ -648,11 +644,11 @@ mod tests {
         }
         compare_linear("portable planar linear", &lin);
 
-        // The AVX2 loops, where this CPU has AVX2. The sRGB loops write whole groups of 8 once
-        // there are two (their pipeline holds two groups in flight).
+        // The AVX2 loops, where this CPU has AVX2. The sRGB loops write every whole group of 8,
+        // a lone one included (their pipeline runs only the stages whose group exists).
         #[cfg(target_arch = "x86_64")]
         if super::avx2::available() {
-            let srgb8_done = if pixels >= 16 { pixels / 8 * 8 } else { 0 };
+            let srgb8_done = pixels / 8 * 8;
             let mut got = std::vec![[0u8; 3]; pixels];
             // SAFETY: the CPU has AVX2.
             let done = unsafe {
