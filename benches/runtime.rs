@@ -483,6 +483,45 @@ fn plane_refs<const N: usize>(planes: &[Vec<f32>]) -> [&[f32]; N] {
     core::array::from_fn(|i| &planes[i][..])
 }
 
+/// Copies of planes in one allocation: plane i at `first + i · stride` f32 into it.
+struct OneAllocation {
+    all: Vec<f32>,
+    first: usize,
+    stride: usize,
+    len: usize,
+}
+
+impl OneAllocation {
+    /// `planes` (of one length) copied `stride` f32 apart, with `slack` f32 more allocated in
+    /// front of the first; `first` picks where in that slack the first plane starts, from the
+    /// allocation's start address.
+    fn new<const N: usize>(
+        planes: [&[f32]; N],
+        stride: usize,
+        slack: usize,
+        first: impl FnOnce(*const f32) -> usize,
+    ) -> Self {
+        let len = planes[0].len();
+        assert!(len <= stride && planes.iter().all(|p| p.len() == len));
+        let mut all = vec![0.0f32; slack + (N - 1) * stride + len];
+        let first = first(all.as_ptr());
+        assert!(first <= slack);
+        for (i, plane) in planes.iter().enumerate() {
+            all[first + i * stride..][..len].copy_from_slice(plane);
+        }
+        Self {
+            all,
+            first,
+            stride,
+            len,
+        }
+    }
+
+    fn planes<const N: usize>(&self) -> [&[f32]; N] {
+        core::array::from_fn(|i| &self.all[self.first + i * self.stride..][..self.len])
+    }
+}
+
 /// Case `soa/srgb_u8_in_cache<layout>/N<n>`: `encode_u8_planar` (sRGB, `Clip`) on `planes` of
 /// `IN_CACHE_PIXELS` pixels each, into the front of `out`.
 fn planar_in_cache<const N: usize>(
@@ -667,13 +706,8 @@ fn bandwidth_set<const N: usize>(
     // and 4 KiB apart, and planes that far apart slow the streaming loads on the CPU of the
     // README's figures (AMD Zen 3): the bound and the path are measured again on these, each
     // against the other.
-    let stride = BIG_PIXELS + SPACING;
-    let mut spaced = vec![0.0f32; N * stride];
-    for (i, plane) in samples.iter().enumerate() {
-        spaced[i * stride..i * stride + BIG_PIXELS].copy_from_slice(plane);
-    }
-    let spaced_planes: [&[f32]; N] =
-        core::array::from_fn(|i| &spaced[i * stride..i * stride + BIG_PIXELS]);
+    let spaced = OneAllocation::new(samples, BIG_PIXELS + SPACING, 0, |_| 0);
+    let spaced_planes: [&[f32]; N] = spaced.planes();
     let bytes = out.as_flattened_mut();
     g.bench_function(format!("stream/read_write_3B_spaced/N{N}"), |b| {
         ran(&format!("stream/read_write_3B_spaced/N{N}"));
@@ -712,32 +746,21 @@ fn bandwidth_set<const N: usize>(
     // The same samples copied into one allocation, plane after plane, each 64 bytes past a
     // multiple of 4 KiB from the last: the planes of `soa/srgb_u8_in_cache` start at the same
     // offset within a page, as separate large allocations of one size do.
-    let stride = IN_CACHE_PIXELS + 16;
-    let mut copied = vec![0.0f32; N * stride];
-    for (i, plane) in head.iter().enumerate() {
-        copied[i * stride..i * stride + IN_CACHE_PIXELS].copy_from_slice(plane);
-    }
-    let copies: [&[f32]; N] =
-        core::array::from_fn(|i| &copied[i * stride..i * stride + IN_CACHE_PIXELS]);
+    let copied = OneAllocation::new(head, IN_CACHE_PIXELS + 16, 0, |_| 0);
+    let copies: [&[f32]; N] = copied.planes();
     planar_in_cache(g, "_offset", set, copies, &mut out);
     drop(copied);
     // The same samples in one allocation, each plane 16 KiB after the last, so at the same
     // offset within a page as the planes of `soa/srgb_u8_in_cache`: these differ from those
     // only in how far apart they lie (separate allocations of 2²⁵ f32 lie 128 MiB and 4 KiB
     // apart).
-    const CLOSE_STRIDE: usize = 4096;
-    let mut close = vec![0.0f32; N * CLOSE_STRIDE + 1024];
     let page_offset = |p: *const f32| p as usize % 4096;
-    // Both addresses are multiples of 4 (f32), so their difference is too.
-    let first = (page_offset(head[0].as_ptr()) + 4096 - page_offset(close.as_ptr())) % 4096 / 4;
-    for (i, plane) in head.iter().enumerate() {
-        let at = first + i * CLOSE_STRIDE;
-        close[at..at + IN_CACHE_PIXELS].copy_from_slice(plane);
-    }
-    let close_planes: [&[f32]; N] = core::array::from_fn(|i| {
-        let at = first + i * CLOSE_STRIDE;
-        &close[at..at + IN_CACHE_PIXELS]
+    // In f32, from the allocation's start to the first f32 at the offset of `head[0]`; both
+    // addresses are multiples of 4, so their difference is too.
+    let close = OneAllocation::new(head, 4096, 1024, |start| {
+        (page_offset(head[0].as_ptr()) + 4096 - page_offset(start)) % 4096 / 4
     });
+    let close_planes: [&[f32]; N] = close.planes();
     assert!(close_planes
         .iter()
         .zip(&head)
