@@ -730,9 +730,9 @@ mod tests {
         check(&random_set::<3>(6), 100_007, 7);
         check(&random_set::<5>(8), 100_009, 9);
         check(&random_set::<16>(10), 100_011, 11);
-        // Fewer pixels than one group: the tails alone; one group and a part; two, three and
-        // five groups (the pipeline's shortest runs), and one step of the linear loop and a
-        // part.
+        // Fewer pixels than one group: the tails alone; one group and a part (the pipeline's
+        // shortest run, where no two stages overlap); two, three and five groups, and one step
+        // of the linear loop and a part.
         check(&TABLE2_ROW2_SRGB, 7, 12);
         check(&TABLE2_ROW2_SRGB, 0, 13);
         for (pixels, seed) in [(9, 14), (16, 15), (17, 16), (24, 17), (40, 18), (31, 19)] {
