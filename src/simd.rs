@@ -9,7 +9,8 @@
 //!   The sRGB 8-bit loops pass each group of eight pixels through three stages (vector
 //!   product and clamp, scalar table loads, vector code values and interleave), a group apart,
 //!   so that the table loads overlap the vector work; the planar loops ask for their samples
-//!   a few cache lines ahead.
+//!   a few cache lines ahead, and above four planes go through blocks of pixels four planes
+//!   at a time, with partial sums on the stack.
 //!
 //! Every path computes each channel with the same f32 operations in the same order as
 //! [`set::mat_vec_for_encoding`](crate::set::mat_vec_for_encoding) (or
@@ -175,21 +176,28 @@ pub(crate) mod avx2 {
         _mm_prefetch::<_MM_HINT_T0>(p.cast());
     }
 
-    /// `weights · samples` for eight pixels (one per lane), each channel from its first product
-    /// with the rest added in index order: `set::mat_vec_for_encoding`, lane by lane.
+    /// `weights · samples` for eight pixels (one per lane), channel c as `start[c]` plus the
+    /// products `weights[c][i] · s[i]` added in index order; with `start` `None`, each channel
+    /// from its first product with the rest added in index order: `set::mat_vec_for_encoding`,
+    /// lane by lane (and, from `Some` of zeros, `set::mat_vec`).
     #[inline]
     #[target_feature(enable = "avx2")]
-    fn products_for_encoding<const N: usize>(
+    fn add_products<const N: usize>(
         weights: &[[f32; N]; 3],
         s: &[__m256; N],
+        start: Option<[__m256; 3]>,
     ) -> [__m256; 3] {
         // Plain loops, no closures: a closure is compiled without the enclosing function's
         // target features, and its calls would not be inlined.
         let mut out = [_mm256_setzero_ps(); 3];
-        for (acc, row) in out.iter_mut().zip(weights) {
+        for (c, (acc, row)) in out.iter_mut().zip(weights).enumerate() {
             for (i, (w, s)) in row.iter().zip(s).enumerate() {
                 let p = _mm256_mul_ps(_mm256_set1_ps(*w), *s);
-                *acc = if i == 0 { p } else { _mm256_add_ps(*acc, p) };
+                *acc = match (i, start) {
+                    (0, None) => p,
+                    (0, Some(start)) => _mm256_add_ps(start[c], p),
+                    _ => _mm256_add_ps(*acc, p),
+                };
             }
         }
         out
@@ -435,15 +443,15 @@ pub(crate) mod avx2 {
     }
 
     /// The three-stage sRGB 8-bit loop over groups `0..groups` into `dst` (24 bytes per group,
-    /// at least `groups` of them), with group j's samples from `$load` (`j` bound to the group,
-    /// written as a closure but substituted, so that no closure is called); evaluates to the
-    /// number of pixels written (`groups · 8`: every whole group, even one alone, since a step
-    /// runs only the stages whose group exists). A macro, so that each source's loads are
+    /// at least `groups` of them), with group j's three channels from `$products` (`j` bound to
+    /// the group, written as a closure but substituted, so that no closure is called). It writes
+    /// every whole group, even one alone, since a step runs only the stages whose group
+    /// exists. A macro, so that each source's loads are
     /// inlined into the loop: functions with target features may not be `#[inline(always)]`,
     /// and the compiler did not inline a shared function that took the source as a parameter.
     macro_rules! encode_srgb8 {
-        ($weights:expr, $groups:expr, $dst:expr, $even_odd:expr, |$j:ident| $load:expr) => {{
-            let (weights, groups, dst) = ($weights, $groups, $dst);
+        ($groups:expr, $dst:expr, $even_odd:expr, |$j:ident| $products:expr) => {{
+            let (groups, dst) = ($groups, $dst);
             let mut ring = [Slot::ZERO; RING];
             // Step j: stage 1 of group j, stage 2 of group j − 1, stage 3 of group j − 2,
             // each where that group exists. One step per iteration, slot indices computed:
@@ -453,7 +461,7 @@ pub(crate) mod avx2 {
             for j in 0..groups + 2 {
                 if j < groups {
                     let $j = j;
-                    clamp_into(products_for_encoding(weights, &$load), &mut ring[j % RING]);
+                    clamp_into($products, &mut ring[j % RING]);
                 }
                 if (1..=groups).contains(&j) {
                     look_up(&mut ring[(j - 1) % RING]);
@@ -462,13 +470,26 @@ pub(crate) mod avx2 {
                     codes_into(&ring[(j - 2) % RING], $even_odd, &mut dst[j - 2]);
                 }
             }
-            groups * LANES
         }};
+    }
+
+    /// `$f::<K>($args)` with K the number of planes of the last pass, `$k` (1 to 4), as a
+    /// constant: the last pass's arrays are K wide.
+    macro_rules! with_last_pass {
+        ($k:expr, $f:ident($($arg:expr),*)) => {
+            match $k {
+                1 => $f::<1>($($arg),*),
+                2 => $f::<2>($($arg),*),
+                3 => $f::<3>($($arg),*),
+                _ => $f::<4>($($arg),*),
+            }
+        };
     }
 
     /// The planar sRGB 8-bit loop over whole groups of eight pixels: `planes[i]` and `out`
     /// (3 bytes per pixel) hold the same number of pixels. Returns how many pixels it wrote
-    /// (a multiple of 8); the caller encodes the rest.
+    /// (a multiple of 8); the caller encodes the rest. Above [`PASS_PLANES`] planes, in passes
+    /// (see there).
     #[target_feature(enable = "avx2")]
     pub(crate) fn encode_srgb8_planar<const N: usize>(
         weights: &[[f32; N]; 3],
@@ -479,7 +500,56 @@ pub(crate) mod avx2 {
         let (dst, _) = out.as_chunks_mut::<{ 3 * LANES }>();
         let groups = planes.iter().map(|p| p.len()).fold(dst.len(), usize::min);
         let dst = &mut dst[..groups];
-        encode_srgb8!(weights, groups, dst, false, |j| plane_group!(planes, j))
+        if N <= PASS_PLANES {
+            encode_srgb8!(groups, dst, false, |j| add_products(
+                weights,
+                &plane_group!(planes, j),
+                None
+            ));
+            return groups * LANES;
+        }
+        let mut sums = Sums::ZERO;
+        for (b, dst) in dst.chunks_mut(BLOCK_GROUPS).enumerate() {
+            let first = b * BLOCK_GROUPS;
+            add_passes(
+                weights,
+                &planes,
+                first,
+                dst.len(),
+                Start::FirstProduct,
+                &mut sums,
+            );
+            let last = last_pass_from::<N>();
+            with_last_pass!(
+                N - last,
+                encode_srgb8_last_pass(
+                    &columns(weights, last),
+                    &sub(&planes, last),
+                    first,
+                    &sums,
+                    dst
+                )
+            );
+        }
+        groups * LANES
+    }
+
+    /// The last pass of a block of the planar sRGB 8-bit loop: group j of `dst` from the
+    /// block's partial sums plus the products of the last planes (`planes`, with their
+    /// `weights`) for group `first + j`, through the three stages.
+    #[target_feature(enable = "avx2")]
+    fn encode_srgb8_last_pass<const N: usize>(
+        weights: &[[f32; N]; 3],
+        planes: &[&[[f32; LANES]]; N],
+        first: usize,
+        sums: &Sums,
+        dst: &mut [[u8; 3 * LANES]],
+    ) {
+        encode_srgb8!(dst.len(), dst, false, |j| add_products(
+            weights,
+            &plane_group!(*planes, first + j),
+            Some(sums.get(j))
+        ));
     }
 
     /// The interleaved (one `[f32; N]` per pixel) sRGB 8-bit loop over whole groups of eight
@@ -494,16 +564,147 @@ pub(crate) mod avx2 {
         let (dst, _) = out.as_chunks_mut::<{ 3 * LANES }>();
         let groups = pixels.len().min(dst.len());
         let (pixels, dst) = (&pixels[..groups], &mut dst[..groups]);
-        encode_srgb8!(weights, groups, dst, N == 4, |j| transpose(&pixels[j]))
+        encode_srgb8!(groups, dst, N == 4, |j| add_products(
+            weights,
+            &transpose(&pixels[j]),
+            None
+        ));
+        groups * LANES
+    }
+
+    // --- Planes in passes ---------------------------------------------------------------------
+    //
+    // With more than `PASS_PLANES` planes, the planar loops go through the pixels in blocks of
+    // `BLOCK_GROUPS` groups, and through each block's planes four at a time: each pass but the
+    // last adds four planes' products to the block's partial sums, held on the stack (in the
+    // first-level cache); the last pass adds the last one to four planes' products and encodes
+    // the block or writes it out. Each sum still takes its products in index order, rounded
+    // as in one pass (an f32 stored and loaded back is unchanged), so the bits are those of the
+    // one-pass loop. The loops then read four input streams at a time instead of N: from
+    // memory, on the CPU measured (AMD Zen 3), planar linear output went from 59-65 % to
+    // 74-100 % of its bound at N = 16, and planar sRGB at N = 8 from 55-59 % to 61-78 % (the
+    // README's Performance section has the figures).
+
+    /// Planes per pass: at most this many input streams are read at a time.
+    const PASS_PLANES: usize = 4;
+
+    /// Groups per block: 1024 pixels, 4 KiB of each plane, 12 KiB of partial sums.
+    pub(crate) const BLOCK_GROUPS: usize = 128;
+
+    /// A block's partial sums: channel by channel, eight lanes per group.
+    struct Sums([[[f32; LANES]; BLOCK_GROUPS]; 3]);
+
+    impl Sums {
+        const ZERO: Sums = Sums([[[0.0; LANES]; BLOCK_GROUPS]; 3]);
+
+        /// Group j's three partial sums.
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        fn get(&self, j: usize) -> [__m256; 3] {
+            [
+                load(&self.0[0][j]),
+                load(&self.0[1][j]),
+                load(&self.0[2][j]),
+            ]
+        }
+
+        /// Sets group j's three partial sums.
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        fn set(&mut self, j: usize, v: [__m256; 3]) {
+            for (s, v) in self.0.iter_mut().zip(v) {
+                // SAFETY: `s[j]` is valid for writing 8 f32; no alignment requirement.
+                unsafe { _mm256_storeu_ps(s[j].as_mut_ptr(), v) };
+            }
+        }
+    }
+
+    /// The first plane of the last pass: the passes before it take four planes each, the last
+    /// one to four.
+    const fn last_pass_from<const N: usize>() -> usize {
+        N.saturating_sub(1) / PASS_PLANES * PASS_PLANES
+    }
+
+    /// Columns `from..from + K` of `weights`.
+    #[inline]
+    fn columns<const N: usize, const K: usize>(
+        weights: &[[f32; N]; 3],
+        from: usize,
+    ) -> [[f32; K]; 3] {
+        core::array::from_fn(|c| core::array::from_fn(|i| weights[c][from + i]))
+    }
+
+    /// Planes `from..from + K`.
+    #[inline]
+    fn sub<'a, T, const N: usize, const K: usize>(
+        planes: &[&'a [T]; N],
+        from: usize,
+    ) -> [&'a [T]; K] {
+        core::array::from_fn(|i| planes[from + i])
+    }
+
+    /// Every pass of a block but the last: groups `first..first + groups` of the planes before
+    /// [`last_pass_from`] into `sums` (group `first + j` at j), four planes at a time, the first
+    /// pass from `start`.
+    #[target_feature(enable = "avx2")]
+    fn add_passes<const N: usize>(
+        weights: &[[f32; N]; 3],
+        planes: &[&[[f32; LANES]]; N],
+        first: usize,
+        groups: usize,
+        start: Start,
+        sums: &mut Sums,
+    ) {
+        for from in (0..last_pass_from::<N>()).step_by(PASS_PLANES) {
+            let start = if from > 0 { Start::Sums } else { start };
+            add_pass::<PASS_PLANES>(
+                &columns(weights, from),
+                &sub(planes, from),
+                first,
+                groups,
+                start,
+                sums,
+            );
+        }
+    }
+
+    /// Where a pass's sums start.
+    #[derive(Clone, Copy)]
+    enum Start {
+        /// From 0.0 (`set::mat_vec`).
+        Zero,
+        /// From the first product (`set::mat_vec_for_encoding`).
+        FirstProduct,
+        /// From the block's partial sums.
+        Sums,
+    }
+
+    /// One pass of [`add_passes`]: the products of `planes` (with their `weights`) for groups
+    /// `first..first + groups`, added to `start`, into `sums`.
+    #[target_feature(enable = "avx2")]
+    fn add_pass<const N: usize>(
+        weights: &[[f32; N]; 3],
+        planes: &[&[[f32; LANES]]; N],
+        first: usize,
+        groups: usize,
+        start: Start,
+        sums: &mut Sums,
+    ) {
+        for j in 0..groups {
+            let s = plane_group!(*planes, first + j);
+            let start = match start {
+                Start::Zero => Some([_mm256_setzero_ps(); 3]),
+                Start::FirstProduct => None,
+                Start::Sums => Some(sums.get(j)),
+            };
+            let v = add_products(weights, &s, start);
+            sums.set(j, v);
+        }
     }
 
     /// The planar linear f32 loop over whole pairs of groups (16 pixels); returns how many
-    /// pixels it wrote (a multiple of 16).
-    ///
-    /// Each step writes 64 bytes to the red plane, then 64 to green, then 64 to blue, a cache
-    /// line's worth at a time, rather than eight pixels of each plane in turn, which filled
-    /// every output line in two visits and was slower from memory on the CPU measured (AMD
-    /// Zen 3; the README's Performance section has the figures).
+    /// pixels it wrote (a multiple of 16). Above [`PASS_PLANES`] planes, in passes (see
+    /// there).
     #[target_feature(enable = "avx2")]
     pub(crate) fn linear_planar<const N: usize>(
         weights: &[[f32; N]; 3],
@@ -511,16 +712,59 @@ pub(crate) mod avx2 {
         out: [&mut [f32]; 3],
     ) -> usize {
         let planes: [&[[f32; LANES]]; N] = planes.map(|p| p.as_chunks::<LANES>().0);
-        let [r, g, b] = out;
-        let chunks = r
-            .as_chunks_mut::<{ 2 * LANES }>()
-            .0
-            .iter_mut()
-            .zip(g.as_chunks_mut::<{ 2 * LANES }>().0)
-            .zip(b.as_chunks_mut::<{ 2 * LANES }>().0);
+        let out = out.map(|o| o.as_chunks_mut::<{ 2 * LANES }>().0);
         let pairs = planes.iter().map(|p| p.len()).min().unwrap_or(0) / 2;
-        let mut done = 0;
-        for (j, ((r, g), b)) in chunks.take(pairs).enumerate() {
+        let pairs = out.iter().map(|o| o.len()).fold(pairs, usize::min);
+        let [r, g, b] = out;
+        let (r, g, b) = (&mut r[..pairs], &mut g[..pairs], &mut b[..pairs]);
+        if N <= PASS_PLANES {
+            linear_last_pass(weights, &planes, 0, None, [r, g, b]);
+            return pairs * 2 * LANES;
+        }
+        let mut sums = Sums::ZERO;
+        let block = BLOCK_GROUPS / 2;
+        let blocks = r
+            .chunks_mut(block)
+            .zip(g.chunks_mut(block))
+            .zip(b.chunks_mut(block));
+        for (k, ((r, g), b)) in blocks.enumerate() {
+            let first = 2 * k * block;
+            add_passes(weights, &planes, first, 2 * r.len(), Start::Zero, &mut sums);
+            let last = last_pass_from::<N>();
+            with_last_pass!(
+                N - last,
+                linear_last_pass(
+                    &columns(weights, last),
+                    &sub(&planes, last),
+                    first,
+                    Some(&sums),
+                    [r, g, b]
+                )
+            );
+        }
+        pairs * 2 * LANES
+    }
+
+    /// The planar linear loop's last pass (its only one up to [`PASS_PLANES`] planes): pair k
+    /// of `out` (16 pixels of each channel) from `sums` (pair k's groups, 2k and 2k + 1), or
+    /// from 0.0 without, plus the products of `planes` (with their `weights`) for groups
+    /// `first + 2k` and `first + 2k + 1`.
+    ///
+    /// Each step writes 64 bytes to the red plane, then 64 to green, then 64 to blue, a cache
+    /// line's worth at a time, rather than eight pixels of each plane in turn, which filled
+    /// every output line in two visits and was slower from memory on the CPU measured (AMD
+    /// Zen 3; the README's Performance section has the figures).
+    #[target_feature(enable = "avx2")]
+    fn linear_last_pass<const N: usize>(
+        weights: &[[f32; N]; 3],
+        planes: &[&[[f32; LANES]]; N],
+        first: usize,
+        sums: Option<&Sums>,
+        out: [&mut [[f32; 2 * LANES]]; 3],
+    ) {
+        let [r, g, b] = out;
+        for (k, ((r, g), b)) in r.iter_mut().zip(g.iter_mut()).zip(b.iter_mut()).enumerate() {
+            let j = first + 2 * k;
             // Both halves of each plane's 64-byte line together, plane after plane: planes that
             // lie 128 MiB and 4 KiB apart (consecutive allocations of 2²⁵ f32) are read more
             // slowly on the CPU measured (AMD Zen 3; README, Performance), and reading each
@@ -528,27 +772,28 @@ pub(crate) mod avx2 {
             // halves, then all second halves.
             let mut s = [[_mm256_setzero_ps(); N]; 2];
             for (i, p) in planes.iter().enumerate() {
-                prefetch(p.as_ptr().wrapping_add(2 * j + PREFETCH_GROUPS));
-                // SAFETY: j < pairs, so 2j + 1 is below every plane's length.
-                let (a, b) = unsafe { (p.get_unchecked(2 * j), p.get_unchecked(2 * j + 1)) };
+                prefetch(p.as_ptr().wrapping_add(j + PREFETCH_GROUPS));
+                debug_assert!(j + 1 < p.len());
+                // SAFETY: the callers pass pairs below the length of every plane (halved).
+                let (a, b) = unsafe { (p.get_unchecked(j), p.get_unchecked(j + 1)) };
                 s[0][i] = load(a);
                 s[1][i] = load(b);
             }
-            for (o, row) in [r, g, b].into_iter().zip(weights) {
-                for (half, s) in o.as_chunks_mut::<LANES>().0.iter_mut().zip(&s) {
-                    // From 0.0, in index order: `set::mat_vec`, lane by lane, so bit for bit
-                    // `FoldedSet::linear_rgb` (a −0.0 sum comes out +0.0).
-                    let mut acc = _mm256_setzero_ps();
-                    for (w, s) in row.iter().zip(s) {
-                        acc = _mm256_add_ps(acc, _mm256_mul_ps(_mm256_set1_ps(*w), *s));
-                    }
+            let mut halves = [[_mm256_setzero_ps(); 3]; 2];
+            for (h, (half, s)) in halves.iter_mut().zip(&s).enumerate() {
+                let start = match sums {
+                    Some(sums) => sums.get(2 * k + h),
+                    None => [_mm256_setzero_ps(); 3],
+                };
+                *half = add_products(weights, s, Some(start));
+            }
+            for (c, o) in [r, g, b].into_iter().enumerate() {
+                for (h, half) in o.as_chunks_mut::<LANES>().0.iter_mut().enumerate() {
                     // SAFETY: `half` is valid for writing 8 f32; no alignment requirement.
-                    unsafe { _mm256_storeu_ps(half.as_mut_ptr(), acc) };
+                    unsafe { _mm256_storeu_ps(half.as_mut_ptr(), halves[h][c]) };
                 }
             }
-            done += 2 * LANES;
         }
-        done
     }
 }
 
@@ -713,6 +958,38 @@ mod tests {
             weights: [0, 1, 2].map(|_| core::array::from_fn(|_| 2.0 * rng.unit() - 0.6)),
             samples: TABLE2_ROW2_SRGB.samples,
             display: TABLE2_ROW2_SRGB.display,
+        }
+    }
+
+    /// Pixels per block of the planar loops in passes (`avx2::BLOCK_GROUPS` groups of 8), so
+    /// that the counts of the test below fall on and around the blocks' ends.
+    const BLOCK: usize = 1024;
+    #[cfg(target_arch = "x86_64")]
+    const _: () = assert!(BLOCK == super::avx2::BLOCK_GROUPS * super::avx2::LANES);
+
+    #[test]
+    fn the_loops_in_passes_give_the_per_pixel_bytes_around_their_blocks() {
+        // More than four planes: passes of four planes over blocks of 1024 pixels, the last
+        // pass with one (N = 5, 9), two (6), three (7) or four planes (8, 12, 16). One block,
+        // a block and a group, two blocks less a group, two and a part, three and a pair.
+        for (k, pixels) in [
+            BLOCK,
+            BLOCK + 8,
+            2 * BLOCK - 8,
+            2 * BLOCK + 21,
+            3 * BLOCK + 16,
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            let seed = 100 * (k as u64 + 2);
+            check(&random_set::<5>(seed), pixels, seed + 1);
+            check(&random_set::<6>(seed), pixels, seed + 2);
+            check(&random_set::<7>(seed), pixels, seed + 3);
+            check(&KQ_C_8_SRGB, pixels, seed + 4);
+            check(&random_set::<9>(seed), pixels, seed + 5);
+            check(&random_set::<12>(seed), pixels, seed + 6);
+            check(&random_set::<16>(seed), pixels, seed + 7);
         }
     }
 
