@@ -616,6 +616,83 @@ fn stream_planes<const N: usize>(planes: [&[f32]; N], out: [&mut [f32]; 3]) {
     }
 }
 
+/// The reads of [`stream`] and [`stream_planes`] in the order of the planar loops above four
+/// planes: blocks of `PASS_BLOCK` pixels, and within a block the planes four at a time, 16
+/// pixels of each in turn, their bits xored into the block's values (on the stack); then
+/// `emit(first pixel, values)` writes the block's output. Reading N planes at once is not the
+/// fastest way to read them all from N = 6 up on the CPU of the README's figures, so the
+/// bound for those widths is the faster of the two orders.
+fn xor_in_passes<const N: usize>(planes: [&[f32]; N], mut emit: impl FnMut(usize, &[u32])) {
+    const CHUNK: usize = 16;
+    const PASS_PLANES: usize = 4;
+    const PASS_BLOCK: usize = 1024;
+    let pixels = planes[0].len();
+    assert!(pixels.is_multiple_of(CHUNK) && planes.iter().all(|p| p.len() == pixels));
+    let mut values = [0u32; PASS_BLOCK];
+    for first in (0..pixels).step_by(PASS_BLOCK) {
+        let values = &mut values[..PASS_BLOCK.min(pixels - first)];
+        for (k, pass) in planes.chunks(PASS_PLANES).enumerate() {
+            let (chunks, _) = values.as_chunks_mut::<CHUNK>();
+            for (c, v) in chunks.iter_mut().enumerate() {
+                let at = first + c * CHUNK;
+                // In a local array, from 0 in the first pass: the loop then vectorizes.
+                let mut acc = if k == 0 { [0; CHUNK] } else { *v };
+                for plane in pass {
+                    // Each line asked for 256 bytes ahead, as the planar loops do: without it,
+                    // reads that stop at every block's end for other planes wait for memory.
+                    #[cfg(target_arch = "x86_64")]
+                    // SAFETY: a prefetch is a hint; it reads nothing and any address is allowed.
+                    unsafe {
+                        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+                        _mm_prefetch::<_MM_HINT_T0>(plane.as_ptr().wrapping_add(at + 64).cast());
+                    }
+                    let (x, _) = plane[at..].split_first_chunk::<CHUNK>().unwrap();
+                    for (a, x) in acc.iter_mut().zip(x) {
+                        *a ^= x.to_bits();
+                    }
+                }
+                *v = acc;
+            }
+        }
+        emit(first, values);
+    }
+}
+
+/// [`stream`] with the reads of [`xor_in_passes`]: each block's values, repeated, are its
+/// `B` bytes per pixel.
+fn stream_in_passes<const N: usize, const B: usize>(planes: [&[f32]; N], out: &mut [u8]) {
+    assert_eq!(out.len(), B * planes[0].len());
+    xor_in_passes(planes, |first, values| {
+        let o = &mut out[B * first..B * (first + values.len())];
+        // As in `stream`: each 16 values' bytes, repeated, are their pixels' B · 16 bytes.
+        let (chunks, _) = values.as_chunks::<16>();
+        for (o, v) in o.chunks_exact_mut(B * 16).zip(chunks) {
+            let mut bytes = [0u8; 64];
+            for (b, v) in bytes.chunks_exact_mut(4).zip(v) {
+                b.copy_from_slice(&v.to_le_bytes());
+            }
+            for o in o.chunks_mut(64) {
+                let n = o.len();
+                o.copy_from_slice(&bytes[..n]);
+            }
+        }
+    });
+}
+
+/// [`stream_planes`] with the reads of [`xor_in_passes`].
+fn stream_planes_in_passes<const N: usize>(planes: [&[f32]; N], out: [&mut [f32]; 3]) {
+    assert!(out.iter().all(|o| o.len() == planes[0].len()));
+    let [r, g, b] = out;
+    xor_in_passes(planes, |first, values| {
+        let range = first..first + values.len();
+        for o in [&mut r[range.clone()], &mut g[range.clone()], &mut b[range]] {
+            for (o, v) in o.iter_mut().zip(values) {
+                *o = f32::from_bits(*v);
+            }
+        }
+    });
+}
+
 /// One set's part of the bandwidth group: the streaming bounds for its input, the planar path
 /// into linear f32 and into sRGB u8 (all on `BIG_PIXELS` pixels), the sRGB u8 path again on the
 /// first `IN_CACHE_PIXELS`, and the per-pixel API on the first `SMALL_PIXELS`.
@@ -650,6 +727,12 @@ fn bandwidth_set<const N: usize>(
         ran(&format!("stream/read_write_3B/N{N}"));
         b.iter(|| stream::<N, 3>(black_box(samples), black_box(&mut bytes)))
     });
+    if N > 4 {
+        g.bench_function(format!("stream/read_write_3B_passes/N{N}"), |b| {
+            ran(&format!("stream/read_write_3B_passes/N{N}"));
+            b.iter(|| stream_in_passes::<N, 3>(black_box(samples), black_box(&mut bytes)))
+        });
+    }
     drop(bytes);
     let mut bytes = vec![0u8; 12 * BIG_PIXELS];
     g.bench_function(format!("stream/read_write_12B/N{N}"), |b| {
@@ -667,6 +750,16 @@ fn bandwidth_set<const N: usize>(
             black_box(&mut lin);
         })
     });
+    if N > 4 {
+        g.bench_function(format!("stream/read_write_3x4B_passes/N{N}"), |b| {
+            ran(&format!("stream/read_write_3x4B_passes/N{N}"));
+            b.iter(|| {
+                let [r, gr, bl] = &mut lin;
+                stream_planes_in_passes::<N>(black_box(samples), [r, gr, bl]);
+                black_box(&mut lin);
+            })
+        });
+    }
     g.bench_function(format!("soa/linear/N{N}"), |b| {
         ran(&format!("soa/linear/N{N}"));
         b.iter(|| {
@@ -818,11 +911,14 @@ fn median_ns(id: &str) -> Option<f64> {
 fn print_ratios(n: usize) {
     let cases = [
         ("soa/srgb_u8", "stream/read_write_3B"),
+        ("soa/srgb_u8", "stream/read_write_3B_passes"),
         ("soa/srgb_u8_spaced", "stream/read_write_3B_spaced"),
         ("soa/linear", "stream/read_write_3x4B"),
+        ("soa/linear", "stream/read_write_3x4B_passes"),
         ("soa/linear", "stream/read_write_12B"),
         ("soa/linear_offset", "stream/read_write_12B"),
         ("aos/srgb_u8", "stream/read_write_3B"),
+        ("aos/srgb_u8", "stream/read_write_3B_passes"),
     ];
     for (path, bound) in cases {
         let (Some(p), Some(b)) = (
@@ -847,7 +943,10 @@ fn print_ratios(n: usize) {
 /// - `stream/read_write_3B/N<n>`: read N·4 bytes per pixel, write 3 (the bound for sRGB u8);
 ///   `stream/read_write_12B/N<n>`: write 12, interleaved; `stream/read_write_3x4B/N<n>`: write
 ///   4 into each of three planes, the buffers of `soa/linear` (the bound for planar linear f32;
-///   see [`stream_planes`]);
+///   see [`stream_planes`]); above four planes also `stream/read_write_3B_passes/N<n>` and
+///   `stream/read_write_3x4B_passes/N<n>`, the same bytes read four planes at a time over
+///   blocks of pixels, as the planar loops read them there (see [`xor_in_passes`]): the bound
+///   is the faster of the two;
 /// - `soa/linear/N<n>`: `linear_rgb_planar`, N planes → 3 planes of f32;
 ///   `soa/linear_offset/N<n>`: the same into output planes shifted by 0, 1 and 2 cache lines;
 /// - `soa/srgb_u8/N<n>`: `encode_u8_planar` (sRGB, Clip) → interleaved `[u8; 3]`;
