@@ -619,9 +619,9 @@ fn stream_planes<const N: usize>(planes: [&[f32]; N], out: [&mut [f32]; 3]) {
 /// The reads of [`stream`] and [`stream_planes`] in the order of the planar loops above four
 /// planes: blocks of `PASS_BLOCK` pixels, and within a block the planes four at a time, 16
 /// pixels of each in turn, their bits xored into the block's values (on the stack); then
-/// `emit(first pixel, values)` writes the block's output. Reading N planes at once is not the
-/// fastest way to read them all from N = 6 up on the CPU of the README's figures, so the
-/// bound for those widths is the faster of the two orders.
+/// `emit(first pixel, values)` writes the block's output. Neither order was the faster at
+/// every width on the CPU of the README's figures, so the bound above four planes is the
+/// faster of the two.
 fn xor_in_passes<const N: usize>(planes: [&[f32]; N], mut emit: impl FnMut(usize, &[u32])) {
     const CHUNK: usize = 16;
     const PASS_PLANES: usize = 4;

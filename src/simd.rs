@@ -580,10 +580,10 @@ pub(crate) mod avx2 {
     // first-level cache); the last pass adds the last one to four planes' products and encodes
     // the block or writes it out. Each sum still takes its products in index order, rounded
     // as in one pass (an f32 stored and loaded back is unchanged), so the bits are those of the
-    // one-pass loop. The loops then read four input streams at a time instead of N: from
-    // memory, on the CPU measured (AMD Zen 3), planar linear output went from 59-65 % to
-    // 74-100 % of its bound at N = 16, and planar sRGB at N = 8 from 55-59 % to 61-78 % (the
-    // README's Performance section has the figures).
+    // one-pass loop. The loops then read four input streams at a time instead of N, which on
+    // the CPU measured (AMD Zen 3) was faster from eight planes up for both loops, and at six
+    // for linear output; the sRGB loop at six lost a few per cent (the README's Performance
+    // section has the figures).
 
     /// Planes per pass: at most this many input streams are read at a time.
     const PASS_PLANES: usize = 4;
