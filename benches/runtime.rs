@@ -569,15 +569,21 @@ fn stream<const N: usize, const B: usize>(planes: [&[f32]; N], out: &mut [u8]) {
                 *a ^= x.to_bits();
             }
         }
-        // The 4·CHUNK bytes of the accumulator, repeated, are the B·CHUNK bytes written.
-        let mut bytes = [0u8; 4 * CHUNK];
-        for (b, a) in bytes.chunks_exact_mut(4).zip(acc) {
-            b.copy_from_slice(&a.to_le_bytes());
-        }
-        for o in o.chunks_mut(4 * CHUNK) {
-            let n = o.len();
-            o.copy_from_slice(&bytes[..n]);
-        }
+        write_repeated(&acc, o);
+    }
+}
+
+/// The 64 bytes of 16 values (little-endian), repeated, into `o`: a chunk's `B · 16` output
+/// bytes in the streaming bounds.
+#[inline]
+fn write_repeated(values: &[u32; 16], o: &mut [u8]) {
+    let mut bytes = [0u8; 64];
+    for (b, v) in bytes.chunks_exact_mut(4).zip(values) {
+        b.copy_from_slice(&v.to_le_bytes());
+    }
+    for o in o.chunks_mut(64) {
+        let n = o.len();
+        o.copy_from_slice(&bytes[..n]);
     }
 }
 
@@ -664,17 +670,9 @@ fn stream_in_passes<const N: usize, const B: usize>(planes: [&[f32]; N], out: &m
     assert_eq!(out.len(), B * planes[0].len());
     xor_in_passes(planes, |first, values| {
         let o = &mut out[B * first..B * (first + values.len())];
-        // As in `stream`: each 16 values' bytes, repeated, are their pixels' B · 16 bytes.
         let (chunks, _) = values.as_chunks::<16>();
         for (o, v) in o.chunks_exact_mut(B * 16).zip(chunks) {
-            let mut bytes = [0u8; 64];
-            for (b, v) in bytes.chunks_exact_mut(4).zip(v) {
-                b.copy_from_slice(&v.to_le_bytes());
-            }
-            for o in o.chunks_mut(64) {
-                let n = o.len();
-                o.copy_from_slice(&bytes[..n]);
-            }
+            write_repeated(v, o);
         }
     });
 }

@@ -774,7 +774,8 @@ pub(crate) mod avx2 {
             for (i, p) in planes.iter().enumerate() {
                 prefetch(p.as_ptr().wrapping_add(j + PREFETCH_GROUPS));
                 debug_assert!(j + 1 < p.len());
-                // SAFETY: the callers pass pairs below the length of every plane (halved).
+                // SAFETY: the callers give `out` no more pairs than every plane has from group
+                // `first` on, so j + 1 = first + 2k + 1 is below every plane's length.
                 let (a, b) = unsafe { (p.get_unchecked(j), p.get_unchecked(j + 1)) };
                 s[0][i] = load(a);
                 s[1][i] = load(b);
