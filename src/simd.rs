@@ -49,12 +49,21 @@ pub(crate) fn linear_planar<const N: usize>(
 ) -> usize {
     #[cfg(target_arch = "x86_64")]
     if avx2::available() {
+        let stream = N > avx2::PASS_PLANES
+            && out.iter().map(|o| o.len()).min().unwrap_or(0) >= STREAM_MIN_PIXELS;
         // SAFETY: the CPU has AVX2 (checked just above).
-        return unsafe { avx2::linear_planar(weights, planes, out) };
+        return unsafe { avx2::linear_planar(weights, planes, out, stream) };
     }
     let _ = (weights, planes, out);
     0
 }
+
+/// From this many pixels on, and above four planes, the accelerated planar linear loop writes
+/// its output with non-temporal stores (see [`avx2::linear_planar`]): 2²⁰ pixels are 12 MiB of
+/// output, more than a core's share of the last-level cache on common x86-64 CPUs, so the
+/// output would leave the caches before it is read again anyway. Smaller calls (a row, a tile)
+/// write through the caches, where the caller reads them next.
+pub(crate) const STREAM_MIN_PIXELS: usize = 1 << 20;
 
 /// As [`encode_srgb8_planar`], for interleaved samples (one `[f32; N]` per pixel).
 #[inline]
@@ -586,7 +595,7 @@ pub(crate) mod avx2 {
     // section has the figures).
 
     /// Planes per pass: at most this many input streams are read at a time.
-    const PASS_PLANES: usize = 4;
+    pub(crate) const PASS_PLANES: usize = 4;
 
     /// Groups per block: 1024 pixels, 4 KiB of each plane, 12 KiB of partial sums.
     pub(crate) const BLOCK_GROUPS: usize = 128;
@@ -705,11 +714,22 @@ pub(crate) mod avx2 {
     /// The planar linear f32 loop over whole pairs of groups (16 pixels); returns how many
     /// pixels it wrote (a multiple of 16). Above [`PASS_PLANES`] planes, in passes (see
     /// there).
+    ///
+    /// With `stream` (the caller sets it only above [`PASS_PLANES`] planes), every pass adds
+    /// into the block's sums, which are then copied to the three output planes one after the
+    /// other with non-temporal stores (`vmovntps`). These write whole lines without first
+    /// reading them from memory, as ordinary stores do: at N = 8 that read is 12 of the 56
+    /// bytes per pixel that cross the memory bus. On the CPU measured (AMD Zen 3) this was
+    /// faster from memory at N = 6, 8 and 16; at N = 4, where one pass writes the output
+    /// directly, the extra copy made it slower, and copying the sums plane by plane with
+    /// ordinary stores was slower than the last pass's direct stores (README, Performance).
+    /// The output is then not in the caches, hence the caller's threshold.
     #[target_feature(enable = "avx2")]
     pub(crate) fn linear_planar<const N: usize>(
         weights: &[[f32; N]; 3],
         planes: [&[f32]; N],
         out: [&mut [f32]; 3],
+        stream: bool,
     ) -> usize {
         let planes: [&[[f32; LANES]]; N] = planes.map(|p| p.as_chunks::<LANES>().0);
         let out = out.map(|o| o.as_chunks_mut::<{ 2 * LANES }>().0);
@@ -717,6 +737,10 @@ pub(crate) mod avx2 {
         let pairs = out.iter().map(|o| o.len()).fold(pairs, usize::min);
         let [r, g, b] = out;
         let (r, g, b) = (&mut r[..pairs], &mut g[..pairs], &mut b[..pairs]);
+        if stream {
+            linear_streamed(weights, &planes, [r, g, b]);
+            return pairs * 2 * LANES;
+        }
         if N <= PASS_PLANES {
             linear_last_pass(weights, &planes, 0, None, [r, g, b]);
             return pairs * 2 * LANES;
@@ -743,6 +767,71 @@ pub(crate) mod avx2 {
             );
         }
         pairs * 2 * LANES
+    }
+
+    /// [`linear_planar`] with `stream`: block by block, every pass into the sums (the last from
+    /// the others' sums, or from 0.0 where it is the only one), then the sums to `out` by
+    /// [`stream_out`]. The same products in the same order as the other loops, so the same
+    /// bits.
+    #[target_feature(enable = "avx2")]
+    fn linear_streamed<const N: usize>(
+        weights: &[[f32; N]; 3],
+        planes: &[&[[f32; LANES]]; N],
+        out: [&mut [[f32; 2 * LANES]]; 3],
+    ) {
+        let mut sums = Sums::ZERO;
+        let block = BLOCK_GROUPS / 2;
+        let [r, g, b] = out;
+        let blocks = r
+            .chunks_mut(block)
+            .zip(g.chunks_mut(block))
+            .zip(b.chunks_mut(block));
+        let last = last_pass_from::<N>();
+        for (k, ((r, g), b)) in blocks.enumerate() {
+            let (first, groups) = (2 * k * block, 2 * r.len());
+            add_passes(weights, planes, first, groups, Start::Zero, &mut sums);
+            let start = if last == 0 { Start::Zero } else { Start::Sums };
+            with_last_pass!(
+                N - last,
+                add_pass(
+                    &columns(weights, last),
+                    &sub(planes, last),
+                    first,
+                    groups,
+                    start,
+                    &mut sums
+                )
+            );
+            for (c, o) in [r, g, b].into_iter().enumerate() {
+                stream_out(sums.0[c][..groups].as_flattened(), o.as_flattened_mut());
+            }
+        }
+        // Non-temporal stores are weakly ordered: this orders them before every store that
+        // follows, as ordinary stores are (another thread that synchronizes with this one
+        // afterwards sees the output).
+        _mm_sfence();
+    }
+
+    /// `dst.copy_from_slice(src)` (equal lengths), with non-temporal stores from the first
+    /// 32-byte boundary of `dst` to the last; the floats before and after it with ordinary
+    /// stores.
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    fn stream_out(src: &[f32], dst: &mut [f32]) {
+        debug_assert_eq!(src.len(), dst.len());
+        // Floats before the first 32-byte boundary (f32 are 4-byte aligned, so this is exact).
+        let head = dst.as_ptr().align_offset(32).min(dst.len());
+        let (dst_head, dst_rest) = dst.split_at_mut(head);
+        let (src_head, src_rest) = src.split_at(head);
+        dst_head.copy_from_slice(src_head);
+        let (dst_body, dst_tail) = dst_rest.as_chunks_mut::<LANES>();
+        let (src_body, src_tail) = src_rest.as_chunks::<LANES>();
+        for (d, s) in dst_body.iter_mut().zip(src_body) {
+            // SAFETY: `d` is valid for writing 8 f32 and 32-byte aligned: it starts `head`
+            // floats into `dst`, at its first 32-byte boundary, plus a multiple of 32 bytes.
+            unsafe { _mm256_stream_ps(d.as_mut_ptr(), load(s)) };
+        }
+        dst_tail.copy_from_slice(src_tail);
     }
 
     /// The planar linear loop's last pass (its only one up to [`PASS_PLANES`] planes): pair k
@@ -909,17 +998,33 @@ mod tests {
             };
             assert_eq!(done, srgb8_done);
             compare("AVX2 batch", &got[..done]);
-            let mut lin = [0, 1, 2].map(|_| std::vec![0.0f32; pixels]);
-            let [r, g, b] = &mut lin;
-            // SAFETY: the CPU has AVX2.
-            let done = unsafe { super::avx2::linear_planar(&set.weights, planes, [r, g, b]) };
-            // Whole steps of 16 pixels.
-            assert_eq!(done, pixels / 16 * 16);
-            let lin = lin.map(|mut c| {
-                c.truncate(done);
-                c
-            });
-            compare_linear("AVX2 planar linear", &lin);
+            for stream in [false, true] {
+                // Output planes starting 0 to 7 floats past a 32-byte boundary (different for
+                // each plane and seed), so that the streamed copies' ordinary head and tail
+                // stores are used too.
+                let mut buf = [0, 1, 2].map(|_| std::vec![0.0f32; pixels + 16]);
+                let offset = |c: usize, b: &[f32]| {
+                    (b.as_ptr().align_offset(32) + (3 * c + seed as usize) % 8) % 8
+                };
+                let [r, g, b] = &mut buf;
+                let (or, og, ob) = (offset(0, r), offset(1, g), offset(2, b));
+                let out = [
+                    &mut r[or..or + pixels],
+                    &mut g[og..og + pixels],
+                    &mut b[ob..ob + pixels],
+                ];
+                // SAFETY: the CPU has AVX2.
+                let done = unsafe { super::avx2::linear_planar(&set.weights, planes, out, stream) };
+                // Whole steps of 16 pixels.
+                assert_eq!(done, pixels / 16 * 16);
+                let lin = [(r, or), (g, og), (b, ob)].map(|(c, o)| c[o..o + done].to_vec());
+                let what = if stream {
+                    "AVX2 planar linear, streamed"
+                } else {
+                    "AVX2 planar linear"
+                };
+                compare_linear(what, &lin);
+            }
         }
 
         // The public functions, whichever loops they pick.
