@@ -294,6 +294,12 @@ impl<const N: usize> FoldedSet<N> {
     /// vectorizes for the target (SSE2, NEON). Every loop computes each channel with the same
     /// f32 operations in the same order, so all give the same bits.
     ///
+    /// With AVX2, more than four samples and at least 2²⁰ pixels (12 MiB of output), the
+    /// output is written with non-temporal stores, which skip reading its lines from memory
+    /// first: faster for an image far larger than the caches, but the output is then not in
+    /// the caches. Work on a large image in smaller calls (rows or tiles) to keep each call's
+    /// output cached for what reads it next.
+    ///
     /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless every plane and every
     /// output has the same length; `inputs` is then the length of `samples[0]` and `outputs`
     /// the first length (another plane's or an output's) that differs from it.
