@@ -1004,7 +1004,9 @@ mod tests {
                 // stores are used too.
                 let mut buf = [0, 1, 2].map(|_| std::vec![0.0f32; pixels + 16]);
                 let offset = |c: usize, b: &[f32]| {
-                    (b.as_ptr().align_offset(32) + (3 * c + seed as usize) % 8) % 8
+                    // Floats from `b`'s start to its first 32-byte boundary, plus 0 to 7.
+                    let to_boundary = (8 - b.as_ptr() as usize / 4 % 8) % 8;
+                    (to_boundary + (3 * c + seed as usize) % 8) % 8
                 };
                 let [r, g, b] = &mut buf;
                 let (or, og, ob) = (offset(0, r), offset(1, g), offset(2, b));
