@@ -49,8 +49,7 @@ pub(crate) fn linear_planar<const N: usize>(
 ) -> usize {
     #[cfg(target_arch = "x86_64")]
     if avx2::available() {
-        let stream = N > avx2::PASS_PLANES
-            && out.iter().map(|o| o.len()).min().unwrap_or(0) >= STREAM_MIN_PIXELS;
+        let stream = out.iter().map(|o| o.len()).min().unwrap_or(0) >= STREAM_MIN_PIXELS;
         // SAFETY: the CPU has AVX2 (checked just above).
         return unsafe { avx2::linear_planar(weights, planes, out, stream) };
     }
@@ -595,7 +594,7 @@ pub(crate) mod avx2 {
     // section has the figures).
 
     /// Planes per pass: at most this many input streams are read at a time.
-    pub(crate) const PASS_PLANES: usize = 4;
+    const PASS_PLANES: usize = 4;
 
     /// Groups per block: 1024 pixels, 4 KiB of each plane, 12 KiB of partial sums.
     pub(crate) const BLOCK_GROUPS: usize = 128;
@@ -715,9 +714,9 @@ pub(crate) mod avx2 {
     /// pixels it wrote (a multiple of 16). Above [`PASS_PLANES`] planes, in passes (see
     /// there).
     ///
-    /// With `stream` (the caller sets it only above [`PASS_PLANES`] planes), every pass adds
-    /// into the block's sums, which are then copied to the three output planes one after the
-    /// other with non-temporal stores (`vmovntps`). These write whole lines without first
+    /// With `stream` and above [`PASS_PLANES`] planes, the last pass too adds into the block's
+    /// sums, which are then copied to the three output planes one after the other with
+    /// non-temporal stores (`vmovntps`, [`stream_out`]). These write whole lines without first
     /// reading them from memory, as ordinary stores do: at N = 8 that read is 12 of the 56
     /// bytes per pixel that cross the memory bus. On the CPU measured (AMD Zen 3) this was
     /// faster from memory at N = 6, 8 and 16; at N = 4, where one pass writes the output
@@ -737,10 +736,6 @@ pub(crate) mod avx2 {
         let pairs = out.iter().map(|o| o.len()).fold(pairs, usize::min);
         let [r, g, b] = out;
         let (r, g, b) = (&mut r[..pairs], &mut g[..pairs], &mut b[..pairs]);
-        if stream {
-            linear_streamed(weights, &planes, [r, g, b]);
-            return pairs * 2 * LANES;
-        }
         if N <= PASS_PLANES {
             linear_last_pass(weights, &planes, 0, None, [r, g, b]);
             return pairs * 2 * LANES;
@@ -751,65 +746,45 @@ pub(crate) mod avx2 {
             .chunks_mut(block)
             .zip(g.chunks_mut(block))
             .zip(b.chunks_mut(block));
-        for (k, ((r, g), b)) in blocks.enumerate() {
-            let first = 2 * k * block;
-            add_passes(weights, &planes, first, 2 * r.len(), Start::Zero, &mut sums);
-            let last = last_pass_from::<N>();
-            with_last_pass!(
-                N - last,
-                linear_last_pass(
-                    &columns(weights, last),
-                    &sub(&planes, last),
-                    first,
-                    Some(&sums),
-                    [r, g, b]
-                )
-            );
-        }
-        pairs * 2 * LANES
-    }
-
-    /// [`linear_planar`] with `stream`: block by block, every pass into the sums (the last from
-    /// the others' sums, or from 0.0 where it is the only one), then the sums to `out` by
-    /// [`stream_out`]. The same products in the same order as the other loops, so the same
-    /// bits.
-    #[target_feature(enable = "avx2")]
-    fn linear_streamed<const N: usize>(
-        weights: &[[f32; N]; 3],
-        planes: &[&[[f32; LANES]]; N],
-        out: [&mut [[f32; 2 * LANES]]; 3],
-    ) {
-        let mut sums = Sums::ZERO;
-        let block = BLOCK_GROUPS / 2;
-        let [r, g, b] = out;
-        let blocks = r
-            .chunks_mut(block)
-            .zip(g.chunks_mut(block))
-            .zip(b.chunks_mut(block));
         let last = last_pass_from::<N>();
         for (k, ((r, g), b)) in blocks.enumerate() {
             let (first, groups) = (2 * k * block, 2 * r.len());
-            add_passes(weights, planes, first, groups, Start::Zero, &mut sums);
-            let start = if last == 0 { Start::Zero } else { Start::Sums };
-            with_last_pass!(
-                N - last,
-                add_pass(
-                    &columns(weights, last),
-                    &sub(planes, last),
-                    first,
-                    groups,
-                    start,
-                    &mut sums
-                )
-            );
-            for (c, o) in [r, g, b].into_iter().enumerate() {
-                stream_out(sums.0[c][..groups].as_flattened(), o.as_flattened_mut());
+            add_passes(weights, &planes, first, groups, Start::Zero, &mut sums);
+            if stream {
+                with_last_pass!(
+                    N - last,
+                    add_pass(
+                        &columns(weights, last),
+                        &sub(&planes, last),
+                        first,
+                        groups,
+                        Start::Sums,
+                        &mut sums
+                    )
+                );
+                for (c, o) in [r, g, b].into_iter().enumerate() {
+                    stream_out(sums.0[c][..groups].as_flattened(), o.as_flattened_mut());
+                }
+            } else {
+                with_last_pass!(
+                    N - last,
+                    linear_last_pass(
+                        &columns(weights, last),
+                        &sub(&planes, last),
+                        first,
+                        Some(&sums),
+                        [r, g, b]
+                    )
+                );
             }
         }
-        // Non-temporal stores are weakly ordered: this orders them before every store that
-        // follows, as ordinary stores are (another thread that synchronizes with this one
-        // afterwards sees the output).
-        _mm_sfence();
+        if stream {
+            // Non-temporal stores are weakly ordered: this orders them before every store that
+            // follows, as ordinary stores are (another thread that synchronizes with this one
+            // afterwards sees the output).
+            _mm_sfence();
+        }
+        pairs * 2 * LANES
     }
 
     /// `dst.copy_from_slice(src)` (equal lengths), with non-temporal stores from the first
@@ -998,6 +973,8 @@ mod tests {
             };
             assert_eq!(done, srgb8_done);
             compare("AVX2 batch", &got[..done]);
+            // With `stream`, above four planes the sums are copied out with non-temporal
+            // stores (at most four, `stream` changes nothing).
             for stream in [false, true] {
                 // Output planes starting 0 to 7 floats past a 32-byte boundary (different for
                 // each plane and seed), so that the streamed copies' ordinary head and tail
