@@ -21,6 +21,9 @@
 //! among them) rounds twice, so the outputs would differ in the last bit, and now and then in an
 //! encoded code value.
 
+#[cfg(target_arch = "x86_64")]
+pub(crate) mod avx512;
+
 /// The accelerated planar sRGB 8-bit loop, where the CPU has one: encodes the first pixels
 /// (a multiple of 8) of `planes` into `out` (3 bytes per pixel) and returns how many; 0 where
 /// there is no accelerated loop, so the caller's portable loop does everything.
@@ -31,9 +34,15 @@ pub(crate) fn encode_srgb8_planar<const N: usize>(
     out: &mut [u8],
 ) -> usize {
     #[cfg(target_arch = "x86_64")]
-    if avx2::available() {
-        // SAFETY: the CPU has AVX2 (checked just above).
-        return unsafe { avx2::encode_srgb8_planar(weights, planes, out) };
+    {
+        if avx512::available() {
+            // SAFETY: the CPU has the AVX-512 subsets the loop needs (checked just above).
+            return unsafe { avx512::encode_srgb8_planar(weights, planes, out) };
+        }
+        if avx2::available() {
+            // SAFETY: the CPU has AVX2 (checked just above).
+            return unsafe { avx2::encode_srgb8_planar(weights, planes, out) };
+        }
     }
     let _ = (weights, planes, out);
     0
@@ -72,9 +81,15 @@ pub(crate) fn encode_srgb8_batch<const N: usize>(
     out: &mut [u8],
 ) -> usize {
     #[cfg(target_arch = "x86_64")]
-    if avx2::available() {
-        // SAFETY: the CPU has AVX2 (checked just above).
-        return unsafe { avx2::encode_srgb8_batch(weights, samples, out) };
+    {
+        if avx512::available() && avx512::BATCH_WIDTHS.contains(&N) {
+            // SAFETY: the CPU has the AVX-512 subsets the loop needs (checked just above).
+            return unsafe { avx512::encode_srgb8_batch(weights, samples, out) };
+        }
+        if avx2::available() {
+            // SAFETY: the CPU has AVX2 (checked just above).
+            return unsafe { avx2::encode_srgb8_batch(weights, samples, out) };
+        }
     }
     let _ = (weights, samples, out);
     0
@@ -1004,6 +1019,28 @@ mod tests {
                 };
                 compare_linear(what, &lin);
             }
+        }
+
+        // The AVX-512 loops, where this CPU has the subsets they use: every whole group of 16
+        // (the interleaved loop only for its widths).
+        #[cfg(target_arch = "x86_64")]
+        if super::avx512::available() {
+            let groups_done = pixels / 16 * 16;
+            let mut got = std::vec![[0u8; 3]; pixels];
+            // SAFETY: the CPU has the features.
+            let done = unsafe {
+                super::avx512::encode_srgb8_planar(&set.weights, planes, got.as_flattened_mut())
+            };
+            assert_eq!(done, groups_done);
+            compare("AVX-512 planar", &got[..done]);
+            let mut got = std::vec![[0u8; 3]; pixels];
+            // SAFETY: the CPU has the features.
+            let done = unsafe {
+                super::avx512::encode_srgb8_batch(&set.weights, &aos, got.as_flattened_mut())
+            };
+            let widths = super::avx512::BATCH_WIDTHS;
+            assert_eq!(done, if widths.contains(&N) { groups_done } else { 0 });
+            compare("AVX-512 batch", &got[..done]);
         }
 
         // The public functions, whichever loops they pick.
