@@ -44,13 +44,15 @@ impl<const N: usize> FoldedSet<N> {
 
     /// [`encode_u8`](Self::encode_u8) for every pixel (NaN anywhere in a pixel → black).
     ///
-    /// With the sRGB curve and [`GamutMapping::Clip`] on an x86-64 CPU with AVX2 (detected at
-    /// run time, once), eight pixels go through each AVX2 register; on other targets with f32
-    /// vector units (SSE2, NEON, WebAssembly SIMD) chunks of 16 pixels are transposed into
-    /// planes on the stack and encoded as by [`encode_u8_planar`](Self::encode_u8_planar), in
-    /// loops the compiler vectorizes; without vector units (microcontrollers), pixel by pixel.
-    /// Every way gives [`encode_u8`](Self::encode_u8)'s bytes, bit for bit (the same f32
-    /// operations in the same order and the same table).
+    /// With the sRGB curve and [`GamutMapping::Clip`] on an x86-64 CPU with AVX-512 (F, BW and
+    /// VBMI; detected at run time, once) and N = 4, sixteen pixels go through each register
+    /// and their code values are computed as by [`encode_u8_planar`](Self::encode_u8_planar)
+    /// there; with AVX2 (and at other N), eight pixels go through each AVX2 register; on other
+    /// targets with f32 vector units (SSE2, NEON, WebAssembly SIMD) chunks of 16 pixels are
+    /// transposed into planes on the stack and encoded as by
+    /// [`encode_u8_planar`](Self::encode_u8_planar), in loops the compiler vectorizes; without
+    /// vector units (microcontrollers), pixel by pixel. Every way gives
+    /// [`encode_u8`](Self::encode_u8)'s bytes, bit for bit.
     ///
     /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless the lengths agree.
     pub fn encode_u8_batch(
@@ -60,8 +62,9 @@ impl<const N: usize> FoldedSet<N> {
         out: &mut [[u8; 3]],
     ) -> Result<(), Error> {
         check(samples.len(), out.len())?;
-        // For the sRGB curve with `Clip` on a target with vector units: the AVX2 loop where the
-        // CPU has it (the same bytes; see `simd`), then the portable loop for the rest.
+        // For the sRGB curve with `Clip` on a target with vector units: the AVX-512 or AVX2
+        // loop where the CPU has one (the same bytes; see `simd`), then the portable loop for
+        // the rest.
         if crate::soa::VECTOR_UNITS && self.display.is_srgb_clip(mapping) {
             let done =
                 crate::simd::encode_srgb8_batch(&self.weights, samples, out.as_flattened_mut());

@@ -3,23 +3,33 @@
 //! - [`sse2`]: the per-pixel [`FoldedSet::encode_u8`](crate::FoldedSet::encode_u8) for the
 //!   sRGB curve with [`Clip`](crate::GamutMapping::Clip), the three channels in the lanes of
 //!   one SSE2 register. SSE2 is part of x86-64, so this needs no detection.
+//! - [`avx512`]: the planar loops (sRGB 8-bit and linear f32) and the interleaved sRGB 8-bit
+//!   loop at N = 4, sixteen pixels per register, chosen at run time when the CPU has
+//!   `avx512f`, `avx512bw` and `avx512vbmi` ([`avx512::available`]). The code values are
+//!   computed by a polynomial, exact because the values it flags near a rounding boundary are
+//!   encoded again by the per-pixel function (the module has the argument); the planar loops
+//!   ask for their samples into the first- and second-level caches ahead of use.
 //! - [`avx2`]: the batch and planar loops, eight pixels per AVX2 register, chosen at run time
-//!   when the CPU has AVX2 ([`avx2::available`], detected once with the `cpufeatures` crate,
-//!   which works without `std`). Otherwise the portable loops of `soa.rs` and `batch.rs` run.
-//!   The sRGB 8-bit loops pass each group of eight pixels through three stages (vector
-//!   product and clamp, scalar table loads, vector code values and interleave), a group apart,
-//!   so that the table loads overlap the vector work; the planar loops ask for their samples
-//!   a few cache lines ahead, and above four planes go through blocks of pixels four planes
-//!   at a time, with partial sums on the stack.
+//!   when the CPU has AVX2 but not the AVX-512 loops ([`avx2::available`]). The sRGB 8-bit
+//!   loops pass each group of eight pixels through three stages (vector product and clamp,
+//!   scalar table loads, vector code values and interleave), a group apart, so that the table
+//!   loads overlap the vector work; the planar loops ask for their samples a few cache lines
+//!   ahead, and above four planes go through blocks of pixels four planes at a time, with
+//!   partial sums on the stack.
+//!
+//! Features are detected once, with the `cpufeatures` crate, which works without `std`.
+//! Otherwise the portable loops of `soa.rs` and `batch.rs` run.
 //!
 //! Every path computes each channel with the same f32 operations in the same order as
 //! [`set::mat_vec_for_encoding`](crate::set::mat_vec_for_encoding) (or
 //! [`set::mat_vec`](crate::set::mat_vec) for linear output) and encodes with the same table
-//! (`encode::SEGMENT_TABLE`), so all of them give the per-pixel function's bytes, bit for bit.
-//! FMA is not used, although every AVX2 CPU of the x86-64 world has it: a fused multiply-add
-//! rounds once where the per-pixel function (and every target without FMA, the Cortex-M4F
-//! among them) rounds twice, so the outputs would differ in the last bit, and now and then in an
-//! encoded code value.
+//! (`encode::SEGMENT_TABLE`) or, in the AVX-512 loops, with a polynomial that agrees with it
+//! wherever it does not hand the value back to the table, so all of them give the per-pixel
+//! function's bytes, bit for bit. FMA is not used in the products, although every AVX2 CPU of
+//! the x86-64 world has it: a fused multiply-add rounds once where the per-pixel function (and
+//! every target without FMA, the Cortex-M4F among them) rounds twice, so the outputs would
+//! differ in the last bit, and now and then in an encoded code value. (The AVX-512 encoder's
+//! polynomial uses FMA: its result is checked, not trusted.)
 
 #[cfg(target_arch = "x86_64")]
 pub(crate) mod avx512;
@@ -57,17 +67,23 @@ pub(crate) fn linear_planar<const N: usize>(
     out: [&mut [f32]; 3],
 ) -> usize {
     #[cfg(target_arch = "x86_64")]
-    if avx2::available() {
-        let stream = out.iter().map(|o| o.len()).min().unwrap_or(0) >= STREAM_MIN_PIXELS;
-        // SAFETY: the CPU has AVX2 (checked just above).
-        return unsafe { avx2::linear_planar(weights, planes, out, stream) };
+    {
+        if avx512::available() {
+            // SAFETY: the CPU has the AVX-512 subsets the loop needs (checked just above).
+            return unsafe { avx512::linear_planar(weights, planes, out) };
+        }
+        if avx2::available() {
+            let stream = out.iter().map(|o| o.len()).min().unwrap_or(0) >= STREAM_MIN_PIXELS;
+            // SAFETY: the CPU has AVX2 (checked just above).
+            return unsafe { avx2::linear_planar(weights, planes, out, stream) };
+        }
     }
     let _ = (weights, planes, out);
     0
 }
 
-/// From this many pixels on, and above four planes, the accelerated planar linear loop writes
-/// its output with non-temporal stores (see [`avx2::linear_planar`]): 2²⁰ pixels are 12 MiB of
+/// From this many pixels on, and above four planes, the AVX2 planar linear loop writes its
+/// output with non-temporal stores (see [`avx2::linear_planar`]): 2²⁰ pixels are 12 MiB of
 /// output, more than a core's share of the last-level cache on common x86-64 CPUs, so the
 /// output would leave the caches before it is read again anyway. Smaller calls (a row, a tile)
 /// write through the caches, where the caller reads them next.
@@ -1041,6 +1057,13 @@ mod tests {
             let widths = super::avx512::BATCH_WIDTHS;
             assert_eq!(done, if widths.contains(&N) { groups_done } else { 0 });
             compare("AVX-512 batch", &got[..done]);
+            let mut lin = [0, 1, 2].map(|_| std::vec![0.0f32; pixels]);
+            let [r, g, b] = &mut lin;
+            // SAFETY: the CPU has the features.
+            let done = unsafe { super::avx512::linear_planar(&set.weights, planes, [r, g, b]) };
+            assert_eq!(done, groups_done);
+            lin.iter_mut().for_each(|c| c.truncate(done));
+            compare_linear("AVX-512 planar linear", &lin);
         }
 
         // The public functions, whichever loops they pick.

@@ -289,16 +289,17 @@ impl<const N: usize> FoldedSet<N> {
     /// Bit for bit the same as [`linear_rgb`](Self::linear_rgb) on every pixel (NaN payloads
     /// aside), so the same IEEE input handling and [`f32_budget`](crate::f32_budget) accuracy
     /// apply: NaN samples give NaN channels, infinities give ±Inf or NaN, overflow gives ±Inf.
-    /// Never panics. On x86-64 CPUs with AVX2 (detected at run time, once) the loop runs
-    /// eight pixels per AVX2 register; elsewhere over chunks of 16 pixels that the compiler
-    /// vectorizes for the target (SSE2, NEON). Every loop computes each channel with the same
-    /// f32 operations in the same order, so all give the same bits.
+    /// Never panics. On x86-64 CPUs with AVX-512 (F, BW and VBMI; detected at run time,
+    /// once) the loop runs sixteen pixels per register, on those with AVX2 eight; elsewhere
+    /// over chunks of 16 pixels that the compiler vectorizes for the target (SSE2, NEON).
+    /// Every loop computes each channel with the same f32 operations in the same order, so all
+    /// give the same bits.
     ///
-    /// With AVX2, more than four samples and at least 2²⁰ pixels (12 MiB of output), the
-    /// output is written with non-temporal stores, which skip reading its lines from memory
-    /// first: faster for an image far larger than the caches, but the output is then not in
-    /// the caches. Work on a large image in smaller calls (rows or tiles) to keep each call's
-    /// output cached for what reads it next.
+    /// With AVX2 but not AVX-512, more than four samples and at least 2²⁰ pixels (12 MiB of
+    /// output), the output is written with non-temporal stores, which skip reading its lines
+    /// from memory first: faster for an image far larger than the caches, but the output is
+    /// then not in the caches. Work on a large image in smaller calls (rows or tiles) to keep
+    /// each call's output cached for what reads it next.
     ///
     /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless every plane and every
     /// output has the same length; `inputs` is then the length of `samples[0]` and `outputs`
@@ -318,8 +319,8 @@ impl<const N: usize> FoldedSet<N> {
     ) -> Result<(), Error> {
         check_planes(&samples, &[out[0].len(), out[1].len(), out[2].len()])?;
         let [r, g, b] = out;
-        // The AVX2 loop where the CPU has it (the same bits; see `simd`), then the rest in the
-        // portable one.
+        // The AVX-512 or AVX2 loop where the CPU has one (the same bits; see `simd`), then the
+        // rest in the portable one.
         let done = crate::simd::linear_planar(&self.weights, samples, [&mut *r, &mut *g, &mut *b]);
         linear_planar_portable(
             &self.weights,
@@ -338,12 +339,16 @@ impl<const N: usize> FoldedSet<N> {
     /// fast path: a vectorized product, a clip and the table encoder of
     /// [`srgb8_from_linear`](crate::srgb8_from_linear), correctly rounded and branch-free (the
     /// README's Performance section has its speed against the memory bound). On x86-64 CPUs
-    /// with AVX2 (detected at run time, once) it runs eight pixels per AVX2 register, else
-    /// chunks of 16 pixels that the compiler vectorizes for the target. It equals
-    /// [`encode_u8`](Self::encode_u8) exactly
+    /// with AVX-512 (F, BW and VBMI; detected at run time, once) it runs sixteen pixels per
+    /// register and computes the code values with a polynomial, handing every value near a
+    /// rounding boundary (and every NaN) back to the per-pixel function; on those with AVX2,
+    /// eight pixels per AVX2 register; else chunks of 16 pixels that the compiler vectorizes
+    /// for the target. It equals [`encode_u8`](Self::encode_u8) exactly
     /// ([`SRGB8_MAX_STEP_ERROR`](crate::SRGB8_MAX_STEP_ERROR) is 0): every loop uses the same
-    /// f32 operations in the same order and the same table, and the unit tests compare each
-    /// loop with the per-pixel function on a million random pixels and the edge inputs.
+    /// f32 operations in the same order for the product and the table's code values (the
+    /// polynomial's wherever it does not hand the value back, checked for every f32 from 0 to
+    /// 1), and the unit tests compare each loop with the per-pixel function on a million
+    /// random pixels and the edge inputs.
     /// On targets without vector units (microcontrollers) the same case runs a scalar loop, one
     /// pixel at a time with the weights held in registers, and equals
     /// [`encode_u8`](Self::encode_u8) exactly too (same sums, same table). Any other transfer
@@ -390,8 +395,8 @@ impl<const N: usize> FoldedSet<N> {
             }
             return Ok(());
         }
-        // The AVX2 loop where the CPU has it (the same bytes; see `simd`), then the rest in the
-        // portable one.
+        // The AVX-512 or AVX2 loop where the CPU has one (the same bytes; see `simd`), then the
+        // rest in the portable one.
         let done = crate::simd::encode_srgb8_planar(&self.weights, samples, out.as_flattened_mut());
         encode_srgb8_planar_portable(
             &self.weights,

@@ -1,20 +1,21 @@
-//! The sRGB 8-bit loops for x86-64 CPUs with AVX-512 (`avx512f`, `avx512bw` and `avx512vbmi`,
-//! detected at run time): sixteen pixels per register, and the code values computed by a
-//! polynomial, exact because every value it cannot vouch for is encoded again by the table.
+//! The planar loops (sRGB 8-bit and linear f32) and the interleaved sRGB 8-bit loop at N = 4
+//! for x86-64 CPUs with AVX-512 (`avx512f`, `avx512bw` and `avx512vbmi`, detected at run time):
+//! sixteen pixels per register, the code values computed by a polynomial, exact because every
+//! value it cannot vouch for is encoded again by the per-pixel function.
 //!
 //! # Why a polynomial
 //!
 //! The table encoder (`encode::SEGMENT_TABLE`) costs a load per value, and vector registers
-//! reach memory only through gathers, which on the CPU measured (AMD Zen 4) were slower than
-//! the AVX2 loops' scalar loads (27 cycles for sixteen values); those loops are bound by their
-//! loads. AVX-512 has 32 registers, mask registers and three-input logic, enough to keep a
-//! polynomial's constants and the weights in registers, so here the vector units do the work
-//! and the table is read only for the few values near a rounding boundary. The README's
+//! reach memory only through gathers, which on the CPU measured (AMD Zen 4) take about 27
+//! cycles for sixteen values; the AVX2 loops' scalar loads are faster, but those loops are
+//! bound by them. AVX-512 has 32 registers, mask registers and three-input logic, enough to
+//! keep a polynomial's constants and the weights in registers, so here the vector units do the
+//! work and the table is read only for the few values near a rounding boundary. The README's
 //! Performance section has the figures.
 //!
 //! # The encoder, and why it is exact
 //!
-//! For x clamped to 0..=1, in units of 2⁻¹⁶ of a code value and biased by [`WINDOW`]:
+//! For x clamped to 0..=1, in units of 2⁻¹⁶ of a code value and biased by W ([`WINDOW`]):
 //!
 //! - below [`LINEAR_BELOW`], y = 2¹⁶ · (255 · 12.92 · x + ½) + W;
 //! - above, with x = 2ᵉ · m (m in 1..2), y = 2¹⁶ · 255 · 1.055 · 2^(5e/12) · P(m) +
@@ -23,14 +24,13 @@
 //!   ([`SCALE`]).
 //!
 //! y is truncated to an integer i. Let F be 2¹⁶ times the exact curve (in f64) times 255 plus
-//! ½, so that the correctly rounded code value is ⌊F / 2¹⁶⌋. Where |y − (F + W)| ≤ W − 1,
-//! i lies in F..F + 2W; then if i's low 16 bits are 2W or more, i / 2¹⁶ is that code value
-//! (a carry past the code value would leave fewer than 2W in them). Lanes whose low bits are
-//! below 2W are *flagged*: their pixels are encoded again, one by one, by the per-pixel
-//! encoder. The unit test `the_vector_encoder_is_exact_where_it_does_not_flag` runs every f32
-//! from 0 to 1 through the encoder and checks every unflagged value against the table: the
-//! largest error of y is below 26 (of W = 32), and 0.022 % of those f32 are flagged (far more of
-//! them are tiny than lie near a boundary; on the bench's spectra about one value in 2 000).
+//! ½, so that the correctly rounded code value is ⌊F / 2¹⁶⌋. Where |i − (F + W)| < W, i lies in
+//! F..F + 2W; then if i's low 16 bits are 2W or more, i / 2¹⁶ is that code value (a carry past
+//! the code value would leave fewer than 2W in them). Lanes whose low bits are below 2W are
+//! *flagged*, and their pixels are encoded again, one by one, by the per-pixel function. The
+//! unit tests measure |i − (F + W)| at 24.7 at most (W = 32) on 17 million f32 from 0 to 1, and
+//! run every f32 from 0 to 1 through the encoder, checking every unflagged value against the
+//! table: none differs, and 0.022 % of those f32 are flagged.
 //!
 //! NaN is flagged too: the clamp keeps it (`max(0, x)` and `min(1, x)` return their second
 //! operand when either is NaN), the linear branch is taken (an ordered comparison is false),
@@ -39,10 +39,14 @@
 //!
 //! The 3×N product is computed as everywhere else (the same f32 operations in the same order
 //! as `set::mat_vec_for_encoding`, no FMA), so every byte equals the per-pixel function's.
+//!
+//! # Memory
+//!
+//! The planar loops ask for each plane's samples [`NEAR`] groups ahead into the first-level
+//! cache and [`FAR`] groups ahead into the second, and read every plane at once at every width
+//! (the AVX2 loops go four planes at a time above four planes).
 
 use core::arch::x86_64::*;
-
-use crate::encode::srgb8_clip;
 
 cpufeatures::new!(cpu_avx512, "avx512f", "avx512bw", "avx512vbmi");
 
@@ -335,35 +339,34 @@ fn store48(bytes: __m512i, dst: &mut [u8; 3 * LANES]) {
     }
 }
 
-/// Encodes the `flagged` pixels of `rgb` (linear values) again with the per-pixel encoder,
-/// into their three bytes of `dst`.
+/// Encodes the `flagged` pixels of a group again, one by one, with the per-pixel function
+/// (`sse2::encode_srgb8`, the bytes of [`FoldedSet::encode_u8`](crate::FoldedSet::encode_u8)):
+/// pixel p's samples are `sample(p)`.
 #[cold]
 #[inline(never)]
-#[target_feature(enable = "avx512f,avx512bw,avx512vbmi")]
-fn encode_again(flagged: __mmask16, rgb: [__m512; 3], dst: &mut [u8; 3 * LANES]) {
-    let mut lanes = [[0.0f32; LANES]; 3];
-    for (l, v) in lanes.iter_mut().zip(rgb) {
-        // SAFETY: `l` is valid for writing 16 f32; no alignment requirement.
-        unsafe { _mm512_storeu_ps(l.as_mut_ptr(), v) };
-    }
+fn encode_again<const N: usize>(
+    weights: &[[f32; N]; 3],
+    flagged: __mmask16,
+    sample: impl Fn(usize) -> [f32; N],
+    dst: &mut [u8; 3 * LANES],
+) {
     let mut left = flagged;
     while left != 0 {
         let p = left.trailing_zeros() as usize;
         left &= left - 1;
-        let px = srgb8_clip([lanes[0][p], lanes[1][p], lanes[2][p]]);
+        let px = super::sse2::encode_srgb8(weights, &sample(p));
         dst[3 * p..3 * p + 3].copy_from_slice(&px);
     }
 }
 
-/// Encodes sixteen pixels' linear values into `dst`.
+/// Encodes sixteen pixels' linear values into `dst`; returns the mask of the pixels the caller
+/// must encode again ([`encode_again`]).
 #[inline]
 #[target_feature(enable = "avx512f,avx512bw,avx512vbmi")]
-fn encode_into(enc: &Encoder, rgb: [__m512; 3], dst: &mut [u8; 3 * LANES]) {
+fn encode_into(enc: &Encoder, rgb: [__m512; 3], dst: &mut [u8; 3 * LANES]) -> __mmask16 {
     let (bytes, flagged) = enc.encode(rgb);
     store48(bytes, dst);
-    if flagged != 0 {
-        encode_again(flagged, rgb, dst);
-    }
+    flagged
 }
 
 // --- Products ------------------------------------------------------------------------------------
@@ -401,8 +404,9 @@ fn products<const N: usize>(w: &[[__m512; N]; 3], s: &[__m512; N]) -> [__m512; 3
 /// How far ahead the planar loops ask for their samples, in groups of sixteen pixels (one
 /// 64-byte line per plane): [`NEAR`] groups ahead into the first-level cache and [`FAR`]
 /// groups ahead into the second. On the CPU measured (AMD Zen 4) the far requests took the
-/// planar loop at N = 4 from 1.53 to 1.35 ns per pixel over 2²⁵ pixels; nearer or farther did
-/// no better (the README's Performance section).
+/// planar sRGB loop at N = 4 from about 1.55 to 1.35 ns per pixel over 2²⁵ pixels, and
+/// nearer (64 groups) or farther (256, 512) ones did no better; the near ones alone, at 4 to 32
+/// groups, were within 6 % of each other.
 const NEAR: usize = 8;
 /// See [`NEAR`].
 const FAR: usize = 128;
@@ -456,7 +460,11 @@ pub(crate) fn encode_srgb8_planar<const N: usize>(
     for (j, dst) in dst[..groups].iter_mut().enumerate() {
         prefetch(&planes, j);
         let s = load_group(&planes, j);
-        encode_into(&enc, products(&w, &s), dst);
+        let flagged = encode_into(&enc, products(&w, &s), dst);
+        if flagged != 0 {
+            let sample = |p: usize| core::array::from_fn(|i| planes[i][j][p]);
+            encode_again(weights, flagged, sample, dst);
+        }
     }
     groups * LANES
 }
@@ -485,7 +493,11 @@ pub(crate) fn encode_srgb8_batch<const N: usize>(
         let s = transpose4(px);
         let mut samples = [_mm512_setzero_ps(); N];
         samples.copy_from_slice(&s[..N]);
-        encode_into(&enc, products(&w, &samples), dst);
+        let flagged = encode_into(&enc, products(&w, &samples), dst);
+        if flagged != 0 {
+            let sample = |p: usize| core::array::from_fn(|i| px[N * p + i]);
+            encode_again(weights, flagged, sample, dst);
+        }
     }
     groups * LANES
 }
@@ -515,6 +527,52 @@ fn transpose4(px: &[f32; 4 * LANES]) -> [__m512; 4] {
         _mm512_shuffle_f32x4::<0b01_00_01_00>(b, d),
         _mm512_shuffle_f32x4::<0b11_10_11_10>(b, d),
     ]
+}
+
+/// The planar linear f32 loop over whole groups of sixteen pixels: `planes[i]` and the three
+/// output planes hold the same number of pixels. Returns how many pixels it wrote (a multiple
+/// of 16). Each channel is summed from 0.0 in index order, as `set::mat_vec`, so the bits are
+/// those of [`FoldedSet::linear_rgb`](crate::FoldedSet::linear_rgb).
+///
+/// One pass over all planes with ordinary stores, the samples asked for ahead as in the sRGB
+/// loop: on the CPU measured (AMD Zen 4) this reached the planar streaming bound at N = 4 and 8
+/// and 94 % of it at N = 16 over 2²⁵ pixels, where the AVX2 loop, in passes above four planes
+/// and with non-temporal stores from 2²⁰ pixels, reached 91, 68 and 66 % (the README's
+/// Performance section). So this loop keeps its output in the caches at every size.
+#[target_feature(enable = "avx512f,avx512bw,avx512vbmi")]
+pub(crate) fn linear_planar<const N: usize>(
+    weights: &[[f32; N]; 3],
+    planes: [&[f32]; N],
+    out: [&mut [f32]; 3],
+) -> usize {
+    let planes: [&[[f32; LANES]]; N] = planes.map(|p| p.as_chunks::<LANES>().0);
+    let [r, g, b] = out.map(|o| o.as_chunks_mut::<LANES>().0);
+    let groups = planes
+        .iter()
+        .map(|p| p.len())
+        .fold(r.len().min(g.len()).min(b.len()), usize::min);
+    let w = broadcast(weights);
+    let zero = _mm512_setzero_ps();
+    for (j, ((r, g), b)) in r[..groups]
+        .iter_mut()
+        .zip(&mut g[..groups])
+        .zip(&mut b[..groups])
+        .enumerate()
+    {
+        prefetch(&planes, j);
+        let s = load_group(&planes, j);
+        let mut acc = [zero; 3];
+        for (acc, row) in acc.iter_mut().zip(&w) {
+            for (w, s) in row.iter().zip(&s) {
+                *acc = _mm512_add_ps(*acc, _mm512_mul_ps(*w, *s));
+            }
+        }
+        for (o, v) in [r, g, b].into_iter().zip(acc) {
+            // SAFETY: `o` is valid for writing 16 f32; no alignment requirement.
+            unsafe { _mm512_storeu_ps(o.as_mut_ptr(), v) };
+        }
+    }
+    groups * LANES
 }
 
 #[cfg(test)]
@@ -563,6 +621,49 @@ mod tests {
             first += LANES as u32;
         }
         (flagged, wrong)
+    }
+
+    /// The encoder's error against the exact curve (in f64), in its output unit, on every 61st
+    /// group of sixteen f32 from 0 to 1 (17 million values): below W − 1, the margin the
+    /// argument in the module's documentation needs. (The exhaustive test above checks the
+    /// consequence on every f32.)
+    #[test]
+    fn the_encoders_error_stays_inside_its_window() {
+        if !available() {
+            std::eprintln!("skipped: this CPU has no AVX-512 (F, BW, VBMI)");
+            return;
+        }
+        // SAFETY: the CPU has the features (checked above).
+        let worst = unsafe { largest_error(61) };
+        std::eprintln!("largest error: {worst:.2} (window {WINDOW})");
+        assert!(worst <= f64::from(WINDOW - 1), "{worst}");
+    }
+
+    #[target_feature(enable = "avx512f,avx512bw,avx512vbmi")]
+    fn largest_error(stride: u32) -> f64 {
+        let enc = Encoder::new();
+        let lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+        let mut out = [0i32; LANES];
+        let mut worst = 0.0f64;
+        let mut first = 0u32;
+        while first <= 0x3f80_0000 {
+            let x = _mm512_castsi512_ps(_mm512_add_epi32(_mm512_set1_epi32(first as i32), lane));
+            let ([i, _, _], _) = enc.outputs([x, _mm512_setzero_ps(), _mm512_setzero_ps()]);
+            // SAFETY: `out` is valid for writing 16 i32; no alignment requirement.
+            unsafe { _mm512_storeu_si512(out.as_mut_ptr().cast(), i) };
+            for (l, i) in out.iter().enumerate() {
+                let x = f64::from(f32::from_bits(first + l as u32).min(1.0));
+                let curve = if x < f64::from(LINEAR_BELOW) {
+                    12.92 * x
+                } else {
+                    1.055 * libm::pow(x, 1.0 / 2.4) - 0.055
+                };
+                let f = UNIT * (255.0 * curve + 0.5) + f64::from(WINDOW);
+                worst = worst.max((f64::from(*i) - f).abs());
+            }
+            first += stride * LANES as u32;
+        }
+        worst
     }
 
     #[test]
