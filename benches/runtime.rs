@@ -968,6 +968,21 @@ fn print_ratios(n: usize) {
 /// At the end it prints, for each path, its median against its bound's from this run, as
 /// `ratio bandwidth/<path>/N<n>: … % of the memory bound`.
 fn bandwidth(c: &mut Criterion) {
+    // Which of the crate's x86-64 loops this CPU takes (the crate detects the same features).
+    #[cfg(target_arch = "x86_64")]
+    {
+        let loops = if std::arch::is_x86_feature_detected!("avx512f")
+            && std::arch::is_x86_feature_detected!("avx512bw")
+            && std::arch::is_x86_feature_detected!("avx512vbmi")
+        {
+            "AVX-512 loops (avx512f, avx512bw, avx512vbmi: planar, and interleaved at N = 4)"
+        } else if std::arch::is_x86_feature_detected!("avx2") {
+            "AVX2 loops"
+        } else {
+            "portable loops (SSE2)"
+        };
+        eprintln!("bandwidth: this CPU runs the crate's {loops}");
+    }
     let refl = spectra();
     let full = Full1nm::new();
     let mut g = c.benchmark_group("bandwidth");
