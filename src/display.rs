@@ -503,7 +503,9 @@ impl Display {
         // The common case inline and without branches: the sRGB table clamps as `Clip` does,
         // and a NaN anywhere selects black afterwards.
         if self.is_srgb_clip(mapping) {
-            return crate::encode::srgb8_clip(rgb);
+            let nan = rgb[0].is_nan() | rgb[1].is_nan() | rgb[2].is_nan();
+            let px = rgb.map(crate::encode::srgb8_not_nan);
+            return if nan { [0; 3] } else { px };
         }
         self.encode_u8_other(rgb, mapping)
     }

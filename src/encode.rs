@@ -160,19 +160,6 @@ pub fn srgb8_from_linear(x: f32) -> u8 {
     lookup(bits)
 }
 
-/// Linear RGB → 8-bit sRGB with `Clip`, as [`Display::encode_u8`](crate::Display::encode_u8)
-/// for the sRGB curve: each channel by [`srgb8_from_linear`], and black if any is NaN.
-#[inline]
-pub(crate) fn srgb8_clip(rgb: [f32; 3]) -> [u8; 3] {
-    let nan = rgb[0].is_nan() | rgb[1].is_nan() | rgb[2].is_nan();
-    let px = rgb.map(srgb8_not_nan);
-    if nan {
-        [0; 3]
-    } else {
-        px
-    }
-}
-
 /// Clamps to 2⁻¹³..=1 (NaN → 2⁻¹³) and returns the f32 bits minus those of 2⁻¹³: the segment
 /// in the bits from 16 up (at most 1 664), the position inside it in the low 16.
 #[inline(always)]
