@@ -595,31 +595,38 @@ mod tests {
         assert!(flagged < 0x3f80_0001 / 2000, "{flagged} values flagged");
     }
 
+    /// `f(first, outputs, flagged)` for every `stride`-th group of sixteen consecutive f32 from
+    /// 0 up to 1 (the last group reaches a little past 1.0, `0x3f80_0000`: those clamp to 1), run
+    /// through the encoder as the red channel.
     #[target_feature(enable = "avx512f,avx512bw,avx512vbmi")]
-    fn every_f32_to_one() -> (u64, u64) {
+    fn for_groups_to_one(stride: u32, mut f: impl FnMut(u32, &[i32; LANES], __mmask16)) {
         let enc = Encoder::new();
         let lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
-        let (mut flagged, mut wrong) = (0u64, 0u64);
         let mut out = [0i32; LANES];
         let mut first = 0u32;
-        // 0x3f80_0000 is 1.0: the last group reaches a little past it (those clamp to 1).
         while first <= 0x3f80_0000 {
             let x = _mm512_castsi512_ps(_mm512_add_epi32(_mm512_set1_epi32(first as i32), lane));
-            let ([i, _, _], f) = enc.outputs([x, _mm512_setzero_ps(), _mm512_setzero_ps()]);
+            let ([i, _, _], flagged) = enc.outputs([x, _mm512_setzero_ps(), _mm512_setzero_ps()]);
             // SAFETY: `out` is valid for writing 16 i32; no alignment requirement.
             unsafe { _mm512_storeu_si512(out.as_mut_ptr().cast(), i) };
+            f(first, &out, flagged);
+            first += stride * LANES as u32;
+        }
+    }
+
+    #[target_feature(enable = "avx512f,avx512bw,avx512vbmi")]
+    fn every_f32_to_one() -> (u64, u64) {
+        let (mut flagged, mut wrong) = (0u64, 0u64);
+        for_groups_to_one(1, |first, out, f| {
             for (l, i) in out.iter().enumerate() {
+                let want = crate::srgb8_from_linear(f32::from_bits(first + l as u32));
                 if f & (1 << l) != 0 {
                     flagged += 1;
-                } else if (i >> 16) as u8
-                    != crate::srgb8_from_linear(f32::from_bits(first + l as u32))
-                    || (i >> 16) > 255
-                {
+                } else if (i >> 16) > 255 || (i >> 16) as u8 != want {
                     wrong += 1;
                 }
             }
-            first += LANES as u32;
-        }
+        });
         (flagged, wrong)
     }
 
@@ -641,16 +648,8 @@ mod tests {
 
     #[target_feature(enable = "avx512f,avx512bw,avx512vbmi")]
     fn largest_error(stride: u32) -> f64 {
-        let enc = Encoder::new();
-        let lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
-        let mut out = [0i32; LANES];
         let mut worst = 0.0f64;
-        let mut first = 0u32;
-        while first <= 0x3f80_0000 {
-            let x = _mm512_castsi512_ps(_mm512_add_epi32(_mm512_set1_epi32(first as i32), lane));
-            let ([i, _, _], _) = enc.outputs([x, _mm512_setzero_ps(), _mm512_setzero_ps()]);
-            // SAFETY: `out` is valid for writing 16 i32; no alignment requirement.
-            unsafe { _mm512_storeu_si512(out.as_mut_ptr().cast(), i) };
+        for_groups_to_one(stride, |first, out, _| {
             for (l, i) in out.iter().enumerate() {
                 let x = f64::from(f32::from_bits(first + l as u32).min(1.0));
                 let curve = if x < f64::from(LINEAR_BELOW) {
@@ -661,8 +660,7 @@ mod tests {
                 let f = UNIT * (255.0 * curve + 0.5) + f64::from(WINDOW);
                 worst = worst.max((f64::from(*i) - f).abs());
             }
-            first += stride * LANES as u32;
-        }
+        });
         worst
     }
 
