@@ -64,8 +64,10 @@ pub(crate) fn available() -> bool {
 
 /// The bias W of the encoder's output, in units of 2⁻¹⁶ of a code value, and half its flagging
 /// window: a lane is flagged where the low 16 bits of its output are below 2W. The test
-/// `the_vector_encoder_is_exact_where_it_does_not_flag` shows the error of the output stays
-/// below W − 1 for every f32 in 0..=1. A power of two, so that the window is one mask.
+/// `the_encoders_error_stays_inside_its_window` measures the output's error against the exact
+/// curve at 24.7 at most (it must stay below W) on 17 million f32 from 0 to 1, and
+/// `the_vector_encoder_is_exact_where_it_does_not_flag` checks every unflagged f32 from 0 to 1
+/// against the table. A power of two, so that the window is one mask.
 pub(crate) const WINDOW: i32 = 32;
 const _: () = assert!(WINDOW.count_ones() == 1 && 2 * WINDOW < 1 << 16);
 
