@@ -69,8 +69,9 @@ pub(crate) fn linear_planar<const N: usize>(
     #[cfg(target_arch = "x86_64")]
     {
         if avx512::available() {
+            let stream = out.iter().map(|o| o.len()).min().unwrap_or(0) >= STREAM_MIN_PIXELS;
             // SAFETY: the CPU has the AVX-512 subsets the loop needs (checked just above).
-            return unsafe { avx512::linear_planar(weights, planes, out) };
+            return unsafe { avx512::linear_planar(weights, planes, out, stream) };
         }
         if avx2::available() {
             let stream = out.iter().map(|o| o.len()).min().unwrap_or(0) >= STREAM_MIN_PIXELS;
@@ -82,11 +83,12 @@ pub(crate) fn linear_planar<const N: usize>(
     0
 }
 
-/// From this many pixels on, and above four planes, the AVX2 planar linear loop writes its
-/// output with non-temporal stores (see [`avx2::linear_planar`]): 2²⁰ pixels are 12 MiB of
-/// output, more than a core's share of the last-level cache on common x86-64 CPUs, so the
-/// output would leave the caches before it is read again anyway. Smaller calls (a row, a tile)
-/// write through the caches, where the caller reads them next.
+/// From this many pixels on, the accelerated planar linear loops write their output with
+/// non-temporal stores: the AVX-512 loop at every width (see [`avx512::linear_planar`]), the
+/// AVX2 loop above four planes (see [`avx2::linear_planar`]). 2²⁰ pixels are 12 MiB of output,
+/// more than a core's share of the last-level cache on common x86-64 CPUs, so the output would
+/// leave the caches before it is read again anyway. Smaller calls (a row, a tile) write through
+/// the caches, where the caller reads them next.
 pub(crate) const STREAM_MIN_PIXELS: usize = 1 << 20;
 
 /// As [`encode_srgb8_planar`], for interleaved samples (one `[f32; N]` per pixel).
@@ -1057,13 +1059,34 @@ mod tests {
             let widths = super::avx512::BATCH_WIDTHS;
             assert_eq!(done, if widths.contains(&N) { groups_done } else { 0 });
             compare("AVX-512 batch", &got[..done]);
-            let mut lin = [0, 1, 2].map(|_| std::vec![0.0f32; pixels]);
-            let [r, g, b] = &mut lin;
-            // SAFETY: the CPU has the features.
-            let done = unsafe { super::avx512::linear_planar(&set.weights, planes, [r, g, b]) };
-            assert_eq!(done, groups_done);
-            lin.iter_mut().for_each(|c| c.truncate(done));
-            compare_linear("AVX-512 planar linear", &lin);
+            for stream in [false, true] {
+                // Output planes starting 0 to 15 floats past a 64-byte boundary (different for
+                // each plane and seed), so that the streamed planes' ordinary head and tail
+                // stores are used too.
+                let mut buf = [0, 1, 2].map(|_| std::vec![0.0f32; pixels + 32]);
+                let offset = |c: usize, b: &[f32]| {
+                    let to_boundary = b.as_ptr().align_offset(64);
+                    to_boundary + (5 * c + seed as usize) % 16
+                };
+                let [r, g, b] = &mut buf;
+                let (or, og, ob) = (offset(0, r), offset(1, g), offset(2, b));
+                let out = [
+                    &mut r[or..or + pixels],
+                    &mut g[og..og + pixels],
+                    &mut b[ob..ob + pixels],
+                ];
+                // SAFETY: the CPU has the features.
+                let done =
+                    unsafe { super::avx512::linear_planar(&set.weights, planes, out, stream) };
+                assert_eq!(done, groups_done);
+                let lin = [(r, or), (g, og), (b, ob)].map(|(c, o)| c[o..o + done].to_vec());
+                compare_linear("AVX-512 planar linear", &lin);
+                // Nothing written before the planes or past the pixels the loop reports.
+                for (c, o) in [(&buf[0], or), (&buf[1], og), (&buf[2], ob)] {
+                    let untouched = c[..o].iter().chain(&c[o + done..]);
+                    assert!(untouched.copied().all(|v| v == 0.0), "written outside");
+                }
+            }
         }
 
         // The public functions, whichever loops they pick.

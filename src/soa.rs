@@ -295,8 +295,8 @@ impl<const N: usize> FoldedSet<N> {
     /// Every loop computes each channel with the same f32 operations in the same order, so all
     /// give the same bits.
     ///
-    /// With AVX2 but not AVX-512, more than four samples and at least 2²⁰ pixels (12 MiB of
-    /// output), the output is written with non-temporal stores, which skip reading its lines
+    /// With at least 2²⁰ pixels (12 MiB of output) and AVX-512, or AVX2 and more than four
+    /// samples, the output is written with non-temporal stores, which skip reading its lines
     /// from memory first: faster for an image far larger than the caches, but the output is
     /// then not in the caches. Work on a large image in smaller calls (rows or tiles) to keep
     /// each call's output cached for what reads it next.

@@ -536,31 +536,30 @@ fn transpose4(px: &[f32; 4 * LANES]) -> [__m512; 4] {
 /// of 16). Each channel is summed from 0.0 in index order, as `set::mat_vec`, so the bits are
 /// those of [`FoldedSet::linear_rgb`](crate::FoldedSet::linear_rgb).
 ///
-/// One pass over all planes with ordinary stores, the samples asked for ahead as in the sRGB
-/// loop: on the CPU measured (AMD Zen 4) this reached the planar streaming bound at N = 4 and 8
-/// and 94 % of it at N = 16 over 2²⁵ pixels, where the AVX2 loop, in passes above four planes
-/// and with non-temporal stores from 2²⁰ pixels, reached 91, 68 and 66 % (the README's
-/// Performance section). So this loop keeps its output in the caches at every size.
+/// One pass over all planes, the samples asked for ahead as in the sRGB loop. With `stream`,
+/// each output plane is written with non-temporal stores ([`StreamedPlane`]), which skip
+/// reading the output's lines from memory before writing them; its lines are then not in the
+/// caches. On the CPU measured (AMD Zen 4), over 2²⁵ pixels, ordinary stores reached the
+/// planar streaming bound (which writes with ordinary stores) at N = 4 and 8 and 86-94 % of it
+/// at N = 16, and the non-temporal ones took 44-46, 11-16 and 9-13 % less time than those at
+/// N = 4, 8 and 16 (the commit that wrote this comment has the runs).
 #[target_feature(enable = "avx512f,avx512bw,avx512vbmi")]
 pub(crate) fn linear_planar<const N: usize>(
     weights: &[[f32; N]; 3],
     planes: [&[f32]; N],
     out: [&mut [f32]; 3],
+    stream: bool,
 ) -> usize {
     let planes: [&[[f32; LANES]]; N] = planes.map(|p| p.as_chunks::<LANES>().0);
-    let [r, g, b] = out.map(|o| o.as_chunks_mut::<LANES>().0);
+    let out = out.map(|o| o.as_chunks_mut::<LANES>().0);
     let groups = planes
         .iter()
         .map(|p| p.len())
-        .fold(r.len().min(g.len()).min(b.len()), usize::min);
+        .fold(out.iter().map(|o| o.len()).min().unwrap_or(0), usize::min);
+    let [r, g, b] = out.map(|o| &mut o[..groups]);
     let w = broadcast(weights);
     let zero = _mm512_setzero_ps();
-    for (j, ((r, g), b)) in r[..groups]
-        .iter_mut()
-        .zip(&mut g[..groups])
-        .zip(&mut b[..groups])
-        .enumerate()
-    {
+    let rgb = |j: usize| {
         prefetch(&planes, j);
         let s = load_group(&planes, j);
         let mut acc = [zero; 3];
@@ -569,12 +568,101 @@ pub(crate) fn linear_planar<const N: usize>(
                 *acc = _mm512_add_ps(*acc, _mm512_mul_ps(*w, *s));
             }
         }
-        for (o, v) in [r, g, b].into_iter().zip(acc) {
-            // SAFETY: `o` is valid for writing 16 f32; no alignment requirement.
-            unsafe { _mm512_storeu_ps(o.as_mut_ptr(), v) };
+        acc
+    };
+    if stream {
+        let mut out = [r, g, b].map(|o| StreamedPlane::new(o));
+        for j in 0..groups {
+            for (o, v) in out.iter_mut().zip(rgb(j)) {
+                o.push(j, v);
+            }
+        }
+        for o in out {
+            o.finish();
+        }
+        // Non-temporal stores are weakly ordered: this orders them before every store that
+        // follows, as ordinary stores are (another thread that synchronizes with this one
+        // afterwards sees the output).
+        _mm_sfence();
+    } else {
+        for (j, ((r, g), b)) in r.iter_mut().zip(g.iter_mut()).zip(b.iter_mut()).enumerate() {
+            for (o, v) in [r, g, b].into_iter().zip(rgb(j)) {
+                // SAFETY: `o` is valid for writing 16 f32; no alignment requirement.
+                unsafe { _mm512_storeu_ps(o.as_mut_ptr(), v) };
+            }
         }
     }
     groups * LANES
+}
+
+/// One output plane written with non-temporal stores (`vmovntps`), which need whole 64-byte
+/// lines: each group's sixteen values are held until the next group's, and the sixteen that
+/// fill the plane's next line go out together. The floats before its first 64-byte boundary
+/// and after its last whole line are written with ordinary (masked) stores.
+struct StreamedPlane<'a> {
+    out: &'a mut [[f32; LANES]],
+    /// Floats from the plane's start to its first 64-byte boundary, 0..16.
+    skip: usize,
+    /// Lanes `skip..16` of the held group, then lanes `0..skip` of the next: a line's values.
+    pick: __m512i,
+    /// The last group pushed.
+    held: __m512,
+}
+
+impl<'a> StreamedPlane<'a> {
+    #[inline]
+    #[target_feature(enable = "avx512f,avx512bw,avx512vbmi")]
+    fn new(out: &'a mut [[f32; LANES]]) -> StreamedPlane<'a> {
+        // f32 are 4-byte aligned, so the distance to the boundary is a whole number of floats.
+        let skip = out.as_ptr().cast::<f32>().align_offset(64) % LANES;
+        let lanes = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+        StreamedPlane {
+            out,
+            skip,
+            pick: _mm512_add_epi32(lanes, _mm512_set1_epi32(skip as i32)),
+            held: _mm512_setzero_ps(),
+        }
+    }
+
+    /// Mask of lanes `0..skip`.
+    #[inline]
+    fn head(&self) -> __mmask16 {
+        ((1u32 << self.skip) - 1) as __mmask16
+    }
+
+    /// Group j's values (groups in order from 0): group 0's floats before the first boundary
+    /// go out with an ordinary store; from group 1 on, the line from `skip + 16 · (j − 1)`.
+    #[inline]
+    #[target_feature(enable = "avx512f,avx512bw,avx512vbmi")]
+    fn push(&mut self, j: usize, v: __m512) {
+        let base = self.out.as_mut_ptr().cast::<f32>();
+        if j == 0 {
+            // SAFETY: the masked store writes lanes 0..skip (skip < 16) of group 0, inside the
+            // plane; no alignment requirement.
+            unsafe { _mm512_mask_storeu_ps(base, self.head(), v) };
+        } else {
+            let line = _mm512_permutex2var_ps(self.held, self.pick, v);
+            debug_assert!(self.skip + LANES * j <= LANES * self.out.len());
+            // SAFETY: floats skip + 16(j − 1) .. skip + 16j lie inside the plane, since group j
+            // exists and skip < 16, and their start is the plane's first 64-byte boundary plus
+            // a multiple of 64 bytes, the alignment `vmovntps` needs.
+            unsafe { _mm512_stream_ps(base.add(self.skip + LANES * (j - 1)), line) };
+        }
+        self.held = v;
+    }
+
+    /// The last group's floats after the last whole line, with an ordinary store.
+    #[inline]
+    #[target_feature(enable = "avx512f,avx512bw,avx512vbmi")]
+    fn finish(self) {
+        let Some(last) = self.out.len().checked_sub(1) else {
+            return;
+        };
+        let rest = !self.head();
+        // SAFETY: the masked store writes lanes skip..16 of the last group, inside the plane;
+        // no alignment requirement.
+        unsafe { _mm512_mask_storeu_ps(self.out[last].as_mut_ptr(), rest, self.held) };
+    }
 }
 
 #[cfg(test)]
