@@ -413,13 +413,15 @@ const NEAR: usize = 8;
 /// See [`NEAR`].
 const FAR: usize = 128;
 
-/// Asks for group `j + NEAR` of each plane into the first-level cache and group `j + FAR`
-/// into the second. Hints: any address is allowed, and nothing is read here.
+/// Asks for group `j + NEAR` of each plane into the first-level cache (with `near`) and group
+/// `j + FAR` into the second. Hints: any address is allowed, and nothing is read here.
 #[inline]
 #[target_feature(enable = "avx512f,avx512bw,avx512vbmi")]
-fn prefetch<const N: usize>(planes: &[&[[f32; LANES]]; N], j: usize) {
+fn prefetch<const N: usize>(planes: &[&[[f32; LANES]]; N], j: usize, near: bool) {
     for p in planes {
-        _mm_prefetch::<_MM_HINT_T0>(p.as_ptr().wrapping_add(j + NEAR).cast());
+        if near {
+            _mm_prefetch::<_MM_HINT_T0>(p.as_ptr().wrapping_add(j + NEAR).cast());
+        }
         _mm_prefetch::<_MM_HINT_T1>(p.as_ptr().wrapping_add(j + FAR).cast());
     }
 }
@@ -460,7 +462,7 @@ pub(crate) fn encode_srgb8_planar<const N: usize>(
     let enc = Encoder::new();
     let w = broadcast(weights);
     for (j, dst) in dst[..groups].iter_mut().enumerate() {
-        prefetch(&planes, j);
+        prefetch(&planes, j, true);
         let s = load_group(&planes, j);
         let flagged = encode_into(&enc, products(&w, &s), dst);
         if flagged != 0 {
@@ -531,12 +533,22 @@ fn transpose4(px: &[f32; 4 * LANES]) -> [__m512; 4] {
     ]
 }
 
+/// Up to this many planes the planar linear loop asks for its samples into the first-level
+/// cache too. At N = 16, alternating runs on the CPU measured (AMD Zen 4) took 5.16-5.26 ns per
+/// pixel without those requests against 5.51-5.53 with them (the sRGB loop, the other way
+/// round, 5.29-5.33 against 5.45-5.49, keeps them): sixteen planes at one offset within a page
+/// compete for one set of the 8-way first-level cache, and lines asked for early are evicted
+/// before their use. (Runs with this constant at 16 and at 8; the commit that wrote this
+/// comment has them.)
+const NEAR_LINEAR_PLANES: usize = 8;
+
 /// The planar linear f32 loop over whole groups of sixteen pixels: `planes[i]` and the three
 /// output planes hold the same number of pixels. Returns how many pixels it wrote (a multiple
 /// of 16). Each channel is summed from 0.0 in index order, as `set::mat_vec`, so the bits are
 /// those of [`FoldedSet::linear_rgb`](crate::FoldedSet::linear_rgb).
 ///
-/// One pass over all planes, the samples asked for ahead as in the sRGB loop. With `stream`,
+/// One pass over all planes, the samples asked for ahead as in the sRGB loop, but above
+/// [`NEAR_LINEAR_PLANES`] planes only into the second-level cache. With `stream`,
 /// each output plane is written with non-temporal stores ([`StreamedPlane`]), which skip
 /// reading the output's lines from memory before writing them; its lines are then not in the
 /// caches. On the CPU measured (AMD Zen 4), over 2²⁵ pixels, ordinary stores reached the
@@ -560,7 +572,7 @@ pub(crate) fn linear_planar<const N: usize>(
     let w = broadcast(weights);
     let zero = _mm512_setzero_ps();
     let rgb = |j: usize| {
-        prefetch(&planes, j);
+        prefetch(&planes, j, N <= NEAR_LINEAR_PLANES);
         let s = load_group(&planes, j);
         let mut acc = [zero; 3];
         for (acc, row) in acc.iter_mut().zip(&w) {
