@@ -927,6 +927,57 @@ mod tests {
         a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan())
     }
 
+    /// One x86-64 form of the accelerated loops, as the tests force them.
+    #[cfg(target_arch = "x86_64")]
+    struct X86Loops<const N: usize> {
+        name: &'static str,
+        available: bool,
+        /// Pixels per group of the sRGB loops.
+        group: usize,
+        planar: PlanarLoop<N>,
+        batch: BatchLoop<N>,
+        /// Whether the interleaved loop takes width N (it returns 0 for others).
+        batch_takes: fn(usize) -> bool,
+        linear: LinearLoop<N>,
+    }
+
+    /// The accelerated planar sRGB loops' signature.
+    #[cfg(target_arch = "x86_64")]
+    type PlanarLoop<const N: usize> = unsafe fn(&[[f32; N]; 3], [&[f32]; N], &mut [u8]) -> usize;
+    /// The accelerated interleaved sRGB loops' signature.
+    #[cfg(target_arch = "x86_64")]
+    type BatchLoop<const N: usize> = unsafe fn(&[[f32; N]; 3], &[[f32; N]], &mut [u8]) -> usize;
+    /// The accelerated planar linear loops' signature (the last argument: `stream`).
+    #[cfg(target_arch = "x86_64")]
+    type LinearLoop<const N: usize> =
+        unsafe fn(&[[f32; N]; 3], [&[f32]; N], [&mut [f32]; 3], bool) -> usize;
+
+    /// The AVX-512 and the AVX2 loops.
+    #[cfg(target_arch = "x86_64")]
+    fn x86_loops<const N: usize>() -> [X86Loops<N>; 2] {
+        use super::{avx2, avx512};
+        [
+            X86Loops {
+                name: "AVX-512",
+                available: avx512::available(),
+                group: avx512::LANES,
+                planar: avx512::encode_srgb8_planar::<N>,
+                batch: avx512::encode_srgb8_batch::<N>,
+                batch_takes: |n| avx512::BATCH_WIDTHS.contains(&n),
+                linear: avx512::linear_planar::<N>,
+            },
+            X86Loops {
+                name: "AVX2",
+                available: avx2::available(),
+                group: avx2::LANES,
+                planar: avx2::encode_srgb8_planar::<N>,
+                batch: avx2::encode_srgb8_batch::<N>,
+                batch_takes: |_| true,
+                linear: avx2::linear_planar::<N>,
+            },
+        ]
+    }
+
     /// `pixels` random pixels (the edge inputs in every sample position first) through every
     /// loop of `set`.
     fn check<const N: usize>(set: &crate::FoldedSet<N>, pixels: usize, seed: u64) {
@@ -987,86 +1038,35 @@ mod tests {
         }
         compare_linear("portable planar linear", &lin);
 
-        // The AVX2 loops, where this CPU has AVX2. The sRGB loops write every whole group of 8,
-        // a lone one included (their pipeline runs only the stages whose group exists).
+        // The AVX-512 and AVX2 loops, where this CPU has them: every whole group (of 16 and of
+        // 8 pixels; the AVX2 sRGB loops a lone group too, as their pipeline runs only the stages
+        // whose group exists; the AVX-512 interleaved loop only at its widths, else nothing).
+        // Linear output with and without `stream` (with AVX2, at most four planes, `stream`
+        // changes nothing), into output planes starting 0 to 15 floats past a 64-byte boundary
+        // (different for each plane and seed), so that the streamed copies' ordinary head and
+        // tail stores are used too; nothing outside the output planes may change.
         #[cfg(target_arch = "x86_64")]
-        if super::avx2::available() {
-            let srgb8_done = pixels / 8 * 8;
-            let mut got = std::vec![[0u8; 3]; pixels];
-            // SAFETY: the CPU has AVX2.
-            let done = unsafe {
-                super::avx2::encode_srgb8_planar(&set.weights, planes, got.as_flattened_mut())
-            };
-            assert_eq!(done, srgb8_done);
-            compare("AVX2 planar", &got[..done]);
-            let mut got = std::vec![[0u8; 3]; pixels];
-            // SAFETY: the CPU has AVX2.
-            let done = unsafe {
-                super::avx2::encode_srgb8_batch(&set.weights, &aos, got.as_flattened_mut())
-            };
-            assert_eq!(done, srgb8_done);
-            compare("AVX2 batch", &got[..done]);
-            // With `stream`, above four planes the sums are copied out with non-temporal
-            // stores (at most four, `stream` changes nothing).
-            for stream in [false, true] {
-                // Output planes starting 0 to 7 floats past a 32-byte boundary (different for
-                // each plane and seed), so that the streamed copies' ordinary head and tail
-                // stores are used too.
-                let mut buf = [0, 1, 2].map(|_| std::vec![0.0f32; pixels + 16]);
-                let offset = |c: usize, b: &[f32]| {
-                    // Floats from `b`'s start to its first 32-byte boundary, plus 0 to 7.
-                    let to_boundary = (8 - b.as_ptr() as usize / 4 % 8) % 8;
-                    (to_boundary + (3 * c + seed as usize) % 8) % 8
-                };
-                let [r, g, b] = &mut buf;
-                let (or, og, ob) = (offset(0, r), offset(1, g), offset(2, b));
-                let out = [
-                    &mut r[or..or + pixels],
-                    &mut g[og..og + pixels],
-                    &mut b[ob..ob + pixels],
-                ];
-                // SAFETY: the CPU has AVX2.
-                let done = unsafe { super::avx2::linear_planar(&set.weights, planes, out, stream) };
-                // Whole steps of 16 pixels.
-                assert_eq!(done, pixels / 16 * 16);
-                let lin = [(r, or), (g, og), (b, ob)].map(|(c, o)| c[o..o + done].to_vec());
-                let what = if stream {
-                    "AVX2 planar linear, streamed"
-                } else {
-                    "AVX2 planar linear"
-                };
-                compare_linear(what, &lin);
+        for x86 in x86_loops::<N>() {
+            if !x86.available {
+                continue;
             }
-        }
-
-        // The AVX-512 loops, where this CPU has the subsets they use: every whole group of 16
-        // (the interleaved loop only for its widths).
-        #[cfg(target_arch = "x86_64")]
-        if super::avx512::available() {
-            let groups_done = pixels / 16 * 16;
+            let name = x86.name;
+            let srgb8_done = pixels / x86.group * x86.group;
             let mut got = std::vec![[0u8; 3]; pixels];
-            // SAFETY: the CPU has the features.
-            let done = unsafe {
-                super::avx512::encode_srgb8_planar(&set.weights, planes, got.as_flattened_mut())
-            };
-            assert_eq!(done, groups_done);
-            compare("AVX-512 planar", &got[..done]);
+            // SAFETY: the CPU has the loop's features (`available`).
+            let done = unsafe { (x86.planar)(&set.weights, planes, got.as_flattened_mut()) };
+            assert_eq!(done, srgb8_done, "{name} planar");
+            compare(&std::format!("{name} planar"), &got[..done]);
             let mut got = std::vec![[0u8; 3]; pixels];
-            // SAFETY: the CPU has the features.
-            let done = unsafe {
-                super::avx512::encode_srgb8_batch(&set.weights, &aos, got.as_flattened_mut())
-            };
-            let widths = super::avx512::BATCH_WIDTHS;
-            assert_eq!(done, if widths.contains(&N) { groups_done } else { 0 });
-            compare("AVX-512 batch", &got[..done]);
+            // SAFETY: the CPU has the loop's features (`available`).
+            let done = unsafe { (x86.batch)(&set.weights, &aos, got.as_flattened_mut()) };
+            let batch_done = if (x86.batch_takes)(N) { srgb8_done } else { 0 };
+            assert_eq!(done, batch_done, "{name} batch");
+            compare(&std::format!("{name} batch"), &got[..done]);
             for stream in [false, true] {
-                // Output planes starting 0 to 15 floats past a 64-byte boundary (different for
-                // each plane and seed), so that the streamed planes' ordinary head and tail
-                // stores are used too.
                 let mut buf = [0, 1, 2].map(|_| std::vec![0.0f32; pixels + 32]);
                 let offset = |c: usize, b: &[f32]| {
-                    let to_boundary = b.as_ptr().align_offset(64);
-                    to_boundary + (5 * c + seed as usize) % 16
+                    b.as_ptr().align_offset(64) + (5 * c + seed as usize) % 16
                 };
                 let [r, g, b] = &mut buf;
                 let (or, og, ob) = (offset(0, r), offset(1, g), offset(2, b));
@@ -1075,16 +1075,18 @@ mod tests {
                     &mut g[og..og + pixels],
                     &mut b[ob..ob + pixels],
                 ];
-                // SAFETY: the CPU has the features.
-                let done =
-                    unsafe { super::avx512::linear_planar(&set.weights, planes, out, stream) };
-                assert_eq!(done, groups_done);
+                // SAFETY: the CPU has the loop's features (`available`).
+                let done = unsafe { (x86.linear)(&set.weights, planes, out, stream) };
+                // Whole steps of 16 pixels.
+                assert_eq!(done, pixels / 16 * 16, "{name} planar linear");
                 let lin = [(r, or), (g, og), (b, ob)].map(|(c, o)| c[o..o + done].to_vec());
-                compare_linear("AVX-512 planar linear", &lin);
-                // Nothing written before the planes or past the pixels the loop reports.
+                compare_linear(&std::format!("{name} planar linear, {stream}"), &lin);
                 for (c, o) in [(&buf[0], or), (&buf[1], og), (&buf[2], ob)] {
                     let untouched = c[..o].iter().chain(&c[o + done..]);
-                    assert!(untouched.copied().all(|v| v == 0.0), "written outside");
+                    assert!(
+                        untouched.copied().all(|v| v == 0.0),
+                        "{name}: written outside"
+                    );
                 }
             }
         }
