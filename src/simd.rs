@@ -68,13 +68,12 @@ pub(crate) fn linear_planar<const N: usize>(
 ) -> usize {
     #[cfg(target_arch = "x86_64")]
     {
+        let stream = out.iter().map(|o| o.len()).min().unwrap_or(0) >= STREAM_MIN_PIXELS;
         if avx512::available() {
-            let stream = out.iter().map(|o| o.len()).min().unwrap_or(0) >= STREAM_MIN_PIXELS;
             // SAFETY: the CPU has the AVX-512 subsets the loop needs (checked just above).
             return unsafe { avx512::linear_planar(weights, planes, out, stream) };
         }
         if avx2::available() {
-            let stream = out.iter().map(|o| o.len()).min().unwrap_or(0) >= STREAM_MIN_PIXELS;
             // SAFETY: the CPU has AVX2 (checked just above).
             return unsafe { avx2::linear_planar(weights, planes, out, stream) };
         }
@@ -89,6 +88,7 @@ pub(crate) fn linear_planar<const N: usize>(
 /// more than a core's share of the last-level cache on common x86-64 CPUs, so the output would
 /// leave the caches before it is read again anyway. Smaller calls (a row, a tile) write through
 /// the caches, where the caller reads them next.
+#[cfg(target_arch = "x86_64")]
 pub(crate) const STREAM_MIN_PIXELS: usize = 1 << 20;
 
 /// As [`encode_srgb8_planar`], for interleaved samples (one `[f32; N]` per pixel).
