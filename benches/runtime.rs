@@ -792,6 +792,31 @@ fn bandwidth_set<const N: usize>(
         })
     });
 
+    // The same planes, each from its first 64-byte boundary on, over 2²⁵ - 16 pixels (so that
+    // every plane holds them): a plane that starts off a boundary has each 64-byte line read
+    // by two groups of 16 pixels, one that starts on it by one. (Large blocks from the system
+    // allocator start 16 bytes past a page on glibc.) The bound on the same bytes runs first.
+    let lines: [&[f32]; N] = samples.map(|p| {
+        let skip = p.as_ptr().align_offset(64);
+        &p[skip..skip + BIG_PIXELS - 16]
+    });
+    let bytes = &mut out.as_flattened_mut()[..3 * (BIG_PIXELS - 16)];
+    g.bench_function(format!("stream/read_write_3B_aligned/N{N}"), |b| {
+        ran(&format!("stream/read_write_3B_aligned/N{N}"));
+        b.iter(|| stream::<N, 3>(black_box(lines), black_box(&mut *bytes)))
+    });
+    g.bench_function(format!("soa/srgb_u8_aligned/N{N}"), |b| {
+        ran(&format!("soa/srgb_u8_aligned/N{N}"));
+        b.iter(|| {
+            set.encode_u8_planar(
+                clip,
+                black_box(lines),
+                black_box(&mut out[..BIG_PIXELS - 16]),
+            )
+            .unwrap()
+        })
+    });
+
     // The same planes in one allocation, each starting 8 KiB past the end of the one before.
     // Separate allocations of 2²⁵ f32 (the planes above) come from the system allocator 128 MiB
     // and 4 KiB apart, and planes that far apart slow the streaming loads on the CPU of the
@@ -911,6 +936,7 @@ fn print_ratios(n: usize) {
         ("soa/srgb_u8", "stream/read_write_3B"),
         ("soa/srgb_u8", "stream/read_write_3B_passes"),
         ("soa/srgb_u8_spaced", "stream/read_write_3B_spaced"),
+        ("soa/srgb_u8_aligned", "stream/read_write_3B_aligned"),
         ("soa/linear", "stream/read_write_3x4B"),
         ("soa/linear", "stream/read_write_3x4B_passes"),
         ("soa/linear", "stream/read_write_12B"),
@@ -951,6 +977,8 @@ fn print_ratios(n: usize) {
 ///   `aos/srgb_u8/N<n>`: `encode_u8_batch` on the same pixels interleaved (`[f32; N]` each);
 ///   `soa/srgb_u8_spaced/N<n>`: the same planes copied into one allocation 8 KiB apart,
 ///   against `stream/read_write_3B_spaced/N<n>`, the bound on those planes;
+///   `soa/srgb_u8_aligned/N<n>`: the same planes each from its first 64-byte boundary on,
+///   against `stream/read_write_3B_aligned/N<n>`, the bound on those bytes;
 ///   `soa/srgb_u8_in_cache/N<n>`: the same on the first `IN_CACHE_PIXELS` only, in cache;
 ///   `soa/srgb_u8_in_cache_offset/N<n>`: those samples copied to planes 64 bytes apart modulo
 ///   4 KiB; `soa/srgb_u8_in_cache_close/N<n>`: copied to planes 16 KiB apart, at the same
