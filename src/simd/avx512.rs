@@ -44,7 +44,9 @@
 //!
 //! The planar loops ask for each plane's samples [`NEAR`] groups ahead into the first-level
 //! cache and [`FAR`] groups ahead into the second, and read every plane at once at every width
-//! (the AVX2 loops go four planes at a time above four planes).
+//! (the AVX2 loops go four planes at a time above four planes). The planar loops start their
+//! groups where most planes start a 64-byte line ([`on_lines`](super::on_lines)), so that
+//! each line is read once.
 
 use core::arch::x86_64::*;
 
@@ -442,16 +444,37 @@ fn load_group<const N: usize>(planes: &[&[[f32; LANES]]; N], j: usize) -> [__m51
 
 // --- The loops ------------------------------------------------------------------------------
 
-/// The planar sRGB 8-bit loop over whole groups of sixteen pixels: `planes[i]` and `out`
-/// (3 bytes per pixel). Returns how many pixels it wrote (a multiple of 16); the caller
-/// encodes the rest.
+/// The planar sRGB 8-bit loop: `planes[i]` and `out` (3 bytes per pixel). Returns how many
+/// pixels it wrote (16 or more, or 0 below 16); the caller encodes the rest.
+///
+/// The groups of sixteen pixels start where most planes start a 64-byte line
+/// ([`on_lines`](super::on_lines)), after one group at the planes' start.
+#[target_feature(enable = "avx512f,avx512bw,avx512vbmi")]
+pub(crate) fn encode_srgb8_planar<const N: usize>(
+    weights: &[[f32; N]; 3],
+    planes: [&[f32]; N],
+    out: &mut [u8],
+) -> usize {
+    let pixels = planes
+        .iter()
+        .map(|p| p.len())
+        .fold(out.len() / 3, usize::min);
+    let head = super::on_lines(&planes, pixels, LANES, 64);
+    if head > 0 {
+        encode_srgb8_groups(weights, planes.map(|p| &p[..LANES]), &mut out[..3 * LANES]);
+    }
+    head + encode_srgb8_groups(weights, planes.map(|p| &p[head..]), &mut out[3 * head..])
+}
+
+/// The planar sRGB 8-bit loop over whole groups of sixteen pixels from the planes' start.
+/// Returns how many pixels it wrote (a multiple of 16).
 ///
 /// All planes are read at once, at every width. The AVX2 loop goes through the planes four at
 /// a time above four planes, with partial sums on the stack; on the CPU measured (AMD Zen 4)
 /// the same passes before this loop were 12 to 16 % slower from memory at N = 6, 8 and 16
 /// than one pass (the commit that wrote this comment has the figures).
 #[target_feature(enable = "avx512f,avx512bw,avx512vbmi")]
-pub(crate) fn encode_srgb8_planar<const N: usize>(
+fn encode_srgb8_groups<const N: usize>(
     weights: &[[f32; N]; 3],
     planes: [&[f32]; N],
     out: &mut [u8],
@@ -542,9 +565,10 @@ fn transpose4(px: &[f32; 4 * LANES]) -> [__m512; 4] {
 /// comment has them.)
 const NEAR_LINEAR_PLANES: usize = 8;
 
-/// The planar linear f32 loop over whole groups of sixteen pixels: `planes[i]` and the three
-/// output planes hold the same number of pixels. Returns how many pixels it wrote (a multiple
-/// of 16). Each channel is summed from 0.0 in index order, as `set::mat_vec`, so the bits are
+/// The planar linear f32 loop: `planes[i]` and the three output planes. Returns how many
+/// pixels it wrote (16 or more, or 0 below 16), its groups starting where most planes start
+/// a 64-byte line ([`on_lines`](super::on_lines)), after one group at the planes' start. Each
+/// channel is summed from 0.0 in index order, as `set::mat_vec`, so the bits are
 /// those of [`FoldedSet::linear_rgb`](crate::FoldedSet::linear_rgb).
 ///
 /// One pass over all planes, the samples asked for ahead as in the sRGB loop, but above
@@ -557,6 +581,28 @@ const NEAR_LINEAR_PLANES: usize = 8;
 /// N = 4, 8 and 16 (the commit that wrote this comment has the runs).
 #[target_feature(enable = "avx512f,avx512bw,avx512vbmi")]
 pub(crate) fn linear_planar<const N: usize>(
+    weights: &[[f32; N]; 3],
+    planes: [&[f32]; N],
+    out: [&mut [f32]; 3],
+    stream: bool,
+) -> usize {
+    let pixels = planes
+        .iter()
+        .map(|p| p.len())
+        .fold(out.iter().map(|o| o.len()).min().unwrap_or(0), usize::min);
+    let head = super::on_lines(&planes, pixels, LANES, 64);
+    let [r, g, b] = out;
+    if head > 0 {
+        let first = [&mut r[..LANES], &mut g[..LANES], &mut b[..LANES]];
+        linear_groups(weights, planes.map(|p| &p[..LANES]), first, false);
+    }
+    let rest = [&mut r[head..], &mut g[head..], &mut b[head..]];
+    head + linear_groups(weights, planes.map(|p| &p[head..]), rest, stream)
+}
+
+/// [`linear_planar`] over whole groups of sixteen pixels from the planes' start.
+#[target_feature(enable = "avx512f,avx512bw,avx512vbmi")]
+fn linear_groups<const N: usize>(
     weights: &[[f32; N]; 3],
     planes: [&[f32]; N],
     out: [&mut [f32]; 3],
