@@ -96,7 +96,7 @@ pub(crate) fn encode_srgb8_planar<const N: usize>(
 }
 
 /// As [`encode_srgb8_planar`], for linear f32 output (three planes); the accelerated loop
-/// writes a multiple of 16 pixels.
+/// writes all but fewer than 16 pixels.
 #[inline]
 pub(crate) fn linear_planar<const N: usize>(
     weights: &[[f32; N]; 3],
