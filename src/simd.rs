@@ -34,11 +34,59 @@
 #[cfg(target_arch = "x86_64")]
 pub(crate) mod avx512;
 
-/// Where an accelerated planar loop starts its loads: the pixel from which the most planes
-/// start a `line`-byte boundary (0, or the first such pixel in plane order, where several
-/// tie), where that is below `unit` (the pixels of one step of the loop) and `pixels` holds a
-/// step after it; else 0. The planar loops run one step at the planes' start, then their
-/// steps from there: the pixels in between are computed twice, to the same values.
+/// Runs an accelerated planar sRGB 8-bit loop, `steps` (whole steps of `unit` pixels from the
+/// start of the planes and output it is given; it returns how many pixels it wrote), once at
+/// the planes' start and then from [`on_lines`]. Returns how many pixels were written in all:
+/// all but fewer than `unit`, or 0 below `unit`. The pixels in between are computed twice, to
+/// the same values.
+#[cfg(target_arch = "x86_64")]
+#[inline]
+fn srgb8_from_lines<const N: usize>(
+    planes: [&[f32]; N],
+    out: &mut [u8],
+    unit: usize,
+    line: usize,
+    mut steps: impl FnMut([&[f32]; N], &mut [u8]) -> usize,
+) -> usize {
+    let pixels = planes
+        .iter()
+        .map(|p| p.len())
+        .fold(out.len() / 3, usize::min);
+    let head = on_lines(&planes, pixels, unit, line);
+    if head > 0 {
+        steps(planes.map(|p| &p[..unit]), &mut out[..3 * unit]);
+    }
+    head + steps(planes.map(|p| &p[head..]), &mut out[3 * head..])
+}
+
+/// As [`srgb8_from_lines`], for a planar linear loop: `steps`' last argument is whether it
+/// runs the step at the planes' start (which is not worth streaming).
+#[cfg(target_arch = "x86_64")]
+#[inline]
+fn linear_from_lines<const N: usize>(
+    planes: [&[f32]; N],
+    out: [&mut [f32]; 3],
+    unit: usize,
+    line: usize,
+    mut steps: impl FnMut([&[f32]; N], [&mut [f32]; 3], bool) -> usize,
+) -> usize {
+    let pixels = planes
+        .iter()
+        .map(|p| p.len())
+        .fold(out.iter().map(|o| o.len()).min().unwrap_or(0), usize::min);
+    let head = on_lines(&planes, pixels, unit, line);
+    let [r, g, b] = out;
+    if head > 0 {
+        let first = [&mut r[..unit], &mut g[..unit], &mut b[..unit]];
+        steps(planes.map(|p| &p[..unit]), first, true);
+    }
+    let rest = [&mut r[head..], &mut g[head..], &mut b[head..]];
+    head + steps(planes.map(|p| &p[head..]), rest, false)
+}
+
+/// Where an accelerated planar loop starts its steps of `unit` pixels: the pixel from which
+/// the most planes start a `line`-byte boundary (0, or the first such pixel in plane order,
+/// where several tie), where that is below `unit` and `pixels` holds a step after it; else 0.
 ///
 /// A 64-byte line of a plane read from such a boundary is read by one group of pixels, not
 /// two. On the CPU measured (AMD Zen 4), planes of 2²⁵ pixels in separate allocations (which
@@ -575,15 +623,9 @@ pub(crate) mod avx2 {
         planes: [&[f32]; N],
         out: &mut [u8],
     ) -> usize {
-        let pixels = planes
-            .iter()
-            .map(|p| p.len())
-            .fold(out.len() / 3, usize::min);
-        let head = super::on_lines(&planes, pixels, LANES, 32);
-        if head > 0 {
-            encode_srgb8_groups(weights, planes.map(|p| &p[..LANES]), &mut out[..3 * LANES]);
-        }
-        head + encode_srgb8_groups(weights, planes.map(|p| &p[head..]), &mut out[3 * head..])
+        super::srgb8_from_lines(planes, out, LANES, 32, |planes, out| {
+            encode_srgb8_groups(weights, planes, out)
+        })
     }
 
     /// [`encode_srgb8_planar`] over whole groups of eight pixels from the planes' start;
@@ -824,22 +866,9 @@ pub(crate) mod avx2 {
         out: [&mut [f32]; 3],
         stream: bool,
     ) -> usize {
-        let pixels = planes
-            .iter()
-            .map(|p| p.len())
-            .fold(out.iter().map(|o| o.len()).min().unwrap_or(0), usize::min);
-        let head = super::on_lines(&planes, pixels, 2 * LANES, 32);
-        let [r, g, b] = out;
-        if head > 0 {
-            let first = [
-                &mut r[..2 * LANES],
-                &mut g[..2 * LANES],
-                &mut b[..2 * LANES],
-            ];
-            linear_pairs(weights, planes.map(|p| &p[..2 * LANES]), first, false);
-        }
-        let rest = [&mut r[head..], &mut g[head..], &mut b[head..]];
-        head + linear_pairs(weights, planes.map(|p| &p[head..]), rest, stream)
+        super::linear_from_lines(planes, out, 2 * LANES, 32, |planes, out, first| {
+            linear_pairs(weights, planes, out, stream && !first)
+        })
     }
 
     /// [`linear_planar`] over whole pairs of groups of eight pixels from the planes' start;

@@ -455,15 +455,9 @@ pub(crate) fn encode_srgb8_planar<const N: usize>(
     planes: [&[f32]; N],
     out: &mut [u8],
 ) -> usize {
-    let pixels = planes
-        .iter()
-        .map(|p| p.len())
-        .fold(out.len() / 3, usize::min);
-    let head = super::on_lines(&planes, pixels, LANES, 64);
-    if head > 0 {
-        encode_srgb8_groups(weights, planes.map(|p| &p[..LANES]), &mut out[..3 * LANES]);
-    }
-    head + encode_srgb8_groups(weights, planes.map(|p| &p[head..]), &mut out[3 * head..])
+    super::srgb8_from_lines(planes, out, LANES, 64, |planes, out| {
+        encode_srgb8_groups(weights, planes, out)
+    })
 }
 
 /// The planar sRGB 8-bit loop over whole groups of sixteen pixels from the planes' start.
@@ -586,18 +580,9 @@ pub(crate) fn linear_planar<const N: usize>(
     out: [&mut [f32]; 3],
     stream: bool,
 ) -> usize {
-    let pixels = planes
-        .iter()
-        .map(|p| p.len())
-        .fold(out.iter().map(|o| o.len()).min().unwrap_or(0), usize::min);
-    let head = super::on_lines(&planes, pixels, LANES, 64);
-    let [r, g, b] = out;
-    if head > 0 {
-        let first = [&mut r[..LANES], &mut g[..LANES], &mut b[..LANES]];
-        linear_groups(weights, planes.map(|p| &p[..LANES]), first, false);
-    }
-    let rest = [&mut r[head..], &mut g[head..], &mut b[head..]];
-    head + linear_groups(weights, planes.map(|p| &p[head..]), rest, stream)
+    super::linear_from_lines(planes, out, LANES, 64, |planes, out, first| {
+        linear_groups(weights, planes, out, stream && !first)
+    })
 }
 
 /// [`linear_planar`] over whole groups of sixteen pixels from the planes' start.
