@@ -544,6 +544,32 @@ fn planar_in_cache<const N: usize>(
     });
 }
 
+/// Cases `stream/read_write_3B<layout>/N<n>` and `soa/srgb_u8<layout>/N<n>`: the streaming
+/// bound for sRGB u8 on `planes`, then `encode_u8_planar` (sRGB, `Clip`) on the same planes,
+/// both into the first `planes[0].len()` pixels of `out`.
+fn planar_against_bound<const N: usize>(
+    g: &mut BenchmarkGroup<'_, WallTime>,
+    layout: &str,
+    set: &FoldedSet<N>,
+    planes: [&[f32]; N],
+    out: &mut [[u8; 3]],
+) {
+    let out = &mut out[..planes[0].len()];
+    let bound = format!("stream/read_write_3B{layout}/N{N}");
+    g.bench_function(&bound, |b| {
+        ran(&bound);
+        b.iter(|| stream::<N, 3>(black_box(planes), black_box(out.as_flattened_mut())))
+    });
+    let path = format!("soa/srgb_u8{layout}/N{N}");
+    g.bench_function(&path, |b| {
+        ran(&path);
+        b.iter(|| {
+            set.encode_u8_planar(GamutMapping::Clip, black_box(planes), black_box(&mut *out))
+                .unwrap()
+        })
+    });
+}
+
 /// The streaming bound: reads every sample of every plane once and writes `B` bytes per pixel
 /// taken from what it read. Nothing else: any conversion must read and write at least this
 /// much.
@@ -800,22 +826,7 @@ fn bandwidth_set<const N: usize>(
         let skip = p.as_ptr().align_offset(64);
         &p[skip..skip + BIG_PIXELS - 16]
     });
-    let bytes = &mut out.as_flattened_mut()[..3 * (BIG_PIXELS - 16)];
-    g.bench_function(format!("stream/read_write_3B_aligned/N{N}"), |b| {
-        ran(&format!("stream/read_write_3B_aligned/N{N}"));
-        b.iter(|| stream::<N, 3>(black_box(lines), black_box(&mut *bytes)))
-    });
-    g.bench_function(format!("soa/srgb_u8_aligned/N{N}"), |b| {
-        ran(&format!("soa/srgb_u8_aligned/N{N}"));
-        b.iter(|| {
-            set.encode_u8_planar(
-                clip,
-                black_box(lines),
-                black_box(&mut out[..BIG_PIXELS - 16]),
-            )
-            .unwrap()
-        })
-    });
+    planar_against_bound(g, "_aligned", set, lines, &mut out);
 
     // The same planes in one allocation, each starting 8 KiB past the end of the one before.
     // Separate allocations of 2²⁵ f32 (the planes above) come from the system allocator 128 MiB
@@ -823,19 +834,7 @@ fn bandwidth_set<const N: usize>(
     // README's figures (AMD Zen 3): the bound and the path are measured again on these, each
     // against the other.
     let spaced = OneAllocation::new(samples, BIG_PIXELS + SPACING, 0, |_| 0);
-    let spaced_planes: [&[f32]; N] = spaced.planes();
-    let bytes = out.as_flattened_mut();
-    g.bench_function(format!("stream/read_write_3B_spaced/N{N}"), |b| {
-        ran(&format!("stream/read_write_3B_spaced/N{N}"));
-        b.iter(|| stream::<N, 3>(black_box(spaced_planes), black_box(&mut *bytes)))
-    });
-    g.bench_function(format!("soa/srgb_u8_spaced/N{N}"), |b| {
-        ran(&format!("soa/srgb_u8_spaced/N{N}"));
-        b.iter(|| {
-            set.encode_u8_planar(clip, black_box(spaced_planes), black_box(&mut out))
-                .unwrap()
-        })
-    });
+    planar_against_bound(g, "_spaced", set, spaced.planes(), &mut out);
     drop(spaced);
 
     // The same pixels interleaved, one `[f32; N]` each (`encode_u8_batch`): the same bytes
