@@ -1044,6 +1044,14 @@ mod tests {
         a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan())
     }
 
+    /// The index in `buf` of the float `k % 16` floats past `buf`'s first 64-byte boundary:
+    /// where the tests put a plane that starts at that offset within a line (`buf` holds 31
+    /// floats more than the plane).
+    #[cfg(target_arch = "x86_64")]
+    fn past_line(buf: &[f32], k: usize) -> usize {
+        buf.as_ptr().align_offset(64) + k % 16
+    }
+
     /// One x86-64 form of the accelerated loops, as the tests force them.
     #[cfg(target_arch = "x86_64")]
     struct X86Loops<const N: usize> {
@@ -1173,19 +1181,15 @@ mod tests {
             // boundary, planes 2k and 2k + 1 at the same offset (which depends on the seed):
             // where the loops start their groups depends on those offsets (`on_lines`). They
             // must leave fewer pixels than a step, and write nothing past those they report.
-            let offset = |i: usize, c: &[f32]| {
-                c.as_ptr().align_offset(64) + (seed as usize + 7 * (i / 2)) % 16
-            };
             let mut copies: std::vec::Vec<std::vec::Vec<f32>> =
                 (0..N).map(|_| std::vec![0.0f32; pixels + 32]).collect();
-            for (i, (c, p)) in copies.iter_mut().zip(&planes).enumerate() {
-                let o = offset(i, c);
+            let starts: [usize; N] =
+                core::array::from_fn(|i| past_line(&copies[i], seed as usize + 7 * (i / 2)));
+            for ((c, p), &o) in copies.iter_mut().zip(&planes).zip(&starts) {
                 c[o..o + pixels].copy_from_slice(p);
             }
-            let shifted: [&[f32]; N] = core::array::from_fn(|i| {
-                let o = offset(i, &copies[i]);
-                &copies[i][o..o + pixels]
-            });
+            let shifted: [&[f32]; N] =
+                core::array::from_fn(|i| &copies[i][starts[i]..starts[i] + pixels]);
             let mut got = std::vec![[0xA5u8; 3]; pixels];
             // SAFETY: the CPU has the loop's features (`available`).
             let done = unsafe { (x86.planar)(&set.weights, shifted, got.as_flattened_mut()) };
@@ -1206,9 +1210,7 @@ mod tests {
             compare(&std::format!("{name} batch"), &got[..done]);
             for stream in [false, true] {
                 let mut buf = [0, 1, 2].map(|_| std::vec![0.0f32; pixels + 32]);
-                let offset = |c: usize, b: &[f32]| {
-                    b.as_ptr().align_offset(64) + (5 * c + seed as usize) % 16
-                };
+                let offset = |c: usize, b: &[f32]| past_line(b, 5 * c + seed as usize);
                 let [r, g, b] = &mut buf;
                 let (or, og, ob) = (offset(0, r), offset(1, g), offset(2, b));
                 let out = [
