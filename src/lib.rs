@@ -162,3 +162,28 @@ pub mod tables {
 #[cfg(doctest)]
 #[doc = include_str!("../README.md")]
 struct ReadmeDoctests;
+
+/// The Rust examples of `docs/`, compiled and run as doctests like the README's.
+#[cfg(doctest)]
+#[doc = include_str!("../docs/using-the-tables.md")]
+struct UsingTheTablesDoctests;
+
+#[cfg(doctest)]
+#[doc = include_str!("../docs/shared-sets.md")]
+struct SharedSetsDoctests;
+
+#[cfg(doctest)]
+#[doc = include_str!("../docs/performance.md")]
+struct PerformanceDoctests;
+
+#[cfg(doctest)]
+#[doc = include_str!("../docs/shaders.md")]
+struct ShadersDoctests;
+
+#[cfg(doctest)]
+#[doc = include_str!("../docs/your-light-and-sensor.md")]
+struct YourLightAndSensorDoctests;
+
+#[cfg(doctest)]
+#[doc = include_str!("../docs/microcontrollers.md")]
+struct MicrocontrollersDoctests;
