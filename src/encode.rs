@@ -9,7 +9,7 @@
 //! segment (in the f32's low 16 bits) its threshold lies, arranged so that adding the f32's
 //! position carries into the code value exactly at the threshold. The table (2 048 entries,
 //! 8 kB) is built by `const fn` from the formula, so no value in it was copied by hand;
-//! `tests/soa.rs` recomputes every threshold with `libm::pow` in f64 and checks the encoder
+//! `tests/planar.rs` recomputes every threshold with `libm::pow` in f64 and checks the encoder
 //! against the exact curve for every f32 from 2⁻¹³ to 1.
 
 /// Bits of 2⁻¹³, the lower clamp: the exact curve stays below ½ step up to 1.5e-4 > 2⁻¹³.
@@ -41,14 +41,14 @@ pub(crate) const TABLE_LEN: usize = 2048;
 /// The fast encoder is the exact curve rounded to nearest: against the exact curve its error
 /// is at most ½ step before rounding and 0 steps after, for every f32. Quantizing the f32
 /// curve instead (`quantize_u8(TransferFunction::Srgb.encode(..))`, what the per-pixel
-/// encoder did before) rounds twice: `tests/soa.rs` checks every f32 in 0..=1, and that form
+/// encoder did before) rounds twice: `tests/planar.rs` checks every f32 in 0..=1, and that form
 /// differs on 268 of them, by 1 step. [`SRGB8_MAX_DELTA_E`] is what one step can cost in
 /// colour.
 pub const SRGB8_MAX_STEP_ERROR: u8 = 0;
 
 /// The largest CIELAB ΔE*ab (CIE 1976, white of the sRGB display) between two 8-bit sRGB
 /// colours that differ by at most [`SRGB8_MAX_STEP_ERROR`] (one step) in each channel, anywhere
-/// in the cube. `tests/soa.rs` measures every such pair of the 256³ colours: at most 1.932
+/// in the cube. `tests/planar.rs` measures every such pair of the 256³ colours: at most 1.932
 /// (sRGB 1, 25, 45 against 0, 26, 44: near black each step is a large part of the colour), and
 /// 1.189 where only one channel differs.
 pub const SRGB8_MAX_DELTA_E: f32 = 1.94;
@@ -106,7 +106,7 @@ const THRESHOLDS: [u32; 256] = {
 /// `v = bits − LO_BITS = s · 2¹⁶ + position` cancels the last term and carries into bit 24
 /// exactly when `position ≥ t`, so the top byte of the sum is the code value. Entries past the
 /// last segment repeat it (code 255): unreachable after the clamp of [`segment_bits`], but the
-/// planar loop of `soa_scalar` clamps only at 2²⁷ − 1 and reads them.
+/// planar loop of `planar::scalar` clamps only at 2²⁷ − 1 and reads them.
 pub(crate) static SEGMENT_TABLE: [u32; TABLE_LEN] = {
     let mut table = [0u32; TABLE_LEN];
     // Number of thresholds at or below the current segment's start.

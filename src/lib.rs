@@ -42,10 +42,9 @@ mod dynamic;
 mod encode;
 mod error;
 mod lab;
+mod planar;
 mod set;
 mod simd;
-mod soa;
-pub(crate) mod soa_scalar;
 #[cfg(test)]
 mod test_inputs;
 

@@ -5,6 +5,8 @@
 //! no `target-cpu` needed), and there is no branch per pixel. Nothing allocates; a length
 //! mismatch is an [`Error`], checked before any output is written.
 
+mod scalar;
+
 use crate::encode::{entry, segment_bits};
 use crate::{Error, FoldedSet, GamutMapping};
 
@@ -93,9 +95,9 @@ fn product_for_encoding<const N: usize>(
 /// Whether the target has vector units for f32 that the chunked loops vectorize for (SSE2 on
 /// x86, NEON, WebAssembly SIMD). Without them (microcontrollers such as the Cortex-M4F, whose
 /// FPU is scalar) the chunks' buffers are only extra loads and stores, and
-/// [`FoldedSet::encode_u8_planar`] goes one pixel at a time instead (`soa_scalar` for sRGB with
+/// [`FoldedSet::encode_u8_planar`] goes one pixel at a time instead (`planar::scalar` for sRGB with
 /// `Clip`): on the M4F 54 instead of 143 instructions per pixel (N = 4, opt-level 3; the
-/// README's "On a microcontroller" has the commands). `tests/soa.rs` checks that the chunked
+/// README's "On a microcontroller" has the commands). `tests/planar.rs` checks that the chunked
 /// form equals `encode_u8`.
 pub(crate) const VECTOR_UNITS: bool = cfg!(any(
     target_feature = "sse2",
@@ -383,7 +385,7 @@ impl<const N: usize> FoldedSet<N> {
         if !(VECTOR_UNITS && srgb_clip) {
             if srgb_clip {
                 // No vector units: one pixel at a time, the weights in registers.
-                crate::soa_scalar::encode_srgb8_clip(&self.weights, samples, out);
+                scalar::encode_srgb8_clip(&self.weights, samples, out);
                 return Ok(());
             }
             // Every plane has `pixels` values (checked above), so the slices are in range, and

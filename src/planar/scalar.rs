@@ -3,8 +3,9 @@
 //!
 //! [`FoldedSet::encode_u8_planar`](crate::FoldedSet::encode_u8_planar) calls it for the sRGB
 //! curve with [`GamutMapping::Clip`](crate::GamutMapping::Clip) where the chunked loops of
-//! `soa` would not vectorize. Its bytes equal [`FoldedSet::encode_u8`](crate::FoldedSet::encode_u8)
-//! on every pixel: the same sums in the same order, the same table.
+//! [`planar`](super) would not vectorize. Its bytes equal
+//! [`FoldedSet::encode_u8`](crate::FoldedSet::encode_u8) on every pixel: the same sums in the
+//! same order, the same table.
 
 use crate::encode::srgb8_not_nan;
 

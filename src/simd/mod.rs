@@ -18,7 +18,7 @@
 //!   partial sums on the stack.
 //!
 //! Features are detected once, with the `cpufeatures` crate, which works without `std`.
-//! Otherwise the portable loops of `soa.rs` and `batch.rs` run.
+//! Otherwise the portable loops of `planar` run.
 //!
 //! Every path computes each channel with the same f32 operations in the same order as
 //! [`set::mat_vec_for_encoding`](crate::set::mat_vec_for_encoding) (or
@@ -1151,15 +1151,15 @@ mod tests {
 
         // The portable planar loops.
         let mut got = std::vec![[0u8; 3]; pixels];
-        crate::soa::encode_srgb8_planar_portable(&set.weights, planes, &mut got);
+        crate::planar::encode_srgb8_planar_portable(&set.weights, planes, &mut got);
         compare("portable planar", &got);
         let mut got = std::vec![[0u8; 3]; pixels];
-        crate::soa::encode_srgb8_batch_portable(&set.weights, &aos, &mut got);
+        crate::planar::encode_srgb8_batch_portable(&set.weights, &aos, &mut got);
         compare("portable batch", &got);
         let mut lin = [0, 1, 2].map(|_| std::vec![0.0f32; pixels]);
         {
             let [r, g, b] = &mut lin;
-            crate::soa::linear_planar_portable(&set.weights, planes, [r, g, b]);
+            crate::planar::linear_planar_portable(&set.weights, planes, [r, g, b]);
         }
         compare_linear("portable planar linear", &lin);
 
