@@ -42,6 +42,7 @@ mod dynamic;
 mod encode;
 mod error;
 mod lab;
+mod pixel;
 mod planar;
 mod set;
 mod simd;

@@ -13,7 +13,7 @@ use crate::encode::srgb8_not_nan;
 ///
 /// Written out, every weight is a value of its own that stays in a register for the whole loop
 /// over pixels, and every plane's length is known. As a loop over the samples (what
-/// `set::mat_vec` is), the weights are read from memory for every pixel, since opt-level "s" on
+/// `pixel::mat_vec` is), the weights are read from memory for every pixel, since opt-level "s" on
 /// Arm unrolls no loop.
 const UNROLLED: usize = 8;
 

@@ -52,8 +52,8 @@ fn prefetch<T>(p: *const T) {
 
 /// `weights · samples` for eight pixels (one per lane), channel c as `start[c]` plus the
 /// products `weights[c][i] · s[i]` added in index order; with `start` `None`, each channel
-/// from its first product with the rest added in index order: `set::mat_vec_for_encoding`,
-/// lane by lane (and, from `Some` of zeros, `set::mat_vec`).
+/// from its first product with the rest added in index order: `pixel::mat_vec_for_encoding`,
+/// lane by lane (and, from `Some` of zeros, `pixel::mat_vec`).
 #[inline]
 #[target_feature(enable = "avx2")]
 fn add_products<const N: usize>(
@@ -554,9 +554,9 @@ fn add_passes<const N: usize>(
 /// Where a pass's sums start.
 #[derive(Clone, Copy)]
 enum Start {
-    /// From 0.0 (`set::mat_vec`).
+    /// From 0.0 (`pixel::mat_vec`).
     Zero,
-    /// From the first product (`set::mat_vec_for_encoding`).
+    /// From the first product (`pixel::mat_vec_for_encoding`).
     FirstProduct,
     /// From the block's partial sums.
     Sums,

@@ -38,7 +38,7 @@
 //! a NaN channel is black, as in the per-pixel function. ±Inf, huge and negative values clamp.
 //!
 //! The 3×N product is computed as everywhere else (the same f32 operations in the same order
-//! as `set::mat_vec_for_encoding`, no FMA), so every byte equals the per-pixel function's.
+//! as `pixel::mat_vec_for_encoding`, no FMA), so every byte equals the per-pixel function's.
 //!
 //! # Memory
 //!
@@ -389,7 +389,7 @@ fn broadcast<const N: usize>(weights: &[[f32; N]; 3]) -> [[__m512; N]; 3] {
 }
 
 /// `weights · samples` for sixteen pixels, each channel from its first product with the others
-/// added in index order: `set::mat_vec_for_encoding`, lane by lane.
+/// added in index order: `pixel::mat_vec_for_encoding`, lane by lane.
 #[inline]
 #[target_feature(enable = "avx512f,avx512bw,avx512vbmi")]
 fn products<const N: usize>(w: &[[__m512; N]; 3], s: &[__m512; N]) -> [__m512; 3] {
@@ -562,7 +562,7 @@ const NEAR_LINEAR_PLANES: usize = 8;
 /// The planar linear f32 loop: `planes[i]` and the three output planes. Returns how many
 /// pixels it wrote (16 or more, or 0 below 16), its groups starting where most planes start
 /// a 64-byte line ([`on_lines`](super::on_lines)), after one group at the planes' start. Each
-/// channel is summed from 0.0 in index order, as `set::mat_vec`, so the bits are
+/// channel is summed from 0.0 in index order, as `pixel::mat_vec`, so the bits are
 /// those of [`FoldedSet::linear_rgb`](crate::FoldedSet::linear_rgb).
 ///
 /// One pass over all planes, the samples asked for ahead as in the sRGB loop, but above

@@ -21,8 +21,8 @@
 //! Otherwise the portable loops of `planar` run.
 //!
 //! Every path computes each channel with the same f32 operations in the same order as
-//! [`set::mat_vec_for_encoding`](crate::set::mat_vec_for_encoding) (or
-//! [`set::mat_vec`](crate::set::mat_vec) for linear output) and encodes with the same table
+//! [`pixel::mat_vec_for_encoding`](crate::pixel::mat_vec_for_encoding) (or
+//! [`pixel::mat_vec`](crate::pixel::mat_vec) for linear output) and encodes with the same table
 //! (`encode::SEGMENT_TABLE`) or, in the AVX-512 loops, with a polynomial that agrees with it
 //! wherever it does not hand the value back to the table, so all of them give the per-pixel
 //! function's bytes, bit for bit. FMA is not used in the products, although every AVX2 CPU of

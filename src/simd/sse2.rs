@@ -17,7 +17,7 @@ pub(crate) fn encode_srgb8<const N: usize>(weights: &[[f32; N]; 3], samples: &[f
 
 /// `weights · samples` with the channels in lanes 0, 1, 2 (lane 3 is 0): each lane is the
 /// first product, then the others added in index order, exactly as
-/// `set::mat_vec_for_encoding`. Column by column: column i of the weights times sample i
+/// `pixel::mat_vec_for_encoding`. Column by column: column i of the weights times sample i
 /// broadcast, so each lane sees the same products added in the same order.
 #[inline]
 #[target_feature(enable = "sse2")]

@@ -2,7 +2,7 @@
 //! pick one by the CPU, so on an AVX2 machine they would never run the portable loops on
 //! whole chunks): bit for bit for linear output (NaN against NaN), byte for byte for sRGB.
 
-use crate::set::{mat_vec, mat_vec_for_encoding};
+use crate::pixel::{mat_vec, mat_vec_for_encoding};
 use crate::tables::folded::{KQ_C_8_SRGB, TABLE2_ROW1_SRGB, TABLE2_ROW2_SRGB};
 use crate::test_inputs::{Rng, EDGES};
 use crate::GamutMapping;
@@ -17,7 +17,7 @@ fn sample(rng: &mut Rng) -> f32 {
     }
 }
 
-/// The scalar reference: the product of `set::mat_vec_for_encoding` then the scalar
+/// The scalar reference: the product of `pixel::mat_vec_for_encoding` then the scalar
 /// `Display::encode_u8`, as on a target without vector code.
 fn reference<const N: usize>(set: &crate::FoldedSet<N>, s: &[f32; N]) -> [u8; 3] {
     set.display
@@ -135,15 +135,15 @@ fn check<const N: usize>(set: &crate::FoldedSet<N>, pixels: usize, seed: u64) {
 
     // The portable planar loops.
     let mut got = std::vec![[0u8; 3]; pixels];
-    crate::planar::encode_srgb8_planar_portable(&set.weights, planes, &mut got);
+    crate::planar::portable::encode_srgb8_planar_portable(&set.weights, planes, &mut got);
     compare("portable planar", &got);
     let mut got = std::vec![[0u8; 3]; pixels];
-    crate::planar::encode_srgb8_batch_portable(&set.weights, &aos, &mut got);
+    crate::planar::portable::encode_srgb8_batch_portable(&set.weights, &aos, &mut got);
     compare("portable batch", &got);
     let mut lin = [0, 1, 2].map(|_| std::vec![0.0f32; pixels]);
     {
         let [r, g, b] = &mut lin;
-        crate::planar::linear_planar_portable(&set.weights, planes, [r, g, b]);
+        crate::planar::portable::linear_planar_portable(&set.weights, planes, [r, g, b]);
     }
     compare_linear("portable planar linear", &lin);
 
