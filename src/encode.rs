@@ -231,6 +231,20 @@ pub(crate) fn lookup(v: u32) -> u8 {
     (entry(v).wrapping_add(v << 8) >> 24) as u8
 }
 
+/// Clamps to 0..=1 with NaN → 0.
+#[inline]
+pub(crate) fn clamp01(x: f32) -> f32 {
+    if x > 0.0 {
+        if x < 1.0 {
+            x
+        } else {
+            1.0
+        }
+    } else {
+        0.0
+    }
+}
+
 /// An 8-bit encoder of the power law x^(1/γ), baked by the build script for each distinct γ
 /// among the scene's displays (`tables::GAMMA_ENCODERS`): 255 thresholds, searched in 8
 /// comparisons, so the result is the exact curve (in f64) times 255 rounded to nearest for
@@ -249,7 +263,7 @@ impl GammaEncoder8 {
     /// it. Branch-free binary search.
     #[inline]
     pub(crate) fn encode(&self, x: f32) -> u8 {
-        let bits = crate::display::clamp01(x).to_bits();
+        let bits = clamp01(x).to_bits();
         let t = &self.thresholds;
         let mut k = 0usize;
         let mut step = 128;
@@ -262,14 +276,6 @@ impl GammaEncoder8 {
         }
         k as u8
     }
-}
-
-/// The baked encoder for `Gamma(gamma)`, if a baked display has that γ.
-#[inline]
-pub(crate) fn gamma_encoder(gamma: f32) -> Option<&'static GammaEncoder8> {
-    crate::tables::GAMMA_ENCODERS
-        .iter()
-        .find(|e| e.gamma.to_bits() == gamma.to_bits())
 }
 
 #[cfg(test)]

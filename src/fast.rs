@@ -2,7 +2,7 @@
 
 use micromath::F32Ext;
 
-use crate::display::clamp01;
+use crate::encode::clamp01;
 use crate::TransferFunction;
 
 /// The largest difference between [`TransferFunction::encode_fast`] and

@@ -42,12 +42,14 @@ mod dynamic;
 mod encode;
 mod error;
 mod lab;
+mod matrix;
 mod pixel;
 mod planar;
 mod set;
 mod simd;
 #[cfg(test)]
 mod test_inputs;
+mod transfer;
 
 #[cfg(feature = "defmt")]
 mod defmt;
@@ -56,59 +58,19 @@ mod fast;
 
 pub mod paper;
 
-pub use display::{
-    quantize_u16, quantize_u8, ChannelLuts, Display, GamutMapping, Rgb, TransferFunction,
-    MAX_PRIMARIES_CONDITION, MIN_WHITE_SHARE, U16_MAX_STEP_ERROR,
-};
+pub use display::{Display, GamutMapping, MAX_PRIMARIES_CONDITION, MIN_WHITE_SHARE};
 pub use dynamic::DynamicSet;
 pub use encode::{srgb8_from_linear, SRGB8_MAX_DELTA_E, SRGB8_MAX_STEP_ERROR};
 pub use error::Error;
 #[cfg(feature = "micromath")]
 pub use fast::ENCODE_FAST_MAX_ERROR;
 pub use lab::{delta_e2000, delta_e76, lab_from_xyz};
+pub use matrix::{ac1c2_from_xyz, xyz_from_ac1c2};
+pub use pixel::f32_budget;
 pub use set::{Channel, FoldedSet, GaussRule, RuleStatus, Samples, WavelengthSet};
-
-/// `[X, Y, Z]` from `[A, C1, C2]` with [`tables::AC1C2_TO_XYZ`]. IEEE arithmetic: NaN and ±Inf
-/// propagate; never panics.
-#[inline]
-pub fn xyz_from_ac1c2(ac1c2: [f32; 3]) -> [f32; 3] {
-    mat3_vec(&tables::AC1C2_TO_XYZ, ac1c2)
-}
-
-/// `[A, C1, C2]` from `[X, Y, Z]` with [`tables::XYZ_TO_AC1C2`] (Eq. 9). IEEE arithmetic: NaN
-/// and ±Inf propagate; never panics.
-#[inline]
-pub fn ac1c2_from_xyz(xyz: [f32; 3]) -> [f32; 3] {
-    mat3_vec(&tables::XYZ_TO_AC1C2, xyz)
-}
-
-/// The f32 error budget of an N-term weighted sum whose terms have absolute sum `abs_sum`
-/// (`Σ |w_i · s_i|`): `(N + 1) · f32::EPSILON · abs_sum + N · 2⁻¹⁵⁰`. This is the stated accuracy
-/// of [`WavelengthSet::ac1c2`] and [`FoldedSet::linear_rgb`] against the exact f64 sum; the tests
-/// assert it. Computed in f64; `abs_sum` NaN or infinite gives NaN or infinity.
-pub fn f32_budget(n: usize, abs_sum: f64) -> f64 {
-    const HALF_SUBNORMAL: f64 = 7.006_492_321_624_085e-46; // 2^-150
-    (n as f64 + 1.0) * f64::from(f32::EPSILON) * abs_sum + n as f64 * HALF_SUBNORMAL
-}
-
-#[inline]
-pub(crate) fn mat3_vec(m: &[[f32; 3]; 3], v: [f32; 3]) -> [f32; 3] {
-    [
-        m[0][0] * v[0] + m[0][1] * v[1] + m[0][2] * v[2],
-        m[1][0] * v[0] + m[1][1] * v[1] + m[1][2] * v[2],
-        m[2][0] * v[0] + m[2][1] * v[1] + m[2][2] * v[2],
-    ]
-}
-
-pub(crate) fn mat3_mul(a: &[[f32; 3]; 3], b: &[[f32; 3]; 3]) -> [[f32; 3]; 3] {
-    let mut out = [[0.0f32; 3]; 3];
-    for (i, row) in out.iter_mut().enumerate() {
-        for (j, v) in row.iter_mut().enumerate() {
-            *v = a[i][0] * b[0][j] + a[i][1] * b[1][j] + a[i][2] * b[2][j];
-        }
-    }
-    out
-}
+pub use transfer::{
+    quantize_u16, quantize_u8, ChannelLuts, Rgb, TransferFunction, U16_MAX_STEP_ERROR,
+};
 
 /// The tables baked at compile time by `build.rs` from `data/` (see the header of the generated
 /// file for the inputs and their checksums).

@@ -5,6 +5,15 @@
 
 use crate::{FoldedSet, WavelengthSet};
 
+/// The f32 error budget of an N-term weighted sum whose terms have absolute sum `abs_sum`
+/// (`Σ |w_i · s_i|`): `(N + 1) · f32::EPSILON · abs_sum + N · 2⁻¹⁵⁰`. This is the stated accuracy
+/// of [`WavelengthSet::ac1c2`] and [`FoldedSet::linear_rgb`] against the exact f64 sum; the tests
+/// assert it. Computed in f64; `abs_sum` NaN or infinite gives NaN or infinity.
+pub fn f32_budget(n: usize, abs_sum: f64) -> f64 {
+    const HALF_SUBNORMAL: f64 = 7.006_492_321_624_085e-46; // 2^-150
+    (n as f64 + 1.0) * f64::from(f32::EPSILON) * abs_sum + n as f64 * HALF_SUBNORMAL
+}
+
 impl<const N: usize> WavelengthSet<N> {
     /// `[A, C1, C2]` from samples of a spectrum at [`wavelengths_nm`](Self::wavelengths_nm):
     /// the 3×N product `weights · samples`, in f32.
@@ -39,7 +48,7 @@ impl<const N: usize> WavelengthSet<N> {
     /// IEEE arithmetic, as [`ac1c2`](Self::ac1c2).
     #[inline]
     pub fn xyz(&self, samples: &[f32; N]) -> [f32; 3] {
-        crate::xyz_from_ac1c2(self.ac1c2(samples))
+        crate::matrix::xyz_from_ac1c2(self.ac1c2(samples))
     }
 }
 

@@ -23,7 +23,8 @@ fn gather<const N: usize>(samples: &[&[f32]; N], start: usize) -> [[f32; CHUNK];
 }
 
 /// `weights · samples` for one chunk, each pixel accumulated in index order from 0.0 in f32,
-/// exactly as [`FoldedSet::linear_rgb`](crate::FoldedSet::linear_rgb) does, so the results are bit for bit the same.
+/// exactly as [`FoldedSet::linear_rgb`](crate::FoldedSet::linear_rgb) does, so the results are bit
+/// for bit the same.
 #[inline(always)]
 fn product<const N: usize>(
     weights: &[[f32; N]; 3],
@@ -232,9 +233,9 @@ pub(crate) fn encode_srgb8_planar_portable<const N: usize>(
 }
 
 /// The portable interleaved sRGB 8-bit loop with `Clip`, for
-/// [`FoldedSet::encode_u8_batch`](crate::FoldedSet::encode_u8_batch): each chunk of [`CHUNK`] pixels transposed into planes on
-/// the stack, then encoded as by [`encode_srgb8_planar_portable`] (a partial last chunk padded
-/// with zeros). `out` holds as many pixels as `samples`.
+/// [`FoldedSet::encode_u8_batch`](crate::FoldedSet::encode_u8_batch): each chunk of [`CHUNK`]
+/// pixels transposed into planes on the stack, then encoded as by [`encode_srgb8_planar_portable`]
+/// (a partial last chunk padded with zeros). `out` holds as many pixels as `samples`.
 pub(crate) fn encode_srgb8_batch_portable<const N: usize>(
     weights: &[[f32; N]; 3],
     samples: &[[f32; N]],
