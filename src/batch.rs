@@ -2,6 +2,8 @@
 //! output per pixel. Nothing allocates; a length mismatch is an [`Error`], checked before any
 //! output is written.
 
+#![forbid(unsafe_code)]
+
 use crate::{Error, FoldedSet, GamutMapping, WavelengthSet};
 
 fn check(inputs: usize, outputs: usize) -> Result<(), Error> {

@@ -1,5 +1,7 @@
 //! Displays: primaries, white point and transfer function; gamut mapping and encoding.
 
+#![forbid(unsafe_code)]
+
 use crate::encode::{clamp01, srgb8_not_nan};
 use crate::transfer::{gamma_encoder, gamma_f32, quantize_u8, Rgb, TransferFunction};
 use crate::Error;

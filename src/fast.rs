@@ -1,5 +1,7 @@
 //! Fast transfer functions with micromath's approximations (feature `micromath`).
 
+#![forbid(unsafe_code)]
+
 use micromath::F32Ext;
 
 use crate::encode::clamp01;

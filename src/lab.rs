@@ -6,6 +6,8 @@
 //! instructions per call on a Cortex-M4F (opt-level "s"; `examples/firmware` with its
 //! `f64-costs` feature, see the README's "On a microcontroller").
 
+#![forbid(unsafe_code)]
+
 /// CIELAB `[L*, a*, b*]` of `xyz` relative to the reference `white` (both in the same units).
 ///
 /// Never panics. NaN in either argument gives NaN; a white with a zero or negative component

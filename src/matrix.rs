@@ -1,6 +1,8 @@
 //! 3×3 products in f32: AC1C2 ↔ XYZ for one colour, and the matrix products the displays and
 //! the folding of sets use.
 
+#![forbid(unsafe_code)]
+
 /// `[X, Y, Z]` from `[A, C1, C2]` with [`tables::AC1C2_TO_XYZ`](crate::tables::AC1C2_TO_XYZ).
 /// IEEE arithmetic: NaN and ±Inf propagate; never panics.
 #[inline]

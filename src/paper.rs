@@ -6,6 +6,8 @@
 //! constant multiple (about 0.0099) of the weights for dλ in nm, so compare them after dividing
 //! by their sum.
 
+#![forbid(unsafe_code)]
+
 /// A rule as printed: wavelengths in nm and weights H_i on the paper's scale.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PrintedRule {

@@ -3,6 +3,8 @@
 //! Each channel is a sum of products in index order, in f32; every batch and planar loop
 //! computes the same sums in the same order, so all paths give these functions' bits.
 
+#![forbid(unsafe_code)]
+
 use crate::{FoldedSet, WavelengthSet};
 
 /// The f32 error budget of an N-term weighted sum whose terms have absolute sum `abs_sum`

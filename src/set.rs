@@ -1,5 +1,7 @@
 //! The runtime's wavelength-set and rule types.
 
+#![forbid(unsafe_code)]
+
 /// One of the three opponent channels of AC1C2 space.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Channel {

@@ -1,6 +1,8 @@
 //! Transfer functions: how linear light on a display's channel becomes the value sent to it
 //! (f32, 8 and 16 bits), and back.
 
+#![forbid(unsafe_code)]
+
 use crate::encode::{clamp01, GammaEncoder8};
 use crate::Error;
 

@@ -6,6 +6,8 @@
 //! portable chunked loops ([`portable`]) where the target has f32 vector units, and a loop one
 //! pixel at a time ([`scalar`]) for the sRGB 8-bit case where it has none.
 
+#![forbid(unsafe_code)]
+
 pub(crate) mod portable;
 mod scalar;
 

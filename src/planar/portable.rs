@@ -4,6 +4,8 @@
 //! needed), with no branch per pixel. They run wherever no loop of [`simd`](crate::simd) does,
 //! and after one for the pixels it leaves.
 
+#![forbid(unsafe_code)]
+
 use crate::encode::{entry, segment_bits};
 
 /// Pixels per step of the planar loops. A partial last chunk is padded with zeros on the stack.

@@ -7,6 +7,8 @@
 //! [`FoldedSet::encode_u8`](crate::FoldedSet::encode_u8) on every pixel: the same sums in the
 //! same order, the same table.
 
+#![forbid(unsafe_code)]
+
 use crate::encode::srgb8_not_nan;
 
 /// Steps over the samples written out one by one; steps beyond these (N > 8) run in a loop.
