@@ -56,7 +56,7 @@ impl Display {
     /// positive. Lookup tables were checked by [`ChannelLuts::new`](crate::ChannelLuts::new).
     ///
     /// It computes in f64 (once per display, not per pixel; on a microcontroller without a double
-    /// FPU that is some thousands of instructions of soft-float).
+    /// FPU that is soft-float, docs/performance.md has its cost).
     ///
     /// ```
     /// use spectral_quadrature::{tables::displays, Display, Error, TransferFunction};

@@ -185,8 +185,9 @@ pub(crate) fn srgb8_not_nan(x: f32) -> u8 {
     }
 }
 
-/// [`srgb8_from_linear`] for an `x` that is not NaN, clamped in integer arithmetic: three
-/// instructions before the table on a Cortex-M4F (`qadd`, `usat`, `ubfx`).
+/// [`srgb8_from_linear`] for an `x` that is not NaN, clamped in integer arithmetic: on a
+/// Cortex-M4F a saturating subtraction and a saturation (`qadd`, `usat`) and a bit-field extract
+/// (`ubfx`) before the table.
 ///
 /// An f32's bits read as an i32 are ordered as the f32 for every value but NaN. Their distance
 /// above 2⁻¹³ (a saturating subtraction, so that negative values stay negative), clamped to
@@ -194,7 +195,7 @@ pub(crate) fn srgb8_not_nan(x: f32) -> u8 {
 /// it is 0, code 0; from 1.0 up (+Inf and huge values clamped at 2²⁷ − 1, about 8.0) it lands
 /// in the segment of exactly 1.0 or past it, in the entries that repeat that segment (the
 /// table has all 2¹¹ entries that 27 bits address), code 255. A NaN gives 0 or 255. The clamp
-/// is written as two comparisons: `i32::clamp` took six instructions.
+/// is written as two comparisons, which compile to `usat`; `i32::clamp` compiled to more.
 #[inline(always)]
 fn srgb8_sat(x: f32) -> u8 {
     let v = (x.to_bits() as i32).saturating_sub(LO_BITS as i32);

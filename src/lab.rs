@@ -2,9 +2,8 @@
 //! of a wavelength set. `no_std`: the transcendental functions come from libm.
 //!
 //! Everything here is f64, for measuring on a desk rather than per pixel: on a microcontroller
-//! without a double-precision FPU it is soft-float. [`delta_e2000`] takes about 62 600
-//! instructions per call on a Cortex-M4F (opt-level "s"; `examples/firmware` with its
-//! `f64-costs` feature, see the README's "On a microcontroller").
+//! without a double-precision FPU it is soft-float (`examples/firmware` with its `f64-costs`
+//! feature counts what a call costs on a Cortex-M4F; docs/performance.md has the figures).
 
 #![forbid(unsafe_code)]
 

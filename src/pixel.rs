@@ -57,10 +57,10 @@ impl<const N: usize> WavelengthSet<N> {
 impl<const N: usize> FoldedSet<N> {
     /// Linear RGB from samples at [`wavelengths_nm`](Self::wavelengths_nm).
     ///
-    /// Never panics. IEEE arithmetic, as [`WavelengthSet::ac1c2`]: a NaN sample makes every
-    /// channel NaN, an infinite one makes every channel ±Inf or NaN, subnormal and negative
-    /// samples are used as they are, products or sums beyond `f32::MAX` overflow to ±Inf. Out-of-gamut colours have channels below 0 or above 1; see
-    /// [`Display::map_gamut`](crate::Display::map_gamut).
+    /// Never panics. IEEE arithmetic, as [`WavelengthSet::ac1c2`]: a NaN sample makes every channel
+    /// NaN, an infinite one makes every channel ±Inf or NaN, subnormal and negative samples are
+    /// used as they are, products or sums beyond `f32::MAX` overflow to ±Inf. Out-of-gamut colours
+    /// have channels below 0 or above 1; see [`Display::map_gamut`](crate::Display::map_gamut).
     ///
     /// # Accuracy
     /// As [`WavelengthSet::ac1c2`]: each channel within

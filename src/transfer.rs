@@ -116,8 +116,8 @@ impl TransferFunction {
     ///
     /// This is the reference encoder: sRGB and `Gamma(γ)` compute their power in f64 and round
     /// once, so the curve is monotone between neighbouring f32. On a microcontroller without a
-    /// double-precision FPU that is soft-float, about 5 800 instructions per value on a
-    /// Cortex-M4F (the README's "On a microcontroller" has the measurement). The per-pixel
+    /// double-precision FPU that is soft-float, many times the cost of the 8-bit encoders
+    /// (docs/performance.md has the measurement and its command). The per-pixel
     /// encoders of displays and sets ([`encode_u8`](Self::encode_u8),
     /// [`encode_u16`](Self::encode_u16), [`Display::encode_u8`](crate::Display::encode_u8),
     /// [`FoldedSet::encode_u8`](crate::FoldedSet::encode_u8) and their batch forms) do not use

@@ -82,14 +82,16 @@ impl<const N: usize> FoldedSet<N> {
     }
 
     /// Planar samples (as for [`linear_rgb_planar`](Self::linear_rgb_planar)) → gamut-mapped,
-    /// encoded 8-bit RGB with the set's [`display`](Self::display), interleaved: `out[p] = [r, g, b]`, the layout of RGB8
-    /// images and frame buffers, and of [`encode_u8_batch`](Self::encode_u8_batch).
+    /// encoded 8-bit RGB with the set's [`display`](Self::display), interleaved:
+    /// `out[p] = [r, g, b]`, the layout of RGB8 images and frame buffers, and of
+    /// [`encode_u8_batch`](Self::encode_u8_batch).
     ///
-    /// When the display's transfer function is [`TransferFunction::Srgb`](crate::TransferFunction::Srgb) (sRGB, Display P3)
-    /// and [`GamutMapping::Clip`], on a target with f32 vector units (x86, NEON), this is the
+    /// When the display's transfer function is
+    /// [`TransferFunction::Srgb`](crate::TransferFunction::Srgb) (sRGB, Display P3) and
+    /// [`GamutMapping::Clip`], on a target with f32 vector units (x86, NEON), this is the
     /// fast path: a vectorized product, a clip and the table encoder of
-    /// [`srgb8_from_linear`](crate::srgb8_from_linear), correctly rounded and branch-free (the
-    /// README's Performance section has its speed against the memory bound). On x86-64 CPUs
+    /// [`srgb8_from_linear`](crate::srgb8_from_linear), correctly rounded and branch-free
+    /// (docs/performance.md has its speed against the memory bound). On x86-64 CPUs
     /// with AVX-512 (F, BW and VBMI; detected at run time, once) it runs sixteen pixels per
     /// register and computes the code values with a polynomial, handing every value near a
     /// rounding boundary (and every NaN) back to the per-pixel function; on those with AVX2,

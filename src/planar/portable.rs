@@ -75,10 +75,10 @@ fn product_for_encoding<const N: usize>(
 /// Whether the target has vector units for f32 that the chunked loops vectorize for (SSE2 on
 /// x86, NEON, WebAssembly SIMD). Without them (microcontrollers such as the Cortex-M4F, whose
 /// FPU is scalar) the chunks' buffers are only extra loads and stores, and
-/// [`FoldedSet::encode_u8_planar`](crate::FoldedSet::encode_u8_planar) goes one pixel at a time instead (`planar::scalar` for sRGB with
-/// `Clip`): on the M4F 54 instead of 143 instructions per pixel (N = 4, opt-level 3; the
-/// README's "On a microcontroller" has the commands). `tests/planar.rs` checks that the chunked
-/// form equals `encode_u8`.
+/// [`FoldedSet::encode_u8_planar`](crate::FoldedSet::encode_u8_planar) goes one pixel at a time
+/// instead (`planar::scalar` for sRGB with `Clip`), in fewer instructions per pixel on the M4F
+/// (docs/performance.md has the counts under QEMU and their commands). `tests/planar.rs` checks
+/// that the chunked form equals `encode_u8`.
 pub(crate) const VECTOR_UNITS: bool = cfg!(any(
     target_feature = "sse2",
     target_feature = "neon",
@@ -92,11 +92,10 @@ const CHUNK_BYTES: usize = 3 * CHUNK;
 /// rather than planes of code values ([`interleave_planes`]). Both give the same bytes (a unit
 /// test checks both on every target), so this only picks the faster one for the target. Built
 /// with AVX-512 (`-C target-cpu` for such a CPU), the table loads become gathers and the word
-/// form turns into a few byte shuffles: N = 4 over 2²⁵ pixels took 1.70 ns/pixel against 2.56
-/// for the planes (1.28 against 2.09 in cache). With SSE2 alone it is the other way round,
-/// 3.56 against 2.77 (3.31 against 2.49 in cache). Measured with
-/// `cargo bench --bench runtime -- 'bandwidth/(stream/read_write_3B|soa/srgb_u8.*)/N4'` and
-/// this constant forced each way, on a Xeon of the Sapphire Rapids generation (AVX-512).
+/// form turns into a few byte shuffles, and it was the faster one, in cache and from memory;
+/// with SSE2 alone the planes were (the bench's `soa/srgb_u8` cases with this constant forced
+/// each way, on a Xeon of the Sapphire Rapids generation; docs/performance.md has the
+/// figures).
 const WORD_INTERLEAVE: bool = cfg!(all(
     target_feature = "avx512f",
     target_feature = "avx512bw",
@@ -108,7 +107,7 @@ const WORD_INTERLEAVE: bool = cfg!(all(
 /// segment bits (see `encode::SEGMENT_TABLE`), then the table entries and the code values
 /// (the top byte of entry + bits · 2⁸), interleaved in a buffer and stored whole, in one of the
 /// two ways [`WORD_INTERLEAVE`] picks between. Writing whole chunks front to back in passes
-/// measured 18 % faster than one pass of overlapping 32-bit stores per value.
+/// was faster than one pass of overlapping 32-bit stores per value.
 #[inline(always)]
 fn encode_chunk(rgb: &[[f32; CHUNK]; 3], dst: &mut [u8; CHUNK_BYTES]) {
     let mut bits = [[0u32; CHUNK]; 3];

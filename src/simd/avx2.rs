@@ -23,8 +23,8 @@ pub(crate) const LANES: usize = 8;
 /// How far ahead of the group being computed the loops over planes ask for the samples,
 /// in groups of [`LANES`] pixels (256 bytes per plane). The hardware prefetchers keep up
 /// with one stream, but a loop that reads four to sixteen planes and does work between
-/// the loads waited for memory on the CPU measured (AMD Zen 3): the README's Performance
-/// section has what this changed. 16 and 32 groups measured no better than 8.
+/// the loads waited for memory on the CPU measured (AMD Zen 3); 16 and 32 groups did no
+/// better than 8 (docs/performance.md has the figures).
 const PREFETCH_GROUPS: usize = 8;
 
 /// Whether this CPU (and its operating system) supports AVX2: `cpuid` and `xgetbv` on the
@@ -93,8 +93,8 @@ fn add_products<const N: usize>(
 // vector work of the other two groups. Moving the indices and entries through vector
 // registers instead (`vpextrq`, `vpinsrd`, the loop this one replaced) kept the vector
 // units busy with shuffles, and `vpgatherdd` issues its eight loads more slowly than
-// scalar loads on the CPU measured (AMD Zen 3); the README's Performance section lists
-// what else was measured.
+// scalar loads on the CPU measured (AMD Zen 3); docs/performance.md lists what else was
+// tried.
 
 /// Groups in flight between the stages: slots for groups j, j − 1 and j − 2, rounded up to a
 /// power of two so that the slot of group j is `j % RING`.
@@ -330,8 +330,7 @@ macro_rules! encode_srgb8 {
         // Step j: stage 1 of group j, stage 2 of group j − 1, stage 3 of group j − 2,
         // each where that group exists. One step per iteration, slot indices computed:
         // unrolled by RING with constant slots, the loop was no faster in cache and
-        // slower from memory on the CPU measured (AMD Zen 3; the commit that made this
-        // change has the figures).
+        // slower from memory on the CPU measured (AMD Zen 3).
         for j in 0..groups + 2 {
             if j < groups {
                 let $j = j;
@@ -471,8 +470,8 @@ pub(crate) fn encode_srgb8_batch<const N: usize>(
 // as in one pass (an f32 stored and loaded back is unchanged), so the bits are those of the
 // one-pass loop. The loops then read four input streams at a time instead of N, which on
 // the CPU measured (AMD Zen 3) was faster from eight planes up for both loops, and at six
-// for linear output; the sRGB loop at six lost a few per cent (the README's Performance
-// section has the figures).
+// for linear output; the sRGB loop at six was a little slower (docs/performance.md has the
+// figures).
 
 /// Planes per pass: at most this many input streams are read at a time.
 const PASS_PLANES: usize = 4;
@@ -595,7 +594,7 @@ fn add_pass<const N: usize>(
 /// bytes per pixel that cross the memory bus. On the CPU measured (AMD Zen 3) this was
 /// faster from memory at N = 6, 8 and 16; at N = 4, where one pass writes the output
 /// directly, the extra copy made it slower, and copying the sums plane by plane with
-/// ordinary stores was slower than the last pass's direct stores (README, Performance).
+/// ordinary stores was slower than the last pass's direct stores (docs/performance.md).
 /// The output is then not in the caches, hence the caller's threshold.
 ///
 /// Its pairs of groups start where most planes start a 32-byte boundary
@@ -709,7 +708,7 @@ fn stream_out(src: &[f32], dst: &mut [f32]) {
 /// Each step writes 64 bytes to the red plane, then 64 to green, then 64 to blue, a cache
 /// line's worth at a time, rather than eight pixels of each plane in turn, which filled
 /// every output line in two visits and was slower from memory on the CPU measured (AMD
-/// Zen 3; the README's Performance section has the figures).
+/// Zen 3; docs/performance.md has the figures).
 #[target_feature(enable = "avx2")]
 fn linear_last_pass<const N: usize>(
     weights: &[[f32; N]; 3],
@@ -723,9 +722,8 @@ fn linear_last_pass<const N: usize>(
         let j = first + 2 * k;
         // Both halves of each plane's 64-byte line together, plane after plane: planes that
         // lie 128 MiB and 4 KiB apart (consecutive allocations of 2²⁵ f32) are read more
-        // slowly on the CPU measured (AMD Zen 3; README, Performance), and reading each
-        // line at once measured faster there from N = 8 up than reading all planes' first
-        // halves, then all second halves.
+        // slowly on the CPU measured (AMD Zen 3), and reading each line at once was faster
+        // there from N = 8 up than reading all planes' first halves, then all second halves.
         let mut s = [[_mm256_setzero_ps(); N]; 2];
         for (i, p) in planes.iter().enumerate() {
             prefetch(p.as_ptr().wrapping_add(j + PREFETCH_GROUPS));

@@ -95,13 +95,9 @@ fn linear_from_lines<const N: usize>(
 /// where several tie), where that is below `unit` and `pixels` holds a step after it; else 0.
 ///
 /// A 64-byte line of a plane read from such a boundary is read by one group of pixels, not
-/// two. On the CPU measured (AMD Zen 4), planes of 2²⁵ pixels in separate allocations (which
-/// start 16 bytes past a page with glibc and lie 128 MiB apart) took 39.1 ms in the AVX-512
-/// planar sRGB loop at N = 4 read from a boundary against 47.2 ms read from their start,
-/// while the streaming bound did not change (`soa/srgb_u8_aligned` in the bench, before the
-/// loops started on a line; the commit that added that case has the run). Starting on a line
-/// took the loop at N = 4 from 47.5 to 39.9 ms, and at N = 16 from 178.7 to 118.3 ms (README,
-/// Performance).
+/// two. Planes in separate allocations (which start 16 bytes past a page with glibc) are read
+/// faster that way from memory at every width, while the streaming bound over the same bytes
+/// does not change (`soa/srgb_u8_aligned` in the bench; docs/performance.md has the figures).
 #[cfg(target_arch = "x86_64")]
 #[inline]
 fn on_lines<const N: usize>(
