@@ -148,7 +148,7 @@ pub const TABLE_1A_SUSPECTS: [Suspect; 3] = [
         printed: 684.7,
         reading: 664.7,
         evidence:
-            "paper/NOTES.md: the derivation gives 664.7 nm; the row is garbled in the transcription",
+            "docs/reproducing-the-paper.md: the derivation gives 664.7 nm; the row is garbled in the transcription",
     },
     Suspect {
         channel: 0,
