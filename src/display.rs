@@ -2,6 +2,8 @@
 
 #![forbid(unsafe_code)]
 
+use spectral_quadrature_math::{display_matrices, DisplayError, DisplayMatrices};
+
 use crate::encode::{clamp01, srgb8_not_nan};
 use crate::transfer::{gamma_encoder, gamma_f32, quantize_u8, Rgb, TransferFunction};
 use crate::Error;
@@ -43,20 +45,24 @@ pub struct Display {
 
 impl Display {
     /// A display made at run time from its primaries and white point (CIE 1931 xy) and a transfer
-    /// function, with the matrices computed as the build script computes the baked ones: linear
-    /// RGB = (1, 1, 1) is the white at Y = 1.
+    /// function: linear RGB = (1, 1, 1) is the white at Y = 1. The matrices come from
+    /// [`spectral_quadrature_math::display_matrices`] in f64, the same operations the baked
+    /// displays come from, then rounded to f32.
     ///
-    /// Errors, never a panic: [`Error::InvalidChromaticity`] for a coordinate that is not finite,
-    /// negative, or with x + y > 1 or y = 0; [`Error::SingularPrimaries`] when the primaries are
-    /// collinear (or nearly: the matrix's condition number above
-    /// [`MAX_PRIMARIES_CONDITION`]), or so extreme that the f32 matrices would overflow;
-    /// [`Error::WhiteOutsideGamut`] when the white is not a positive mix of the primaries (or lies
-    /// on an edge of their triangle: some primary's share below [`MIN_WHITE_SHARE`] of the
-    /// largest); [`Error::InvalidGamma`] for a `Gamma(γ)` whose γ is not finite and
-    /// positive. Lookup tables were checked by [`ChannelLuts::new`](crate::ChannelLuts::new).
+    /// Errors, never a panic: [`Error::InvalidGamma`] for a `Gamma(γ)` whose γ is not finite and
+    /// positive; [`Error::InvalidChromaticity`] for a coordinate that is not finite, negative, or
+    /// with x + y > 1 or y = 0; [`Error::SingularPrimaries`] when the primaries are collinear (or
+    /// nearly: the 2-norm condition number of their matrix above
+    /// [`MAX_PRIMARIES_CONDITION`](crate::MAX_PRIMARIES_CONDITION)), or so extreme that the f32
+    /// matrices would overflow; [`Error::WhiteOutsideGamut`] when the white is not a positive mix
+    /// of the primaries (or lies on an edge of their triangle: some primary's share below
+    /// [`MIN_WHITE_SHARE`](crate::MIN_WHITE_SHARE) of the largest). Lookup tables were checked
+    /// by [`ChannelLuts::new`](crate::ChannelLuts::new).
     ///
-    /// It computes in f64 (once per display, not per pixel; on a microcontroller without a double
-    /// FPU that is soft-float, docs/performance.md has its cost).
+    /// It computes in f64: once per display, never per pixel, and only for displays made at run
+    /// time (the baked [`tables::displays`](crate::tables::displays) cost nothing). On a
+    /// microcontroller without a double-precision FPU that f64 is soft-float
+    /// (docs/performance.md has its cost).
     ///
     /// ```
     /// use spectral_quadrature::{tables::displays, Display, Error, TransferFunction};
@@ -76,38 +82,18 @@ impl Display {
                 return Err(Error::InvalidGamma);
             }
         }
-        let xyz_of = |xy: [f32; 2]| -> Result<[f64; 3], Error> {
-            let (x, y) = (f64::from(xy[0]), f64::from(xy[1]));
-            if !(x.is_finite() && y.is_finite() && x >= 0.0 && y > 0.0 && x + y <= 1.0) {
-                return Err(Error::InvalidChromaticity);
-            }
-            Ok([x / y, 1.0, (1.0 - x - y) / y])
-        };
-        let p = [
-            xyz_of(primaries_xy[0])?,
-            xyz_of(primaries_xy[1])?,
-            xyz_of(primaries_xy[2])?,
-        ];
-        let w = xyz_of(white_xy)?;
-        // Columns are the primaries' XYZ at Y = 1.
-        let m = [0, 1, 2].map(|r| [p[0][r], p[1][r], p[2][r]]);
-        let inv = invert3(&m).ok_or(Error::SingularPrimaries)?;
-        if norm_inf(&m) * norm_inf(&inv) > MAX_PRIMARIES_CONDITION {
-            return Err(Error::SingularPrimaries);
-        }
-        // The primaries' amounts in white.
-        let s = [0, 1, 2].map(|r| inv[r][0] * w[0] + inv[r][1] * w[1] + inv[r][2] * w[2]);
-        // Strictly inside the triangle: a white on an edge (some primary's amount a negligible
-        // fraction of the largest) would make xyz_to_rgb blow up.
-        let largest = s.iter().fold(0.0f64, |m, v| m.max(*v));
-        if !s
-            .iter()
-            .all(|&v| v.is_finite() && v > MIN_WHITE_SHARE * largest)
-        {
-            return Err(Error::WhiteOutsideGamut);
-        }
-        let rgb_to_xyz = [0, 1, 2].map(|r| [0, 1, 2].map(|c| m[r][c] * s[c]));
-        let xyz_to_rgb = invert3(&rgb_to_xyz).ok_or(Error::SingularPrimaries)?;
+        let f64s = |xy: [f32; 2]| xy.map(f64::from);
+        let matrices =
+            display_matrices(primaries_xy.map(f64s), f64s(white_xy)).map_err(|e| match e {
+                DisplayError::Chromaticity { .. } => Error::InvalidChromaticity,
+                DisplayError::Collinear { .. } => Error::SingularPrimaries,
+                DisplayError::WhiteOutside { .. } => Error::WhiteOutsideGamut,
+            })?;
+        let DisplayMatrices {
+            rgb_to_xyz,
+            xyz_to_rgb,
+            ..
+        } = matrices;
         let to_ac1c2 = crate::tables::XYZ_TO_AC1C2;
         let a_from_rgb = [0, 1, 2].map(|c| {
             (0..3)
@@ -253,43 +239,6 @@ impl Display {
             self.transfer.encode_u16(Rgb::B, m[2]),
         ]
     }
-}
-
-/// The largest condition number of the primaries' matrix (columns: the primaries' XYZ at
-/// Y = 1) that [`Display::new`] accepts: beyond it the primaries are so nearly collinear that the
-/// f32 matrices would lose three or more of their seven digits. The derivation refuses baked
-/// displays at the same value of the 2-norm condition number; this one uses the ∞-norm, which
-/// for a 3×3 matrix is within a factor of 3 of it.
-pub const MAX_PRIMARIES_CONDITION: f64 = 1000.0;
-
-/// The smallest share of a primary in the white, relative to the largest, that
-/// [`Display::new`] accepts: below it the white lies on an edge of the primaries' triangle, and
-/// the XYZ → RGB matrix would be dominated by one enormous column.
-pub const MIN_WHITE_SHARE: f64 = 1e-6;
-
-/// The inverse of a 3×3 matrix by cofactors, `None` when singular or not finite.
-fn invert3(m: &[[f64; 3]; 3]) -> Option<[[f64; 3]; 3]> {
-    let c =
-        |r0: usize, r1: usize, c0: usize, c1: usize| m[r0][c0] * m[r1][c1] - m[r0][c1] * m[r1][c0];
-    let cof = [
-        [c(1, 2, 1, 2), -c(1, 2, 0, 2), c(1, 2, 0, 1)],
-        [-c(0, 2, 1, 2), c(0, 2, 0, 2), -c(0, 2, 0, 1)],
-        [c(0, 1, 1, 2), -c(0, 1, 0, 2), c(0, 1, 0, 1)],
-    ];
-    let det = m[0][0] * cof[0][0] + m[0][1] * cof[0][1] + m[0][2] * cof[0][2];
-    if det == 0.0 || !det.is_finite() {
-        return None;
-    }
-    // inverse = adjugate / det, the adjugate being the cofactors transposed.
-    let inv = [0, 1, 2].map(|r| [0, 1, 2].map(|k| cof[k][r] / det));
-    inv.iter().flatten().all(|v| v.is_finite()).then_some(inv)
-}
-
-/// The ∞-norm (largest absolute row sum) of a 3×3 matrix.
-fn norm_inf(m: &[[f64; 3]; 3]) -> f64 {
-    m.iter()
-        .map(|r| r.iter().map(|v| v.abs()).sum::<f64>())
-        .fold(0.0, f64::max)
 }
 
 fn preserve_a(a_rgb: [f32; 3], rgb: [f32; 3]) -> [f32; 3] {

@@ -25,7 +25,9 @@
 //! ```
 //!
 //! The derivation itself is the crate `spectral-quadrature-derive`, this crate's
-//! build-dependency: use it directly to run it with your own settings or data.
+//! build-dependency: use it directly to run it with your own settings or data. CIELAB, the
+//! colour differences and the display matrices come from `spectral-quadrature-math`, shared with
+//! the derivation and re-exported here.
 //!
 //! ## Features
 //! - `std`: links the standard library (`std::error::Error` for [`Error`]).
@@ -46,7 +48,6 @@ mod display;
 mod dynamic;
 mod encode;
 mod error;
-mod lab;
 mod matrix;
 mod pixel;
 mod planar;
@@ -63,16 +64,18 @@ mod fast;
 
 pub mod paper;
 
-pub use display::{Display, GamutMapping, MAX_PRIMARIES_CONDITION, MIN_WHITE_SHARE};
+pub use display::{Display, GamutMapping};
 pub use dynamic::DynamicSet;
 pub use encode::{srgb8_from_linear, SRGB8_MAX_DELTA_E, SRGB8_MAX_STEP_ERROR};
 pub use error::Error;
 #[cfg(feature = "micromath")]
 pub use fast::ENCODE_FAST_MAX_ERROR;
-pub use lab::{delta_e2000, delta_e76, lab_from_xyz};
 pub use matrix::{ac1c2_from_xyz, xyz_from_ac1c2};
 pub use pixel::f32_budget;
 pub use set::{Channel, FoldedSet, GaussRule, RuleStatus, Samples, WavelengthSet};
+pub use spectral_quadrature_math::{
+    delta_e2000, delta_e76, lab_from_xyz, MAX_PRIMARIES_CONDITION, MIN_WHITE_SHARE,
+};
 pub use transfer::{
     quantize_u16, quantize_u8, ChannelLuts, Rgb, TransferFunction, U16_MAX_STEP_ERROR,
 };
