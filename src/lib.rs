@@ -29,6 +29,60 @@
 //! colour differences and the display matrices come from `spectral-quadrature-math`, shared with
 //! the derivation and re-exported here.
 //!
+//! ## What a pixel goes through
+//!
+//! Three ways in, named by the methods' suffixes: one pixel (`[f32; N]`), interleaved pixels
+//! (`&[[f32; N]]`, `*_batch`) and planes (one `&[f32]` per wavelength, `*_planar`). Every way
+//! computes each channel with the same f32 operations in the same order, so all of them give the
+//! per-pixel function's bits (linear output) or bytes (encoded output), on every target.
+//!
+//! **One pixel** (`src/pixel.rs`):
+//! - [`WavelengthSet::ac1c2`]: the 3×N product of the weights and the samples, in index order;
+//!   [`WavelengthSet::xyz`]: that, then [`xyz_from_ac1c2`]. [`FoldedSet::linear_rgb`]: the same
+//!   product with the display's colour matrix folded into the weights, linear RGB in one step.
+//! - [`FoldedSet::encode_u8`]: the product, then [`Display::encode_u8`]. With the sRGB curve and
+//!   [`GamutMapping::Clip`] that is [`srgb8_from_linear`] on each channel, a table lookup, and
+//!   black for a NaN; on x86-64 the product and the table run with the three channels in one
+//!   SSE2 register (`src/simd/sse2.rs`). Other curves and mappings: [`Display::map_gamut`] for
+//!   [`GamutMapping::PreserveA`], then [`TransferFunction::encode_u8`] per channel (the sRGB
+//!   table; thresholds baked for the scene's power laws; otherwise an f32 power and
+//!   [`quantize_u8`]).
+//! - [`FoldedSet::encode_u16`]: [`FoldedSet::linear_rgb`], [`Display::encode_u16`],
+//!   [`Display::map_gamut`], [`TransferFunction::encode_u16`] (the curve in f32) and
+//!   [`quantize_u16`].
+//! - Encoded f32 in 0..=1: [`Display::encode`], [`Display::map_gamut`] then
+//!   [`TransferFunction::encode`], the reference curve (f64, rounded once).
+//!
+//! **Interleaved pixels** (`src/batch.rs`): [`WavelengthSet::ac1c2_batch`],
+//! [`FoldedSet::linear_rgb_batch`] and [`FoldedSet::encode_u16_batch`] call the per-pixel
+//! function on each pixel. [`FoldedSet::encode_u8_batch`] with the sRGB curve and `Clip`, on a
+//! target with f32 vector units, runs a vector loop over whole groups and the portable loop over
+//! the rest:
+//! - x86-64 with AVX-512 (F, BW and VBMI) and N = 4: sixteen pixels per register, the code
+//!   values from a polynomial, the few it cannot vouch for encoded again by the per-pixel
+//!   function (`src/simd/avx512.rs`);
+//! - x86-64 with AVX2 (and AVX-512 at other N): eight pixels per register, the table read by
+//!   scalar loads between vector stages (`src/simd/avx2.rs`);
+//! - the portable loop, and all of it on other targets with vector units (SSE2 alone, NEON,
+//!   WebAssembly SIMD): chunks of 16 pixels transposed into planes on the stack, in loops the
+//!   compiler vectorizes (`src/planar/portable.rs`).
+//!
+//! Other curves and mappings, and targets without vector units (microcontrollers), go pixel by
+//! pixel through [`FoldedSet::encode_u8`].
+//!
+//! **Planes** (`src/planar/`): [`FoldedSet::linear_rgb_planar`] and, with the sRGB curve and
+//! `Clip`, [`FoldedSet::encode_u8_planar`] run the AVX-512 loop (any N) or the AVX2 loop on
+//! x86-64 CPUs that have them, then the portable chunked loop for the pixels left (or for all,
+//! elsewhere). Without vector units, `encode_u8_planar` runs a scalar loop one pixel at a time
+//! with the weights in registers (`src/planar/scalar.rs`); other curves and mappings go pixel
+//! by pixel through [`FoldedSet::encode_u8`].
+//!
+//! The x86-64 loops are chosen at run time: the CPU's features are detected on the first call
+//! (`cpuid`, with the `cpufeatures` crate) and cached, in `src/simd/mod.rs`. None of this uses
+//! f64: f64 is only where a user asks for it ([`TransferFunction::encode`] and
+//! [`TransferFunction::decode`], [`Display::new`], [`delta_e2000`] and the other colour
+//! differences, [`f32_budget`]).
+//!
 //! ## Features
 //! - `std`: links the standard library (`std::error::Error` for [`Error`]).
 #![no_std]
@@ -43,6 +97,15 @@
 #[cfg(any(test, feature = "std"))]
 extern crate std;
 
+// The modules, each importing only from those in the lines above it (and from `tables`, the
+// generated constants, which name the types they instantiate):
+// - error; encode (the 8-bit encoders' tables, clamping); matrix (3×3 products);
+// - transfer (transfer functions, on encode); display (on transfer, encode and the math crate);
+// - set (the set types, with their display); simd (the x86-64 loops, on encode);
+// - pixel (the per-pixel path, on set, display and simd);
+// - planar (the planar path and the portable loops, on pixel and simd); batch (the interleaved
+//   path, on pixel, planar's portable loops and simd);
+// - dynamic, paper, defmt and fast, on the types.
 mod batch;
 mod display;
 mod dynamic;
