@@ -61,8 +61,7 @@ impl Display {
     ///
     /// It computes in f64: once per display, never per pixel, and only for displays made at run
     /// time (the baked [`tables::displays`](crate::tables::displays) cost nothing). On a
-    /// microcontroller without a double-precision FPU that f64 is soft-float
-    /// (docs/performance.md has its cost).
+    /// microcontroller without a double-precision FPU that f64 is soft-float.
     ///
     /// ```
     /// use spectral_quadrature::{tables::displays, Display, Error, TransferFunction};
