@@ -1063,7 +1063,7 @@ fn bandwidth(c: &mut Criterion) {
 /// - `encoder/powf`: the sRGB formula with f32 `powf`, times 255, rounded.
 ///
 /// Untimed, it prints on how many of the values each differs from the crate's (which
-/// `tests/soa.rs` checks against the exact curve for every f32).
+/// `tests/planar.rs` checks against the exact curve for every f32).
 fn encoders(c: &mut Criterion) {
     let refl = spectra();
     let set = &folded::TABLE2_ROW2_SRGB;

@@ -2,6 +2,8 @@
 //! output per pixel. Nothing allocates; a length mismatch is an [`Error`], checked before any
 //! output is written.
 
+#![forbid(unsafe_code)]
+
 use crate::{Error, FoldedSet, GamutMapping, WavelengthSet};
 
 fn check(inputs: usize, outputs: usize) -> Result<(), Error> {
@@ -65,10 +67,10 @@ impl<const N: usize> FoldedSet<N> {
         // For the sRGB curve with `Clip` on a target with vector units: the AVX-512 or AVX2
         // loop where the CPU has one (the same bytes; see `simd`), then the portable loop for
         // the rest.
-        if crate::soa::VECTOR_UNITS && self.display.is_srgb_clip(mapping) {
+        if crate::planar::portable::VECTOR_UNITS && self.display.is_srgb_clip(mapping) {
             let done =
                 crate::simd::encode_srgb8_batch(&self.weights, samples, out.as_flattened_mut());
-            crate::soa::encode_srgb8_batch_portable(
+            crate::planar::portable::encode_srgb8_batch_portable(
                 &self.weights,
                 &samples[done..],
                 &mut out[done..],

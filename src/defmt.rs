@@ -1,5 +1,7 @@
 //! `defmt::Format` for the public types (feature `defmt`).
 
+#![forbid(unsafe_code)]
+
 use defmt::{write, Format, Formatter};
 
 use crate::{Channel, Error, GamutMapping, RuleStatus, Samples, TransferFunction};

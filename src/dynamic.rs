@@ -1,5 +1,7 @@
 //! Sets assembled at run time from baked per-channel rules, in a fixed capacity.
 
+#![forbid(unsafe_code)]
+
 use heapless::Vec;
 
 use crate::{Error, GaussRule, RuleStatus};

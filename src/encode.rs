@@ -9,7 +9,7 @@
 //! segment (in the f32's low 16 bits) its threshold lies, arranged so that adding the f32's
 //! position carries into the code value exactly at the threshold. The table (2 048 entries,
 //! 8 kB) is built by `const fn` from the formula, so no value in it was copied by hand;
-//! `tests/soa.rs` recomputes every threshold with `libm::pow` in f64 and checks the encoder
+//! `tests/planar.rs` recomputes every threshold with `libm::pow` in f64 and checks the encoder
 //! against the exact curve for every f32 from 2⁻¹³ to 1.
 
 /// Bits of 2⁻¹³, the lower clamp: the exact curve stays below ½ step up to 1.5e-4 > 2⁻¹³.
@@ -41,14 +41,14 @@ pub(crate) const TABLE_LEN: usize = 2048;
 /// The fast encoder is the exact curve rounded to nearest: against the exact curve its error
 /// is at most ½ step before rounding and 0 steps after, for every f32. Quantizing the f32
 /// curve instead (`quantize_u8(TransferFunction::Srgb.encode(..))`, what the per-pixel
-/// encoder did before) rounds twice: `tests/soa.rs` checks every f32 in 0..=1, and that form
+/// encoder did before) rounds twice: `tests/planar.rs` checks every f32 in 0..=1, and that form
 /// differs on 268 of them, by 1 step. [`SRGB8_MAX_DELTA_E`] is what one step can cost in
 /// colour.
 pub const SRGB8_MAX_STEP_ERROR: u8 = 0;
 
 /// The largest CIELAB ΔE*ab (CIE 1976, white of the sRGB display) between two 8-bit sRGB
 /// colours that differ by at most [`SRGB8_MAX_STEP_ERROR`] (one step) in each channel, anywhere
-/// in the cube. `tests/soa.rs` measures every such pair of the 256³ colours: at most 1.932
+/// in the cube. `tests/planar.rs` measures every such pair of the 256³ colours: at most 1.932
 /// (sRGB 1, 25, 45 against 0, 26, 44: near black each step is a large part of the colour), and
 /// 1.189 where only one channel differs.
 pub const SRGB8_MAX_DELTA_E: f32 = 1.94;
@@ -106,7 +106,7 @@ const THRESHOLDS: [u32; 256] = {
 /// `v = bits − LO_BITS = s · 2¹⁶ + position` cancels the last term and carries into bit 24
 /// exactly when `position ≥ t`, so the top byte of the sum is the code value. Entries past the
 /// last segment repeat it (code 255): unreachable after the clamp of [`segment_bits`], but the
-/// planar loop of `soa_scalar` clamps only at 2²⁷ − 1 and reads them.
+/// planar loop of `planar::scalar` clamps only at 2²⁷ − 1 and reads them.
 pub(crate) static SEGMENT_TABLE: [u32; TABLE_LEN] = {
     let mut table = [0u32; TABLE_LEN];
     // Number of thresholds at or below the current segment's start.
@@ -185,8 +185,9 @@ pub(crate) fn srgb8_not_nan(x: f32) -> u8 {
     }
 }
 
-/// [`srgb8_from_linear`] for an `x` that is not NaN, clamped in integer arithmetic: three
-/// instructions before the table on a Cortex-M4F (`qadd`, `usat`, `ubfx`).
+/// [`srgb8_from_linear`] for an `x` that is not NaN, clamped in integer arithmetic: on a
+/// Cortex-M4F a saturating subtraction and a saturation (`qadd`, `usat`) and a bit-field extract
+/// (`ubfx`) before the table.
 ///
 /// An f32's bits read as an i32 are ordered as the f32 for every value but NaN. Their distance
 /// above 2⁻¹³ (a saturating subtraction, so that negative values stay negative), clamped to
@@ -194,7 +195,7 @@ pub(crate) fn srgb8_not_nan(x: f32) -> u8 {
 /// it is 0, code 0; from 1.0 up (+Inf and huge values clamped at 2²⁷ − 1, about 8.0) it lands
 /// in the segment of exactly 1.0 or past it, in the entries that repeat that segment (the
 /// table has all 2¹¹ entries that 27 bits address), code 255. A NaN gives 0 or 255. The clamp
-/// is written as two comparisons: `i32::clamp` took six instructions.
+/// is written as two comparisons, which compile to `usat`; `i32::clamp` compiled to more.
 #[inline(always)]
 fn srgb8_sat(x: f32) -> u8 {
     let v = (x.to_bits() as i32).saturating_sub(LO_BITS as i32);
@@ -231,6 +232,20 @@ pub(crate) fn lookup(v: u32) -> u8 {
     (entry(v).wrapping_add(v << 8) >> 24) as u8
 }
 
+/// Clamps to 0..=1 with NaN → 0.
+#[inline]
+pub(crate) fn clamp01(x: f32) -> f32 {
+    if x > 0.0 {
+        if x < 1.0 {
+            x
+        } else {
+            1.0
+        }
+    } else {
+        0.0
+    }
+}
+
 /// An 8-bit encoder of the power law x^(1/γ), baked by the build script for each distinct γ
 /// among the scene's displays (`tables::GAMMA_ENCODERS`): 255 thresholds, searched in 8
 /// comparisons, so the result is the exact curve (in f64) times 255 rounded to nearest for
@@ -249,7 +264,7 @@ impl GammaEncoder8 {
     /// it. Branch-free binary search.
     #[inline]
     pub(crate) fn encode(&self, x: f32) -> u8 {
-        let bits = crate::display::clamp01(x).to_bits();
+        let bits = clamp01(x).to_bits();
         let t = &self.thresholds;
         let mut k = 0usize;
         let mut step = 128;
@@ -262,14 +277,6 @@ impl GammaEncoder8 {
         }
         k as u8
     }
-}
-
-/// The baked encoder for `Gamma(gamma)`, if a baked display has that γ.
-#[inline]
-pub(crate) fn gamma_encoder(gamma: f32) -> Option<&'static GammaEncoder8> {
-    crate::tables::GAMMA_ENCODERS
-        .iter()
-        .find(|e| e.gamma.to_bits() == gamma.to_bits())
 }
 
 #[cfg(test)]

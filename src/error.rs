@@ -1,5 +1,7 @@
 //! The runtime's error type.
 
+#![forbid(unsafe_code)]
+
 use core::fmt;
 
 /// What went wrong in a runtime call. Runtime functions return this instead of panicking.

@@ -1,8 +1,10 @@
 //! Fast transfer functions with micromath's approximations (feature `micromath`).
 
+#![forbid(unsafe_code)]
+
 use micromath::F32Ext;
 
-use crate::display::clamp01;
+use crate::encode::clamp01;
 use crate::TransferFunction;
 
 /// The largest difference between [`TransferFunction::encode_fast`] and

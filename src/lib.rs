@@ -25,29 +25,100 @@
 //! ```
 //!
 //! The derivation itself is the crate `spectral-quadrature-derive`, this crate's
-//! build-dependency: use it directly to run it with your own settings or data.
+//! build-dependency: use it directly to run it with your own settings or data. CIELAB, the
+//! colour differences and the display matrices come from `spectral-quadrature-math`, shared with
+//! the derivation and re-exported here.
+//!
+//! ## What a pixel goes through
+//!
+//! Three ways in, named by the methods' suffixes: one pixel (`[f32; N]`), interleaved pixels
+//! (`&[[f32; N]]`, `*_batch`) and planes (one `&[f32]` per wavelength, `*_planar`). Every way
+//! computes each channel with the same f32 operations in the same order, so all of them give the
+//! per-pixel function's bits (linear output) or bytes (encoded output), on every target.
+//!
+//! **One pixel** (`src/pixel.rs`):
+//! - [`WavelengthSet::ac1c2`]: the 3×N product of the weights and the samples, in index order;
+//!   [`WavelengthSet::xyz`]: that, then [`xyz_from_ac1c2`]. [`FoldedSet::linear_rgb`]: the same
+//!   product with the display's colour matrix folded into the weights, linear RGB in one step.
+//! - [`FoldedSet::encode_u8`]: the product, then [`Display::encode_u8`]. With the sRGB curve and
+//!   [`GamutMapping::Clip`] that is [`srgb8_from_linear`] on each channel, a table lookup, and
+//!   black for a NaN; on x86-64 the product and the table run with the three channels in one
+//!   SSE2 register (`src/simd/sse2.rs`). Other curves and mappings: [`Display::map_gamut`] for
+//!   [`GamutMapping::PreserveA`], then [`TransferFunction::encode_u8`] per channel (the sRGB
+//!   table; thresholds baked for the scene's power laws; otherwise an f32 power and
+//!   [`quantize_u8`]).
+//! - [`FoldedSet::encode_u16`]: [`FoldedSet::linear_rgb`], [`Display::encode_u16`],
+//!   [`Display::map_gamut`], [`TransferFunction::encode_u16`] (the curve in f32) and
+//!   [`quantize_u16`].
+//! - Encoded f32 in 0..=1: [`Display::encode`], [`Display::map_gamut`] then
+//!   [`TransferFunction::encode`], the reference curve (f64, rounded once).
+//!
+//! **Interleaved pixels** (`src/batch.rs`): [`WavelengthSet::ac1c2_batch`],
+//! [`FoldedSet::linear_rgb_batch`] and [`FoldedSet::encode_u16_batch`] call the per-pixel
+//! function on each pixel. [`FoldedSet::encode_u8_batch`] with the sRGB curve and `Clip`, on a
+//! target with f32 vector units, runs a vector loop over whole groups and the portable loop over
+//! the rest:
+//! - x86-64 with AVX-512 (F, BW and VBMI) and N = 4: sixteen pixels per register, the code
+//!   values from a polynomial, the few it cannot vouch for encoded again by the per-pixel
+//!   function (`src/simd/avx512.rs`);
+//! - x86-64 with AVX2 (and AVX-512 at other N): eight pixels per register, the table read by
+//!   scalar loads between vector stages (`src/simd/avx2.rs`);
+//! - the portable loop, and all of it on other targets with vector units (SSE2 alone, NEON,
+//!   WebAssembly SIMD): chunks of 16 pixels transposed into planes on the stack, in loops the
+//!   compiler vectorizes (`src/planar/portable.rs`).
+//!
+//! Other curves and mappings, and targets without vector units (microcontrollers), go pixel by
+//! pixel through [`FoldedSet::encode_u8`].
+//!
+//! **Planes** (`src/planar/`): [`FoldedSet::linear_rgb_planar`] and, with the sRGB curve and
+//! `Clip`, [`FoldedSet::encode_u8_planar`] run the AVX-512 loop (any N) or the AVX2 loop on
+//! x86-64 CPUs that have them, then the portable chunked loop for the pixels left (or for all,
+//! elsewhere). Without vector units, `encode_u8_planar` runs a scalar loop one pixel at a time
+//! with the weights in registers (`src/planar/scalar.rs`); other curves and mappings go pixel
+//! by pixel through [`FoldedSet::encode_u8`].
+//!
+//! The x86-64 loops are chosen at run time: the CPU's features are detected on the first call
+//! (`cpuid`, with the `cpufeatures` crate) and cached, in `src/simd/mod.rs`. None of this uses
+//! f64: f64 is only where a user asks for it ([`TransferFunction::encode`] and
+//! [`TransferFunction::decode`], [`Display::new`], [`delta_e2000`] and the other colour
+//! differences, [`f32_budget`]).
 //!
 //! ## Features
 //! - `std`: links the standard library (`std::error::Error` for [`Error`]).
 #![no_std]
 #![cfg_attr(docsrs, feature(doc_cfg))]
 #![deny(missing_docs)]
+// Unsafe code is in the x86-64 vector loops alone (`simd`, and the table lookup they share in
+// `encode`): every other module forbids it, and on other targets the whole crate does.
+#![cfg_attr(not(target_arch = "x86_64"), forbid(unsafe_code))]
+#![deny(unsafe_op_in_unsafe_fn)]
+#![deny(clippy::undocumented_unsafe_blocks)]
 
 #[cfg(any(test, feature = "std"))]
 extern crate std;
 
+// The modules, each importing only from those in the lines above it (and from `tables`, the
+// generated constants, which name the types they instantiate):
+// - error; encode (the 8-bit encoders' tables, clamping); matrix (3×3 products);
+// - transfer (transfer functions, on encode); display (on transfer, encode and the math crate);
+// - set (the set types, with their display); simd (the x86-64 loops, on encode);
+// - pixel (the per-pixel path, on set, display and simd);
+// - planar (the planar path and the portable loops, on pixel and simd); batch (the interleaved
+//   path, on pixel, planar's portable loops and simd);
+// - dynamic, paper, defmt and fast, on the types.
 mod batch;
 mod display;
 mod dynamic;
 mod encode;
 mod error;
-mod lab;
+mod matrix;
+mod pixel;
+mod planar;
 mod set;
 mod simd;
-mod soa;
-pub(crate) mod soa_scalar;
 #[cfg(test)]
 mod test_inputs;
+mod transfer;
 
 #[cfg(feature = "defmt")]
 mod defmt;
@@ -56,59 +127,21 @@ mod fast;
 
 pub mod paper;
 
-pub use display::{
-    quantize_u16, quantize_u8, ChannelLuts, Display, GamutMapping, Rgb, TransferFunction,
-    MAX_PRIMARIES_CONDITION, MIN_WHITE_SHARE, U16_MAX_STEP_ERROR,
-};
+pub use display::{Display, GamutMapping};
 pub use dynamic::DynamicSet;
 pub use encode::{srgb8_from_linear, SRGB8_MAX_DELTA_E, SRGB8_MAX_STEP_ERROR};
 pub use error::Error;
 #[cfg(feature = "micromath")]
 pub use fast::ENCODE_FAST_MAX_ERROR;
-pub use lab::{delta_e2000, delta_e76, lab_from_xyz};
+pub use matrix::{ac1c2_from_xyz, xyz_from_ac1c2};
+pub use pixel::f32_budget;
 pub use set::{Channel, FoldedSet, GaussRule, RuleStatus, Samples, WavelengthSet};
-
-/// `[X, Y, Z]` from `[A, C1, C2]` with [`tables::AC1C2_TO_XYZ`]. IEEE arithmetic: NaN and ±Inf
-/// propagate; never panics.
-#[inline]
-pub fn xyz_from_ac1c2(ac1c2: [f32; 3]) -> [f32; 3] {
-    mat3_vec(&tables::AC1C2_TO_XYZ, ac1c2)
-}
-
-/// `[A, C1, C2]` from `[X, Y, Z]` with [`tables::XYZ_TO_AC1C2`] (Eq. 9). IEEE arithmetic: NaN
-/// and ±Inf propagate; never panics.
-#[inline]
-pub fn ac1c2_from_xyz(xyz: [f32; 3]) -> [f32; 3] {
-    mat3_vec(&tables::XYZ_TO_AC1C2, xyz)
-}
-
-/// The f32 error budget of an N-term weighted sum whose terms have absolute sum `abs_sum`
-/// (`Σ |w_i · s_i|`): `(N + 1) · f32::EPSILON · abs_sum + N · 2⁻¹⁵⁰`. This is the stated accuracy
-/// of [`WavelengthSet::ac1c2`] and [`FoldedSet::linear_rgb`] against the exact f64 sum; the tests
-/// assert it. Computed in f64; `abs_sum` NaN or infinite gives NaN or infinity.
-pub fn f32_budget(n: usize, abs_sum: f64) -> f64 {
-    const HALF_SUBNORMAL: f64 = 7.006_492_321_624_085e-46; // 2^-150
-    (n as f64 + 1.0) * f64::from(f32::EPSILON) * abs_sum + n as f64 * HALF_SUBNORMAL
-}
-
-#[inline]
-pub(crate) fn mat3_vec(m: &[[f32; 3]; 3], v: [f32; 3]) -> [f32; 3] {
-    [
-        m[0][0] * v[0] + m[0][1] * v[1] + m[0][2] * v[2],
-        m[1][0] * v[0] + m[1][1] * v[1] + m[1][2] * v[2],
-        m[2][0] * v[0] + m[2][1] * v[1] + m[2][2] * v[2],
-    ]
-}
-
-pub(crate) fn mat3_mul(a: &[[f32; 3]; 3], b: &[[f32; 3]; 3]) -> [[f32; 3]; 3] {
-    let mut out = [[0.0f32; 3]; 3];
-    for (i, row) in out.iter_mut().enumerate() {
-        for (j, v) in row.iter_mut().enumerate() {
-            *v = a[i][0] * b[0][j] + a[i][1] * b[1][j] + a[i][2] * b[2][j];
-        }
-    }
-    out
-}
+pub use spectral_quadrature_math::{
+    delta_e2000, delta_e76, lab_from_xyz, MAX_PRIMARIES_CONDITION, MIN_WHITE_SHARE,
+};
+pub use transfer::{
+    quantize_u16, quantize_u8, ChannelLuts, Rgb, TransferFunction, U16_MAX_STEP_ERROR,
+};
 
 /// The tables baked at compile time by `build.rs` from `data/` (see the header of the generated
 /// file for the inputs and their checksums).

@@ -6,6 +6,8 @@
 //! constant multiple (about 0.0099) of the weights for dλ in nm, so compare them after dividing
 //! by their sum.
 
+#![forbid(unsafe_code)]
+
 /// A rule as printed: wavelengths in nm and weights H_i on the paper's scale.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PrintedRule {
@@ -146,7 +148,7 @@ pub const TABLE_1A_SUSPECTS: [Suspect; 3] = [
         printed: 684.7,
         reading: 664.7,
         evidence:
-            "paper/NOTES.md: the derivation gives 664.7 nm; the row is garbled in the transcription",
+            "docs/reproducing-the-paper.md: the derivation gives 664.7 nm; the row is garbled in the transcription",
     },
     Suspect {
         channel: 0,

@@ -2,6 +2,8 @@
 //! deterministic generator (the library's tests take no dependency for it) and the edge values
 //! every path must treat alike.
 
+#![forbid(unsafe_code)]
+
 /// xorshift64*: deterministic inputs. The seed must not be 0.
 pub(crate) struct Rng(pub(crate) u64);
 

@@ -6,12 +6,11 @@
 //! # Why a polynomial
 //!
 //! The table encoder (`encode::SEGMENT_TABLE`) costs a load per value, and vector registers
-//! reach memory only through gathers, which on the CPU measured (AMD Zen 4) take about 27
-//! cycles for sixteen values; the AVX2 loops' scalar loads are faster, but those loops are
-//! bound by them. AVX-512 has 32 registers, mask registers and three-input logic, enough to
-//! keep a polynomial's constants and the weights in registers, so here the vector units do the
-//! work and the table is read only for the few values near a rounding boundary. The README's
-//! Performance section has the figures.
+//! reach memory only through gathers, which are slow on the CPU measured (AMD Zen 4); the AVX2
+//! loops' scalar loads are faster, but those loops are bound by them. AVX-512 has 32
+//! registers, mask registers and three-input logic, enough to keep a polynomial's constants and
+//! the weights in registers, so here the vector units do the work and the table is read only
+//! for the few values near a rounding boundary. docs/performance.md has the figures.
 //!
 //! # The encoder, and why it is exact
 //!
@@ -38,7 +37,7 @@
 //! a NaN channel is black, as in the per-pixel function. ±Inf, huge and negative values clamp.
 //!
 //! The 3×N product is computed as everywhere else (the same f32 operations in the same order
-//! as `set::mat_vec_for_encoding`, no FMA), so every byte equals the per-pixel function's.
+//! as `pixel::mat_vec_for_encoding`, no FMA), so every byte equals the per-pixel function's.
 //!
 //! # Memory
 //!
@@ -389,7 +388,7 @@ fn broadcast<const N: usize>(weights: &[[f32; N]; 3]) -> [[__m512; N]; 3] {
 }
 
 /// `weights · samples` for sixteen pixels, each channel from its first product with the others
-/// added in index order: `set::mat_vec_for_encoding`, lane by lane.
+/// added in index order: `pixel::mat_vec_for_encoding`, lane by lane.
 #[inline]
 #[target_feature(enable = "avx512f,avx512bw,avx512vbmi")]
 fn products<const N: usize>(w: &[[__m512; N]; 3], s: &[__m512; N]) -> [__m512; 3] {
@@ -408,9 +407,9 @@ fn products<const N: usize>(w: &[[__m512; N]; 3], s: &[__m512; N]) -> [__m512; 3
 /// How far ahead the planar loops ask for their samples, in groups of sixteen pixels (one
 /// 64-byte line per plane): [`NEAR`] groups ahead into the first-level cache and [`FAR`]
 /// groups ahead into the second. On the CPU measured (AMD Zen 4) the far requests made the
-/// planar sRGB loop at N = 4 about 13 % faster over 2²⁵ pixels, and nearer (64 groups) or
-/// farther (256, 512) ones did no better; the near ones alone, at 4 to 32 groups, were within
-/// 6 % of each other (the commit that wrote this comment has the figures).
+/// planar sRGB loop faster from memory, and nearer (64 groups) or farther (256, 512) ones did
+/// no better; the near ones alone, at 4 to 32 groups, differed little (docs/performance.md has
+/// the figures).
 const NEAR: usize = 8;
 /// See [`NEAR`].
 const FAR: usize = 128;
@@ -465,8 +464,8 @@ pub(crate) fn encode_srgb8_planar<const N: usize>(
 ///
 /// All planes are read at once, at every width. The AVX2 loop goes through the planes four at
 /// a time above four planes, with partial sums on the stack; on the CPU measured (AMD Zen 4)
-/// the same passes before this loop were 12 to 16 % slower from memory at N = 6, 8 and 16
-/// than one pass (the commit that wrote this comment has the figures).
+/// the same passes before this loop were slower from memory at N = 6, 8 and 16 than one pass
+/// (docs/performance.md has the figures).
 #[target_feature(enable = "avx512f,avx512bw,avx512vbmi")]
 fn encode_srgb8_groups<const N: usize>(
     weights: &[[f32; N]; 3],
@@ -551,28 +550,27 @@ fn transpose4(px: &[f32; 4 * LANES]) -> [__m512; 4] {
 }
 
 /// Up to this many planes the planar linear loop asks for its samples into the first-level
-/// cache too. At N = 16, alternating runs on the CPU measured (AMD Zen 4) took 5.16-5.26 ns per
-/// pixel without those requests against 5.51-5.53 with them (the sRGB loop, the other way
-/// round, 5.29-5.33 against 5.45-5.49, keeps them): sixteen planes at one offset within a page
-/// compete for one set of the 8-way first-level cache, and lines asked for early are evicted
-/// before their use. (Runs with this constant at 16 and at 8; the commit that wrote this
-/// comment has them.)
+/// cache too. At N = 16, on the CPU measured (AMD Zen 4), the linear loop was faster without
+/// those requests (the sRGB loop, the other way round, keeps them): sixteen planes at one
+/// offset within a page compete for one set of the 8-way first-level cache, and lines asked
+/// for early are evicted before their use (docs/performance.md has the runs, with this
+/// constant at 16 and at 8).
 const NEAR_LINEAR_PLANES: usize = 8;
 
 /// The planar linear f32 loop: `planes[i]` and the three output planes. Returns how many
 /// pixels it wrote (16 or more, or 0 below 16), its groups starting where most planes start
 /// a 64-byte line ([`on_lines`](super::on_lines)), after one group at the planes' start. Each
-/// channel is summed from 0.0 in index order, as `set::mat_vec`, so the bits are
+/// channel is summed from 0.0 in index order, as `pixel::mat_vec`, so the bits are
 /// those of [`FoldedSet::linear_rgb`](crate::FoldedSet::linear_rgb).
 ///
 /// One pass over all planes, the samples asked for ahead as in the sRGB loop, but above
 /// [`NEAR_LINEAR_PLANES`] planes only into the second-level cache. With `stream`,
 /// each output plane is written with non-temporal stores ([`StreamedPlane`]), which skip
 /// reading the output's lines from memory before writing them; its lines are then not in the
-/// caches. On the CPU measured (AMD Zen 4), over 2²⁵ pixels, ordinary stores reached the
-/// planar streaming bound (which writes with ordinary stores) at N = 4 and 8 and 86-94 % of it
-/// at N = 16, and the non-temporal ones took 44-46, 11-16 and 9-13 % less time than those at
-/// N = 4, 8 and 16 (the commit that wrote this comment has the runs).
+/// caches. On the CPU measured (AMD Zen 4), over images far larger than the caches, ordinary
+/// stores reached the planar streaming bound (which writes with ordinary stores) at N = 4 and
+/// 8 and came close to it at N = 16, and the non-temporal ones took less time than those at
+/// N = 4, 8 and 16 (docs/performance.md has the runs).
 #[target_feature(enable = "avx512f,avx512bw,avx512vbmi")]
 pub(crate) fn linear_planar<const N: usize>(
     weights: &[[f32; N]; 3],

@@ -3,8 +3,11 @@
 //!
 //! [`FoldedSet::encode_u8_planar`](crate::FoldedSet::encode_u8_planar) calls it for the sRGB
 //! curve with [`GamutMapping::Clip`](crate::GamutMapping::Clip) where the chunked loops of
-//! `soa` would not vectorize. Its bytes equal [`FoldedSet::encode_u8`](crate::FoldedSet::encode_u8)
-//! on every pixel: the same sums in the same order, the same table.
+//! [`planar`](super) would not vectorize. Its bytes equal
+//! [`FoldedSet::encode_u8`](crate::FoldedSet::encode_u8) on every pixel: the same sums in the
+//! same order, the same table.
+
+#![forbid(unsafe_code)]
 
 use crate::encode::srgb8_not_nan;
 
@@ -12,7 +15,7 @@ use crate::encode::srgb8_not_nan;
 ///
 /// Written out, every weight is a value of its own that stays in a register for the whole loop
 /// over pixels, and every plane's length is known. As a loop over the samples (what
-/// `set::mat_vec` is), the weights are read from memory for every pixel, since opt-level "s" on
+/// `pixel::mat_vec` is), the weights are read from memory for every pixel, since opt-level "s" on
 /// Arm unrolls no loop.
 const UNROLLED: usize = 8;
 

@@ -1,10 +1,6 @@
 //! CIELAB and colour differences (ΔE*ab 1976 and CIEDE2000), in f64, for measuring the error
-//! of a wavelength set. `no_std`: the transcendental functions come from libm.
-//!
-//! Everything here is f64, for measuring on a desk rather than per pixel: on a microcontroller
-//! without a double-precision FPU it is soft-float. [`delta_e2000`] takes about 62 600
-//! instructions per call on a Cortex-M4F (opt-level "s"; `examples/firmware` with its
-//! `f64-costs` feature, see the README's "On a microcontroller").
+//! of a wavelength set. The transcendental functions come from libm, so the results are the
+//! same bits on every target.
 
 /// CIELAB `[L*, a*, b*]` of `xyz` relative to the reference `white` (both in the same units).
 ///

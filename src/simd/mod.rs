@@ -1,0 +1,201 @@
+//! Explicit x86-64 vector code for the sRGB 8-bit and linear f32 paths.
+//!
+//! - [`sse2`]: the per-pixel [`FoldedSet::encode_u8`](crate::FoldedSet::encode_u8) for the
+//!   sRGB curve with [`Clip`](crate::GamutMapping::Clip), the three channels in the lanes of
+//!   one SSE2 register. SSE2 is part of x86-64, so this needs no detection.
+//! - [`avx512`]: the planar loops (sRGB 8-bit and linear f32) and the interleaved sRGB 8-bit
+//!   loop at N = 4, sixteen pixels per register, chosen at run time when the CPU has
+//!   `avx512f`, `avx512bw` and `avx512vbmi` ([`avx512::available`]). The code values are
+//!   computed by a polynomial, exact because the values it flags near a rounding boundary are
+//!   encoded again by the per-pixel function (the module has the argument); the planar loops
+//!   ask for their samples into the first- and second-level caches ahead of use.
+//! - [`avx2`]: the batch and planar loops, eight pixels per AVX2 register, chosen at run time
+//!   when the CPU has AVX2 but not the AVX-512 loops ([`avx2::available`]). The sRGB 8-bit
+//!   loops pass each group of eight pixels through three stages (vector product and clamp,
+//!   scalar table loads, vector code values and interleave), a group apart, so that the table
+//!   loads overlap the vector work; the planar loops ask for their samples a few cache lines
+//!   ahead, and above four planes go through blocks of pixels four planes at a time, with
+//!   partial sums on the stack.
+//!
+//! Features are detected once, with the `cpufeatures` crate, which works without `std`.
+//! Otherwise the portable loops of `planar` run.
+//!
+//! Every path computes each channel with the same f32 operations in the same order as
+//! [`pixel::mat_vec_for_encoding`](crate::pixel::mat_vec_for_encoding) (or
+//! [`pixel::mat_vec`](crate::pixel::mat_vec) for linear output) and encodes with the same table
+//! (`encode::SEGMENT_TABLE`) or, in the AVX-512 loops, with a polynomial that agrees with it
+//! wherever it does not hand the value back to the table, so all of them give the per-pixel
+//! function's bytes, bit for bit. FMA is not used in the products, although every AVX2 CPU of
+//! the x86-64 world has it: a fused multiply-add rounds once where the per-pixel function (and
+//! every target without FMA, the Cortex-M4F among them) rounds twice, so the outputs would
+//! differ in the last bit, and now and then in an encoded code value. (The AVX-512 encoder's
+//! polynomial uses FMA: its result is checked, not trusted.)
+
+#[cfg(target_arch = "x86_64")]
+pub(crate) mod avx2;
+#[cfg(target_arch = "x86_64")]
+pub(crate) mod avx512;
+#[cfg(target_arch = "x86_64")]
+pub(crate) mod sse2;
+#[cfg(test)]
+mod tests;
+
+/// Runs an accelerated planar sRGB 8-bit loop, `steps` (whole steps of `unit` pixels from the
+/// start of the planes and output it is given; it returns how many pixels it wrote), once at
+/// the planes' start and then from [`on_lines`]. Returns how many pixels were written in all:
+/// all but fewer than `unit`, or 0 below `unit`. The pixels in between are computed twice, to
+/// the same values.
+#[cfg(target_arch = "x86_64")]
+#[inline]
+fn srgb8_from_lines<const N: usize>(
+    planes: [&[f32]; N],
+    out: &mut [u8],
+    unit: usize,
+    line: usize,
+    mut steps: impl FnMut([&[f32]; N], &mut [u8]) -> usize,
+) -> usize {
+    let pixels = planes
+        .iter()
+        .map(|p| p.len())
+        .fold(out.len() / 3, usize::min);
+    let head = on_lines(&planes, pixels, unit, line);
+    if head > 0 {
+        steps(planes.map(|p| &p[..unit]), &mut out[..3 * unit]);
+    }
+    head + steps(planes.map(|p| &p[head..]), &mut out[3 * head..])
+}
+
+/// As [`srgb8_from_lines`], for a planar linear loop: `steps`' last argument is whether it
+/// runs the step at the planes' start (which is not worth streaming).
+#[cfg(target_arch = "x86_64")]
+#[inline]
+fn linear_from_lines<const N: usize>(
+    planes: [&[f32]; N],
+    out: [&mut [f32]; 3],
+    unit: usize,
+    line: usize,
+    mut steps: impl FnMut([&[f32]; N], [&mut [f32]; 3], bool) -> usize,
+) -> usize {
+    let pixels = planes
+        .iter()
+        .map(|p| p.len())
+        .fold(out.iter().map(|o| o.len()).min().unwrap_or(0), usize::min);
+    let head = on_lines(&planes, pixels, unit, line);
+    let [r, g, b] = out;
+    if head > 0 {
+        let first = [&mut r[..unit], &mut g[..unit], &mut b[..unit]];
+        steps(planes.map(|p| &p[..unit]), first, true);
+    }
+    let rest = [&mut r[head..], &mut g[head..], &mut b[head..]];
+    head + steps(planes.map(|p| &p[head..]), rest, false)
+}
+
+/// Where an accelerated planar loop starts its steps of `unit` pixels: the pixel from which
+/// the most planes start a `line`-byte boundary (0, or the first such pixel in plane order,
+/// where several tie), where that is below `unit` and `pixels` holds a step after it; else 0.
+///
+/// A 64-byte line of a plane read from such a boundary is read by one group of pixels, not
+/// two. Planes in separate allocations (which start 16 bytes past a page with glibc) are read
+/// faster that way from memory at every width, while the streaming bound over the same bytes
+/// does not change (`soa/srgb_u8_aligned` in the bench; docs/performance.md has the figures).
+#[cfg(target_arch = "x86_64")]
+#[inline]
+fn on_lines<const N: usize>(
+    planes: &[&[f32]; N],
+    pixels: usize,
+    unit: usize,
+    line: usize,
+) -> usize {
+    // Pixels to each plane's first boundary (f32 are 4-byte aligned: 0..line / 4).
+    let to_line = planes.map(|p| p.as_ptr().align_offset(line));
+    let votes = |h: usize| to_line.iter().filter(|&&t| t == h).count();
+    let head = to_line
+        .iter()
+        .copied()
+        .fold(0, |best, h| if votes(h) > votes(best) { h } else { best });
+    if head < unit && pixels >= head + unit {
+        head
+    } else {
+        0
+    }
+}
+
+/// The accelerated planar sRGB 8-bit loop, where the CPU has one: encodes the first pixels
+/// of `planes` into `out` (3 bytes per pixel), all but fewer than one of its groups (8 or 16
+/// pixels), and returns how many; 0 where there is no accelerated loop, so the caller's
+/// portable loop does everything.
+#[inline]
+pub(crate) fn encode_srgb8_planar<const N: usize>(
+    weights: &[[f32; N]; 3],
+    planes: [&[f32]; N],
+    out: &mut [u8],
+) -> usize {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if avx512::available() {
+            // SAFETY: the CPU has the AVX-512 subsets the loop needs (checked just above).
+            return unsafe { avx512::encode_srgb8_planar(weights, planes, out) };
+        }
+        if avx2::available() {
+            // SAFETY: the CPU has AVX2 (checked just above).
+            return unsafe { avx2::encode_srgb8_planar(weights, planes, out) };
+        }
+    }
+    let _ = (weights, planes, out);
+    0
+}
+
+/// As [`encode_srgb8_planar`], for linear f32 output (three planes); the accelerated loop
+/// writes all but fewer than 16 pixels.
+#[inline]
+pub(crate) fn linear_planar<const N: usize>(
+    weights: &[[f32; N]; 3],
+    planes: [&[f32]; N],
+    out: [&mut [f32]; 3],
+) -> usize {
+    #[cfg(target_arch = "x86_64")]
+    {
+        let stream = out.iter().map(|o| o.len()).min().unwrap_or(0) >= STREAM_MIN_PIXELS;
+        if avx512::available() {
+            // SAFETY: the CPU has the AVX-512 subsets the loop needs (checked just above).
+            return unsafe { avx512::linear_planar(weights, planes, out, stream) };
+        }
+        if avx2::available() {
+            // SAFETY: the CPU has AVX2 (checked just above).
+            return unsafe { avx2::linear_planar(weights, planes, out, stream) };
+        }
+    }
+    let _ = (weights, planes, out);
+    0
+}
+
+/// From this many pixels on, the accelerated planar linear loops write their output with
+/// non-temporal stores: the AVX-512 loop at every width (see [`avx512::linear_planar`]), the
+/// AVX2 loop above four planes (see [`avx2::linear_planar`]). 2²⁰ pixels are 12 MiB of output,
+/// more than a core's share of the last-level cache on common x86-64 CPUs, so the output would
+/// leave the caches before it is read again anyway. Smaller calls (a row, a tile) write through
+/// the caches, where the caller reads them next.
+#[cfg(target_arch = "x86_64")]
+pub(crate) const STREAM_MIN_PIXELS: usize = 1 << 20;
+
+/// As [`encode_srgb8_planar`], for interleaved samples (one `[f32; N]` per pixel).
+#[inline]
+pub(crate) fn encode_srgb8_batch<const N: usize>(
+    weights: &[[f32; N]; 3],
+    samples: &[[f32; N]],
+    out: &mut [u8],
+) -> usize {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if avx512::available() && avx512::BATCH_WIDTHS.contains(&N) {
+            // SAFETY: the CPU has the AVX-512 subsets the loop needs (checked just above).
+            return unsafe { avx512::encode_srgb8_batch(weights, samples, out) };
+        }
+        if avx2::available() {
+            // SAFETY: the CPU has AVX2 (checked just above).
+            return unsafe { avx2::encode_srgb8_batch(weights, samples, out) };
+        }
+    }
+    let _ = (weights, samples, out);
+    0
+}

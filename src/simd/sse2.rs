@@ -1,0 +1,61 @@
+//! The per-pixel sRGB 8-bit encode with [`Clip`](crate::GamutMapping::Clip)
+//! ([`FoldedSet::encode_u8`](crate::FoldedSet::encode_u8) on x86-64): the three channels in the
+//! lanes of one SSE2 register, the product and the table encoder's clamp and code values in
+//! vector instructions. SSE2 is part of x86-64, so this needs no detection.
+
+use core::arch::x86_64::*;
+
+use crate::encode::{entry_at_top, LO};
+
+/// [`srgb8`]`(`[`mat_vec`]`(weights, samples))`: the per-pixel sRGB 8-bit encode with
+/// `Clip`.
+#[inline]
+pub(crate) fn encode_srgb8<const N: usize>(weights: &[[f32; N]; 3], samples: &[f32; N]) -> [u8; 3] {
+    // SAFETY: SSE2 is part of x86-64: every x86-64 CPU has it.
+    unsafe { srgb8(mat_vec(weights, samples)) }
+}
+
+/// `weights · samples` with the channels in lanes 0, 1, 2 (lane 3 is 0): each lane is the
+/// first product, then the others added in index order, exactly as
+/// `pixel::mat_vec_for_encoding`. Column by column: column i of the weights times sample i
+/// broadcast, so each lane sees the same products added in the same order.
+#[inline]
+#[target_feature(enable = "sse2")]
+pub(crate) fn mat_vec<const N: usize>(weights: &[[f32; N]; 3], samples: &[f32; N]) -> __m128 {
+    let [w0, w1, w2] = weights;
+    let mut acc = _mm_setzero_ps();
+    for i in 0..N {
+        let col = _mm_setr_ps(w0[i], w1[i], w2[i], 0.0);
+        let p = _mm_mul_ps(col, _mm_set1_ps(samples[i]));
+        acc = if i == 0 { p } else { _mm_add_ps(acc, p) };
+    }
+    acc
+}
+
+/// 8-bit sRGB of lanes 0..=2 of `rgb`, as `encode::srgb8_from_linear` on each, and black
+/// when any of the three is NaN: the bytes of
+/// [`Display::encode_u8`](crate::Display::encode_u8) with the sRGB curve and `Clip`.
+#[inline]
+#[target_feature(enable = "sse2")]
+pub(crate) fn srgb8(rgb: __m128) -> [u8; 3] {
+    // max(x, LO) is LO for a NaN x; the lanes are then in LO..=1.
+    let c = _mm_min_ps(_mm_max_ps(rgb, _mm_set1_ps(LO)), _mm_set1_ps(1.0));
+    let bits = _mm_castps_si128(c);
+    // SAFETY: the top 16 bits of lanes clamped to LO..=1 (`maxps` and `minps`, which turn
+    // NaN into LO), as `entry_at_top` requires.
+    let at = |top: i32| unsafe { entry_at_top(top as u32) } as i32;
+    let e = _mm_setr_epi32(
+        at(_mm_extract_epi16::<1>(bits)),
+        at(_mm_extract_epi16::<3>(bits)),
+        at(_mm_extract_epi16::<5>(bits)),
+        0,
+    );
+    // `bits << 8` is `(bits − LO_BITS) << 8`: see `encode::FIRST_TOP`.
+    let code = _mm_srli_epi32::<24>(_mm_add_epi32(e, _mm_slli_epi32::<8>(bits)));
+    let bytes = _mm_packus_epi16(_mm_packs_epi32(code, code), code);
+    let word = _mm_cvtsi128_si32(bytes) as u32;
+    let nan = _mm_movemask_ps(_mm_cmpunord_ps(rgb, rgb)) & 0b111;
+    let word = if nan == 0 { word } else { 0 };
+    let [r, g, b, _] = word.to_le_bytes();
+    [r, g, b]
+}

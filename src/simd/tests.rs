@@ -1,0 +1,319 @@
+//! Every loop against the scalar per-pixel form, forced one by one (the public functions
+//! pick one by the CPU, so on an AVX2 machine they would never run the portable loops on
+//! whole chunks): bit for bit for linear output (NaN against NaN), byte for byte for sRGB.
+
+use crate::pixel::{mat_vec, mat_vec_for_encoding};
+use crate::tables::folded::{KQ_C_8_SRGB, TABLE2_ROW1_SRGB, TABLE2_ROW2_SRGB};
+use crate::test_inputs::{Rng, EDGES};
+use crate::GamutMapping;
+
+/// A sample: mostly reflectance-like, the rest negative, any bit pattern, or an edge.
+fn sample(rng: &mut Rng) -> f32 {
+    match rng.next() % 10 {
+        0 => -rng.unit(),
+        1 => f32::from_bits(rng.next() as u32),
+        2 => EDGES[(rng.next() % EDGES.len() as u64) as usize],
+        _ => 1.2 * rng.unit(),
+    }
+}
+
+/// The scalar reference: the product of `pixel::mat_vec_for_encoding` then the scalar
+/// `Display::encode_u8`, as on a target without vector code.
+fn reference<const N: usize>(set: &crate::FoldedSet<N>, s: &[f32; N]) -> [u8; 3] {
+    set.display
+        .encode_u8(mat_vec_for_encoding(&set.weights, s), GamutMapping::Clip)
+}
+
+fn same_f32(a: f32, b: f32) -> bool {
+    a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan())
+}
+
+/// The index in `buf` of the float `k % 16` floats past `buf`'s first 64-byte boundary:
+/// where the tests put a plane that starts at that offset within a line (`buf` holds 31
+/// floats more than the plane).
+#[cfg(target_arch = "x86_64")]
+fn past_line(buf: &[f32], k: usize) -> usize {
+    buf.as_ptr().align_offset(64) + k % 16
+}
+
+/// One x86-64 form of the accelerated loops, as the tests force them.
+#[cfg(target_arch = "x86_64")]
+struct X86Loops<const N: usize> {
+    name: &'static str,
+    available: bool,
+    /// Pixels per group of the sRGB loops.
+    group: usize,
+    planar: PlanarLoop<N>,
+    batch: BatchLoop<N>,
+    /// Whether the interleaved loop takes width N (it returns 0 for others).
+    batch_takes: fn(usize) -> bool,
+    linear: LinearLoop<N>,
+}
+
+/// The accelerated planar sRGB loops' signature.
+#[cfg(target_arch = "x86_64")]
+type PlanarLoop<const N: usize> = unsafe fn(&[[f32; N]; 3], [&[f32]; N], &mut [u8]) -> usize;
+/// The accelerated interleaved sRGB loops' signature.
+#[cfg(target_arch = "x86_64")]
+type BatchLoop<const N: usize> = unsafe fn(&[[f32; N]; 3], &[[f32; N]], &mut [u8]) -> usize;
+/// The accelerated planar linear loops' signature (the last argument: `stream`).
+#[cfg(target_arch = "x86_64")]
+type LinearLoop<const N: usize> =
+    unsafe fn(&[[f32; N]; 3], [&[f32]; N], [&mut [f32]; 3], bool) -> usize;
+
+/// The AVX-512 and the AVX2 loops.
+#[cfg(target_arch = "x86_64")]
+fn x86_loops<const N: usize>() -> [X86Loops<N>; 2] {
+    use super::{avx2, avx512};
+    [
+        X86Loops {
+            name: "AVX-512",
+            available: avx512::available(),
+            group: avx512::LANES,
+            planar: avx512::encode_srgb8_planar::<N>,
+            batch: avx512::encode_srgb8_batch::<N>,
+            batch_takes: |n| avx512::BATCH_WIDTHS.contains(&n),
+            linear: avx512::linear_planar::<N>,
+        },
+        X86Loops {
+            name: "AVX2",
+            available: avx2::available(),
+            group: avx2::LANES,
+            planar: avx2::encode_srgb8_planar::<N>,
+            batch: avx2::encode_srgb8_batch::<N>,
+            batch_takes: |_| true,
+            linear: avx2::linear_planar::<N>,
+        },
+    ]
+}
+
+/// `pixels` random pixels (the edge inputs in every sample position first) through every
+/// loop of `set`.
+fn check<const N: usize>(set: &crate::FoldedSet<N>, pixels: usize, seed: u64) {
+    let mut rng = Rng(seed);
+    let mut aos: std::vec::Vec<[f32; N]> = std::vec::Vec::with_capacity(pixels);
+    for i in 0..pixels {
+        let mut s: [f32; N] = core::array::from_fn(|_| sample(&mut rng));
+        // Pixels 0..16·N: edge e in position i, the others random.
+        if i < EDGES.len() * N {
+            s[i % N] = EDGES[i / N];
+        }
+        aos.push(s);
+    }
+    let planes: std::vec::Vec<std::vec::Vec<f32>> =
+        (0..N).map(|i| aos.iter().map(|s| s[i]).collect()).collect();
+    let planes: [&[f32]; N] = core::array::from_fn(|i| &planes[i][..]);
+    let want: std::vec::Vec<[u8; 3]> = aos.iter().map(|s| reference(set, s)).collect();
+    let want_linear: std::vec::Vec<[f32; 3]> =
+        aos.iter().map(|s| mat_vec(&set.weights, s)).collect();
+
+    let compare = |what: &str, got: &[[u8; 3]]| {
+        for (p, (g, w)) in got.iter().zip(&want).enumerate() {
+            assert_eq!(g, w, "{what}, N = {N}, pixel {p}: {:?}", aos[p]);
+        }
+    };
+    let compare_linear = |what: &str, got: &[std::vec::Vec<f32>; 3]| {
+        for (p, w) in want_linear.iter().enumerate().take(got[0].len()) {
+            for c in 0..3 {
+                assert!(
+                    same_f32(got[c][p], w[c]),
+                    "{what}, N = {N}, pixel {p}, channel {c}: {} against {} for {:?}",
+                    got[c][p],
+                    w[c],
+                    aos[p]
+                );
+            }
+        }
+    };
+
+    // The per-pixel function (SSE2 on x86-64).
+    let got: std::vec::Vec<[u8; 3]> = aos
+        .iter()
+        .map(|s| set.encode_u8(GamutMapping::Clip, s))
+        .collect();
+    compare("encode_u8", &got);
+
+    // The portable planar loops.
+    let mut got = std::vec![[0u8; 3]; pixels];
+    crate::planar::portable::encode_srgb8_planar_portable(&set.weights, planes, &mut got);
+    compare("portable planar", &got);
+    let mut got = std::vec![[0u8; 3]; pixels];
+    crate::planar::portable::encode_srgb8_batch_portable(&set.weights, &aos, &mut got);
+    compare("portable batch", &got);
+    let mut lin = [0, 1, 2].map(|_| std::vec![0.0f32; pixels]);
+    {
+        let [r, g, b] = &mut lin;
+        crate::planar::portable::linear_planar_portable(&set.weights, planes, [r, g, b]);
+    }
+    compare_linear("portable planar linear", &lin);
+
+    // The AVX-512 and AVX2 loops, where this CPU has them: every whole group (of 16 and of
+    // 8 pixels; the AVX2 sRGB loops a lone group too, as their pipeline runs only the stages
+    // whose group exists; the AVX-512 interleaved loop only at its widths, else nothing).
+    // Linear output with and without `stream` (with AVX2, at most four planes, `stream`
+    // changes nothing), into output planes starting 0 to 15 floats past a 64-byte boundary
+    // (different for each plane and seed), so that the streamed copies' ordinary head and
+    // tail stores are used too; nothing outside the output planes may change.
+    #[cfg(target_arch = "x86_64")]
+    for x86 in x86_loops::<N>() {
+        if !x86.available {
+            continue;
+        }
+        let name = x86.name;
+        let srgb8_done = pixels / x86.group * x86.group;
+        // The planar loops on copies of the planes starting 0 to 15 floats past a 64-byte
+        // boundary, planes 2k and 2k + 1 at the same offset (which depends on the seed):
+        // where the loops start their groups depends on those offsets (`on_lines`). They
+        // must leave fewer pixels than a step, and write nothing past those they report.
+        let mut copies: std::vec::Vec<std::vec::Vec<f32>> =
+            (0..N).map(|_| std::vec![0.0f32; pixels + 32]).collect();
+        let starts: [usize; N] =
+            core::array::from_fn(|i| past_line(&copies[i], seed as usize + 7 * (i / 2)));
+        for ((c, p), &o) in copies.iter_mut().zip(&planes).zip(&starts) {
+            c[o..o + pixels].copy_from_slice(p);
+        }
+        let shifted: [&[f32]; N] =
+            core::array::from_fn(|i| &copies[i][starts[i]..starts[i] + pixels]);
+        let mut got = std::vec![[0xA5u8; 3]; pixels];
+        // SAFETY: the CPU has the loop's features (`available`).
+        let done = unsafe { (x86.planar)(&set.weights, shifted, got.as_flattened_mut()) };
+        assert!(
+            done <= pixels && done + x86.group > pixels,
+            "{name} planar: {done} of {pixels}"
+        );
+        compare(&std::format!("{name} planar"), &got[..done]);
+        assert!(
+            got[done..].iter().all(|p| *p == [0xA5; 3]),
+            "{name} planar: written past {done}"
+        );
+        let mut got = std::vec![[0u8; 3]; pixels];
+        // SAFETY: the CPU has the loop's features (`available`).
+        let done = unsafe { (x86.batch)(&set.weights, &aos, got.as_flattened_mut()) };
+        let batch_done = if (x86.batch_takes)(N) { srgb8_done } else { 0 };
+        assert_eq!(done, batch_done, "{name} batch");
+        compare(&std::format!("{name} batch"), &got[..done]);
+        for stream in [false, true] {
+            let mut buf = [0, 1, 2].map(|_| std::vec![0.0f32; pixels + 32]);
+            let offset = |c: usize, b: &[f32]| past_line(b, 5 * c + seed as usize);
+            let [r, g, b] = &mut buf;
+            let (or, og, ob) = (offset(0, r), offset(1, g), offset(2, b));
+            let out = [
+                &mut r[or..or + pixels],
+                &mut g[og..og + pixels],
+                &mut b[ob..ob + pixels],
+            ];
+            // SAFETY: the CPU has the loop's features (`available`).
+            let done = unsafe { (x86.linear)(&set.weights, shifted, out, stream) };
+            // Steps of 16 pixels.
+            assert!(
+                done <= pixels && done + 16 > pixels,
+                "{name} planar linear: {done} of {pixels}"
+            );
+            let lin = [(r, or), (g, og), (b, ob)].map(|(c, o)| c[o..o + done].to_vec());
+            compare_linear(&std::format!("{name} planar linear, {stream}"), &lin);
+            for (c, o) in [(&buf[0], or), (&buf[1], og), (&buf[2], ob)] {
+                let untouched = c[..o].iter().chain(&c[o + done..]);
+                assert!(
+                    untouched.copied().all(|v| v == 0.0),
+                    "{name}: written outside"
+                );
+            }
+        }
+    }
+
+    // The public functions, whichever loops they pick.
+    let mut got = std::vec![[0u8; 3]; pixels];
+    set.encode_u8_planar(GamutMapping::Clip, planes, &mut got)
+        .unwrap();
+    compare("encode_u8_planar", &got);
+    let mut got = std::vec![[0u8; 3]; pixels];
+    set.encode_u8_batch(GamutMapping::Clip, &aos, &mut got)
+        .unwrap();
+    compare("encode_u8_batch", &got);
+    let mut lin = [0, 1, 2].map(|_| std::vec![0.0f32; pixels]);
+    {
+        let [r, g, b] = &mut lin;
+        set.linear_rgb_planar(planes, [r, g, b]).unwrap();
+    }
+    compare_linear("linear_rgb_planar", &lin);
+    let mut got16 = std::vec![[0u16; 3]; pixels];
+    set.encode_u16_batch(GamutMapping::Clip, &aos, &mut got16)
+        .unwrap();
+    for (p, (g, s)) in got16.iter().zip(&aos).enumerate() {
+        assert_eq!(
+            *g,
+            set.encode_u16(GamutMapping::Clip, s),
+            "u16, N = {N}, {p}"
+        );
+    }
+}
+
+/// A set with `N` random weights of either sign, on the sRGB display: the widths the baked
+/// sets do not have (1, 3, 5: the SSE2 product's remainder columns; 16: more weights than
+/// registers).
+fn random_set<const N: usize>(seed: u64) -> crate::FoldedSet<N> {
+    let mut rng = Rng(seed);
+    crate::FoldedSet {
+        wavelengths_nm: core::array::from_fn(|i| 400.0 + i as f32),
+        weights: [0, 1, 2].map(|_| core::array::from_fn(|_| 2.0 * rng.unit() - 0.6)),
+        samples: TABLE2_ROW2_SRGB.samples,
+        display: TABLE2_ROW2_SRGB.display,
+    }
+}
+
+/// Pixels per block of the planar loops in passes (`avx2::BLOCK_GROUPS` groups of 8), so
+/// that the counts of the test below fall on and around the blocks' ends.
+const BLOCK: usize = 1024;
+#[cfg(target_arch = "x86_64")]
+const _: () = assert!(BLOCK == super::avx2::BLOCK_GROUPS * super::avx2::LANES);
+
+#[test]
+fn the_loops_in_passes_give_the_per_pixel_bytes_around_their_blocks() {
+    // More than four planes: passes of four planes over blocks of 1024 pixels, the last
+    // pass with one (N = 5, 9), two (6), three (7) or four planes (8, 12, 16). One block,
+    // a block and a group, two blocks less a group, two and a part, three and a pair.
+    for (k, pixels) in [
+        BLOCK,
+        BLOCK + 8,
+        2 * BLOCK - 8,
+        2 * BLOCK + 21,
+        3 * BLOCK + 16,
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let seed = 100 * (k as u64 + 2);
+        check(&random_set::<5>(seed), pixels, seed + 1);
+        check(&random_set::<6>(seed), pixels, seed + 2);
+        check(&random_set::<7>(seed), pixels, seed + 3);
+        check(&KQ_C_8_SRGB, pixels, seed + 4);
+        check(&random_set::<9>(seed), pixels, seed + 5);
+        check(&random_set::<12>(seed), pixels, seed + 6);
+        check(&random_set::<16>(seed), pixels, seed + 7);
+    }
+}
+
+#[test]
+fn every_loop_gives_the_per_pixel_bytes_on_a_million_pixels() {
+    // 2²⁰ + 13 pixels: a partial group of 8 and a partial chunk of 16 at the end.
+    check(&TABLE2_ROW2_SRGB, (1 << 20) + 13, 1);
+    check(&TABLE2_ROW1_SRGB, (1 << 20) + 5, 2);
+}
+
+#[test]
+fn every_loop_gives_the_per_pixel_bytes_for_other_widths() {
+    check(&KQ_C_8_SRGB, 100_003, 3);
+    check(&random_set::<1>(4), 100_001, 5);
+    check(&random_set::<3>(6), 100_007, 7);
+    check(&random_set::<5>(8), 100_009, 9);
+    check(&random_set::<16>(10), 100_011, 11);
+    // Fewer pixels than one group: the tails alone; one group and a part (the pipeline's
+    // shortest run, where no two stages overlap); two, three and five groups, and one step
+    // of the linear loop and a part.
+    check(&TABLE2_ROW2_SRGB, 7, 12);
+    check(&TABLE2_ROW2_SRGB, 0, 13);
+    for (pixels, seed) in [(9, 14), (16, 15), (17, 16), (24, 17), (40, 18), (31, 19)] {
+        check(&TABLE2_ROW2_SRGB, pixels, seed);
+        check(&random_set::<16>(seed), pixels, seed + 100);
+    }
+}
