@@ -342,25 +342,27 @@ fn text(
         )
     };
     let trials = match x.trials {
-        Some(t) => format!("   {t} seeded trials per sampler (--trials, seed {})", x.seed),
+        Some(t) => format!("   {t} seeded trials per sampler (--trials; seed {}).", x.seed),
         None => format!(
-            "   Seeded trials (seed {}) in rounds of {ROUND}, until every mean below (on all stimuli and under each\n   light) has a standard error within {:.0} % of itself",
+            "   Seeded trials (seed {}) in rounds of {ROUND}, until every mean below, on all stimuli and under each\n   light, has a standard error within {:.0} % of itself.",
             x.seed,
             100.0 * TARGET_RELATIVE_ERROR
         ),
     };
     let lines = [
         "7. Against random wavelengths: what renderers do instead, by samples per pixel (spp)".to_string(),
-        format!("   {n} stimuli ({what}) in direct view: the spectral part of a renderer's error only. The exact"),
-        "   colour is the 1 nm integration. A random sampler's pixel is normalised by the exact white (a renderer's".to_string(),
-        "   film has a fixed white), a fixed set's by its own white (as in sections 1-5).".to_string(),
+        format!("   {n} stimuli: {what}."),
+        "   In direct view, so the error is the spectral part of a renderer's only. The exact colour is the 1 nm".to_string(),
+        "   integration. A random sampler's pixel is normalised by the exact white (a renderer's film has a fixed".to_string(),
+        "   white), a fixed set's by its own white (as in sections 1-5).".to_string(),
+        trials,
         format!(
-            "{trials}: in each, every stimulus gets one pixel of {} samples, read after {} samples.",
+            "   In each trial every stimulus gets one pixel of {} samples, read after {} samples.",
             SPP[SPP.len() - 1],
             SPP.map(|s| s.to_string()).join(", ")
         ),
         format!(
-            "   pbrt-v4 draws on 360-830 nm (its own range), hero and uniform on {}-{} nm (the reference's 1 nm cells).",
+            "   pbrt-v4 draws on 360-830 nm (its own range), hero and uniform on {}-{} nm (the reference's cells).",
             span[0], span[1]
         ),
     ];
@@ -387,23 +389,25 @@ fn text(
         }
         writeln!(o, "{line} {:>10.1} {:>7}", r.ns_per_sample, r.trials.len()).ok();
     }
-    let fixed_line: Vec<String> = fixed
+    let on_all: Vec<&Fixed> = fixed.iter().filter(|f| f.group == Group::All).collect();
+    let names: Vec<String> = on_all
         .iter()
-        .filter(|f| f.group == Group::All)
-        .map(|f| {
-            format!(
-                "{} ({} λ) {:.3} in {:.1} ns/pixel",
-                f.set.name,
-                f.set.len(),
-                f.mean_de00,
-                f.ns_per_pixel
-            )
-        })
+        .map(|f| format!("{} ({} λ) {:.3}", f.set.name, f.set.len(), f.mean_de00))
+        .collect();
+    let times: Vec<String> = on_all
+        .iter()
+        .map(|f| format!("{:.1}", f.ns_per_pixel))
         .collect();
     writeln!(
         o,
-        "   fixed sets at any spp (no noise): {}",
-        fixed_line.join("; ")
+        "   fixed sets, the same at every spp (no noise): {}",
+        names.join(", ")
+    )
+    .ok();
+    writeln!(
+        o,
+        "   their colour path (f32, the 3×N product, batches of 2048 pixels): {} ns/pixel",
+        times.join(", ")
     )
     .ok();
     // The largest relative standard error on all stimuli, and under any one light.
