@@ -98,7 +98,8 @@ impl Sampler {
     }
 
     /// The wavelength at `u` in [0, 1] of the inverse cumulative distribution: a wavelength
-    /// drawn with [`pdf`](Self::pdf) when `u` is uniform.
+    /// drawn with [`pdf`](Self::pdf) when `u` is uniform. Outside [0, 1] it extrapolates
+    /// (uniform, hero) or gives NaN beyond pbrt-v4's `atanh` domain.
     pub fn wavelength(&self, u: f64) -> f64 {
         match self {
             Sampler::Visible => {
@@ -597,7 +598,7 @@ impl Trials {
     }
 
     /// The summary at every level over the targets `which` (indices into the targets the trials
-    /// ran on); empty when `which` is empty or there are no trials.
+    /// ran on; one out of range panics); empty when `which` is empty or there are no trials.
     pub fn summarize(&self, which: &[usize]) -> Vec<Summary> {
         if which.is_empty() || self.errors.is_empty() {
             return Vec::new();
@@ -644,8 +645,8 @@ impl Trials {
 /// The samples per pixel at which a sampler's mean error reaches a level.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Reach {
-    /// Already at one sample per pixel.
-    AtOne,
+    /// Already at the curve's first level (one sample per pixel in the report).
+    AtFirst,
     /// Between two measured levels: interpolated linearly in log(spp) against log(error).
     Between(f64),
     /// Not within the measured levels: extrapolated along the last two levels' slope.
@@ -660,7 +661,7 @@ pub fn reach(curve: &[(usize, f64)], error: f64) -> Reach {
     let log = |(s, e): (usize, f64)| ((s as f64).ln(), e.ln());
     match curve.first() {
         None => return Reach::Never,
-        Some(&(_, e)) if e <= error => return Reach::AtOne,
+        Some(&(_, e)) if e <= error => return Reach::AtFirst,
         _ => {}
     }
     let along = |a: (f64, f64), b: (f64, f64)| {

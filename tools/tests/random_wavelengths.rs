@@ -311,8 +311,8 @@ fn summaries_are_the_trials_means_spread_and_percentile() {
 #[test]
 fn reach_interpolates_in_log_spp_and_log_error() {
     let curve = [(1, 8.0), (4, 4.0), (16, 2.0)];
-    assert_eq!(reach(&curve, 9.0), Reach::AtOne);
-    assert_eq!(reach(&curve, 8.0), Reach::AtOne);
+    assert_eq!(reach(&curve, 9.0), Reach::AtFirst);
+    assert_eq!(reach(&curve, 8.0), Reach::AtFirst);
     let near = |r: Reach, want: f64| match r {
         Reach::Between(x) | Reach::Beyond(x) => (x - want).abs() < 1e-9 * want,
         _ => false,

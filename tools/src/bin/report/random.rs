@@ -284,7 +284,7 @@ pub fn section(x: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
 /// significant digits), `never`.
 fn reach_cell(r: Reach) -> String {
     match r {
-        Reach::AtOne => "≤1".into(),
+        Reach::AtFirst => "≤1".into(),
         Reach::Between(s) => format!("{s:.0}"),
         Reach::Beyond(s) => {
             let (v, unit) = if s >= 1e6 {
@@ -574,7 +574,7 @@ fn reach_csv(
         let g = groups.iter().position(|(g, _)| *g == f.group).unwrap_or(0);
         for (r, per_group) in randoms.iter().zip(summaries) {
             let (spp, how) = match reach(&curve(&per_group[g]), f.mean_de00) {
-                Reach::AtOne => (1.0, "at one"),
+                Reach::AtFirst => (1.0, "at one"),
                 Reach::Between(v) => (v, "interpolated"),
                 Reach::Beyond(v) => (v, "extrapolated"),
                 Reach::Never => (f64::NAN, "never"),
