@@ -141,8 +141,18 @@ pub fn shared_sets(d: &Derivation, light: Option<&str>) -> Result<Vec<EvalSet>, 
 
 /// [`shared_sets`] for any light given as a curve (a user's light: `KQ_<curve name>_<n>`).
 pub fn shared_sets_for(d: &Derivation, light: Option<&Curve>) -> Result<Vec<EvalSet>, Error> {
+    shared_sets_sized(d, light, BUDGETS)
+}
+
+/// [`shared_sets_for`] at the given sizes only.
+pub fn shared_sets_sized(
+    d: &Derivation,
+    light: Option<&Curve>,
+    sizes: impl IntoIterator<Item = usize>,
+) -> Result<Vec<EvalSet>, Error> {
     let problem = shared::problem_for(d, light)?;
-    BUDGETS
+    sizes
+        .into_iter()
         .map(|n| {
             let set = problem.shared(n)?;
             Ok(match light {

@@ -7,12 +7,14 @@
 //! - [`prefilter`]: spiky lamps, band-averaged and exact-line pre-filtering (section 6d).
 //! - [`stability`]: unstable alternatives to the crate's quadrature (section 6b).
 //! - [`sensitivity`]: how rules move with the grid, the range and the observer (section 6c).
+//! - [`random_wavelengths`]: what renderers do instead, random wavelengths per sample (section 7).
 #![deny(missing_docs)]
 
 use std::path::PathBuf;
 
 pub mod budget;
 pub mod prefilter;
+pub mod random_wavelengths;
 pub mod sensitivity;
 pub mod stability;
 
@@ -52,6 +54,9 @@ pub enum Error {
     },
     /// A plot that could not be drawn: the plotting library's error.
     Plot(String),
+    /// A random-wavelength study asked for something it cannot measure (a sampler that misses
+    /// part of the integrand, no samples), in words.
+    Sampling(String),
 }
 
 impl std::fmt::Display for Error {
@@ -68,6 +73,7 @@ impl std::fmt::Display for Error {
             Error::NoTimingPath(n) => write!(f, "no timing path for a set of {n} wavelengths"),
             Error::Write { path, source } => write!(f, "cannot write {}: {source}", path.display()),
             Error::Plot(message) => write!(f, "plotting failed: {message}"),
+            Error::Sampling(message) => write!(f, "random wavelengths: {message}"),
         }
     }
 }

@@ -6,13 +6,18 @@
 //! cargo run --release -p spectral-quadrature-tools --bin report -- --reflectances my.csv --illuminants lamps.csv
 //! cargo run --release -p spectral-quadrature-tools --bin report -- --emission leds.csv --out target/leds
 //! cargo run --release -p spectral-quadrature-tools --bin report -- --csv > error_vs_time.csv
+//! cargo run --release -p spectral-quadrature-tools --bin report -- --trials 256 --seed 7
 //! ```
+//!
+//! Section 7 measures random wavelengths per sample (pbrt-v4's sampler, hero, uniform) against
+//! the fixed sets; `--trials` and `--seed` set its trials (see `docs/random-wavelengths.md`).
 //!
 //! Spectra files: CSV, first column wavelength in nm, one column per spectrum, any spacing;
 //! they are interpolated linearly and must cover the observer's 380-770 nm. Errors name the file
 //! and line and exit with code 2.
 
 mod budget;
+mod random;
 use spectral_quadrature_derive as sqd;
 use spectral_quadrature_tools as tools;
 use tools::Error;
@@ -61,6 +66,14 @@ struct Args {
     /// Highest per-channel order combined (1-16).
     #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(1..=16))]
     max_order: u32,
+    /// Seeded trials per random-wavelength sampler in section 7 (each: one pixel per stimulus
+    /// at every number of samples per pixel). Default: rounds of 16 until every mean has a
+    /// standard error within 2 % of itself (at most 512).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(2..=100_000))]
+    trials: Option<u32>,
+    /// The seed of section 7's random numbers.
+    #[arg(long, default_value_t = 1988)]
+    seed: u64,
 }
 
 const DEFAULT_ILLUMINANTS: [&str; 6] = ["C", "D65", "A", "F2", "F11", "LED_B2"];
@@ -74,7 +87,7 @@ fn main() {
 }
 
 /// The report's steps, in order: the progress line counts these.
-const STEPS: [&str; 8] = [
+const STEPS: [&str; 9] = [
     "deriving the rules (CIE 1931 2°, 380-770 nm, 5 nm)",
     "reading spectra",
     "section 1: Table 2 (ColorChecker under C)",
@@ -83,6 +96,7 @@ const STEPS: [&str; 8] = [
     "writing tables and plots",
     "section 5: shared sets at each wavelength budget (fitting and judging)",
     "section 6: stability",
+    "section 7: against random wavelengths (seeded trials, timing)",
 ];
 
 /// Progress on standard error, one line per step of [`STEPS`].
@@ -278,6 +292,29 @@ fn run(args: &Args) -> Result<(), Error> {
     let (stability_text, stability_files) = stability::section(out)?;
     files.extend(stability_files);
 
+    progress.next();
+    let table2_row2 = rows
+        .iter()
+        .find(|r| r.set.name == "table2 row2")
+        .map(|r| r.set.clone())
+        .ok_or_else(|| Error::Plot("Table 2 row 2 is missing from section 4".into()))?;
+    let (random_text, random_files) = random::section(
+        &random::Inputs {
+            d: &d,
+            stimuli: &stimuli,
+            reference: &reference,
+            surfaces_from: &inputs.surfaces_from,
+            lights: &inputs.lights,
+            users_lights: !inputs.user_lights.is_empty(),
+            table2_row2: &table2_row2,
+            trials: args.trials.map(|t| t as usize),
+            seed: args.seed,
+            runs: args.runs as usize,
+        },
+        out,
+    )?;
+    files.extend(random_files);
+
     if args.csv {
         print!("{section4_csv}");
     } else {
@@ -287,6 +324,8 @@ fn run(args: &Args) -> Result<(), Error> {
         rest.push_str(&budget_text);
         rest.push('\n');
         rest.push_str(&stability_text);
+        rest.push('\n');
+        rest.push_str(&random_text);
         print!("{rest}");
         text.push_str(&rest);
         files.push(write(out, "report.txt", &text)?);
@@ -315,6 +354,9 @@ struct Inputs {
     surfaces_from: String,
     /// The lights of --illuminants (empty without it).
     user_lights: Vec<Curve>,
+    /// The lights the surfaces are under: the user's or the default ones (empty for
+    /// --emission).
+    lights: Vec<Curve>,
 }
 
 fn load_inputs(args: &Args, range: [f64; 2]) -> Result<Inputs, Error> {
@@ -330,22 +372,26 @@ fn load_inputs(args: &Args, range: [f64; 2]) -> Result<Inputs, Error> {
         Some(p) => read(p)?,
         None => Vec::new(),
     };
-    let stimuli = if let Some(path) = &args.emission {
-        evaluate::emissions(&read(path)?)
+    let (stimuli, lights) = if let Some(path) = &args.emission {
+        (evaluate::emissions(&read(path)?), Vec::new())
     } else if user_lights.is_empty() {
         let lights: Vec<Curve> = DEFAULT_ILLUMINANTS
             .iter()
             .map(|n| evaluate::builtin_illuminant(std::path::Path::new(tools::DATA_DIR), n, range))
             .collect::<Result<_, _>>()?;
-        evaluate::surfaces_under_lights(&surfaces, &lights)
+        (evaluate::surfaces_under_lights(&surfaces, &lights), lights)
     } else {
-        evaluate::surfaces_under_lights(&surfaces, &user_lights)
+        (
+            evaluate::surfaces_under_lights(&surfaces, &user_lights),
+            user_lights.clone(),
+        )
     };
     Ok(Inputs {
         stimuli,
         surfaces,
         surfaces_from,
         user_lights,
+        lights,
     })
 }
 
