@@ -1,10 +1,10 @@
 //! Bakes `OUT_DIR/tables.rs` and the shader snippets with the derivation crate
-//! (`spectral-quadrature-derive`), from this crate's `data/` and the scene named by the
+//! (`spectral-quadrature-build`), from this crate's `data/` and the scene named by the
 //! environment variable `SPECTRAL_QUADRATURE_SCENE` (or the default scene).
 
 use std::path::PathBuf;
 
-use spectral_quadrature_derive::{build, scene::SCENE_ENV};
+use spectral_quadrature_build::{build, scene::SCENE_ENV};
 
 fn main() {
     println!("cargo:rerun-if-changed=build.rs");

@@ -1,7 +1,7 @@
 //! The baked tables equal a fresh derivation: every f64 value rounded to f32 exactly as the code
 //! generator does (`as f32`), so the comparisons are exact.
 
-use spectral_quadrature_derive as sqd;
+use spectral_quadrature_build as sqd;
 
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data");

@@ -64,13 +64,13 @@ fn lab_of_the_white_is_100_0_0_and_of_black_0() {
     assert!((dark[0] - 0.9033).abs() < 1e-4, "{dark:?}");
 }
 
-/// The derivation crate's CIELAB functions (which measure the error of every set the report and
-/// the planner judge) are a copy of the runtime's: the derive crate cannot depend on the runtime,
+/// The generator crate's CIELAB functions (which measure the error of every set the report and
+/// the planner judge) are a copy of the runtime's: the generator cannot depend on the runtime,
 /// whose build script depends on it. The copies must agree bit for bit.
-mod derive_copy {
+mod generator_copy {
     use proptest::prelude::*;
     use spectral_quadrature::{delta_e2000, delta_e76, lab_from_xyz};
-    use spectral_quadrature_derive::lab;
+    use spectral_quadrature_build::lab;
 
     fn same(a: [f64; 3], b: [f64; 3]) -> bool {
         a.iter().zip(&b).all(|(x, y)| x.to_bits() == y.to_bits())

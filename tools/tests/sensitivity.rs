@@ -1,6 +1,6 @@
 //! How far the rules move with the data and settings, and displays the derivation refuses.
 
-use spectral_quadrature_derive as sqd;
+use spectral_quadrature_build as sqd;
 use spectral_quadrature_tools as tools;
 
 /// The data files the derivation reads (the runtime crate's `data/`).

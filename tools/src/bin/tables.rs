@@ -9,7 +9,7 @@
 //! cargo run --release -p spectral-quadrature-tools --bin tables -- --shared-cache > data/shared_nodes.csv
 //! ```
 
-use spectral_quadrature_derive as sqd;
+use spectral_quadrature_build as sqd;
 use spectral_quadrature_tools as tools;
 
 use clap::Parser;

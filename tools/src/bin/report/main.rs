@@ -13,7 +13,7 @@
 //! and line and exit with code 2.
 
 mod budget;
-use spectral_quadrature_derive as sqd;
+use spectral_quadrature_build as sqd;
 use spectral_quadrature_tools as tools;
 use tools::Error;
 mod stability;

@@ -2,7 +2,7 @@
 //! measures, the two weight formulas, settings, and Table 2's sets. Each tolerance says where it
 //! comes from.
 
-use spectral_quadrature_derive as sqd;
+use spectral_quadrature_build as sqd;
 
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");

@@ -5,8 +5,8 @@
 //! ```no_run
 //! // build.rs of the runtime crate
 //! let crate_dir = std::path::PathBuf::from(std::env::var_os("CARGO_MANIFEST_DIR").unwrap());
-//! let scene = std::env::var_os(spectral_quadrature_derive::scene::SCENE_ENV);
-//! let out = spectral_quadrature_derive::build::generate(&crate_dir, scene.as_deref()).unwrap();
+//! let scene = std::env::var_os(spectral_quadrature_build::scene::SCENE_ENV);
+//! let out = spectral_quadrature_build::build::generate(&crate_dir, scene.as_deref()).unwrap();
 //! // ... print out.rerun_if_changed, write out.tables_rs, out.wgsl and out.glsl to OUT_DIR
 //! ```
 

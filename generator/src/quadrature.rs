@@ -238,7 +238,7 @@ pub fn gauss_rule(measure: &Measure, rec: &Recurrence, n: usize, range_nm: [f64;
 /// [`gauss_rule`] for a recurrence in any variable: `to_nm` maps the variable to nm (affinely),
 /// and `unit` is the length, in the variable, of one unit of the scaled variable; the complex
 /// tolerance and the Newton step limit (both 1e-6 in the scaled variable) are multiplied by it.
-/// `derive::stability` uses this to form rules from a recurrence in raw nanometres.
+/// `spectral_quadrature_tools::stability` uses this to form rules from a recurrence in raw nanometres.
 pub fn rule_from_recurrence(
     rec: &Recurrence,
     n: usize,

@@ -8,7 +8,7 @@
 //! their own settings or data:
 //!
 //! ```
-//! use spectral_quadrature_derive::{derive, Settings};
+//! use spectral_quadrature_build::{derive, Settings};
 //! # let data_dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");
 //! // data_dir: a directory laid out like the runtime crate's data/ (CIE tables as CSV).
 //! let d = derive(&Settings::new(data_dir)).unwrap();

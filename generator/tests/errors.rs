@@ -2,7 +2,7 @@
 //! build script and the tools print names the file and the line where a file is involved.
 //! Displays have one description, used by the derivation, scenes, code generation and shaders.
 
-use spectral_quadrature_derive as sqd;
+use spectral_quadrature_build as sqd;
 
 use std::path::Path;
 use std::sync::OnceLock;

@@ -1,7 +1,7 @@
 //! Reading data files: the embedded CIE observers, and every kind of malformed table, each of
 //! which must be an error naming the file, the exact line and what is wrong.
 
-use spectral_quadrature_derive as sqd;
+use spectral_quadrature_build as sqd;
 
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");

@@ -1,7 +1,7 @@
 //! The shared sets' node cache (data/shared_nodes.csv) cannot drift from the search: every
 //! entry is re-searched from scratch here, and its fingerprint must match the current inputs.
 
-use spectral_quadrature_derive as sqd;
+use spectral_quadrature_build as sqd;
 
 use std::path::Path;
 use std::sync::OnceLock;

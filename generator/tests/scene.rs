@@ -1,6 +1,6 @@
 //! Scenes: the build bakes only what a scene names, and mistakes name file, line and choices.
 
-use spectral_quadrature_derive as sqd;
+use spectral_quadrature_build as sqd;
 
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");

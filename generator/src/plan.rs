@@ -2,7 +2,7 @@
 //! spectra meets a budget, among every set the crate can build ([`catalog::colour_set_names`]).
 //!
 //! ```
-//! use spectral_quadrature_derive::{derive, evaluate, plan, Settings};
+//! use spectral_quadrature_build::{derive, evaluate, plan, Settings};
 //! # let data_dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");
 //! // data_dir: a directory laid out like spectral-quadrature's data/
 //! let d = derive(&Settings::new(data_dir)).unwrap();

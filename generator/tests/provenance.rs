@@ -1,7 +1,7 @@
 //! The generated header names every file that went into the tables, with its checksum: the
 //! observer, the scene and any file it names, and the data files behind the shared sets.
 
-use spectral_quadrature_derive as sqd;
+use spectral_quadrature_build as sqd;
 
 use std::path::{Path, PathBuf};
 

@@ -1,7 +1,7 @@
 //! Sets for what the user has: a light by file, fixed wavelengths, a sensor. Judged on the
 //! ColorChecker (never in training), mean ΔE00 against the full 1 nm integration.
 
-use spectral_quadrature_derive as sqd;
+use spectral_quadrature_build as sqd;
 
 use std::path::Path;
 use std::sync::OnceLock;

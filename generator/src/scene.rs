@@ -6,7 +6,7 @@
 //!
 //! ```toml
 //! observer = "cie1931_2deg"        # optional; also range_nm = [380, 770], step_nm = 5
-//! sets = ["TABLE2_ROW2", "A_3"]    # names from derive::catalog
+//! sets = ["TABLE2_ROW2", "A_3"]    # names from the catalog module
 //! displays = ["SRGB"]              # SRGB, DISPLAY_P3, REC2020, MEYER_1987
 //!
 //! [transfer]                       # optional: another transfer function for a display
