@@ -164,7 +164,7 @@ fn check_scene(scene: &Scene, text: &str, data_dir: &Path) {
         names.push(name);
         check_line(&format!("{name}"), line, text);
     }
-    let builtin = spectral_quadrature_build::catalog::builtin_lights();
+    let builtin = spectral_quadrature_build::evaluate::builtin_lights();
     for light in own
         .fixed
         .iter()

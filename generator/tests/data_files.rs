@@ -13,7 +13,8 @@ fn csv_text(id: ObserverId) -> String {
 }
 
 use sqd::observer::{Observer, ObserverId};
-use sqd::table::{parse_table, DataError, Spacing};
+use sqd::table::{parse_table, Spacing};
+use sqd::DataError;
 
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};

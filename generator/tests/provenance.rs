@@ -5,7 +5,7 @@ use spectral_quadrature_build as sqd;
 
 use std::path::{Path, PathBuf};
 
-use sqd::build::generate;
+use sqd::generate;
 
 /// The runtime crate (its `data/` holds the data files).
 fn crate_dir() -> PathBuf {

@@ -1,18 +1,20 @@
-//! The derivation's errors, as types: what went wrong, and in which file and at which line when a
+//! The crate's errors, as types: what went wrong, and in which file and at which line when a
 //! file is involved.
 //!
 //! Every fallible function of this crate returns [`Error`]. Its `Display` gives the one-line
 //! message the build script and the tools print (`scene.toml:2: TABLE9_ROW1: not a set name
 //! (forms: …)`); callers that want to react match on the variant instead of reading the text.
+//!
+//! The errors sit below everything that returns them, so what they carry is defined here too:
+//! the planner's [`PlanError`] reports the best [`Candidate`] for a [`Metric`]. Two messages quote
+//! constants of the layers above and are written there, beside them: [`SetNameProblem`]'s
+//! `Display` is in the catalogue (the set-name forms, the channel names), [`DisplayProblem`]'s in
+//! the display module (the condition-number threshold).
 
 use std::boxed::Box;
 use std::fmt;
 use std::string::String;
 use std::vec::Vec;
-
-use super::plan::PlanError;
-use super::sets::CHANNELS;
-use super::table::DataError;
 
 /// An error of the derivation, of code generation, of a scene or of the planner.
 #[derive(Debug, Clone, PartialEq)]
@@ -93,6 +95,29 @@ pub enum Error {
     /// A worker thread measuring sets panicked.
     Panicked(&'static str),
 }
+
+/// What is wrong with a data file, and where.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DataError {
+    /// The file (or the label of embedded text) the error is in.
+    pub file: String,
+    /// 1-based line number, or 0 where the error concerns the file as a whole.
+    pub line: u64,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl fmt::Display for DataError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.line == 0 {
+            write!(f, "{}: {}", self.file, self.message)
+        } else {
+            write!(f, "{}:{}: {}", self.file, self.line, self.message)
+        }
+    }
+}
+
+impl std::error::Error for DataError {}
 
 /// Why a name names no set ([`crate::catalog::resolve`]).
 #[derive(Debug, Clone, PartialEq)]
@@ -256,75 +281,6 @@ impl fmt::Display for Error {
     }
 }
 
-impl fmt::Display for SetNameProblem {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            SetNameProblem::UnknownForm => {
-                write!(f, "not a set name (forms: {})", super::catalog::NAME_FORMS)
-            }
-            SetNameProblem::Malformed { expected } => write!(f, "expected {expected}"),
-            SetNameProblem::NotAnOrder(s) => write!(f, "{s:?} is not an order"),
-            SetNameProblem::OrderNotDerived {
-                channel,
-                order,
-                max,
-            } => write!(
-                f,
-                "{} order {order} is not among the derived orders 1..={max}",
-                CHANNELS[*channel]
-            ),
-            SetNameProblem::RuleUndefined {
-                channel,
-                order,
-                status,
-                reason,
-            } => write!(
-                f,
-                "{} order {order} is undefined ({status}: {reason})",
-                CHANNELS[*channel]
-            ),
-            SetNameProblem::Size {
-                family,
-                size,
-                sizes,
-            } => write!(
-                f,
-                "{family} sets have {} to {} wavelengths, not {size}",
-                sizes.start(),
-                sizes.end()
-            ),
-            SetNameProblem::UnknownLight { light, valid } => write!(
-                f,
-                "{light} is not a built-in illuminant (data/illuminant_<light>.csv: {})",
-                valid.join(", ")
-            ),
-        }
-    }
-}
-
-impl fmt::Display for DisplayProblem {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            DisplayProblem::Chromaticity { which, xy } => write!(
-                f,
-                "{which} chromaticity ({}, {}) is not a valid colour",
-                xy[0], xy[1]
-            ),
-            DisplayProblem::Collinear { condition } => write!(
-                f,
-                "primaries are nearly collinear (condition number {condition:.3e} > threshold {:e})",
-                super::display::MAX_CONDITION
-            ),
-            DisplayProblem::WhiteOutside { white_xy, drives } => write!(
-                f,
-                "white point ({}, {}) lies outside the primaries' triangle (gun drives for white {drives:?})",
-                white_xy[0], white_xy[1]
-            ),
-            DisplayProblem::Singular(what) => write!(f, "{what} matrix is singular"),
-        }
-    }
-}
-
 impl fmt::Display for LightProblem {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
@@ -352,5 +308,150 @@ impl From<DataError> for Error {
 impl From<PlanError> for Error {
     fn from(e: PlanError) -> Self {
         Error::Plan(e)
+    }
+}
+
+/// Why no set could be chosen.
+#[derive(Debug, Clone, PartialEq)]
+pub enum PlanError {
+    /// The budget is not a finite number greater than 0.
+    BadBudget(f64),
+    /// There were no candidates to choose from.
+    NoCandidates,
+    /// There were no stimuli to measure the sets on.
+    NoStimuli,
+    /// A stimulus whose reference colour is not finite (a light that is zero everywhere).
+    NoReference {
+        /// The stimulus.
+        stimulus: String,
+        /// Its CIELAB under the full integration.
+        lab: [f64; 3],
+    },
+    /// Neither emission, nor both reflectances and illuminants, were given.
+    NoSpectra,
+    /// No candidate meets the budget; `best` has the lowest error of all (ties: fewer
+    /// wavelengths, then name).
+    Unreachable {
+        /// The budget on ΔE00.
+        budget: f64,
+        /// Which statistic the budget bounds.
+        metric: Metric,
+        /// The set with the lowest error.
+        best: Candidate,
+        /// How many sets were measured.
+        evaluated: usize,
+    },
+}
+
+impl fmt::Display for PlanError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            PlanError::BadBudget(b) => write!(
+                f,
+                "bad budget: {b}: the ΔE00 budget must be a finite number greater than 0"
+            ),
+            PlanError::NoCandidates => f.write_str("no sets to choose from"),
+            PlanError::NoStimuli => f.write_str("no stimuli to measure the sets on"),
+            PlanError::NoReference { stimulus, lab } => write!(
+                f,
+                "stimulus {stimulus:?}: its reference colour is not finite (CIELAB {lab:?}); is the light zero?"
+            ),
+            PlanError::NoSpectra => {
+                f.write_str("give reflectances and illuminants, or emission")
+            }
+            PlanError::Unreachable {
+                budget,
+                metric,
+                best,
+                evaluated,
+            } => write!(
+                f,
+                "no set meets {metric} ΔE00 <= {budget}: the best achievable is {metric} ΔE00 {} by {} with {} wavelengths ({evaluated} sets evaluated)",
+                fmt_de(best.error(*metric)),
+                best.name,
+                best.wavelengths
+            ),
+        }
+    }
+}
+
+impl std::error::Error for PlanError {}
+
+/// Which statistic of ΔE00 over the stimuli the budget bounds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Metric {
+    /// The mean ΔE00 over the stimuli.
+    Mean,
+    /// The largest ΔE00 over the stimuli.
+    Max,
+}
+
+impl Metric {
+    /// `"mean"` or `"max"`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Metric::Mean => "mean",
+            Metric::Max => "max",
+        }
+    }
+}
+
+impl fmt::Display for Metric {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+impl core::str::FromStr for Metric {
+    type Err = Error;
+
+    /// `mean` or `max` (any case); otherwise [`Error::Metric`].
+    fn from_str(s: &str) -> Result<Metric, Error> {
+        match s.to_ascii_lowercase().as_str() {
+            "mean" => Ok(Metric::Mean),
+            "max" => Ok(Metric::Max),
+            _ => Err(Error::Metric(s.into())),
+        }
+    }
+}
+
+/// One set the crate can build, measured on the stimuli.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Candidate {
+    /// The set's name ([`crate::catalog::resolve`] builds it).
+    pub name: String,
+    /// Its number of distinct wavelengths (the samples a renderer takes per pixel).
+    pub wavelengths: usize,
+    /// Mean ΔE00 over the stimuli.
+    pub mean_de00: f64,
+    /// Largest ΔE00 over the stimuli.
+    pub max_de00: f64,
+    /// Mean ΔE*ab over the stimuli.
+    pub mean_de76: f64,
+    /// Largest ΔE*ab over the stimuli.
+    pub max_de76: f64,
+}
+
+impl Candidate {
+    /// The ΔE00 statistic the budget bounds.
+    pub fn error(&self, metric: Metric) -> f64 {
+        match metric {
+            Metric::Mean => self.mean_de00,
+            Metric::Max => self.max_de00,
+        }
+    }
+
+    /// Whether the set meets the budget (`error <= budget`; a NaN error never does).
+    pub fn meets(&self, budget: f64, metric: Metric) -> bool {
+        self.error(metric) <= budget
+    }
+}
+
+/// A ΔE for messages: three decimals, or three significant digits below 0.01.
+pub fn fmt_de(x: f64) -> String {
+    if x.is_finite() && x != 0.0 && x.abs() < 0.01 {
+        std::format!("{x:.3e}")
+    } else {
+        std::format!("{x:.3}")
     }
 }

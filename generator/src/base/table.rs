@@ -3,32 +3,10 @@
 //! Every malformed input is an error that names the file and the line; nothing is skipped.
 
 use std::borrow::ToOwned;
-use std::fmt;
 use std::string::{String, ToString};
 use std::vec::Vec;
 
-/// What is wrong with a data file, and where.
-#[derive(Debug, Clone, PartialEq)]
-pub struct DataError {
-    /// The file (or the label of embedded text) the error is in.
-    pub file: String,
-    /// 1-based line number, or 0 where the error concerns the file as a whole.
-    pub line: u64,
-    /// What is wrong.
-    pub message: String,
-}
-
-impl fmt::Display for DataError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        if self.line == 0 {
-            write!(f, "{}: {}", self.file, self.message)
-        } else {
-            write!(f, "{}:{}: {}", self.file, self.line, self.message)
-        }
-    }
-}
-
-impl std::error::Error for DataError {}
+use super::error::DataError;
 
 /// How the wavelength column must be spaced.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -6,7 +6,9 @@ use std::vec::Vec;
 
 use nalgebra::Matrix3;
 
-use super::{DisplayProblem, Error};
+use std::fmt;
+
+use crate::base::error::{DisplayProblem, Error};
 
 /// How a display encodes linear light.
 #[derive(Debug, Clone, PartialEq)]
@@ -48,6 +50,30 @@ pub const D65_XY: [f64; 2] = [0.3127, 0.3290];
 /// Display P3, Rec. 2020 and the 1987 monitor lie between 19 and 23; 1000 leaves wide room for
 /// real displays and none for degenerate ones.
 pub const MAX_CONDITION: f64 = 1000.0;
+
+/// The message quotes [`MAX_CONDITION`], so it is written here rather than beside the type.
+impl fmt::Display for DisplayProblem {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            DisplayProblem::Chromaticity { which, xy } => write!(
+                f,
+                "{which} chromaticity ({}, {}) is not a valid colour",
+                xy[0], xy[1]
+            ),
+            DisplayProblem::Collinear { condition } => write!(
+                f,
+                "primaries are nearly collinear (condition number {condition:.3e} > threshold {:e})",
+                MAX_CONDITION
+            ),
+            DisplayProblem::WhiteOutside { white_xy, drives } => write!(
+                f,
+                "white point ({}, {}) lies outside the primaries' triangle (gun drives for white {drives:?})",
+                white_xy[0], white_xy[1]
+            ),
+            DisplayProblem::Singular(what) => write!(f, "{what} matrix is singular"),
+        }
+    }
+}
 
 /// The displays the crate bakes by default.
 pub fn standard_displays() -> Vec<DisplaySpec> {

@@ -9,7 +9,14 @@
 use std::string::{String, ToString};
 use std::vec::Vec;
 
-use super::table::{parse_table, read_text, DataError, Spacing, Table};
+use super::derive::Derivation;
+use super::display;
+use super::observer::Observer;
+use super::quadrature::{self, Measure, Rule};
+use super::sets::WavelengthSet;
+use crate::base::error::{DataError, Error};
+use crate::base::files::read_data_text;
+use crate::base::table::{parse_table, read_text, Spacing, Table};
 
 pub use super::lab::{delta_e2000, delta_e76, lab_from_xyz};
 
@@ -27,7 +34,7 @@ pub struct Spectra {
 
 impl Spectra {
     /// Parses CSV text. Errors name `file` and the line: malformed rows (see
-    /// [`super::table::parse_table`]) and negative values (no reflectance or
+    /// [`crate::table::parse_table`]) and negative values (no reflectance or
     /// spectral power is negative).
     pub fn parse(file: &str, text: &str) -> Result<Spectra, DataError> {
         let table = parse_table(file, text, None, Spacing::Any)?;
@@ -76,7 +83,7 @@ impl Spectra {
                 message: "not one of the crate's data files".into(),
             });
         }
-        let text = super::read_data_text(data_dir, file)?;
+        let text = read_data_text(data_dir, file)?;
         Self::parse(file, &text)
     }
 
@@ -257,16 +264,12 @@ impl EvalSet {
             family: family.into(),
             orders,
             wavelengths_nm: wavelengths_nm.to_vec(),
-            xyz_weights: super::display::fold(to_xyz, weights, 1.0),
+            xyz_weights: display::fold(to_xyz, weights, 1.0),
         }
     }
 
     /// A derived set (its name, wavelengths and AC1C2 rows) with the matrix `ac1c2_to_xyz`.
-    pub fn from_set(
-        set: &super::WavelengthSet,
-        family: &str,
-        ac1c2_to_xyz: &[[f64; 3]; 3],
-    ) -> EvalSet {
+    pub fn from_set(set: &WavelengthSet, family: &str, ac1c2_to_xyz: &[[f64; 3]; 3]) -> EvalSet {
         EvalSet::from_weights(
             &set.name,
             family,
@@ -298,10 +301,10 @@ impl EvalSet {
 /// table, weights x̄ȳz̄ · step (the reference the sets are measured against, and the baseline
 /// of the error-against-run-time table).
 pub fn full_integration(
-    observer: &super::Observer,
+    observer: &Observer,
     range_nm: [f64; 2],
     step: f64,
-) -> Result<EvalSet, super::Error> {
+) -> Result<EvalSet, Error> {
     let rows = observer.grid_rows(range_nm[0], range_nm[1], step)?;
     let wavelengths: Vec<f64> = rows.iter().map(|&r| observer.wavelengths[r]).collect();
     let xyz_weights = [0, 1, 2].map(|c| rows.iter().map(|&r| observer.xyz[r][c] * step).collect());
@@ -317,7 +320,7 @@ pub fn full_integration(
 /// A uniform set: `n` wavelengths at the centres of `n` equal bins of `range_nm`, each weighted
 /// by the integral of x̄ȳz̄ over its bin (box filter, as spectral renderers sample), on the
 /// observer's own table.
-pub fn uniform(observer: &super::Observer, range_nm: [f64; 2], n: usize) -> EvalSet {
+pub fn uniform(observer: &Observer, range_nm: [f64; 2], n: usize) -> EvalSet {
     let width = (range_nm[1] - range_nm[0]) / n as f64;
     let centres: Vec<f64> = (0..n)
         .map(|i| range_nm[0] + (i as f64 + 0.5) * width)
@@ -442,37 +445,28 @@ pub fn errors(set: &EvalSet, reference: &EvalSet, stimuli: &[Stimulus]) -> Error
 
 /// Per-channel Gauss rules of orders 1..=max_order for three weight functions given on the
 /// derivation grid (columns of `w`), as `rules[c][n - 1]`.
-pub fn channel_rules(
-    d: &super::Derivation,
-    w: &[[f64; 3]],
-    max_order: usize,
-) -> [Vec<super::Rule>; 3] {
+pub fn channel_rules(d: &Derivation, w: &[[f64; 3]], max_order: usize) -> [Vec<Rule>; 3] {
     let s = &d.settings;
     [0, 1, 2].map(|c| {
         let col: Vec<f64> = w.iter().map(|v| v[c]).collect();
-        let m = super::Measure::new(&d.grid_nm, &col, s.step_nm, s.range_nm);
-        let rec = super::quadrature::stieltjes(&m, max_order);
+        let m = Measure::new(&d.grid_nm, &col, s.step_nm, s.range_nm);
+        let rec = quadrature::stieltjes(&m, max_order);
         (1..=max_order)
-            .map(|n| super::quadrature::gauss_rule(&m, &rec, n, s.range_nm))
+            .map(|n| quadrature::gauss_rule(&m, &rec, n, s.range_nm))
             .collect()
     })
 }
 
 /// Every combination of defined per-channel rules (orders 1..=max in each channel) as sets,
 /// with weights converted to XYZ by `to_xyz`.
-pub fn combinations(
-    rules: &[Vec<super::Rule>; 3],
-    to_xyz: &[[f64; 3]; 3],
-    family: &str,
-) -> Vec<EvalSet> {
+pub fn combinations(rules: &[Vec<Rule>; 3], to_xyz: &[[f64; 3]; 3], family: &str) -> Vec<EvalSet> {
     let mut out = Vec::new();
     for a in rules[0].iter().filter(|r| r.is_defined()) {
         for b in rules[1].iter().filter(|r| r.is_defined()) {
             for c in rules[2].iter().filter(|r| r.is_defined()) {
                 let orders = [a.order, b.order, c.order];
                 let name = std::format!("{family} {}+{}+{}", a.order, b.order, c.order);
-                if let Ok(set) = super::WavelengthSet::merge(&name, "", [Some(a), Some(b), Some(c)])
-                {
+                if let Ok(set) = WavelengthSet::merge(&name, "", [Some(a), Some(b), Some(c)]) {
                     out.push(EvalSet::from_weights(
                         &name,
                         family,
@@ -519,6 +513,15 @@ pub const BUILTIN: &[&str] = &[
     "data/illuminant_LED_V1.csv",
     "data/illuminant_LED_V2.csv",
 ];
+
+/// The built-in illuminants: the short names (`A`, `C`, `D65`, `F11`, `LED_B2`, ...) of the
+/// `data/illuminant_<name>.csv` files in [`BUILTIN`], which a `KQ_<light>_<n>` set may name.
+pub fn builtin_lights() -> Vec<&'static str> {
+    BUILTIN
+        .iter()
+        .filter_map(|f| f.strip_prefix("data/illuminant_")?.strip_suffix(".csv"))
+        .collect()
+}
 
 /// A built-in illuminant by its short name (`A`, `C`, `D65`, `F11`, `LED_B2`, ...) as a curve
 /// named after it.

@@ -3,7 +3,10 @@
 use std::string::String;
 use std::vec::Vec;
 
-use super::table::{parse_table, DataError, Spacing};
+use super::opponent::MEYER_EQ1_XYZ_TO_SML;
+use crate::base::error::{DataError, Error};
+use crate::base::files::{read_data_text, sha256_hex};
+use crate::base::table::{parse_table, read_text, Spacing};
 
 /// The colour-matching functions the crate ships (all at 1 nm in `data/`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -61,16 +64,14 @@ impl ObserverId {
     ///   with m̄ + l̄ peaking at 1. (Each CIE 2006 fundamental peaks at 1 on its own, which
     ///   would give S the weight of L and M.)
     /// * CIE 1964 10°: no standard cone fundamentals are defined on its x̄ȳz̄, so Eq. 1 stands in
-    ///   as an approximation; set [`Settings::cone_matrix`](super::Settings::cone_matrix) to use
+    ///   as an approximation; set [`Settings::cone_matrix`](crate::Settings::cone_matrix) to use
     ///   others.
     ///
     /// `table` is this observer's table ([`load`](Self::load)), from which the CIE 2015 scaling
     /// is computed.
     pub fn cone_matrix(self, table: &Observer) -> [[f64; 3]; 3] {
         match self {
-            ObserverId::Cie1931_2deg | ObserverId::Cie1964_10deg => {
-                super::opponent::MEYER_EQ1_XYZ_TO_SML
-            }
+            ObserverId::Cie1931_2deg | ObserverId::Cie1964_10deg => MEYER_EQ1_XYZ_TO_SML,
             ObserverId::Cie2015_2deg => Self::scaled_by_eq21(
                 table,
                 &[
@@ -138,7 +139,7 @@ impl ObserverId {
     /// Reads and parses the table from `data_dir` (laid out like the runtime crate's `data/`).
     /// Errors name the file (as [`file`](Self::file)) and line.
     pub fn load(self, data_dir: &std::path::Path) -> Result<Observer, DataError> {
-        let text = super::read_data_text(data_dir, self.file())?;
+        let text = read_data_text(data_dir, self.file())?;
         Observer::parse(self.name(), self.file(), &text)
     }
 }
@@ -168,13 +169,13 @@ impl Observer {
             file: table.file,
             wavelengths: table.wavelengths,
             xyz: table.values.iter().map(|r| [r[0], r[1], r[2]]).collect(),
-            sha256: super::sha256_hex(text.as_bytes()),
+            sha256: sha256_hex(text.as_bytes()),
         })
     }
 
     /// Reads an observer table from a file on disk.
     pub fn read(name: &str, path: &std::path::Path) -> Result<Observer, DataError> {
-        let (label, text) = super::table::read_text(path)?;
+        let (label, text) = read_text(path)?;
         Self::parse(name, &label, &text)
     }
 
@@ -189,26 +190,26 @@ impl Observer {
 
     /// Indices of the rows on the grid `start, start + step, ..., end` (inclusive), or an error
     /// saying why that grid is not a subset of this table.
-    pub fn grid_rows(&self, start: f64, end: f64, step: f64) -> Result<Vec<usize>, super::Error> {
+    pub fn grid_rows(&self, start: f64, end: f64, step: f64) -> Result<Vec<usize>, Error> {
         let own = self.step();
         let first = *self
             .wavelengths
             .first()
-            .ok_or_else(|| super::Error::Settings("empty observer table".into()))?;
+            .ok_or_else(|| Error::Settings("empty observer table".into()))?;
         let last = *self
             .wavelengths
             .last()
-            .ok_or_else(|| super::Error::Settings("empty observer table".into()))?;
+            .ok_or_else(|| Error::Settings("empty observer table".into()))?;
         if !(start.is_finite() && end.is_finite() && step.is_finite())
             || start >= end
             || step <= 0.0
         {
-            return Err(super::Error::Settings(std::format!(
+            return Err(Error::Settings(std::format!(
                 "range {start}-{end} nm with step {step} nm is not a valid grid"
             )));
         }
         if start < first - 1e-9 || end > last + 1e-9 {
-            return Err(super::Error::Settings(std::format!(
+            return Err(Error::Settings(std::format!(
                 "range {start}-{end} nm is not covered by {} ({first}-{last} nm)",
                 self.file
             )));
@@ -216,7 +217,7 @@ impl Observer {
         let ratio = step / own;
         let per = ratio.round();
         if per < 1.0 || (ratio - per).abs() > 1e-9 {
-            return Err(super::Error::Settings(std::format!(
+            return Err(Error::Settings(std::format!(
                 "step {step} nm is not a whole multiple of {}'s {own} nm",
                 self.file
             )));
@@ -224,14 +225,14 @@ impl Observer {
         let per = per as usize;
         let offset = (start - first) / own;
         if (offset - offset.round()).abs() > 1e-9 {
-            return Err(super::Error::Settings(std::format!(
+            return Err(Error::Settings(std::format!(
                 "range start {start} nm is not on {}'s grid",
                 self.file
             )));
         }
         let span = (end - start) / step;
         if (span - span.round()).abs() > 1e-9 {
-            return Err(super::Error::Settings(std::format!(
+            return Err(Error::Settings(std::format!(
                 "range {start}-{end} nm is not a whole number of {step} nm steps"
             )));
         }

@@ -6,7 +6,7 @@ use std::vec::Vec;
 
 use nalgebra::{DMatrix, Matrix3, SymmetricEigen};
 
-use super::Error;
+use crate::base::error::Error;
 
 /// Eq. 1: the fundamental spectral sensitivities s̄, m̄, l̄ as rows, from x̄, ȳ, z̄.
 /// (The transcription prints z̄ twice on the right; the columns are x̄, ȳ, z̄.)

@@ -5,6 +5,7 @@ use std::string::String;
 use std::vec::Vec;
 
 use super::quadrature::{interpolatory_weights, Measure, Rule};
+use crate::base::error::{Error, SetNameProblem};
 
 /// N distinct wavelengths (nm, ascending) and the weights that turn samples at them into A, C1
 /// and C2: `ac1c2[c] = Σ_i weights[c][i] · sample[i]`.
@@ -33,18 +34,14 @@ pub const SAME_WAVELENGTH_NM: f64 = 1e-9;
 impl WavelengthSet {
     /// The union of one rule per channel (`None`: the channel is not computed, its row is zero).
     /// Each rule must be defined.
-    pub fn merge(
-        name: &str,
-        doc: &str,
-        rules: [Option<&Rule>; 3],
-    ) -> Result<WavelengthSet, super::Error> {
+    pub fn merge(name: &str, doc: &str, rules: [Option<&Rule>; 3]) -> Result<WavelengthSet, Error> {
         let mut wavelengths: Vec<f64> = Vec::new();
         for (c, rule) in rules.iter().enumerate() {
             if let Some(r) = rule {
                 if !r.is_defined() {
-                    return Err(super::Error::SetName {
+                    return Err(Error::SetName {
                         name: name.into(),
-                        problem: super::SetNameProblem::RuleUndefined {
+                        problem: SetNameProblem::RuleUndefined {
                             channel: c,
                             order: r.order,
                             status: r.status.as_str(),

@@ -1,23 +1,20 @@
 //! What the runtime's `build.rs` does, as a library function: read the scene named by
-//! [`SCENE_ENV`] (or take the default one), run the derivation on the
-//! runtime crate's `data/`, and generate `tables.rs` and the shader snippets.
-//!
-//! ```no_run
-//! // build.rs of the runtime crate
-//! let crate_dir = std::path::PathBuf::from(std::env::var_os("CARGO_MANIFEST_DIR").unwrap());
-//! let scene = std::env::var_os(spectral_quadrature_build::scene::SCENE_ENV);
-//! let out = spectral_quadrature_build::build::generate(&crate_dir, scene.as_deref()).unwrap();
-//! // ... print out.rerun_if_changed, write out.tables_rs, out.wgsl and out.glsl to OUT_DIR
-//! ```
+//! [`SCENE_ENV`] (or take the default one), run the derivation on the runtime crate's `data/`,
+//! and generate `tables.rs` and the shader snippets.
 
 use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
 use std::string::{String, ToString};
 use std::vec::Vec;
 
-use super::scene::{Resolved, Scene, SCENE_ENV};
+use super::codegen::tables_rs;
 use super::shader::{snippet, Language};
-use super::{DataError, Error};
+use crate::base::error::{DataError, Error};
+use crate::base::files::{read_data, sha256_hex};
+use crate::derivation::derive::{derive, Derivation};
+use crate::scenes::catalog;
+use crate::scenes::scene::{Resolved, Scene, SCENE_ENV};
+use crate::shared;
 
 /// The generated sources and what Cargo must watch.
 #[derive(Debug, Clone, PartialEq)]
@@ -36,6 +33,14 @@ pub struct Output {
 /// `scene`: the value of [`SCENE_ENV`], a path relative to `crate_dir` (or absolute); `None`
 /// for the default scene. Errors name the file and line where a file is at fault (the scene,
 /// a data file); a derivation the scene's settings do not allow is [`Error::At`] the scene.
+///
+/// ```no_run
+/// // build.rs of the runtime crate
+/// let crate_dir = std::path::PathBuf::from(std::env::var_os("CARGO_MANIFEST_DIR").unwrap());
+/// let scene = std::env::var_os(spectral_quadrature_build::SCENE_ENV);
+/// let out = spectral_quadrature_build::generate(&crate_dir, scene.as_deref()).unwrap();
+/// // ... print out.rerun_if_changed, write out.tables_rs, out.wgsl and out.glsl to OUT_DIR
+/// ```
 pub fn generate(crate_dir: &Path, scene: Option<&OsStr>) -> Result<Output, Error> {
     let data_dir = crate_dir.join("data");
     let mut rerun = std::vec![data_dir.clone()];
@@ -53,7 +58,7 @@ pub fn generate(crate_dir: &Path, scene: Option<&OsStr>) -> Result<Output, Error
                 line: 0,
                 message: std::format!("cannot read the scene ({SCENE_ENV}): {e}"),
             })?;
-            inputs.push((label.clone(), super::sha256_hex(text.as_bytes())));
+            inputs.push((label.clone(), sha256_hex(text.as_bytes())));
             let mut scene = Scene::parse(&label, &text, &data_dir)?;
             // The scene's own relative paths were resolved against its label: make them
             // absolute again.
@@ -67,14 +72,14 @@ pub fn generate(crate_dir: &Path, scene: Option<&OsStr>) -> Result<Output, Error
                 *f = crate_dir.join(&*f);
                 rerun.push(f.clone());
                 if let Ok(bytes) = std::fs::read(&*f) {
-                    inputs.push((relative_label(crate_dir, f), super::sha256_hex(&bytes)));
+                    inputs.push((relative_label(crate_dir, f), sha256_hex(&bytes)));
                 }
             }
             scene.user = user;
             scene
         }
     };
-    let d = super::derive(&scene.settings).map_err(|e| e.at(&scene.file, 0))?;
+    let d = derive(&scene.settings).map_err(|e| e.at(&scene.file, 0))?;
     inputs.insert(
         0,
         (
@@ -86,21 +91,18 @@ pub fn generate(crate_dir: &Path, scene: Option<&OsStr>) -> Result<Output, Error
     // Every data file a baked set was made from, after the observer and the scene's own files.
     let sets = resolved.colour_sets.iter().chain(&resolved.rule_sets);
     let own = scene.user.data_files();
-    for label in sets
-        .flat_map(|s| super::catalog::input_files(&s.name))
-        .chain(own)
-    {
+    for label in sets.flat_map(|s| catalog::input_files(&s.name)).chain(own) {
         if inputs.iter().any(|(l, _)| *l == label) {
             continue;
         }
-        match super::read_data(&data_dir, &label) {
-            Ok(bytes) => inputs.push((label, super::sha256_hex(&bytes))),
+        match read_data(&data_dir, &label) {
+            Ok(bytes) => inputs.push((label, sha256_hex(&bytes))),
             // The node cache is optional: without it the build searched.
-            Err(_) if label == super::shared::CACHE_FILE => {}
+            Err(_) if label == shared::CACHE_FILE => {}
             Err(e) => return Err(e.into()),
         }
     }
-    let tables_rs = super::codegen::tables_rs(&d, &inputs, &resolved)?;
+    let tables_rs = tables_rs(&d, &inputs, &resolved)?;
     let [wgsl, glsl] = shaders(&d, &resolved)?;
     Ok(Output {
         tables_rs,
@@ -111,7 +113,7 @@ pub fn generate(crate_dir: &Path, scene: Option<&OsStr>) -> Result<Output, Error
 }
 
 /// The scene's shader snippets, WGSL and GLSL.
-fn shaders(d: &super::Derivation, scene: &Resolved) -> Result<[String; 2], Error> {
+fn shaders(d: &Derivation, scene: &Resolved) -> Result<[String; 2], Error> {
     Ok([
         snippet(d, scene, Language::Wgsl)?,
         snippet(d, scene, Language::Glsl)?,

@@ -7,7 +7,7 @@
 use std::string::String;
 use std::vec::Vec;
 
-use super::display::Transfer;
+use crate::derivation::display::Transfer;
 
 /// The bits of the smallest f32 at or above `t` (t ≥ 0 and finite): 1 (the smallest subnormal)
 /// for a `t` that rounds to 0 as f32.
@@ -47,7 +47,7 @@ pub fn gamma_encoders_rs<'a>(transfers: impl IntoIterator<Item = &'a Transfer>) 
         }
     }
     let mut o = String::from(
-        "/// The 8-bit encoders of the baked displays' power laws (`TransferFunction::Gamma`), one per distinct γ: thresholds from generator/src/transfer_tables.rs.\n",
+        "/// The 8-bit encoders of the baked displays' power laws (`TransferFunction::Gamma`), one per distinct γ: thresholds from generator/src/emit/transfer_tables.rs.\n",
     );
     o.push_str(&std::format!(
         "pub(crate) static GAMMA_ENCODERS: [crate::encode::GammaEncoder8; {}] = [\n",

@@ -7,17 +7,23 @@
 //! | `A_<n>`, `C1_<n>`, `C2_<n>` | one channel's Gauss rule of order n (the other rows zero) |
 //! | `AC1C2_<a>_<c1>_<c2>` | the union of A order a, C1 order c1 and C2 order c2 |
 //! | `UNIFORM_<n>` | n wavelengths at the centres of equal bins, box-filter weights |
-//! | `KQ_<n>` | a shared set by kernel quadrature for radiances ([`super::shared`]), n = 3..=32 |
+//! | `KQ_<n>` | a shared set by kernel quadrature for radiances ([`crate::shared`]), n = 3..=32 |
 //! | `KQ_<light>_<n>` | the same with a built-in illuminant (`KQ_C_6`, `KQ_F11_6`, `KQ_LED_B1_4`) or a scene's `[lights]` light folded in ([`resolve_with`]): samples are reflectances |
 //! | `INTERP_A_<n>` | A's Gauss nodes of order n, C1 and C2 by interpolatory rules on them |
 
 use std::string::{String, ToString};
 use std::vec::Vec;
 
-use super::evaluate;
-use super::sets::{WavelengthSet, CHANNELS};
-use super::shared;
-use super::{Derivation, Error, SetNameProblem};
+use std::fmt;
+
+use super::user::UserLight;
+use crate::base::error::{Error, SetNameProblem};
+use crate::derivation::derive::Derivation;
+use crate::derivation::display;
+use crate::derivation::evaluate::{self, builtin_lights};
+use crate::derivation::quadrature::Rule;
+use crate::derivation::sets::{WavelengthSet, CHANNELS};
+use crate::shared;
 
 /// Uniform sets the crate builds: `UNIFORM_3` to `UNIFORM_64`.
 pub const UNIFORM_SIZES: core::ops::RangeInclusive<usize> = 3..=64;
@@ -25,6 +31,54 @@ pub const UNIFORM_SIZES: core::ops::RangeInclusive<usize> = 3..=64;
 /// What a name may look like, for error messages.
 pub const NAME_FORMS: &str =
     "TABLE2_ROW1, TABLE2_ROW2, A_<n>, C1_<n>, C2_<n>, AC1C2_<a>_<c1>_<c2>, UNIFORM_<n> (n = 3..=64), KQ_<n> and KQ_<light>_<n> (n = 3..=32, light a built-in illuminant), INTERP_A_<n>";
+
+/// The message names the forms ([`NAME_FORMS`]) and the channels, so it is written here rather
+/// than beside the type.
+impl fmt::Display for SetNameProblem {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SetNameProblem::UnknownForm => {
+                write!(f, "not a set name (forms: {})", NAME_FORMS)
+            }
+            SetNameProblem::Malformed { expected } => write!(f, "expected {expected}"),
+            SetNameProblem::NotAnOrder(s) => write!(f, "{s:?} is not an order"),
+            SetNameProblem::OrderNotDerived {
+                channel,
+                order,
+                max,
+            } => write!(
+                f,
+                "{} order {order} is not among the derived orders 1..={max}",
+                CHANNELS[*channel]
+            ),
+            SetNameProblem::RuleUndefined {
+                channel,
+                order,
+                status,
+                reason,
+            } => write!(
+                f,
+                "{} order {order} is undefined ({status}: {reason})",
+                CHANNELS[*channel]
+            ),
+            SetNameProblem::Size {
+                family,
+                size,
+                sizes,
+            } => write!(
+                f,
+                "{family} sets have {} to {} wavelengths, not {size}",
+                sizes.start(),
+                sizes.end()
+            ),
+            SetNameProblem::UnknownLight { light, valid } => write!(
+                f,
+                "{light} is not a built-in illuminant (data/illuminant_<light>.csv: {})",
+                valid.join(", ")
+            ),
+        }
+    }
+}
 
 /// Whether a set covers only one channel (a per-channel rule): it cannot give a colour alone.
 pub fn is_single_channel(name: &str) -> bool {
@@ -43,7 +97,7 @@ pub fn resolve(d: &Derivation, name: &str) -> Result<WavelengthSet, Error> {
 pub fn resolve_with(
     d: &Derivation,
     name: &str,
-    lights: &[super::user::UserLight],
+    lights: &[UserLight],
 ) -> Result<WavelengthSet, Error> {
     let problem = |problem: SetNameProblem| Error::SetName {
         name: name.into(),
@@ -53,7 +107,7 @@ pub fn resolve_with(
         s.parse::<usize>()
             .map_err(|_| problem(SetNameProblem::NotAnOrder(s.into())))
     };
-    let rule = |c: usize, n: usize| -> Result<&super::Rule, Error> {
+    let rule = |c: usize, n: usize| -> Result<&Rule, Error> {
         let max = d.settings.max_order;
         let r = d.rules[c].get(n.wrapping_sub(1)).ok_or_else(|| {
             problem(SetNameProblem::OrderNotDerived {
@@ -106,7 +160,7 @@ pub fn resolve_with(
             }));
         }
         let u = evaluate::uniform(&d.observer, d.settings.range_nm, n);
-        let weights = super::display::fold(&d.opponent.xyz_to_ac1c2, &u.xyz_weights, 1.0);
+        let weights = display::fold(&d.opponent.xyz_to_ac1c2, &u.xyz_weights, 1.0);
         return Ok(WavelengthSet {
             name: name.into(),
             doc: std::format!(
@@ -226,14 +280,6 @@ pub fn input_files(name: &str) -> Vec<String> {
     }
     files.push(shared::CACHE_FILE.to_string());
     files
-}
-
-/// The built-in illuminants a `KQ_<light>_<n>` may name.
-pub fn builtin_lights() -> Vec<&'static str> {
-    evaluate::BUILTIN
-        .iter()
-        .filter_map(|f| f.strip_prefix("data/illuminant_")?.strip_suffix(".csv"))
-        .collect()
 }
 
 /// The names of every defined per-channel rule (`A_1`, ..., `C2_15`).

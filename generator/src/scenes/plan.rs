@@ -26,78 +26,13 @@ use std::string::{String, ToString};
 use std::vec::Vec;
 
 use super::catalog;
-use super::evaluate::{self, EvalSet, Reference, Stimulus};
-use super::{Derivation, Error};
+use super::user::UserLight;
+use crate::base::error::Error;
+use crate::derivation::derive::Derivation;
+use crate::derivation::evaluate::{self, builtin_lights, EvalSet, Reference, Stimulus};
+use crate::shared;
 
-/// Which statistic of ΔE00 over the stimuli the budget bounds.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Metric {
-    /// The mean ΔE00 over the stimuli.
-    Mean,
-    /// The largest ΔE00 over the stimuli.
-    Max,
-}
-
-impl Metric {
-    /// `"mean"` or `"max"`.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Metric::Mean => "mean",
-            Metric::Max => "max",
-        }
-    }
-}
-
-impl core::fmt::Display for Metric {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        f.write_str(self.as_str())
-    }
-}
-
-impl core::str::FromStr for Metric {
-    type Err = Error;
-
-    /// `mean` or `max` (any case); otherwise [`Error::Metric`].
-    fn from_str(s: &str) -> Result<Metric, Error> {
-        match s.to_ascii_lowercase().as_str() {
-            "mean" => Ok(Metric::Mean),
-            "max" => Ok(Metric::Max),
-            _ => Err(Error::Metric(s.into())),
-        }
-    }
-}
-
-/// One set the crate can build, measured on the stimuli.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Candidate {
-    /// The set's name ([`catalog::resolve`] builds it).
-    pub name: String,
-    /// Its number of distinct wavelengths (the samples a renderer takes per pixel).
-    pub wavelengths: usize,
-    /// Mean ΔE00 over the stimuli.
-    pub mean_de00: f64,
-    /// Largest ΔE00 over the stimuli.
-    pub max_de00: f64,
-    /// Mean ΔE*ab over the stimuli.
-    pub mean_de76: f64,
-    /// Largest ΔE*ab over the stimuli.
-    pub max_de76: f64,
-}
-
-impl Candidate {
-    /// The ΔE00 statistic the budget bounds.
-    pub fn error(&self, metric: Metric) -> f64 {
-        match metric {
-            Metric::Mean => self.mean_de00,
-            Metric::Max => self.max_de00,
-        }
-    }
-
-    /// Whether the set meets the budget (`error <= budget`; a NaN error never does).
-    pub fn meets(&self, budget: f64, metric: Metric) -> bool {
-        self.error(metric) <= budget
-    }
-}
+pub use crate::base::error::{fmt_de, Candidate, Metric, PlanError};
 
 /// The planner's answer.
 #[derive(Debug, Clone, PartialEq)]
@@ -117,87 +52,12 @@ pub struct Plan {
     pub stimuli: usize,
 }
 
-/// Why no set could be chosen.
-#[derive(Debug, Clone, PartialEq)]
-pub enum PlanError {
-    /// The budget is not a finite number greater than 0.
-    BadBudget(f64),
-    /// There were no candidates to choose from.
-    NoCandidates,
-    /// There were no stimuli to measure the sets on.
-    NoStimuli,
-    /// A stimulus whose reference colour is not finite (a light that is zero everywhere).
-    NoReference {
-        /// The stimulus.
-        stimulus: String,
-        /// Its CIELAB under the full integration.
-        lab: [f64; 3],
-    },
-    /// Neither emission, nor both reflectances and illuminants, were given.
-    NoSpectra,
-    /// No candidate meets the budget; `best` has the lowest error of all (ties: fewer
-    /// wavelengths, then name).
-    Unreachable {
-        /// The budget on ΔE00.
-        budget: f64,
-        /// Which statistic the budget bounds.
-        metric: Metric,
-        /// The set with the lowest error.
-        best: Candidate,
-        /// How many sets were measured.
-        evaluated: usize,
-    },
-}
-
-impl core::fmt::Display for PlanError {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        match self {
-            PlanError::BadBudget(b) => write!(
-                f,
-                "bad budget: {b}: the ΔE00 budget must be a finite number greater than 0"
-            ),
-            PlanError::NoCandidates => f.write_str("no sets to choose from"),
-            PlanError::NoStimuli => f.write_str("no stimuli to measure the sets on"),
-            PlanError::NoReference { stimulus, lab } => write!(
-                f,
-                "stimulus {stimulus:?}: its reference colour is not finite (CIELAB {lab:?}); is the light zero?"
-            ),
-            PlanError::NoSpectra => {
-                f.write_str("give reflectances and illuminants, or emission")
-            }
-            PlanError::Unreachable {
-                budget,
-                metric,
-                best,
-                evaluated,
-            } => write!(
-                f,
-                "no set meets {metric} ΔE00 <= {budget}: the best achievable is {metric} ΔE00 {} by {} with {} wavelengths ({evaluated} sets evaluated)",
-                fmt_de(best.error(*metric)),
-                best.name,
-                best.wavelengths
-            ),
-        }
-    }
-}
-
-impl std::error::Error for PlanError {}
-
 /// Checks that a budget is a finite number greater than 0.
 pub fn check_budget(budget: f64) -> Result<(), PlanError> {
     if budget.is_finite() && budget > 0.0 {
         Ok(())
     } else {
         Err(PlanError::BadBudget(budget))
-    }
-}
-
-/// A ΔE for messages: three decimals, or three significant digits below 0.01.
-pub fn fmt_de(x: f64) -> String {
-    if x.is_finite() && x != 0.0 && x.abs() < 0.01 {
-        std::format!("{x:.3e}")
-    } else {
-        std::format!("{x:.3}")
     }
 }
 
@@ -293,7 +153,7 @@ pub fn evaluate_sets(
 pub fn shared_sets(
     d: &Derivation,
     stimuli: &[Stimulus],
-    lights: &[super::user::UserLight],
+    lights: &[UserLight],
 ) -> Result<Vec<(String, usize, EvalSet)>, Error> {
     let mut out = Vec::new();
     for n in SHARED_SIZES {
@@ -312,15 +172,14 @@ pub fn shared_sets(
         .iter()
         .all(|s| s.reflectance.is_some() && s.light == first.light);
     let name = &first.light.name;
-    let known = catalog::builtin_lights().contains(&name.as_str())
-        || lights.iter().any(|l| &l.name == name);
+    let known = builtin_lights().contains(&name.as_str()) || lights.iter().any(|l| &l.name == name);
     if !(one_light && known) {
         return Ok(out);
     }
     for n in SHARED_SIZES {
         let set_name = std::format!("KQ_{name}_{n}");
         let set = catalog::resolve_with(d, &set_name, lights)?;
-        let eval = super::shared::eval_on_radiance(d, &set, "KQ folded", Some(&first.light))?;
+        let eval = shared::eval_on_radiance(d, &set, "KQ folded", Some(&first.light))?;
         out.push((set_name, n, eval));
     }
     Ok(out)
@@ -505,7 +364,7 @@ impl Plan {
 
 /// The stimuli of spectra files, on `range_nm`: every reflectance under every illuminant, or
 /// lights seen directly (`emission`). Give either `emission` or both of the others. Errors name
-/// the file and line ([`super::DataError`]).
+/// the file and line ([`DataError`](crate::DataError)).
 pub fn stimuli_from_files(
     range_nm: [f64; 2],
     reflectances: Option<&std::path::Path>,

@@ -34,7 +34,7 @@
 //! light = "C"                      # optional: fit for reflectances under it (else radiances)
 //! ```
 //!
-//! `[fixed.*]` and `[sensors.*]` sets are baked whenever declared ([`super::user`]).
+//! `[fixed.*]` and `[sensors.*]` sets are baked whenever declared ([`crate::user`]).
 //!
 //! Every mistake (unknown key, set, observer or display, an undefined order, a bad budget) is
 //! an error naming the file, the line and the valid choices.
@@ -46,9 +46,17 @@ use std::vec::Vec;
 use serde::Deserialize;
 use toml::Spanned;
 
-use super::display::{DisplaySpec, Transfer};
-use super::plan::Metric;
-use super::{catalog, DataError, Error, ObserverId, Settings};
+use super::catalog;
+use super::plan::{self, Metric};
+use super::user::{self, fixed_set, sensor_set, Fitted, Sensor, UserLight};
+use crate::base::error::{DataError, Error};
+use crate::derivation::derive::Derivation;
+use crate::derivation::display::{self, DisplayMatrices, DisplaySpec, Transfer};
+use crate::derivation::evaluate::{self, builtin_lights, Curve, Stimulus};
+use crate::derivation::observer::ObserverId;
+use crate::derivation::sets::WavelengthSet;
+use crate::derivation::settings::Settings;
+use crate::shared;
 
 /// The environment variable naming the scene file.
 pub const SCENE_ENV: &str = "SPECTRAL_QUADRATURE_SCENE";
@@ -143,7 +151,7 @@ impl UserInputs {
         if self.fixed.is_empty() && self.sensors.is_empty() {
             return Vec::new();
         }
-        let mut files = std::vec![super::shared::TRAINING_FILE.to_string()];
+        let mut files = std::vec![shared::TRAINING_FILE.to_string()];
         let lights = self
             .fixed
             .iter()
@@ -151,7 +159,7 @@ impl UserInputs {
             .chain(self.sensors.iter().map(|s| &s.light))
             .flatten();
         for l in lights {
-            if catalog::builtin_lights().contains(&l.as_str()) {
+            if builtin_lights().contains(&l.as_str()) {
                 let file = std::format!("data/illuminant_{l}.csv");
                 if !files.contains(&file) {
                     files.push(file);
@@ -243,9 +251,9 @@ pub struct Scene {
     pub is_default: bool,
 }
 
-/// Display names a scene may use: those of [`super::display::standard_displays`].
+/// Display names a scene may use: those of [`crate::display::standard_displays`].
 pub fn display_names() -> Vec<String> {
-    super::display::standard_displays()
+    display::standard_displays()
         .into_iter()
         .map(|d| d.name)
         .collect()
@@ -265,7 +273,7 @@ impl Scene {
             file: "default".into(),
             settings: Settings::new(data_dir),
             sets: Vec::new(),
-            displays: super::display::standard_displays(),
+            displays: display::standard_displays(),
             extras: Extras {
                 sensitivities: true,
                 rules: true,
@@ -337,8 +345,7 @@ impl Scene {
             .collect();
         let mut displays = Vec::new();
         for d in raw.displays.unwrap_or_default() {
-            let spec =
-                super::display::standard_display(d.get_ref()).map_err(within(at(d.span())))?;
+            let spec = display::standard_display(d.get_ref()).map_err(within(at(d.span())))?;
             if !displays.iter().any(|s: &DisplaySpec| s.name == spec.name) {
                 displays.push(spec);
             }
@@ -455,7 +462,7 @@ fn parse_user(
     let mut seen: Vec<String> = Vec::new();
     let mut check_name = |name: &Spanned<String>, what: &str| -> Result<(), Error> {
         let (n, line) = (name.get_ref(), at(name.span()));
-        if !super::user::is_const_name(n) {
+        if !user::is_const_name(n) {
             return Err(err(
                 line,
                 std::format!(
@@ -474,7 +481,7 @@ fn parse_user(
     };
     for (name, path) in lights.iter().flatten() {
         check_name(name, "light")?;
-        if catalog::builtin_lights().contains(&name.get_ref().as_str()) {
+        if builtin_lights().contains(&name.get_ref().as_str()) {
             return Err(err(
                 at(name.span()),
                 std::format!(
@@ -495,7 +502,7 @@ fn parse_user(
             return Ok(None);
         };
         let n = l.get_ref();
-        if light_names.contains(n) || catalog::builtin_lights().contains(&n.as_str()) {
+        if light_names.contains(n) || builtin_lights().contains(&n.as_str()) {
             Ok(Some(n.clone()))
         } else {
             Err(err(
@@ -503,7 +510,7 @@ fn parse_user(
                 std::format!(
                     "unknown light {n:?}; valid: the scene's [lights] ({}) and the built-in illuminants ({})",
                     light_names.join(", "),
-                    catalog::builtin_lights().join(", ")
+                    builtin_lights().join(", ")
                 ),
             ))
         }
@@ -568,11 +575,11 @@ pub struct Resolved {
     pub file: String,
     /// Sets serving all three channels, baked at the top of `tables` (and folded for each
     /// display).
-    pub colour_sets: Vec<super::WavelengthSet>,
+    pub colour_sets: Vec<WavelengthSet>,
     /// Per-channel rules as sets, baked in `tables::rules`.
-    pub rule_sets: Vec<super::WavelengthSet>,
+    pub rule_sets: Vec<WavelengthSet>,
     /// Displays and their matrices.
-    pub displays: Vec<(DisplaySpec, super::display::DisplayMatrices)>,
+    pub displays: Vec<(DisplaySpec, DisplayMatrices)>,
     /// Optional tables.
     pub extras: Extras,
     /// What the planner chose, as a sentence for the generated header, if it ran.
@@ -582,9 +589,9 @@ pub struct Resolved {
 impl Scene {
     /// Resolves the set names (and the plan, if any) against `d`, which must have been derived
     /// with [`Scene::settings`]. The displays' matrices are the derivation's
-    /// ([`super::Derivation::displays`]), with the scene's transfer functions. Errors name the
+    /// ([`crate::Derivation::displays`]), with the scene's transfer functions. Errors name the
     /// file, the line and the valid choices ([`Error::At`]).
-    pub fn resolve(&self, d: &super::Derivation) -> Result<Resolved, Error> {
+    pub fn resolve(&self, d: &Derivation) -> Result<Resolved, Error> {
         let err = |line: usize| move |e: Error| e.at(&self.file, line as u64);
         let displays = self
             .displays
@@ -638,10 +645,7 @@ impl Scene {
             } else {
                 &mut colour_sets
             };
-            if !target
-                .iter()
-                .any(|s: &super::WavelengthSet| s.name == set.name)
-            {
+            if !target.iter().any(|s: &WavelengthSet| s.name == set.name) {
                 target.push(set);
             }
         }
@@ -660,11 +664,7 @@ impl Scene {
 
     /// Reads the scene's lights and builds its fixed and sensor sets. Errors name the scene's
     /// line that declares the input, around the file's own error (which names its line).
-    pub fn resolve_user(
-        &self,
-        d: &super::Derivation,
-    ) -> Result<(Vec<super::user::UserLight>, Vec<super::user::Fitted>), Error> {
-        use super::user::{fixed_set, sensor_set, Sensor, UserLight};
+    pub fn resolve_user(&self, d: &Derivation) -> Result<(Vec<UserLight>, Vec<Fitted>), Error> {
         let range = d.settings.range_nm;
         let err = |line: usize| move |e: Error| e.at(&self.file, line as u64);
         let lights = self
@@ -682,18 +682,17 @@ impl Scene {
                 )
             })
             .collect::<Result<Vec<_>, _>>()?;
-        let curve =
-            |name: &Option<String>, line: usize| -> Result<Option<super::evaluate::Curve>, Error> {
-                let Some(n) = name else {
-                    return Ok(None);
-                };
-                if let Some(l) = lights.iter().find(|l| &l.name == n) {
-                    return Ok(Some(l.curve.clone()));
-                }
-                super::evaluate::builtin_illuminant(&d.settings.data_dir, n, range)
-                    .map(Some)
-                    .map_err(|e| err(line)(e.into()))
+        let curve = |name: &Option<String>, line: usize| -> Result<Option<Curve>, Error> {
+            let Some(n) = name else {
+                return Ok(None);
             };
+            if let Some(l) = lights.iter().find(|l| &l.name == n) {
+                return Ok(Some(l.curve.clone()));
+            }
+            evaluate::builtin_illuminant(&d.settings.data_dir, n, range)
+                .map(Some)
+                .map_err(|e| err(line)(e.into()))
+        };
         let mut sets = Vec::new();
         for f in &self.user.fixed {
             let light = curve(&f.light, f.line)?;
@@ -723,27 +722,27 @@ impl Scene {
 impl PlanRequest {
     /// Runs the planner on the request's spectra: the chosen set's name and a sentence saying
     /// what it measured.
-    pub fn resolve(&self, d: &super::Derivation) -> Result<(String, String), Error> {
+    pub fn resolve(&self, d: &Derivation) -> Result<(String, String), Error> {
         self.resolve_with(d, &[], &[])
     }
 
     /// [`resolve`](Self::resolve) for a scene with its own lights and sets: the planner also
-    /// considers the shared sets ([`super::plan::shared_sets`]: for radiances, and folded for
+    /// considers the shared sets ([`crate::plan::shared_sets`]: for radiances, and folded for
     /// the stimuli's light when they share one the scene knows) and the scene's fixed-wavelength
     /// and sensor sets.
     pub fn resolve_with(
         &self,
-        d: &super::Derivation,
-        lights: &[super::user::UserLight],
-        own: &[super::user::Fitted],
+        d: &Derivation,
+        lights: &[UserLight],
+        own: &[Fitted],
     ) -> Result<(String, String), Error> {
         let stimuli = self.stimuli(d.settings.range_nm)?;
-        let mut extra = super::plan::shared_sets(d, &stimuli, lights)?;
+        let mut extra = plan::shared_sets(d, &stimuli, lights)?;
         extra.extend(
             own.iter()
                 .map(|f| (f.name.clone(), f.wavelengths_nm.len(), f.eval.clone())),
         );
-        let plan = super::plan::plan_with(d, &stimuli, self.max_delta_e00, self.metric, &extra)?;
+        let plan = plan::plan_with(d, &stimuli, self.max_delta_e00, self.metric, &extra)?;
         let c = &plan.chosen;
         Ok((
             c.name.clone(),
@@ -761,8 +760,8 @@ impl PlanRequest {
     }
 
     /// The stimuli the request names: surfaces under illuminants, or lights seen directly.
-    pub fn stimuli(&self, range_nm: [f64; 2]) -> Result<Vec<super::evaluate::Stimulus>, Error> {
-        super::plan::stimuli_from_files(
+    pub fn stimuli(&self, range_nm: [f64; 2]) -> Result<Vec<Stimulus>, Error> {
+        plan::stimuli_from_files(
             range_nm,
             self.reflectances.as_deref(),
             self.illuminants.as_deref(),

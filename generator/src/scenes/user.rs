@@ -1,7 +1,7 @@
 //! Sets for what the user really has: a light measured as a CSV file, the wavelengths a renderer
 //! already samples, and a spectral sensor's channels.
 //!
-//! All three use the shared sets' model ([`super::shared`]): the same prior on reflectances
+//! All three use the shared sets' model ([`crate::shared`]): the same prior on reflectances
 //! (Matérn 5/2 plus the training reflectances' covariance), the same white condition (a constant
 //! spectrum is integrated exactly: under a folded light, the light's own white is exact), the
 //! same metric. What changes is what a sample is:
@@ -18,10 +18,13 @@
 use std::string::{String, ToString};
 use std::vec::Vec;
 
-use super::evaluate::{self, Curve, EvalSet, Spectra};
-use super::sets::WavelengthSet;
-use super::shared;
-use super::{DataError, Derivation, Error};
+use crate::base::error::{DataError, Error};
+use crate::base::files::read_error;
+use crate::derivation::derive::Derivation;
+use crate::derivation::display;
+use crate::derivation::evaluate::{self, Curve, EvalSet, Spectra};
+use crate::derivation::sets::WavelengthSet;
+use crate::shared;
 
 /// The most wavelengths or channels a fixed or sensor set may have (the runtime's largest
 /// const-generic size the crate tests).
@@ -37,7 +40,7 @@ pub fn is_const_name(name: &str) -> bool {
 
 /// A file's text; an error names `label` and the path ([`crate::read_data`]'s error).
 fn read_labelled(path: &std::path::Path, label: &str) -> Result<String, Error> {
-    std::fs::read_to_string(path).map_err(|e| super::read_error(label, path, &e).into())
+    std::fs::read_to_string(path).map_err(|e| read_error(label, path, &e).into())
 }
 
 /// Whether every value of `curve`'s data inside `range_nm` is zero.
@@ -229,7 +232,7 @@ impl Fitted {
                 "Weights fitted by kernel quadrature: {what}. Trained on the CIE test colour samples."
             ),
             wavelengths_nm: self.wavelengths_nm.clone(),
-            weights: super::display::fold(&d.opponent.xyz_to_ac1c2, &self.xyz_weights, 1.0),
+            weights: display::fold(&d.opponent.xyz_to_ac1c2, &self.xyz_weights, 1.0),
             light: self.light.clone(),
             sensor: self.sensor.clone(),
         }

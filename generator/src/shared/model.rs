@@ -1,37 +1,20 @@
-//! Shared wavelength sets by kernel quadrature, with the light folded into the weights.
-//!
-//! A renderer pays per distinct wavelength, and every channel can use every sample. So a shared
-//! set has N distinct wavelengths λᵢ and a full 3×N matrix W with `XYZ ≈ W · [r(λ₁) … r(λ_N)]`,
-//! where r is what the renderer samples: a reflectance under a known light L (the light is
-//! folded into W, `F = x̄ȳz̄ · L · dλ`), or a radiance (L = 1).
-//!
-//! The model: r is a constant of unknown level plus a zero-mean Gaussian process whose
-//! covariance is a Matérn 5/2 smoothness kernel plus a multiple of the training reflectances'
-//! empirical covariance. For given nodes, W is the best linear unbiased estimate of `F r`
-//! (universal kriging with a constant trend): it minimises the expected squared error of every
-//! linear functional of XYZ, and it integrates a constant spectrum exactly, so the white of a
-//! surface under L is exact. The nodes minimise the expected linearised CIELAB error
-//! `tr(M Σ)`, Σ the 3×3 covariance of XYZ's error and `M = mean JᵀJ` over the training colours
-//! (J = ∂Lab/∂XYZ at each, its white exact): greedy selection on the 1 nm grid, evenly spaced
-//! and random starts, each refined by coordinate descent, the best kept.
-//!
-//! The kernel's length and the empirical covariance's weight ([`LENGTH_NM`],
-//! [`EMPIRICAL_WEIGHT`]) maximise the leave-one-out likelihood of the training reflectances
-//! ([`fit`]). The crate trains on the CIE test colour samples only and judges on the
-//! ColorChecker, which no set ever sees.
-//!
-//! Method (a) for comparison, [`interpolatory_a`]: the A channel's Gauss nodes of order N, with
-//! C1 and C2 integrated by interpolatory rules on those nodes.
+//! The model behind the shared sets: a prior on the spectra a renderer samples (a Matérn 5/2
+//! kernel plus the training reflectances' empirical covariance, [`Kernel`], [`LENGTH_NM`],
+//! [`EMPIRICAL_WEIGHT`]), the light folded into the weights, and the linearised CIELAB metric.
+//! For given samples (wavelengths, or any linear readings such as a sensor's channels)
+//! [`Problem`] gives the best weights and their expected error; [`problem`] sets it up for the
+//! crate's sets.
 
 use std::string::{String, ToString};
 use std::vec::Vec;
 
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DMatrix;
 
-use super::evaluate::{self, Curve, EvalSet};
-use super::quadrature::interpolatory_weights;
-use super::sets::WavelengthSet;
-use super::{Derivation, Error, LightProblem, SetNameProblem};
+use crate::base::error::{Error, LightProblem};
+use crate::derivation::derive::Derivation;
+use crate::derivation::display;
+use crate::derivation::evaluate::{self, Curve, EvalSet};
+use crate::derivation::sets::WavelengthSet;
 
 /// A stationary covariance on wavelength, `k(λ, μ) = σ² ρ(|λ − μ| / ℓ)` with unit σ² (the
 /// scale cancels in the weights and in the node choice).
@@ -62,11 +45,16 @@ impl Kernel {
 /// reflectance measurement noise of the data (about 1e-3) and far above f64 rounding.
 pub const NUGGET: f64 = 1e-6;
 
-/// Random starts of coordinate descent, besides greedy selection and three even spreads.
-pub const RANDOM_STARTS: usize = 12;
+/// The Matérn length of the crate's sets, nm: [`fit`] on the CIE test colour samples over
+/// [`FIT_LENGTHS_NM`] × [`FIT_WEIGHTS`] (the tests re-run the fit).
+pub const LENGTH_NM: f64 = 60.0;
 
-/// How far (1 nm grid steps) coordinate descent tries to move one node.
-pub const MAX_MOVE: usize = 12;
+/// The empirical-covariance weight of the crate's sets, fitted with [`LENGTH_NM`].
+pub const EMPIRICAL_WEIGHT: f64 = 70.0;
+
+/// The training reflectances of the crate's sets: the CIE test colour samples (never the
+/// ColorChecker, on which the report and the tests judge them).
+pub const TRAINING_FILE: &str = "data/reflectance_cie_tcs.csv";
 
 /// The precomputed problem for one light, kernel and metric: any node set's weights and
 /// expected error then cost one (N+1)×(N+1) solve.
@@ -79,7 +67,8 @@ pub struct Problem {
     pub light: Vec<f64>,
     /// The light's name, `None` for radiances.
     pub light_name: Option<String>,
-    g: usize,
+    /// The number of grid points.
+    pub(super) g: usize,
     /// The prior covariance on the grid (row-major G×G): the kernel, plus any empirical
     /// covariance added by [`with_covariance`](Self::with_covariance).
     k: Vec<f64>,
@@ -94,7 +83,7 @@ pub struct Problem {
     /// The linearised CIELAB metric.
     metric: [[f64; 3]; 3],
     /// Grid points a node may take (where the light is not negligible).
-    allowed: Vec<bool>,
+    pub(super) allowed: Vec<bool>,
 }
 
 fn fprime(u: f64) -> f64 {
@@ -421,134 +410,6 @@ impl Problem {
         self.solve(nodes).map_or(f64::INFINITY, |s| s.1)
     }
 
-    /// Greedy selection of `n` allowed grid indices, each the one that most lowers the error.
-    pub fn greedy(&self, n: usize) -> Vec<usize> {
-        self.greedy_with(n, &|nodes| self.objective(nodes))
-    }
-
-    /// [`greedy`](Self::greedy) for any objective.
-    fn greedy_with(&self, n: usize, objective: &dyn Fn(&[usize]) -> f64) -> Vec<usize> {
-        let mut nodes: Vec<usize> = Vec::with_capacity(n);
-        for _ in 0..n {
-            let mut best = (f64::INFINITY, usize::MAX);
-            for c in 0..self.g {
-                if !self.allowed[c] || nodes.contains(&c) {
-                    continue;
-                }
-                nodes.push(c);
-                let o = objective(&nodes);
-                nodes.pop();
-                if o < best.0 {
-                    best = (o, c);
-                }
-            }
-            if best.1 == usize::MAX {
-                break;
-            }
-            nodes.push(best.1);
-        }
-        nodes.sort_unstable();
-        nodes
-    }
-
-    /// Coordinate descent: moves one node at a time by up to ±[`MAX_MOVE`] grid steps while that
-    /// lowers the error. Returns the nodes (ascending) and their error.
-    pub fn refine(&self, nodes: Vec<usize>) -> (Vec<usize>, f64) {
-        self.refine_with(nodes, &|nodes| self.objective(nodes))
-    }
-
-    /// [`refine`](Self::refine) for any objective.
-    fn refine_with(
-        &self,
-        mut nodes: Vec<usize>,
-        objective: &dyn Fn(&[usize]) -> f64,
-    ) -> (Vec<usize>, f64) {
-        let mut current = objective(&nodes);
-        for _ in 0..200 {
-            let mut improved = false;
-            for i in 0..nodes.len() {
-                let start = nodes[i];
-                let mut best = (current, start);
-                for step in 1..=MAX_MOVE {
-                    for c in [start.checked_sub(step), Some(start + step)]
-                        .into_iter()
-                        .flatten()
-                    {
-                        if c >= self.g || !self.allowed[c] || nodes.contains(&c) {
-                            continue;
-                        }
-                        nodes[i] = c;
-                        let o = objective(&nodes);
-                        if o < best.0 * (1.0 - 1e-12) {
-                            best = (o, c);
-                        }
-                    }
-                }
-                nodes[i] = best.1;
-                if best.1 != start {
-                    current = best.0;
-                    improved = true;
-                }
-            }
-            if !improved {
-                break;
-            }
-        }
-        nodes.sort_unstable();
-        (nodes, current)
-    }
-
-    /// Evenly spaced allowed grid indices (a start for [`refine`](Self::refine)).
-    fn spread(&self, n: usize, offset: f64) -> Vec<usize> {
-        let allowed: Vec<usize> = (0..self.g).filter(|&c| self.allowed[c]).collect();
-        let mut nodes: Vec<usize> = (0..n)
-            .map(|i| {
-                let t = (i as f64 + offset) / n as f64;
-                allowed[((t * allowed.len() as f64) as usize).min(allowed.len() - 1)]
-            })
-            .collect();
-        nodes.dedup();
-        nodes
-    }
-
-    /// The best of greedy selection and evenly spaced starts, each refined by coordinate
-    /// descent: `n` grid indices (ascending) and their error.
-    pub fn optimize(&self, n: usize) -> (Vec<usize>, f64) {
-        self.optimize_with(n, &|nodes| self.objective(nodes))
-    }
-
-    /// [`optimize`](Self::optimize) for any objective.
-    fn optimize_with(&self, n: usize, objective: &dyn Fn(&[usize]) -> f64) -> (Vec<usize>, f64) {
-        let mut starts = std::vec![self.greedy_with(n, objective)];
-        for offset in [0.5, 0.25, 0.75] {
-            let s = self.spread(n, offset);
-            if s.len() == n {
-                starts.push(s);
-            }
-        }
-        // Random starts from a fixed LCG (deterministic output).
-        let allowed: Vec<usize> = (0..self.g).filter(|&c| self.allowed[c]).collect();
-        let mut state: u64 = 0x853c_49e6_748f_ea9b;
-        for _ in 0..RANDOM_STARTS {
-            let mut s: Vec<usize> = Vec::with_capacity(n);
-            while s.len() < n.min(allowed.len()) {
-                state = state
-                    .wrapping_mul(6_364_136_223_846_793_005)
-                    .wrapping_add(1_442_695_040_888_963_407);
-                let c = allowed[((state >> 33) as usize) % allowed.len()];
-                if !s.contains(&c) {
-                    s.push(c);
-                }
-            }
-            starts.push(s);
-        }
-        starts
-            .into_iter()
-            .map(|s| self.refine_with(s, objective))
-            .min_by(|a, b| a.1.total_cmp(&b.1))
-            .unwrap_or((Vec::new(), f64::INFINITY))
-    }
-
     /// The set at grid indices `nodes` (ascending), with its weights and expected error;
     /// `None` when the kriging system is singular.
     pub fn set_at(&self, nodes: &[usize]) -> Option<Shared> {
@@ -561,140 +422,7 @@ impl Problem {
             expected_error,
         })
     }
-
-    /// The optimised shared set of `n` wavelengths ([`optimize`](Self::optimize)).
-    pub fn shared(&self, n: usize) -> Result<Shared, Error> {
-        let (nodes, _) = self.optimize(n);
-        if nodes.len() != n {
-            return Err(Error::Numerical(std::format!(
-                "no shared set of {n} wavelengths: only {} grid points are usable",
-                nodes.len()
-            )));
-        }
-        self.set_at(&nodes).ok_or_else(|| {
-            Error::Numerical(std::format!(
-                "no shared set of {n} wavelengths: the kriging system is singular"
-            ))
-        })
-    }
 }
-
-/// The result of [`fit`].
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Fit {
-    /// The Matérn 5/2 length, nm.
-    pub length_nm: f64,
-    /// The weight of the empirical covariance.
-    pub weight: f64,
-    /// The leave-one-out log likelihood (up to a constant).
-    pub log_likelihood: f64,
-}
-
-/// The lengths [`fit`] searches for the crate's sets, nm.
-pub const FIT_LENGTHS_NM: [f64; 9] = [40.0, 45.0, 50.0, 55.0, 60.0, 65.0, 70.0, 75.0, 80.0];
-
-/// The empirical-covariance weights [`fit`] searches for the crate's sets.
-pub const FIT_WEIGHTS: [f64; 11] = [
-    0.0, 10.0, 20.0, 30.0, 50.0, 70.0, 100.0, 150.0, 200.0, 300.0, 1000.0,
-];
-
-/// White noise added to the kernel in [`fit`] (relative to its variance): reflectance data are
-/// given to about 1 % of their spread, so the likelihood should not chase finer detail.
-pub const FIT_NOISE: f64 = 1e-4;
-
-/// The Matérn length of the crate's sets, nm: [`fit`] on the CIE test colour samples over
-/// [`FIT_LENGTHS_NM`] × [`FIT_WEIGHTS`] (the tests re-run the fit).
-pub const LENGTH_NM: f64 = 60.0;
-
-/// The empirical-covariance weight of the crate's sets, fitted with [`LENGTH_NM`].
-pub const EMPIRICAL_WEIGHT: f64 = 70.0;
-
-/// The kernel length and empirical-covariance weight that maximise the leave-one-out likelihood
-/// of `training`: each reflectance predicted by a Gaussian with the other reflectances' mean and
-/// covariance `σ²(k + α S₋ₖ + ηI)` (σ² profiled, η = [`FIT_NOISE`]), on a 5 nm grid of
-/// `range_nm`. `None` with fewer than 3 spectra or when no candidate is positive definite.
-pub fn fit(
-    training: &[Curve],
-    range_nm: [f64; 2],
-    lengths_nm: &[f64],
-    weights: &[f64],
-) -> Option<Fit> {
-    let n = training.len();
-    if n < 3 {
-        return None;
-    }
-    let mut grid = Vec::new();
-    let mut nm = range_nm[0];
-    while nm <= range_nm[1] + 1e-9 {
-        grid.push(nm);
-        nm += 5.0;
-    }
-    let dim = grid.len();
-    let ys: Vec<DVector<f64>> = training
-        .iter()
-        .map(|r| DVector::from_iterator(dim, grid.iter().map(|&nm| r.at(nm))))
-        .collect();
-    // Per held-out spectrum: its residual from the others' mean, and the others' empirical
-    // covariance. Neither depends on the kernel or the weight.
-    let held_out: Vec<(DVector<f64>, DMatrix<f64>)> = (0..n)
-        .map(|h| {
-            let others: Vec<&DVector<f64>> = (0..n).filter(|&i| i != h).map(|i| &ys[i]).collect();
-            let m = others.len() as f64;
-            let mean = others.iter().fold(DVector::zeros(dim), |acc, y| acc + *y) / m;
-            let mut scatter = DMatrix::<f64>::zeros(dim, dim);
-            for y in &others {
-                let dev = *y - &mean;
-                scatter += &dev * dev.transpose() / m;
-            }
-            (&ys[h] - &mean, scatter)
-        })
-        .collect();
-    let mut best: Option<Fit> = None;
-    for &length_nm in lengths_nm {
-        let kernel = Kernel::Matern52 { length_nm };
-        let mut k = DMatrix::<f64>::from_fn(dim, dim, |i, j| kernel.at(grid[i] - grid[j]));
-        for i in 0..dim {
-            k[(i, i)] += FIT_NOISE;
-        }
-        for &weight in weights {
-            if let Some(ll) = loo_log_likelihood(&k, &held_out, weight) {
-                if best.is_none_or(|b| ll > b.log_likelihood) {
-                    best = Some(Fit {
-                        length_nm,
-                        weight,
-                        log_likelihood: ll,
-                    });
-                }
-            }
-        }
-    }
-    best
-}
-
-/// The leave-one-out log likelihood (σ² profiled) of residuals `e` under covariances
-/// `k + α S` (see [`fit`]).
-fn loo_log_likelihood(
-    k: &DMatrix<f64>,
-    held_out: &[(DVector<f64>, DMatrix<f64>)],
-    alpha: f64,
-) -> Option<f64> {
-    let mut quad = 0.0;
-    let mut logdet = 0.0;
-    for (e, scatter) in held_out {
-        let chol = (k + scatter * alpha).cholesky()?;
-        logdet += 2.0 * chol.l().diagonal().iter().map(|v| v.ln()).sum::<f64>();
-        quad += e.dot(&chol.solve(e));
-    }
-    let count = (held_out.len() * k.nrows()) as f64;
-    Some(-0.5 * count * (quad / count).ln() - 0.5 * logdet)
-}
-
-/// The training reflectances of the crate's sets: the CIE test colour samples (never the
-/// ColorChecker, on which the report and the tests judge them).
-pub const TRAINING_FILE: &str = "data/reflectance_cie_tcs.csv";
-
-/// Shared-set sizes the catalog builds: `KQ_3` … `KQ_32`.
-pub const SIZES: core::ops::RangeInclusive<usize> = 3..=32;
 
 /// The crate's problem for a light given by name (a built-in illuminant: `C`, `D65`, `F11`,
 /// `LED_B1`, …), or for radiances (`None`): [`Kernel::Matern52`] of [`LENGTH_NM`] plus
@@ -707,7 +435,7 @@ pub fn problem(d: &Derivation, light: Option<&str>) -> Result<Problem, Error> {
                 Error::Light {
                     name: name.into(),
                     problem: LightProblem::NotBuiltIn {
-                        valid: super::catalog::builtin_lights()
+                        valid: evaluate::builtin_lights()
                             .into_iter()
                             .map(String::from)
                             .collect(),
@@ -784,7 +512,7 @@ impl Shared {
                 "Shared set by kernel quadrature: {n} wavelengths for all three channels; {what}. Trained on the CIE test colour samples."
             ),
             wavelengths_nm: self.wavelengths_nm.clone(),
-            weights: super::display::fold(&d.opponent.xyz_to_ac1c2, &self.xyz_weights, 1.0),
+            weights: display::fold(&d.opponent.xyz_to_ac1c2, &self.xyz_weights, 1.0),
             light: self.light.clone(),
             sensor: None,
         }
@@ -811,256 +539,4 @@ pub fn eval_on_radiance(
         }
     }
     Ok(eval)
-}
-
-/// The shared set of `n` wavelengths for a built-in light (`None`: radiances). To build
-/// several sizes for one light, set up [`problem`] once and call [`Problem::shared`].
-///
-/// This runs the node search ([`Problem::optimize`]), which costs seconds at Cargo's default
-/// build-script opt-level 0; [`cached_or_optimize`] takes the nodes from [`CACHE_FILE`] where it
-/// can.
-pub fn optimize(d: &Derivation, light: Option<&str>, n: usize) -> Result<Shared, Error> {
-    problem(d, light)?.shared(n)
-}
-
-/// The shared sets' node cache, a file in the data directory: the nodes [`Problem::optimize`]
-/// found for each set in [`CACHED`], with a fingerprint of everything the search depends on.
-/// `cargo run --release -p spectral-quadrature-tools --bin tables -- --shared-cache` writes it,
-/// and a test re-runs every search and checks that it finds the same nodes (or worse ones).
-pub const CACHE_FILE: &str = "data/shared_nodes.csv";
-
-/// The sets whose nodes [`CACHE_FILE`] holds: radiances and the lights C, D65, A and F11, at 4, 6
-/// and 8 wavelengths (the default scene's sets and the example scenes' among them).
-pub const CACHED: [(Option<&str>, usize); 15] = [
-    (None, 4),
-    (None, 6),
-    (None, 8),
-    (Some("C"), 4),
-    (Some("C"), 6),
-    (Some("C"), 8),
-    (Some("D65"), 4),
-    (Some("D65"), 6),
-    (Some("D65"), 8),
-    (Some("A"), 4),
-    (Some("A"), 6),
-    (Some("A"), 8),
-    (Some("F11"), 4),
-    (Some("F11"), 6),
-    (Some("F11"), 8),
-];
-
-/// The catalog name of a shared set: `KQ_<n>` or `KQ_<light>_<n>`.
-pub fn set_name(light: Option<&str>, n: usize) -> String {
-    match light {
-        Some(l) => std::format!("KQ_{l}_{n}"),
-        None => std::format!("KQ_{n}"),
-    }
-}
-
-/// One line of [`CACHE_FILE`].
-#[derive(Debug, Clone, PartialEq)]
-pub struct CacheEntry {
-    /// The set's name ([`set_name`]).
-    pub name: String,
-    /// [`fingerprint`] of the inputs the nodes were found with.
-    pub fingerprint: String,
-    /// The nodes in nm, ascending, on the 1 nm grid.
-    pub wavelengths_nm: Vec<f64>,
-    /// The line in the file.
-    pub line: u64,
-}
-
-/// A SHA-256 over everything the node search for `light` depends on besides its code: the
-/// observer table, the range, the training reflectances, the light's file, and the kernel and
-/// search constants. A cached entry is used only while its fingerprint matches.
-pub fn fingerprint(d: &Derivation, light: Option<&str>) -> Result<String, Error> {
-    let read = |label: &str| super::read_data(&d.settings.data_dir, label);
-    let mut text = std::format!(
-        "observer {} {}\nrange {:?}\ntraining {}\nkernel matern52 {LENGTH_NM} empirical {EMPIRICAL_WEIGHT} nugget {NUGGET}\nsearch starts {RANDOM_STARTS} move {MAX_MOVE}\n",
-        d.observer.file,
-        d.observer.sha256,
-        d.settings.range_nm,
-        super::sha256_hex(&read(TRAINING_FILE)?),
-    );
-    if let Some(l) = light {
-        let label = std::format!("data/illuminant_{l}.csv");
-        text += &std::format!("light {l} {}\n", super::sha256_hex(&read(&label)?));
-    }
-    Ok(super::sha256_hex(text.as_bytes()))
-}
-
-/// Reads [`CACHE_FILE`] from `data_dir`: no file is an empty cache; a malformed one is an error
-/// naming the file and line.
-pub fn read_cache(data_dir: &std::path::Path) -> Result<Vec<CacheEntry>, super::DataError> {
-    let path = super::data_path(data_dir, CACHE_FILE);
-    let text = match std::fs::read_to_string(&path) {
-        Ok(t) => t,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
-        Err(e) => return Err(super::read_error(CACHE_FILE, &path, &e)),
-    };
-    parse_cache(CACHE_FILE, &text)
-}
-
-/// Parses the text of a node cache (see [`CACHE_FILE`]); `file` labels errors.
-pub fn parse_cache(file: &str, text: &str) -> Result<Vec<CacheEntry>, super::DataError> {
-    let err = |line: u64, message: String| super::DataError {
-        file: file.into(),
-        line,
-        message,
-    };
-    let mut out: Vec<CacheEntry> = Vec::new();
-    let mut header = false;
-    for (i, raw) in text.lines().enumerate() {
-        let line = i as u64 + 1;
-        let l = raw.trim();
-        if l.is_empty() || l.starts_with('#') {
-            continue;
-        }
-        if !header {
-            if l != "name,fingerprint,wavelengths_nm" {
-                return Err(err(
-                    line,
-                    std::format!(
-                        "expected the header name,fingerprint,wavelengths_nm, found {l:?}"
-                    ),
-                ));
-            }
-            header = true;
-            continue;
-        }
-        let fields: Vec<&str> = l.split(',').collect();
-        let [name, fingerprint, nodes] = fields[..] else {
-            return Err(err(
-                line,
-                std::format!(
-                    "expected 3 fields (name,fingerprint,wavelengths_nm), found {}",
-                    fields.len()
-                ),
-            ));
-        };
-        let wavelengths_nm = nodes
-            .split_whitespace()
-            .map(|v| match v.parse::<f64>() {
-                Ok(x) if x.is_finite() => Ok(x),
-                _ => Err(err(line, std::format!("{name}: {v:?} is not a wavelength"))),
-            })
-            .collect::<Result<Vec<f64>, _>>()?;
-        if wavelengths_nm.is_empty() || wavelengths_nm.windows(2).any(|w| w[0] >= w[1]) {
-            return Err(err(
-                line,
-                std::format!("{name}: the wavelengths must be strictly increasing"),
-            ));
-        }
-        if out.iter().any(|e| e.name == name) {
-            return Err(err(line, std::format!("{name} appears twice")));
-        }
-        out.push(CacheEntry {
-            name: name.into(),
-            fingerprint: fingerprint.into(),
-            wavelengths_nm,
-            line,
-        });
-    }
-    Ok(out)
-}
-
-/// The text of [`CACHE_FILE`] for `entries`.
-pub fn write_cache(entries: &[CacheEntry]) -> String {
-    let mut s = String::from(
-        "# Generated by `cargo run --release -p spectral-quadrature-tools --bin tables -- --shared-cache > data/shared_nodes.csv`.\n# The nodes (nm) the shared-set search found; the build reuses an entry while its fingerprint matches the inputs.\nname,fingerprint,wavelengths_nm\n",
-    );
-    for e in entries {
-        let nodes: Vec<String> = e
-            .wavelengths_nm
-            .iter()
-            .map(|v| std::format!("{v}"))
-            .collect();
-        s += &std::format!("{},{},{}\n", e.name, e.fingerprint, nodes.join(" "));
-    }
-    s
-}
-
-/// The shared set of `n` wavelengths for a built-in light (`None`: radiances): the nodes from
-/// [`CACHE_FILE`] when it has the set with a matching [`fingerprint`] (only the weights are
-/// computed then), otherwise [`optimize`]'s search.
-pub fn cached_or_optimize(d: &Derivation, light: Option<&str>, n: usize) -> Result<Shared, Error> {
-    let name = set_name(light, n);
-    let cache = read_cache(&d.settings.data_dir)?;
-    let Some(entry) = cache.iter().find(|e| e.name == name) else {
-        return optimize(d, light, n);
-    };
-    if entry.fingerprint != fingerprint(d, light)? || entry.wavelengths_nm.len() != n {
-        return optimize(d, light, n);
-    }
-    let p = problem(d, light)?;
-    let nodes = entry
-        .wavelengths_nm
-        .iter()
-        .map(|&nm| {
-            p.grid_nm
-                .iter()
-                .position(|&g| (g - nm).abs() < 1e-9)
-                .filter(|&i| p.allowed[i])
-                .ok_or_else(|| {
-                    Error::Data(super::DataError {
-                        file: CACHE_FILE.into(),
-                        line: entry.line,
-                        message: std::format!("{name}: {nm} nm is not a usable grid wavelength"),
-                    })
-                })
-        })
-        .collect::<Result<Vec<usize>, Error>>()?;
-    p.set_at(&nodes).ok_or_else(|| {
-        Error::Numerical("the kriging system is singular".into()).at(CACHE_FILE, entry.line)
-    })
-}
-
-/// The cache entry for one set, by a fresh search ([`Problem::optimize`]).
-pub fn cache_entry(d: &Derivation, light: Option<&str>, n: usize) -> Result<CacheEntry, Error> {
-    let s = optimize(d, light, n)?;
-    Ok(CacheEntry {
-        name: set_name(light, n),
-        fingerprint: fingerprint(d, light)?,
-        wavelengths_nm: s.wavelengths_nm,
-        line: 0,
-    })
-}
-
-/// Method (a): the A channel's Gauss rule of order `n` (its nodes and A weights), with C1 and C2
-/// integrated on the same nodes by interpolatory rules (the integral of the interpolating
-/// polynomial), so that all three channels share `n` wavelengths.
-pub fn interpolatory_a(d: &Derivation, n: usize, name: &str) -> Result<WavelengthSet, Error> {
-    let problem = |problem: SetNameProblem| Error::SetName {
-        name: name.into(),
-        problem,
-    };
-    let r = d.rules[0].get(n.wrapping_sub(1)).ok_or_else(|| {
-        problem(SetNameProblem::OrderNotDerived {
-            channel: 0,
-            order: n,
-            max: d.settings.max_order,
-        })
-    })?;
-    if !r.is_defined() {
-        return Err(problem(SetNameProblem::RuleUndefined {
-            channel: 0,
-            order: n,
-            status: r.status.as_str(),
-            reason: r.reason.clone(),
-        }));
-    }
-    Ok(WavelengthSet {
-        name: name.into(),
-        doc: std::format!(
-            "The A channel's Gauss rule of order {n}, with C1 and C2 integrated by interpolatory rules on its nodes."
-        ),
-        wavelengths_nm: r.nodes_nm.clone(),
-        weights: [
-            r.weights.clone(),
-            interpolatory_weights(&d.measures[1], &r.nodes_nm),
-            interpolatory_weights(&d.measures[2], &r.nodes_nm),
-        ],
-        light: None,
-        sensor: None,
-    })
 }
