@@ -65,12 +65,13 @@ fn lab_of_the_white_is_100_0_0_and_of_black_0() {
 }
 
 /// The generator crate's CIELAB functions (which measure the error of every set the report and
-/// the planner judge) are a copy of the runtime's: the generator cannot depend on the runtime,
-/// whose build script depends on it. The copies must agree bit for bit.
+/// the planner judge, and which its `evaluate` module exports) are a copy of the runtime's: the
+/// generator cannot depend on the runtime, whose build script depends on it. The copies must
+/// agree bit for bit.
 mod generator_copy {
     use proptest::prelude::*;
     use spectral_quadrature::{delta_e2000, delta_e76, lab_from_xyz};
-    use spectral_quadrature_build::lab;
+    use spectral_quadrature_build::evaluate as lab;
 
     fn same(a: [f64; 3], b: [f64; 3]) -> bool {
         a.iter().zip(&b).all(|(x, y)| x.to_bits() == y.to_bits())

@@ -38,9 +38,9 @@
 //! below it (`python3 .ci/module-graph generator/src` prints the graph and fails on a cycle):
 //!
 //! 1. `base`: the errors, the data files and their checksums, the CSV reader ([`table`]);
-//! 2. `derivation`: [`Settings`], [`derive`] and its steps ([`observer`], [`opponent`],
-//!    [`quadrature`], [`sets`]), the display matrices ([`display`]), CIELAB ([`lab`]) and the
-//!    measuring of sets on spectra ([`evaluate`]);
+//! 2. `derivation`: [`Settings`], [`derive()`] and its steps ([`observer`], [`opponent`],
+//!    [`quadrature`], [`sets`]), the display matrices ([`display`]), CIELAB and the measuring of
+//!    sets on spectra ([`evaluate`]);
 //! 3. `shared`: the shared sets ([`shared`]: model, fit, node search, node cache);
 //! 4. `scenes`: the scene file ([`scene`]), the sets by name ([`catalog`]), the user's inputs
 //!    ([`user`]) and the planner ([`plan`]);
@@ -58,15 +58,15 @@ mod scenes;
 pub mod shared;
 
 pub use base::error::{DataError, DisplayProblem, Error, LightProblem, SetNameProblem};
-pub use base::files::{data_path, read_data, read_data_text, sha256_hex};
+pub use base::files::{data_path, sha256_hex};
 pub use base::table;
-pub use derivation::derive::{derive, derive_with, Derivation, TABLE2_SNAP_NM};
+pub use derivation::derive::{derive, derive_with, Derivation};
 pub use derivation::observer::{Observer, ObserverId};
 pub use derivation::opponent::{Covariance, Opponent};
 pub use derivation::quadrature::{Measure, Recurrence, Rule, Status};
 pub use derivation::sets::WavelengthSet;
 pub use derivation::settings::Settings;
-pub use derivation::{display, evaluate, lab, observer, opponent, quadrature, sets};
+pub use derivation::{display, evaluate, observer, opponent, quadrature, sets};
 pub use emit::generate::{generate, Output};
 pub use emit::{codegen, shader};
 pub use scenes::scene::SCENE_ENV;

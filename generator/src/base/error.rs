@@ -123,7 +123,7 @@ impl std::error::Error for DataError {}
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
 pub enum SetNameProblem {
-    /// None of the forms in [`crate::catalog::NAME_FORMS`].
+    /// None of the catalogue's forms (the message lists them).
     UnknownForm,
     /// The form is known but its parts are not (`expected` shows the form).
     Malformed {
@@ -388,7 +388,7 @@ pub enum Metric {
 
 impl Metric {
     /// `"mean"` or `"max"`.
-    pub fn as_str(self) -> &'static str {
+    pub(crate) fn as_str(self) -> &'static str {
         match self {
             Metric::Mean => "mean",
             Metric::Max => "max",

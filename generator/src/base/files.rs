@@ -22,19 +22,19 @@ pub fn data_path(data_dir: &Path, label: &str) -> PathBuf {
 
 /// Reads the data file labelled `data/<file>` under `data_dir` ([`data_path`]). The error names
 /// the label, and the path it tried.
-pub fn read_data(data_dir: &Path, label: &str) -> Result<Vec<u8>, DataError> {
+pub(crate) fn read_data(data_dir: &Path, label: &str) -> Result<Vec<u8>, DataError> {
     let path = data_path(data_dir, label);
     std::fs::read(&path).map_err(|e| read_error(label, &path, &e))
 }
 
 /// [`read_data`], as text.
-pub fn read_data_text(data_dir: &Path, label: &str) -> Result<String, DataError> {
+pub(crate) fn read_data_text(data_dir: &Path, label: &str) -> Result<String, DataError> {
     let path = data_path(data_dir, label);
     std::fs::read_to_string(&path).map_err(|e| read_error(label, &path, &e))
 }
 
 /// The error of a data file that could not be read: it names the label and the path.
-pub fn read_error(label: &str, path: &Path, e: &std::io::Error) -> DataError {
+pub(crate) fn read_error(label: &str, path: &Path, e: &std::io::Error) -> DataError {
     DataError {
         file: label.into(),
         line: 0,

@@ -214,7 +214,7 @@ pub fn read_table(
 }
 
 /// Reads a file's text; the error names the path.
-pub fn read_text(path: &std::path::Path) -> Result<(String, String), DataError> {
+pub(crate) fn read_text(path: &std::path::Path) -> Result<(String, String), DataError> {
     let label = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|e| DataError {
         file: label.clone(),

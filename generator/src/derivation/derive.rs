@@ -72,7 +72,7 @@ impl Derivation {
 
 /// Table 2: how far (nm) an A node may move to reuse another channel's wavelength. The paper's A
 /// nodes 483.0 and 632.3 nm lie 7.9 and 0.9 nm from C1's 490.9 and 631.4 nm.
-pub const TABLE2_SNAP_NM: f64 = 10.0;
+pub(crate) const TABLE2_SNAP_NM: f64 = 10.0;
 
 /// Runs the derivation with the observer's embedded table.
 pub fn derive(settings: &Settings) -> Result<Derivation, Error> {

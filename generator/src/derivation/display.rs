@@ -43,7 +43,7 @@ pub struct DisplaySpec {
 }
 
 /// D65 as the displays' standards give it.
-pub const D65_XY: [f64; 2] = [0.3127, 0.3290];
+pub(crate) const D65_XY: [f64; 2] = [0.3127, 0.3290];
 
 /// A display is refused when the 2-norm condition number of its primaries' XYZ matrix exceeds
 /// this: nearly collinear primaries would turn tiny errors in XYZ into huge RGB values. sRGB,
@@ -191,7 +191,7 @@ pub fn display_matrices(spec: &DisplaySpec) -> Result<DisplayMatrices, Error> {
 
 /// The standard display called `name` ([`DisplaySpec::name`]), or [`Error::UnknownDisplay`]
 /// listing the valid names.
-pub fn standard_display(name: &str) -> Result<DisplaySpec, Error> {
+pub(crate) fn standard_display(name: &str) -> Result<DisplaySpec, Error> {
     let all = standard_displays();
     match all.iter().position(|d| d.name == name) {
         Some(i) => Ok(all[i].clone()),
@@ -207,13 +207,13 @@ fn to_array(m: &Matrix3<f64>) -> [[f64; 3]; 3] {
 }
 
 /// `a · b` for 3×3 row-major matrices.
-pub fn mul3(a: &[[f64; 3]; 3], b: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
+pub(crate) fn mul3(a: &[[f64; 3]; 3], b: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
     [0, 1, 2].map(|i| [0, 1, 2].map(|j| (0..3).map(|k| a[i][k] * b[k][j]).sum()))
 }
 
 /// Folds `matrix` (3×3, from the space of the weights' rows to another) and a `scale` into a
 /// set's 3×N weights: `out[r][i] = scale · Σ_k matrix[r][k] · weights[k][i]`.
-pub fn fold(matrix: &[[f64; 3]; 3], weights: &[Vec<f64>; 3], scale: f64) -> [Vec<f64>; 3] {
+pub(crate) fn fold(matrix: &[[f64; 3]; 3], weights: &[Vec<f64>; 3], scale: f64) -> [Vec<f64>; 3] {
     let n = weights[0].len();
     [0, 1, 2].map(|r| {
         (0..n)

@@ -23,7 +23,7 @@ pub use super::lab::{delta_e2000, delta_e76, lab_from_xyz};
 /// The longest wavelength a spectra file may give, nm (100 µm, far infrared): a larger or a
 /// non-positive one is a unit or typing mistake, and wavelengths that far apart would overflow the
 /// interpolation.
-pub const MAX_WAVELENGTH_NM: f64 = 1e5;
+pub(crate) const MAX_WAVELENGTH_NM: f64 = 1e5;
 
 /// One or more spectra read from a CSV file (first column wavelength in nm, one column per
 /// spectrum, any strictly increasing spacing).
@@ -389,7 +389,7 @@ fn mean(v: &[f64]) -> f64 {
 
 /// CIELAB of a stimulus by a set, the white integrated by the same set. For lights seen
 /// directly the white is equal energy at `equal_energy_level`.
-pub fn lab_of(set: &EvalSet, s: &Stimulus, equal_energy_level: f64) -> [f64; 3] {
+pub(crate) fn lab_of(set: &EvalSet, s: &Stimulus, equal_energy_level: f64) -> [f64; 3] {
     let xyz = set.xyz(|l| s.radiance(l));
     let white = set.xyz(|l| s.white(l, equal_energy_level));
     lab_from_xyz(xyz, white)
@@ -436,11 +436,6 @@ impl Reference {
         }
         e
     }
-}
-
-/// ΔE of `set` against `reference` over `stimuli` (see [`Reference`] to reuse the reference).
-pub fn errors(set: &EvalSet, reference: &EvalSet, stimuli: &[Stimulus]) -> Errors {
-    Reference::new(reference.clone(), stimuli).errors(set, stimuli)
 }
 
 /// Per-channel Gauss rules of orders 1..=max_order for three weight functions given on the

@@ -6,12 +6,12 @@
 //! differences ([`lab`]), and spectra with their exact integration, by which every set is
 //! measured ([`evaluate`]).
 
-pub mod derive;
+pub(crate) mod derive;
 pub mod display;
 pub mod evaluate;
-pub mod lab;
+pub(crate) mod lab;
 pub mod observer;
 pub mod opponent;
 pub mod quadrature;
 pub mod sets;
-pub mod settings;
+pub(crate) mod settings;

@@ -122,7 +122,7 @@ pub struct Opponent {
 ///   so negative in the red; C2 positive in the blue (positive s̄ coefficient);
 /// * scale: max ā = 1, min c̄1 = −1, max c̄2 = 1, the extremes taken over `peak_xyz`, which
 ///   should be the finest table available (the 1 nm table: a 5 nm grid misses c̄1's trough).
-pub fn karhunen_loeve(
+pub(crate) fn karhunen_loeve(
     covariance: &Matrix3<f64>,
     xyz_to_sml: &[[f64; 3]; 3],
     peak_xyz: &[[f64; 3]],
@@ -187,7 +187,7 @@ pub fn karhunen_loeve(
 }
 
 /// The opponent sensitivities ā, c̄1, c̄2 at each row of `xyz`.
-pub fn sensitivities(opponent: &Opponent, xyz: &[[f64; 3]]) -> Vec<[f64; 3]> {
+pub(crate) fn sensitivities(opponent: &Opponent, xyz: &[[f64; 3]]) -> Vec<[f64; 3]> {
     xyz.iter()
         .map(|v| apply(&opponent.xyz_to_ac1c2, v))
         .collect()

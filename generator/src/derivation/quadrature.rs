@@ -109,7 +109,7 @@ impl Recurrence {
     }
 
     /// P_n(x) and P_n'(x).
-    pub fn value_and_derivative(&self, n: usize, x: f64) -> (f64, f64) {
+    pub(crate) fn value_and_derivative(&self, n: usize, x: f64) -> (f64, f64) {
         let (mut p0, mut p1) = (0.0, 1.0);
         let (mut d0, mut d1) = (0.0, 0.0);
         for k in 0..n {
@@ -194,7 +194,7 @@ impl Status {
     }
 
     /// The name of the runtime enum variant (`spectral_quadrature::RuleStatus`).
-    pub fn variant(self) -> &'static str {
+    pub(crate) fn variant(self) -> &'static str {
         match self {
             Status::Defined => "Defined",
             Status::Outside => "Outside",
@@ -238,7 +238,8 @@ pub fn gauss_rule(measure: &Measure, rec: &Recurrence, n: usize, range_nm: [f64;
 /// [`gauss_rule`] for a recurrence in any variable: `to_nm` maps the variable to nm (affinely),
 /// and `unit` is the length, in the variable, of one unit of the scaled variable; the complex
 /// tolerance and the Newton step limit (both 1e-6 in the scaled variable) are multiplied by it.
-/// `spectral_quadrature_tools::stability` uses this to form rules from a recurrence in raw nanometres.
+/// The tools' stability study (`spectral_quadrature_tools::stability`) uses this to form rules
+/// from a recurrence in raw nanometres.
 pub fn rule_from_recurrence(
     rec: &Recurrence,
     n: usize,

@@ -78,7 +78,7 @@ impl WavelengthSet {
     /// `snap_nm`, and gives that channel the interpolatory weights of `measure` on the nodes it
     /// ends up with (Table 2, second row: A borrows C1's 490.9 and 631.4 nm). Wavelengths no
     /// channel uses any more are dropped.
-    pub fn snap_channel(
+    pub(crate) fn snap_channel(
         &self,
         name: &str,
         doc: &str,
@@ -154,7 +154,7 @@ impl WavelengthSet {
 }
 
 /// Channel names in row order.
-pub const CHANNELS: [&str; 3] = ["A", "C1", "C2"];
+pub(crate) const CHANNELS: [&str; 3] = ["A", "C1", "C2"];
 
 fn position(list: &[f64], value: f64) -> Option<usize> {
     list.iter()

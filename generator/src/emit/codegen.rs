@@ -88,7 +88,7 @@ fn rule_literal(channel: usize, rule: &Rule) -> Result<String, Error> {
 /// The provenance of the generated tables, one item a line: the generator, the settings, the
 /// scene, what a planned scene chose, and each input with its SHA-256. `tables_rs` writes it as
 /// the file's leading comment and as the const `HEADER`.
-pub fn header(d: &Derivation, inputs: &[(String, String)], scene: &Resolved) -> String {
+pub(crate) fn header(d: &Derivation, inputs: &[(String, String)], scene: &Resolved) -> String {
     let mut o = String::new();
     writeln!(
         o,

@@ -1,8 +1,9 @@
 //! The emitters: the Rust tables the runtime includes ([`codegen`]), the WGSL and GLSL snippets
-//! ([`shader`]), the 8-bit encoders' thresholds (`transfer_tables`), and [`generate`](crate::generate),
-//! which the runtime's build script calls to run the whole generation for a scene.
+//! ([`shader`]), the 8-bit encoders' thresholds (`transfer_tables`), and
+//! [`generate`](crate::generate), which the runtime's build script calls to run the whole
+//! generation for a scene.
 
 pub mod codegen;
-pub mod generate;
+pub(crate) mod generate;
 pub mod shader;
-pub mod transfer_tables;
+pub(crate) mod transfer_tables;

@@ -11,7 +11,7 @@ use crate::derivation::display::Transfer;
 
 /// The bits of the smallest f32 at or above `t` (t ≥ 0 and finite): 1 (the smallest subnormal)
 /// for a `t` that rounds to 0 as f32.
-pub fn ceil_f32_bits(t: f64) -> u32 {
+pub(crate) fn ceil_f32_bits(t: f64) -> u32 {
     let f = t as f32;
     if f64::from(f) < t {
         f.to_bits() + 1
@@ -24,7 +24,7 @@ pub fn ceil_f32_bits(t: f64) -> u32 {
 /// entry k (1..=255) is the bits of the smallest f32 x with x^(1/γ) · 255 ≥ k − ½, i.e.
 /// x ≥ ((k − ½)/255)^γ, computed in f64; entry 0 is 0. Non-decreasing (equal where two
 /// boundaries fall on one f32).
-pub fn gamma_thresholds(gamma: f32) -> [u32; 256] {
+pub(crate) fn gamma_thresholds(gamma: f32) -> [u32; 256] {
     let g = f64::from(gamma);
     let mut t = [0u32; 256];
     for (k, slot) in t.iter_mut().enumerate().skip(1) {
@@ -36,7 +36,7 @@ pub fn gamma_thresholds(gamma: f32) -> [u32; 256] {
 /// The Rust source of `pub(crate) static GAMMA_ENCODERS: [GammaEncoder8; K]`, one per distinct
 /// γ (as f32) among `transfers`' `Gamma` variants, in order of first appearance; empty when
 /// there is none.
-pub fn gamma_encoders_rs<'a>(transfers: impl IntoIterator<Item = &'a Transfer>) -> String {
+pub(crate) fn gamma_encoders_rs<'a>(transfers: impl IntoIterator<Item = &'a Transfer>) -> String {
     let mut gammas: Vec<f32> = Vec::new();
     for t in transfers {
         if let Transfer::Gamma(g) = *t {

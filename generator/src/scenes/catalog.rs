@@ -26,14 +26,14 @@ use crate::derivation::sets::{WavelengthSet, CHANNELS};
 use crate::shared;
 
 /// Uniform sets the crate builds: `UNIFORM_3` to `UNIFORM_64`.
-pub const UNIFORM_SIZES: core::ops::RangeInclusive<usize> = 3..=64;
+pub(crate) const UNIFORM_SIZES: core::ops::RangeInclusive<usize> = 3..=64;
 
 /// What a name may look like, for error messages.
-pub const NAME_FORMS: &str =
+pub(crate) const NAME_FORMS: &str =
     "TABLE2_ROW1, TABLE2_ROW2, A_<n>, C1_<n>, C2_<n>, AC1C2_<a>_<c1>_<c2>, UNIFORM_<n> (n = 3..=64), KQ_<n> and KQ_<light>_<n> (n = 3..=32, light a built-in illuminant), INTERP_A_<n>";
 
-/// The message names the forms ([`NAME_FORMS`]) and the channels, so it is written here rather
-/// than beside the type.
+// The message names the forms (NAME_FORMS) and the channels, so it is written here rather than
+// beside the type.
 impl fmt::Display for SetNameProblem {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
@@ -81,7 +81,7 @@ impl fmt::Display for SetNameProblem {
 }
 
 /// Whether a set covers only one channel (a per-channel rule): it cannot give a colour alone.
-pub fn is_single_channel(name: &str) -> bool {
+pub(crate) fn is_single_channel(name: &str) -> bool {
     ["A_", "C1_", "C2_"].iter().any(|p| name.starts_with(p))
 }
 
@@ -265,7 +265,7 @@ pub fn colour_set_names(d: &Derivation) -> Vec<String> {
 /// The data files (labels `data/<file>`) the set called `name` is made from besides the
 /// observer: a shared set's training reflectances, its light if built in, and the node cache
 /// ([`shared::CACHE_FILE`]). Empty for the sets the observer alone determines.
-pub fn input_files(name: &str) -> Vec<String> {
+pub(crate) fn input_files(name: &str) -> Vec<String> {
     let Some(rest) = name.strip_prefix("KQ_") else {
         return Vec::new();
     };
@@ -283,7 +283,7 @@ pub fn input_files(name: &str) -> Vec<String> {
 }
 
 /// The names of every defined per-channel rule (`A_1`, ..., `C2_15`).
-pub fn rule_names(d: &Derivation) -> Vec<String> {
+pub(crate) fn rule_names(d: &Derivation) -> Vec<String> {
     (0..3)
         .flat_map(|c| {
             d.rules[c]
@@ -298,7 +298,7 @@ pub fn rule_names(d: &Derivation) -> Vec<String> {
 /// and built-in lights for a `KQ_` name, the uniform sizes for a `UNIFORM_` name, the orders for
 /// an `INTERP_A_` name, and otherwise the defined per-channel rules (the orders a rule or an
 /// `AC1C2_<a>_<c1>_<c2>` may use).
-pub fn valid_choices_for(d: &Derivation, name: &str) -> String {
+pub(crate) fn valid_choices_for(d: &Derivation, name: &str) -> String {
     if name.starts_with("KQ_") {
         return std::format!(
             "shared sets: KQ_<n> (radiance) and KQ_<light>_<n> (light folded in), n = {}..={}; lights: {}",
@@ -327,7 +327,7 @@ pub fn valid_choices_for(d: &Derivation, name: &str) -> String {
 
 /// The valid choices for error messages: the defined per-channel rules (the orders an
 /// `AC1C2_<a>_<c1>_<c2>` may combine).
-pub fn valid_choices(d: &Derivation) -> String {
+pub(crate) fn valid_choices(d: &Derivation) -> String {
     let rules = rule_names(d);
     std::format!(
         "defined rules: {}",

@@ -253,7 +253,7 @@ pub fn choose(
 }
 
 /// The candidate with the lowest error (ties: fewer wavelengths, then name).
-pub fn best<'a>(
+pub(crate) fn best<'a>(
     candidates: impl IntoIterator<Item = &'a Candidate>,
     metric: Metric,
 ) -> Option<&'a Candidate> {
@@ -265,7 +265,8 @@ pub fn best<'a>(
     })
 }
 
-/// The best candidate at each number of wavelengths (see [`best`]), by ascending count.
+/// The best candidate at each number of wavelengths (the lowest error; ties: the name), by
+/// ascending count.
 pub fn best_per_count(candidates: &[Candidate], metric: Metric) -> Vec<&Candidate> {
     let mut counts: Vec<usize> = candidates.iter().map(|c| c.wavelengths).collect();
     counts.sort_unstable();
@@ -315,7 +316,7 @@ pub fn plan(
 
 /// [`plan`], with more candidates: `extra` from [`shared_sets`] or a scene's own sets
 /// (`(name, samples per pixel, set)`), measured by [`evaluate_sets`].
-pub fn plan_with(
+pub(crate) fn plan_with(
     d: &Derivation,
     stimuli: &[Stimulus],
     budget: f64,

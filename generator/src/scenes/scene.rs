@@ -147,7 +147,7 @@ pub struct UserInputs {
 impl UserInputs {
     /// The crate's data files the fixed and sensor sets are made from: the training
     /// reflectances of the prior, and the built-in lights they name.
-    pub fn data_files(&self) -> Vec<String> {
+    pub(crate) fn data_files(&self) -> Vec<String> {
         if self.fixed.is_empty() && self.sensors.is_empty() {
             return Vec::new();
         }
@@ -170,7 +170,7 @@ impl UserInputs {
     }
 
     /// The files the scene's own inputs read (lights, then sensors).
-    pub fn files_mut(&mut self) -> impl Iterator<Item = &mut std::path::PathBuf> {
+    pub(crate) fn files_mut(&mut self) -> impl Iterator<Item = &mut std::path::PathBuf> {
         self.lights
             .iter_mut()
             .map(|l| &mut l.path)
@@ -249,14 +249,6 @@ pub struct Scene {
     pub user: UserInputs,
     /// Whether this is the default scene (everything).
     pub is_default: bool,
-}
-
-/// Display names a scene may use: those of [`crate::display::standard_displays`].
-pub fn display_names() -> Vec<String> {
-    display::standard_displays()
-        .into_iter()
-        .map(|d| d.name)
-        .collect()
 }
 
 fn line_of(text: &str, offset: usize) -> usize {
@@ -551,7 +543,7 @@ fn parse_user(
 }
 
 /// `"srgb"`, `"linear"` or `"gamma <γ>"`.
-pub fn parse_transfer(s: &str) -> Result<Transfer, Error> {
+pub(crate) fn parse_transfer(s: &str) -> Result<Transfer, Error> {
     let t = s.trim();
     match t {
         "srgb" => Ok(Transfer::Srgb),
@@ -625,7 +617,7 @@ impl Scene {
         let mut names = self.sets.clone();
         let mut planned = None;
         if let Some(p) = &self.plan {
-            let (name, sentence) = p.resolve_with(d, &user.0, &user.1).map_err(err(p.line))?;
+            let (name, sentence) = p.resolve(d, &user.0, &user.1).map_err(err(p.line))?;
             planned = Some(sentence);
             // A scene's own set is baked anyway.
             if !user.1.iter().any(|f| f.name == name) {
@@ -721,16 +713,11 @@ impl Scene {
 
 impl PlanRequest {
     /// Runs the planner on the request's spectra: the chosen set's name and a sentence saying
-    /// what it measured.
-    pub fn resolve(&self, d: &Derivation) -> Result<(String, String), Error> {
-        self.resolve_with(d, &[], &[])
-    }
-
-    /// [`resolve`](Self::resolve) for a scene with its own lights and sets: the planner also
+    /// what it measured. For a scene with its own lights and sets, the planner also
     /// considers the shared sets ([`crate::plan::shared_sets`]: for radiances, and folded for
     /// the stimuli's light when they share one the scene knows) and the scene's fixed-wavelength
     /// and sensor sets.
-    pub fn resolve_with(
+    pub(crate) fn resolve(
         &self,
         d: &Derivation,
         lights: &[UserLight],
@@ -760,7 +747,7 @@ impl PlanRequest {
     }
 
     /// The stimuli the request names: surfaces under illuminants, or lights seen directly.
-    pub fn stimuli(&self, range_nm: [f64; 2]) -> Result<Vec<Stimulus>, Error> {
+    pub(crate) fn stimuli(&self, range_nm: [f64; 2]) -> Result<Vec<Stimulus>, Error> {
         plan::stimuli_from_files(
             range_nm,
             self.reflectances.as_deref(),

@@ -108,7 +108,7 @@ impl UserLight {
     }
 
     /// Reads a light file (see [`parse`](Self::parse)); `label` names it in errors.
-    pub fn read(
+    pub(crate) fn read(
         name: &str,
         path: &std::path::Path,
         label: &str,
@@ -132,7 +132,7 @@ impl Sensor {
     /// Parses a sensor file's text. Errors name `file` and the line: what [`Spectra::parse`]
     /// refuses (negative sensitivities among them), data that do not cover `range_nm`, more than
     /// [`MAX_SAMPLES`] channels, and a channel that is zero over the range.
-    pub fn parse(file: &str, text: &str, range_nm: [f64; 2]) -> Result<Sensor, Error> {
+    pub(crate) fn parse(file: &str, text: &str, range_nm: [f64; 2]) -> Result<Sensor, Error> {
         let spectra = Spectra::parse(file, text)?;
         if spectra.len() > MAX_SAMPLES {
             return Err(DataError {
@@ -169,7 +169,10 @@ impl Sensor {
         })
     }
 
-    /// Reads a sensor file (see [`parse`](Self::parse)); `label` names it in errors.
+    /// Reads a sensor file: wavelength in nm, one column of sensitivity per channel. Errors name
+    /// `label` and the line: what [`Spectra::parse`] refuses (negative sensitivities among them),
+    /// data that do not cover `range_nm`, more than [`MAX_SAMPLES`] channels, and a channel that
+    /// is zero over the range.
     pub fn read(path: &std::path::Path, label: &str, range_nm: [f64; 2]) -> Result<Sensor, Error> {
         Self::parse(label, &read_labelled(path, label)?, range_nm)
     }
@@ -211,7 +214,8 @@ pub struct Fitted {
     pub wavelengths_nm: Vec<f64>,
     /// `w[c][i]`: XYZ from the samples (reflectances under the light, radiances, or readings).
     pub xyz_weights: [Vec<f64>; 3],
-    /// The expected linearised CIELAB error under the prior ([`shared::Problem::solve`]).
+    /// The expected linearised CIELAB error under the prior, as a shared set's
+    /// ([`Shared::expected_error`](crate::shared::Shared::expected_error)).
     pub expected_error: f64,
     /// The set as the report measures it, on radiances.
     pub eval: EvalSet,
@@ -219,7 +223,7 @@ pub struct Fitted {
 
 impl Fitted {
     /// The set as the runtime bakes it: AC1C2 rows (Eq. 9 applied to the XYZ weights).
-    pub fn wavelength_set(&self, d: &Derivation) -> WavelengthSet {
+    pub(crate) fn wavelength_set(&self, d: &Derivation) -> WavelengthSet {
         let what = match (&self.sensor, &self.light) {
             (Some(s), Some(l)) => std::format!("samples are the readings of sensor {s}'s {} channels, in their order (the wavelengths are the channels' peaks, not sampling wavelengths), weights fitted for reflectances under {l}", self.wavelengths_nm.len()),
             (Some(s), None) => std::format!("samples are the readings of sensor {s}'s {} channels, in their order (the wavelengths are the channels' peaks, not sampling wavelengths), weights fitted for radiances", self.wavelengths_nm.len()),

@@ -12,8 +12,9 @@ use crate::base::error::{DataError, Error};
 use crate::base::files::{data_path, read_data, read_error, sha256_hex};
 use crate::derivation::derive::Derivation;
 
-/// The shared sets' node cache, a file in the data directory: the nodes [`Problem::optimize`]
-/// found for each set in [`CACHED`], with a fingerprint of everything the search depends on.
+/// The shared sets' node cache, a file in the data directory: the nodes
+/// [`Problem::optimize`](crate::shared::Problem::optimize) found for each set in [`CACHED`],
+/// with a fingerprint of everything the search depends on.
 /// `cargo run --release -p spectral-quadrature-tools --bin tables -- --shared-cache` writes it,
 /// and a test re-runs every search and checks that it finds the same nodes (or worse ones).
 pub const CACHE_FILE: &str = "data/shared_nodes.csv";
@@ -204,7 +205,8 @@ pub fn cached_or_optimize(d: &Derivation, light: Option<&str>, n: usize) -> Resu
     })
 }
 
-/// The cache entry for one set, by a fresh search ([`Problem::optimize`]).
+/// The cache entry for one set, by a fresh search
+/// ([`Problem::optimize`](crate::shared::Problem::optimize)).
 pub fn cache_entry(d: &Derivation, light: Option<&str>, n: usize) -> Result<CacheEntry, Error> {
     let s = optimize(d, light, n)?;
     Ok(CacheEntry {

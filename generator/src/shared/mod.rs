@@ -42,6 +42,8 @@ pub use fit::{fit, Fit, FIT_LENGTHS_NM, FIT_NOISE, FIT_WEIGHTS};
 pub use interpolatory::interpolatory_a;
 pub use model::{
     eval_on_radiance, problem, problem_for, Kernel, Problem, Shared, EMPIRICAL_WEIGHT, LENGTH_NM,
-    NUGGET, TRAINING_FILE,
+    TRAINING_FILE,
 };
-pub use search::{optimize, MAX_MOVE, RANDOM_STARTS, SIZES};
+pub use search::optimize;
+
+pub(crate) use search::SIZES;

@@ -30,7 +30,7 @@ pub enum Kernel {
 
 impl Kernel {
     /// ρ at a distance in nm.
-    pub fn at(&self, distance_nm: f64) -> f64 {
+    pub(crate) fn at(&self, distance_nm: f64) -> f64 {
         match *self {
             Kernel::Matern52 { length_nm } => {
                 let d = 5f64.sqrt() * distance_nm.abs() / length_nm;
@@ -43,10 +43,11 @@ impl Kernel {
 /// The nugget (white noise added to the kernel's diagonal, relative to its variance): keeps the
 /// kriging system well conditioned when two nodes are 1 nm apart. 1e-6 is far below the
 /// reflectance measurement noise of the data (about 1e-3) and far above f64 rounding.
-pub const NUGGET: f64 = 1e-6;
+pub(crate) const NUGGET: f64 = 1e-6;
 
-/// The Matérn length of the crate's sets, nm: [`fit`] on the CIE test colour samples over
-/// [`FIT_LENGTHS_NM`] × [`FIT_WEIGHTS`] (the tests re-run the fit).
+/// The Matérn length of the crate's sets, nm: [`fit`](crate::shared::fit) on the CIE test colour
+/// samples over [`FIT_LENGTHS_NM`](crate::shared::FIT_LENGTHS_NM) ×
+/// [`FIT_WEIGHTS`](crate::shared::FIT_WEIGHTS) (the tests re-run the fit).
 pub const LENGTH_NM: f64 = 60.0;
 
 /// The empirical-covariance weight of the crate's sets, fitted with [`LENGTH_NM`].
@@ -217,7 +218,7 @@ impl Problem {
 
     /// Adds `weight` times the empirical covariance of `spectra` (about their mean) to the
     /// prior.
-    pub fn with_covariance(mut self, spectra: &[Curve], weight: f64) -> Problem {
+    pub(crate) fn with_covariance(mut self, spectra: &[Curve], weight: f64) -> Problem {
         let g = self.g;
         let rows: Vec<Vec<f64>> = spectra
             .iter()
@@ -239,15 +240,10 @@ impl Problem {
         self
     }
 
-    /// `F s` for a spectrum on the grid.
-    pub fn integrate(&self, s: &[f64]) -> [f64; 3] {
-        [0, 1, 2].map(|c| self.f[c].iter().zip(s).map(|(a, b)| a * b).sum())
-    }
-
     /// The folded weights (`w[c][i]`, for samples of r) at grid indices `nodes`, and the
     /// expected linearised CIELAB error `tr(M Σ)` (in ΔE² per unit kernel variance). `None`
     /// when the kriging system is singular.
-    pub fn solve(&self, nodes: &[usize]) -> Option<([Vec<f64>; 3], f64)> {
+    pub(crate) fn solve(&self, nodes: &[usize]) -> Option<([Vec<f64>; 3], f64)> {
         let n = nodes.len();
         if n == 0 {
             return None;
@@ -301,7 +297,7 @@ impl Problem {
     /// Rows of point samples at `wavelengths_nm` on the grid: each the linear interpolation
     /// between its two nearest grid points (a grid point itself is one 1). `None` for a
     /// wavelength outside the grid or not finite.
-    pub fn point_rows(&self, wavelengths_nm: &[f64]) -> Option<Vec<Vec<f64>>> {
+    pub(crate) fn point_rows(&self, wavelengths_nm: &[f64]) -> Option<Vec<Vec<f64>>> {
         let (first, last) = (self.grid_nm[0], self.grid_nm[self.g - 1]);
         wavelengths_nm
             .iter()
@@ -325,7 +321,7 @@ impl Problem {
 
     /// Rows of channel readings: a channel's reading is `∫ S(λ) L(λ) r(λ) dλ`, S its
     /// sensitivity and L this problem's light (ones for radiances), on the 1 nm grid.
-    pub fn channel_rows(&self, channels: &[Curve]) -> Vec<Vec<f64>> {
+    pub(crate) fn channel_rows(&self, channels: &[Curve]) -> Vec<Vec<f64>> {
         channels
             .iter()
             .map(|c| {
@@ -339,7 +335,7 @@ impl Problem {
     }
 
     /// The light on the grid at `nm`, linearly interpolated ([`point_rows`](Self::point_rows)).
-    pub fn light_at(&self, nm: f64) -> f64 {
+    pub(crate) fn light_at(&self, nm: f64) -> f64 {
         self.point_rows(&[nm]).map_or(f64::NAN, |r| {
             r[0].iter().zip(&self.light).map(|(h, l)| h * l).sum()
         })
@@ -351,7 +347,7 @@ impl Problem {
     /// integrated exactly (each sample's reading of 1 enters the constraint), and the nugget
     /// scales with that reading squared, so rows of grid points give exactly [`solve`](Self::solve)'s
     /// weights.
-    pub fn solve_rows(&self, rows: &[Vec<f64>]) -> Option<([Vec<f64>; 3], f64)> {
+    pub(crate) fn solve_rows(&self, rows: &[Vec<f64>]) -> Option<([Vec<f64>; 3], f64)> {
         let n = rows.len();
         if n == 0 || rows.iter().any(|r| r.len() != self.g) {
             return None;
@@ -405,7 +401,9 @@ impl Problem {
         self.finish(a, b)
     }
 
-    /// The expected error of [`solve`](Self::solve), infinite where it fails.
+    /// The expected linearised CIELAB error `tr(M Σ)` (in ΔE² per unit kernel variance) of the
+    /// set at grid indices `nodes`, as [`set_at`](Self::set_at) gives it; infinite where the
+    /// kriging system is singular.
     pub fn objective(&self, nodes: &[usize]) -> f64 {
         self.solve(nodes).map_or(f64::INFINITY, |s| s.1)
     }
@@ -476,7 +474,8 @@ pub struct Shared {
     pub light_at_nodes: Vec<f64>,
     /// Folded XYZ weights `w[c][i]` for samples of r (reflectance under the light, or radiance).
     pub xyz_weights: [Vec<f64>; 3],
-    /// The expected linearised CIELAB error of [`Problem::solve`].
+    /// The expected linearised CIELAB error `tr(M Σ)`, in ΔE² per unit kernel variance
+    /// ([`Problem::objective`]).
     pub expected_error: f64,
 }
 
@@ -500,7 +499,7 @@ impl Shared {
     }
 
     /// The set as the runtime bakes it: AC1C2 rows (Eq. 9 applied to the folded XYZ weights).
-    pub fn wavelength_set(&self, d: &Derivation, name: &str) -> WavelengthSet {
+    pub(crate) fn wavelength_set(&self, d: &Derivation, name: &str) -> WavelengthSet {
         let n = self.wavelengths_nm.len();
         let what = match &self.light {
             Some(l) => std::format!("samples are reflectances under illuminant {l}, folded into the weights (a reflectance of 1 has the Y of a radiance of 1)"),

@@ -9,21 +9,16 @@ use crate::base::error::Error;
 use crate::derivation::derive::Derivation;
 
 /// Random starts of coordinate descent, besides greedy selection and three even spreads.
-pub const RANDOM_STARTS: usize = 12;
+pub(crate) const RANDOM_STARTS: usize = 12;
 
 /// How far (1 nm grid steps) coordinate descent tries to move one node.
-pub const MAX_MOVE: usize = 12;
+pub(crate) const MAX_MOVE: usize = 12;
 
 /// Shared-set sizes the catalog builds: `KQ_3` … `KQ_32`.
-pub const SIZES: core::ops::RangeInclusive<usize> = 3..=32;
+pub(crate) const SIZES: core::ops::RangeInclusive<usize> = 3..=32;
 
 impl Problem {
-    /// Greedy selection of `n` allowed grid indices, each the one that most lowers the error.
-    pub fn greedy(&self, n: usize) -> Vec<usize> {
-        self.greedy_with(n, &|nodes| self.objective(nodes))
-    }
-
-    /// [`greedy`](Self::greedy) for any objective.
+    /// Greedy selection of `n` allowed grid indices, each the one that most lowers `objective`.
     fn greedy_with(&self, n: usize, objective: &dyn Fn(&[usize]) -> f64) -> Vec<usize> {
         let mut nodes: Vec<usize> = Vec::with_capacity(n);
         for _ in 0..n {
@@ -49,12 +44,7 @@ impl Problem {
     }
 
     /// Coordinate descent: moves one node at a time by up to ±[`MAX_MOVE`] grid steps while that
-    /// lowers the error. Returns the nodes (ascending) and their error.
-    pub fn refine(&self, nodes: Vec<usize>) -> (Vec<usize>, f64) {
-        self.refine_with(nodes, &|nodes| self.objective(nodes))
-    }
-
-    /// [`refine`](Self::refine) for any objective.
+    /// lowers `objective`. Returns the nodes (ascending) and their error.
     fn refine_with(
         &self,
         mut nodes: Vec<usize>,
@@ -95,7 +85,7 @@ impl Problem {
         (nodes, current)
     }
 
-    /// Evenly spaced allowed grid indices (a start for [`refine`](Self::refine)).
+    /// Evenly spaced allowed grid indices (a start for coordinate descent).
     fn spread(&self, n: usize, offset: f64) -> Vec<usize> {
         let allowed: Vec<usize> = (0..self.g).filter(|&c| self.allowed[c]).collect();
         let mut nodes: Vec<usize> = (0..n)
