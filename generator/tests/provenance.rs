@@ -12,11 +12,21 @@ fn crate_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
 }
 
-/// The `  <label> sha256=<hex>` lines of a generated header.
+/// The `  <label> sha256=<hex>` lines of a generated header. The header comment wraps a line
+/// too long for 100 columns, its continuation indented four more (`//       sha256=<hex>`).
 fn inputs(tables_rs: &str) -> Vec<(String, String)> {
-    tables_rs
-        .lines()
-        .take_while(|l| l.starts_with("//"))
+    let mut lines: Vec<String> = Vec::new();
+    for l in tables_rs.lines().take_while(|l| l.starts_with("//")) {
+        match (l.strip_prefix("//     "), lines.last_mut()) {
+            (Some(rest), Some(last)) => {
+                last.push(' ');
+                last.push_str(rest.trim_start());
+            }
+            _ => lines.push(l.to_string()),
+        }
+    }
+    lines
+        .iter()
         .filter_map(|l| l.strip_prefix("//   "))
         .map(|l| {
             let (label, sha) = l.split_once(" sha256=").expect("label sha256=hex");

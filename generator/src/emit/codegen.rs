@@ -1,12 +1,15 @@
 //! Writes the runtime's `tables.rs` from a [`Derivation`]: `const` items with doc comments and a
 //! header naming the inputs and their checksums (no timestamp, so the output only changes when
 //! an input does). f64 values are rounded to f32 with `as f32` and printed with Rust's shortest
-//! round-trip formatting, so the baked constant is exactly `value as f32`.
+//! round-trip formatting, so the baked constant is exactly `value as f32`. The items are laid out
+//! as rustfmt lays them out, at most 100 columns wide (`layout`), so that a person can read what
+//! a scene bakes.
 
 use std::fmt::Write as _;
 use std::string::{String, ToString};
 use std::vec::Vec;
 
+use super::layout::{self, Expr};
 use super::transfer_tables::gamma_encoders_rs;
 use crate::base::error::Error;
 use crate::derivation::derive::Derivation;
@@ -31,57 +34,95 @@ pub fn f32_literal(v: f64) -> Result<String, Error> {
     Ok(s)
 }
 
-fn list(values: &[f64]) -> Result<String, Error> {
-    let items: Result<Vec<String>, Error> = values.iter().map(|&v| f32_literal(v)).collect();
-    Ok(std::format!("[{}]", items?.join(", ")))
+/// An array of f64 values rounded to f32.
+fn f32s(values: &[f64]) -> Result<Expr, Error> {
+    values
+        .iter()
+        .map(|&v| f32_literal(v).map(Expr::Atom))
+        .collect::<Result<Vec<_>, _>>()
+        .map(Expr::Array)
 }
 
-fn matrix(m: &[[f64; 3]; 3]) -> Result<String, Error> {
-    Ok(std::format!(
-        "[{}, {}, {}]",
-        list(&m[0])?,
-        list(&m[1])?,
-        list(&m[2])?
+fn matrix(m: &[[f64; 3]; 3]) -> Result<Expr, Error> {
+    Ok(Expr::Array(std::vec![
+        f32s(&m[0])?,
+        f32s(&m[1])?,
+        f32s(&m[2])?
+    ]))
+}
+
+/// A `const` or `static` item with its doc comment, at block indent `indent`.
+fn item(o: &mut String, indent: usize, doc: &str, lhs: &str, value: &Expr) {
+    o.push_str(&layout::comment(indent, "///", doc, 0));
+    o.push_str(&layout::item(indent, lhs, value));
+    o.push('\n');
+}
+
+fn set_literal(set: &WavelengthSet) -> Result<Expr, Error> {
+    Ok(Expr::Struct(
+        "WavelengthSet".into(),
+        std::vec![
+            ("wavelengths_nm".into(), f32s(&set.wavelengths_nm)?),
+            ("weights".into(), weights(&set.weights)?),
+            ("samples".into(), samples_literal(set)),
+        ],
     ))
 }
 
-fn set_literal(set: &WavelengthSet) -> Result<String, Error> {
-    Ok(std::format!(
-        "WavelengthSet {{\n    wavelengths_nm: {},\n    weights: [\n        {},\n        {},\n        {},\n    ],\n    samples: {},\n}}",
-        list(&set.wavelengths_nm)?,
-        list(&set.weights[0])?,
-        list(&set.weights[1])?,
-        list(&set.weights[2])?,
-        samples_literal(set),
-    ))
+fn weights(w: &[Vec<f64>; 3]) -> Result<Expr, Error> {
+    Ok(Expr::Array(std::vec![
+        f32s(&w[0])?,
+        f32s(&w[1])?,
+        f32s(&w[2])?
+    ]))
 }
 
 /// The runtime's `Samples` value for a set.
-fn samples_literal(set: &WavelengthSet) -> String {
+fn samples_literal(set: &WavelengthSet) -> Expr {
+    let quoted = |s: &str| Expr::atom(std::format!("{s:?}"));
     match (&set.sensor, &set.light) {
-        (Some(s), Some(l)) => {
-            std::format!("Samples::Readings {{ sensor: {s:?}, light: Some({l:?}) }}")
-        }
-        (Some(s), None) => std::format!("Samples::Readings {{ sensor: {s:?}, light: None }}"),
-        (None, Some(l)) => std::format!("Samples::Reflectance {{ light: {l:?} }}"),
-        (None, None) => "Samples::Radiance".into(),
+        (Some(s), light) => Expr::Struct(
+            "Samples::Readings".into(),
+            std::vec![
+                ("sensor".into(), quoted(s)),
+                (
+                    "light".into(),
+                    Expr::atom(match light {
+                        Some(l) => std::format!("Some({l:?})"),
+                        None => "None".into(),
+                    }),
+                ),
+            ],
+        ),
+        (None, Some(l)) => Expr::Struct(
+            "Samples::Reflectance".into(),
+            std::vec![("light".into(), quoted(l))],
+        ),
+        (None, None) => Expr::atom("Samples::Radiance"),
     }
 }
 
-fn rule_literal(channel: usize, rule: &Rule) -> Result<String, Error> {
-    let defined = rule.is_defined();
-    let (nodes, weights) = if defined {
-        (list(&rule.nodes_nm)?, list(&rule.weights)?)
+fn rule_literal(channel: usize, rule: &Rule) -> Result<Expr, Error> {
+    let (nodes, weights) = if rule.is_defined() {
+        (f32s(&rule.nodes_nm)?, f32s(&rule.weights)?)
     } else {
-        ("[]".into(), "[]".into())
+        (Expr::Array(Vec::new()), Expr::Array(Vec::new()))
     };
-    Ok(std::format!(
-        "GaussRule {{ channel: Channel::{}, order: {}, status: RuleStatus::{}, wavelengths_nm: &{}, weights: &{} }}",
-        CHANNELS[channel],
-        rule.order,
-        rule.status.variant(),
-        nodes,
-        weights
+    Ok(Expr::Struct(
+        "GaussRule".into(),
+        std::vec![
+            (
+                "channel".into(),
+                Expr::atom(std::format!("Channel::{}", CHANNELS[channel]))
+            ),
+            ("order".into(), Expr::atom(rule.order.to_string())),
+            (
+                "status".into(),
+                Expr::atom(std::format!("RuleStatus::{}", rule.status.variant()))
+            ),
+            ("wavelengths_nm".into(), nodes.by_ref()),
+            ("weights".into(), weights.by_ref()),
+        ],
     ))
 }
 
@@ -109,6 +150,8 @@ pub(crate) fn header(d: &Derivation, inputs: &[(String, String)], scene: &Resolv
 }
 
 /// The generated Rust source for a scene. `inputs` lists (file label, SHA-256) for the header.
+/// It is laid out as rustfmt lays it out: at most 100 columns, one array item a line, or short
+/// numbers filling their lines.
 pub fn tables_rs(
     d: &Derivation,
     inputs: &[(String, String)],
@@ -120,9 +163,7 @@ pub fn tables_rs(
     let max_order = s.max_order;
     let mut floats = 0usize;
     let header = header(d, inputs, scene);
-    for line in header.lines() {
-        writeln!(o, "// {line}").ok();
-    }
+    o.push_str(&layout::comment(0, "//", header.trim_end(), 4));
     writeln!(o).ok();
     writeln!(
         o,
@@ -130,164 +171,197 @@ pub fn tables_rs(
     )
     .ok();
 
-    writeln!(o, "/// The scene these tables were baked for (`default`, or the file named by `SPECTRAL_QUADRATURE_SCENE`).").ok();
-    writeln!(o, "pub const SCENE: &str = {:?};", scene.file).ok();
-    writeln!(o, "/// The observer the tables were derived from.").ok();
-    writeln!(o, "pub const OBSERVER: &str = {:?};", s.observer.name()).ok();
-    writeln!(o, "/// The derivation's settings, as one line.").ok();
-    writeln!(o, "pub const SETTINGS: &str = {:?};", s.describe()).ok();
-    writeln!(o, "/// The header of the generated tables: the generator, the settings, the scene, and every input file with its SHA-256 (the provenance a firmware can log at start-up).").ok();
-    writeln!(o, "pub const HEADER: &str = {header:?};").ok();
-    writeln!(o, "/// The input files (relative to the crate root, or as the scene names them) and their SHA-256 checksums: the observer, the scene and any file it names, and every data file a baked set was made from (a shared set's training reflectances, light and node cache).").ok();
-    let inputs_lit: Vec<String> = inputs
+    let quoted = |s: &str| Expr::atom(std::format!("{s:?}"));
+    item(
+        &mut o,
+        0,
+        "The scene these tables were baked for (`default`, or the file named by `SPECTRAL_QUADRATURE_SCENE`).",
+        "pub const SCENE: &str =",
+        &quoted(&scene.file),
+    );
+    item(
+        &mut o,
+        0,
+        "The observer the tables were derived from.",
+        "pub const OBSERVER: &str =",
+        &quoted(s.observer.name()),
+    );
+    item(
+        &mut o,
+        0,
+        "The derivation's settings, as one line.",
+        "pub const SETTINGS: &str =",
+        &quoted(&s.describe()),
+    );
+    let header_lhs = "pub const HEADER: &str =";
+    item(
+        &mut o,
+        0,
+        "The header of the generated tables: the generator, the settings, the scene, and every input file with its SHA-256 (the provenance a firmware can log at start-up).",
+        header_lhs,
+        &Expr::atom(layout::string_literal(&header, header_lhs.len() + 1)),
+    );
+    let inputs_lit: Vec<Expr> = inputs
         .iter()
-        .map(|(f, h)| std::format!("({f:?}, {h:?})"))
+        .map(|(f, h)| Expr::Tuple(std::vec![quoted(f), quoted(h)]))
         .collect();
-    writeln!(
-        o,
-        "pub const INPUTS: &[(&str, &str)] = &[{}];",
-        inputs_lit.join(", ")
-    )
-    .ok();
-    writeln!(o, "/// The spectrum's limits in nm (Eq. 2).").ok();
-    writeln!(o, "pub const RANGE_NM: [f32; 2] = {};", list(&s.range_nm)?).ok();
-    writeln!(o, "/// The grid step in nm: weights are for dλ in nm.").ok();
-    writeln!(o, "pub const STEP_NM: f32 = {};", f32_literal(s.step_nm)?).ok();
-    writeln!(o, "/// Eq. 9: `[A, C1, C2] = XYZ_TO_AC1C2 · [X, Y, Z]` (rows scaled to unit peak sensitivity).").ok();
-    writeln!(
-        o,
-        "pub const XYZ_TO_AC1C2: [[f32; 3]; 3] = {};",
-        matrix(&d.opponent.xyz_to_ac1c2)?
-    )
-    .ok();
-    writeln!(
-        o,
-        "/// The inverse of [`XYZ_TO_AC1C2`]: `[X, Y, Z] = AC1C2_TO_XYZ · [A, C1, C2]`."
-    )
-    .ok();
-    writeln!(
-        o,
-        "pub const AC1C2_TO_XYZ: [[f32; 3]; 3] = {};",
-        matrix(&d.opponent.ac1c2_to_xyz)?
-    )
-    .ok();
-    writeln!(
-        o,
-        "/// Eq. 10: eigenvalues of the covariance matrix of Eq. 4 for A, C1, C2 (largest first)."
-    )
-    .ok();
-    writeln!(
-        o,
-        "pub const EIGENVALUES: [f32; 3] = {};",
-        list(&d.opponent.eigenvalues)?
-    )
-    .ok();
-    writeln!(o, "/// ∫ ȳ dλ over the grid (dλ in nm): the luminance Y of a spectrum of constant 1 with these weights' units. The folded sets divide by it.").ok();
-    writeln!(
-        o,
-        "pub const UNIT_SPECTRUM_Y: f32 = {};\n",
-        f32_literal(d.unit_spectrum_y)?
-    )
-    .ok();
+    item(
+        &mut o,
+        0,
+        "The input files (relative to the crate root, or as the scene names them) and their SHA-256 checksums: the observer, the scene and any file it names, and every data file a baked set was made from (a shared set's training reflectances, light and node cache).",
+        "pub const INPUTS: &[(&str, &str)] =",
+        &Expr::Array(inputs_lit).by_ref(),
+    );
+    item(
+        &mut o,
+        0,
+        "The spectrum's limits in nm (Eq. 2).",
+        "pub const RANGE_NM: [f32; 2] =",
+        &f32s(&s.range_nm)?,
+    );
+    item(
+        &mut o,
+        0,
+        "The grid step in nm: weights are for dλ in nm.",
+        "pub const STEP_NM: f32 =",
+        &Expr::Atom(f32_literal(s.step_nm)?),
+    );
+    item(
+        &mut o,
+        0,
+        "Eq. 9: `[A, C1, C2] = XYZ_TO_AC1C2 · [X, Y, Z]` (rows scaled to unit peak sensitivity).",
+        "pub const XYZ_TO_AC1C2: [[f32; 3]; 3] =",
+        &matrix(&d.opponent.xyz_to_ac1c2)?,
+    );
+    item(
+        &mut o,
+        0,
+        "The inverse of [`XYZ_TO_AC1C2`]: `[X, Y, Z] = AC1C2_TO_XYZ · [A, C1, C2]`.",
+        "pub const AC1C2_TO_XYZ: [[f32; 3]; 3] =",
+        &matrix(&d.opponent.ac1c2_to_xyz)?,
+    );
+    item(
+        &mut o,
+        0,
+        "Eq. 10: eigenvalues of the covariance matrix of Eq. 4 for A, C1, C2 (largest first).",
+        "pub const EIGENVALUES: [f32; 3] =",
+        &f32s(&d.opponent.eigenvalues)?,
+    );
+    item(
+        &mut o,
+        0,
+        "∫ ȳ dλ over the grid (dλ in nm): the luminance Y of a spectrum of constant 1 with these weights' units. The folded sets divide by it.",
+        "pub const UNIT_SPECTRUM_Y: f32 =",
+        &Expr::Atom(f32_literal(d.unit_spectrum_y)?),
+    );
+    writeln!(o).ok();
     floats += 9 + 9 + 3 + 1;
 
     if scene.extras.sensitivities {
-        writeln!(o, "/// The number of grid wavelengths.").ok();
-        writeln!(o, "pub const GRID_LEN: usize = {n_grid};").ok();
-        writeln!(o, "/// The grid wavelengths in nm.").ok();
-        writeln!(
-            o,
-            "pub const GRID_NM: [f32; GRID_LEN] = {};",
-            list(&d.grid_nm)?
-        )
-        .ok();
-        writeln!(
-            o,
-            "/// The opponent sensitivities `[ā, c̄1, c̄2]` at each grid wavelength (Fig. 4)."
-        )
-        .ok();
-        let rows: Result<Vec<String>, Error> = d.sensitivities.iter().map(|r| list(r)).collect();
-        writeln!(
-            o,
-            "pub const SENSITIVITIES: [[f32; 3]; GRID_LEN] = [\n    {},\n];\n",
-            rows?.join(",\n    ")
-        )
-        .ok();
+        item(
+            &mut o,
+            0,
+            "The number of grid wavelengths.",
+            "pub const GRID_LEN: usize =",
+            &Expr::atom(n_grid.to_string()),
+        );
+        item(
+            &mut o,
+            0,
+            "The grid wavelengths in nm.",
+            "pub const GRID_NM: [f32; GRID_LEN] =",
+            &f32s(&d.grid_nm)?,
+        );
+        let rows = d
+            .sensitivities
+            .iter()
+            .map(|r| f32s(r))
+            .collect::<Result<Vec<_>, Error>>()?;
+        item(
+            &mut o,
+            0,
+            "The opponent sensitivities `[ā, c̄1, c̄2]` at each grid wavelength (Fig. 4).",
+            "pub const SENSITIVITIES: [[f32; 3]; GRID_LEN] =",
+            &Expr::Array(rows),
+        );
+        writeln!(o).ok();
         floats += 4 * n_grid;
     }
 
     if scene.extras.rules {
-        writeln!(
-            o,
-            "/// Rules were formed for orders 1..=MAX_ORDER in each channel."
-        )
-        .ok();
-        writeln!(o, "pub const MAX_ORDER: usize = {max_order};").ok();
+        item(
+            &mut o,
+            0,
+            "Rules were formed for orders 1..=MAX_ORDER in each channel.",
+            "pub const MAX_ORDER: usize =",
+            &Expr::atom(max_order.to_string()),
+        );
         for (c, name) in CHANNELS.iter().enumerate() {
-            writeln!(o, "/// Channel {name}'s Gauss rules, `{name}_RULES[n - 1]` of order n: nodes and weights, or why the order is undefined.").ok();
-            let items: Result<Vec<String>, Error> =
-                d.rules[c].iter().map(|r| rule_literal(c, r)).collect();
-            writeln!(
-                o,
-                "pub const {name}_RULES: [GaussRule; MAX_ORDER] = [\n    {},\n];",
-                items?.join(",\n    ")
-            )
-            .ok();
+            let items = d.rules[c]
+                .iter()
+                .map(|r| rule_literal(c, r))
+                .collect::<Result<Vec<_>, Error>>()?;
+            item(
+                &mut o,
+                0,
+                &std::format!("Channel {name}'s Gauss rules, `{name}_RULES[n - 1]` of order n: nodes and weights, or why the order is undefined."),
+                &std::format!("pub const {name}_RULES: [GaussRule; MAX_ORDER] ="),
+                &Expr::Array(items),
+            );
             floats += d.rules[c]
                 .iter()
                 .filter(|r| r.is_defined())
                 .map(|r| 2 * r.order)
                 .sum::<usize>();
         }
-        writeln!(
-            o,
-            "/// All rules, indexed `[channel][order - 1]` with channels A, C1, C2."
-        )
-        .ok();
-        writeln!(
-            o,
-            "pub const RULES: [[GaussRule; MAX_ORDER]; 3] = [A_RULES, C1_RULES, C2_RULES];\n"
-        )
-        .ok();
+        item(
+            &mut o,
+            0,
+            "All rules, indexed `[channel][order - 1]` with channels A, C1, C2.",
+            "pub const RULES: [[GaussRule; MAX_ORDER]; 3] =",
+            &Expr::Array(std::vec![
+                Expr::atom("A_RULES"),
+                Expr::atom("C1_RULES"),
+                Expr::atom("C2_RULES")
+            ]),
+        );
+        writeln!(o).ok();
     }
 
     if !scene.rule_sets.is_empty() {
-        writeln!(o, "/// Per-channel Gauss rules as [`WavelengthSet`]s (the other two rows zero), named `<channel>_<order>`.").ok();
+        o.push_str(&layout::comment(0, "///", "Per-channel Gauss rules as [`WavelengthSet`]s (the other two rows zero), named `<channel>_<order>`.", 0));
         writeln!(
             o,
             "pub mod rules {{\n    use crate::{{Samples, WavelengthSet}};"
         )
         .ok();
         for set in &scene.rule_sets {
-            writeln!(o, "    /// {}", set.doc).ok();
-            writeln!(
-                o,
-                "    pub const {}: WavelengthSet<{}> = {};",
-                set.name,
-                set.len(),
-                set_literal(set)?.replace('\n', "\n    ")
-            )
-            .ok();
+            item(
+                &mut o,
+                4,
+                &set.doc,
+                &std::format!("pub const {}: WavelengthSet<{}> =", set.name, set.len()),
+                &set_literal(set)?,
+            );
             floats += 4 * set.len();
         }
         writeln!(o, "}}\n").ok();
     }
 
     for set in &scene.colour_sets {
-        writeln!(o, "/// {}", set.doc).ok();
-        writeln!(
-            o,
-            "pub const {}: WavelengthSet<{}> = {};",
-            set.name,
-            set.len(),
-            set_literal(set)?
-        )
-        .ok();
+        item(
+            &mut o,
+            0,
+            &set.doc,
+            &std::format!("pub const {}: WavelengthSet<{}> =", set.name, set.len()),
+            &set_literal(set)?,
+        );
         floats += 4 * set.len();
     }
 
     if !scene.displays.is_empty() {
-        writeln!(o, "\n/// Displays: primaries, white and transfer function, with matrices derived in f64 (white at Y = 1).").ok();
+        writeln!(o).ok();
+        o.push_str(&layout::comment(0, "///", "Displays: primaries, white and transfer function, with matrices derived in f64 (white at Y = 1).", 0));
         writeln!(
             o,
             "pub mod displays {{\n    use crate::{{Display, TransferFunction}};"
@@ -309,36 +383,50 @@ pub fn tables_rs(
                     std::format!("TransferFunction::Gamma({})", f32_literal(g)?)
                 }
             };
-            writeln!(o, "    /// {} White balance Y_r : Y_g : Y_b = {:.4} : {:.4} : {:.4}; matrix condition number {:.2}.", spec.doc, m.luminance[0], m.luminance[1], m.luminance[2], m.condition).ok();
-            writeln!(
-                o,
-                "    pub const {}: Display = Display {{\n        name: {:?},\n        primaries_xy: [{}, {}, {}],\n        white_xy: {},\n        rgb_to_xyz: {},\n        xyz_to_rgb: {},\n        a_from_rgb: {},\n        transfer: {transfer},\n    }};",
-                spec.name,
-                spec.label,
-                list(&spec.primaries_xy[0])?,
-                list(&spec.primaries_xy[1])?,
-                list(&spec.primaries_xy[2])?,
-                list(&spec.white_xy)?,
-                matrix(&m.rgb_to_xyz)?,
-                matrix(&m.xyz_to_rgb)?,
-                list(&a_from_rgb)?,
-            )
-            .ok();
+            let display = Expr::Struct(
+                "Display".into(),
+                std::vec![
+                    ("name".into(), quoted(&spec.label)),
+                    (
+                        "primaries_xy".into(),
+                        Expr::Array(std::vec![
+                            f32s(&spec.primaries_xy[0])?,
+                            f32s(&spec.primaries_xy[1])?,
+                            f32s(&spec.primaries_xy[2])?,
+                        ]),
+                    ),
+                    ("white_xy".into(), f32s(&spec.white_xy)?),
+                    ("rgb_to_xyz".into(), matrix(&m.rgb_to_xyz)?),
+                    ("xyz_to_rgb".into(), matrix(&m.xyz_to_rgb)?),
+                    ("a_from_rgb".into(), f32s(&a_from_rgb)?),
+                    ("transfer".into(), Expr::Atom(transfer)),
+                ],
+            );
+            item(
+                &mut o,
+                4,
+                &std::format!(
+                    "{} White balance Y_r : Y_g : Y_b = {:.4} : {:.4} : {:.4}; matrix condition number {:.2}.",
+                    spec.doc, m.luminance[0], m.luminance[1], m.luminance[2], m.condition
+                ),
+                &std::format!("pub const {}: Display =", spec.name),
+                &display,
+            );
             floats += 6 + 2 + 9 + 9 + 3;
-            names.push(spec.name.clone());
+            names.push(Expr::atom(spec.name.clone()));
         }
-        writeln!(o, "    /// Every display above.").ok();
-        writeln!(
-            o,
-            "    pub const ALL: [Display; {}] = [{}];\n}}\n",
-            names.len(),
-            names.join(", ")
-        )
-        .ok();
+        item(
+            &mut o,
+            4,
+            "Every display above.",
+            &std::format!("pub const ALL: [Display; {}] =", names.len()),
+            &Expr::Array(names),
+        );
+        writeln!(o, "}}\n").ok();
     }
 
     if !scene.colour_sets.is_empty() && !scene.displays.is_empty() {
-        writeln!(o, "/// Each colour set folded for each display: samples → linear RGB in one 3×N product, a spectrum of constant 1 at Y = 1. Named `<SET>_<DISPLAY>`.").ok();
+        o.push_str(&layout::comment(0, "///", "Each colour set folded for each display: samples → linear RGB in one 3×N product, a spectrum of constant 1 at Y = 1. Named `<SET>_<DISPLAY>`.", 0));
         writeln!(
             o,
             "pub mod folded {{\n    use crate::{{FoldedSet, Samples}};"
@@ -346,27 +434,36 @@ pub fn tables_rs(
         .ok();
         for set in &scene.colour_sets {
             for (spec, m) in &scene.displays {
-                let w = d.folded(set, m);
-                writeln!(
-                    o,
-                    "    /// [`{}`](super::{}) folded for [`{}`](super::displays::{}).",
-                    set.name, set.name, spec.name, spec.name
-                )
-                .ok();
-                writeln!(
-                    o,
-                    "    pub const {}_{}: FoldedSet<{}> = FoldedSet {{\n        wavelengths_nm: {},\n        weights: [\n            {},\n            {},\n            {},\n        ],\n        samples: {},\n        display: super::displays::{},\n    }};",
-                    set.name,
-                    spec.name,
-                    set.len(),
-                    list(&set.wavelengths_nm)?,
-                    list(&w[0])?,
-                    list(&w[1])?,
-                    list(&w[2])?,
-                    samples_literal(set),
-                    spec.name,
-                )
-                .ok();
+                let folded = Expr::Struct(
+                    "FoldedSet".into(),
+                    std::vec![
+                        ("wavelengths_nm".into(), f32s(&set.wavelengths_nm)?),
+                        ("weights".into(), weights(&d.folded(set, m))?),
+                        ("samples".into(), samples_literal(set)),
+                        (
+                            "display".into(),
+                            Expr::atom(std::format!("super::displays::{}", spec.name)),
+                        ),
+                    ],
+                );
+                item(
+                    &mut o,
+                    4,
+                    &std::format!(
+                        "[`{}`](super::{}) folded for [`{}`](super::displays::{}).",
+                        set.name,
+                        set.name,
+                        spec.name,
+                        spec.name
+                    ),
+                    &std::format!(
+                        "pub const {}_{}: FoldedSet<{}> =",
+                        set.name,
+                        spec.name,
+                        set.len()
+                    ),
+                    &folded,
+                );
                 floats += 4 * set.len();
             }
         }
@@ -374,78 +471,95 @@ pub fn tables_rs(
     }
     // Every table as a slice, so a program can link them all (examples/size_probe measures
     // what a scene costs when nothing is left unused).
-    let mut all: Vec<(String, String)> = std::vec![
-        ("XYZ_TO_AC1C2".into(), "XYZ_TO_AC1C2.as_flattened()".into()),
-        ("AC1C2_TO_XYZ".into(), "AC1C2_TO_XYZ.as_flattened()".into()),
-        ("EIGENVALUES".into(), "&EIGENVALUES".into()),
+    let chain = |root: &str, children: &[&str]| {
+        Expr::Chain(
+            root.into(),
+            children.iter().map(|c| String::from(*c)).collect(),
+        )
+    };
+    let mut all: Vec<(String, Expr)> = std::vec![
+        (
+            "XYZ_TO_AC1C2".into(),
+            chain("XYZ_TO_AC1C2", &[".as_flattened()"])
+        ),
+        (
+            "AC1C2_TO_XYZ".into(),
+            chain("AC1C2_TO_XYZ", &[".as_flattened()"])
+        ),
+        ("EIGENVALUES".into(), Expr::atom("EIGENVALUES").by_ref()),
     ];
     if scene.extras.sensitivities {
-        all.push(("GRID_NM".into(), "&GRID_NM".into()));
+        all.push(("GRID_NM".into(), Expr::atom("GRID_NM").by_ref()));
         all.push((
             "SENSITIVITIES".into(),
-            "SENSITIVITIES.as_flattened()".into(),
+            chain("SENSITIVITIES", &[".as_flattened()"]),
         ));
     }
     if scene.extras.rules {
         for (c, name) in CHANNELS.iter().enumerate() {
             for r in d.rules[c].iter().filter(|r| r.is_defined()) {
                 let i = r.order - 1;
+                let root = std::format!("{name}_RULES[{i}]");
                 all.push((
-                    std::format!("{name}_RULES[{i}].wavelengths_nm"),
-                    std::format!("{name}_RULES[{i}].wavelengths_nm"),
+                    std::format!("{root}.wavelengths_nm"),
+                    chain(&root, &[".wavelengths_nm"]),
                 ));
-                all.push((
-                    std::format!("{name}_RULES[{i}].weights"),
-                    std::format!("{name}_RULES[{i}].weights"),
-                ));
+                all.push((std::format!("{root}.weights"), chain(&root, &[".weights"])));
             }
         }
     }
     for set in &scene.rule_sets {
-        let n = &set.name;
+        let root = std::format!("rules::{}", set.name);
+        all.push((root.clone(), chain(&root, &[".wavelengths_nm"]).by_ref()));
         all.push((
-            std::format!("rules::{n}"),
-            std::format!("&rules::{n}.wavelengths_nm"),
-        ));
-        all.push((
-            std::format!("rules::{n}.weights"),
-            std::format!("rules::{n}.weights.as_flattened()"),
+            std::format!("{root}.weights"),
+            chain(&root, &[".weights", ".as_flattened()"]),
         ));
     }
     for set in &scene.colour_sets {
         let n = &set.name;
-        all.push((n.clone(), std::format!("&{n}.wavelengths_nm")));
+        all.push((n.clone(), chain(n, &[".wavelengths_nm"]).by_ref()));
         all.push((
             std::format!("{n}.weights"),
-            std::format!("{n}.weights.as_flattened()"),
+            chain(n, &[".weights", ".as_flattened()"]),
         ));
         for (spec, _) in &scene.displays {
             let f = std::format!("folded::{n}_{}", spec.name);
             all.push((
                 std::format!("{f}.weights"),
-                std::format!("{f}.weights.as_flattened()"),
+                chain(&f, &[".weights", ".as_flattened()"]),
             ));
         }
     }
     for (spec, _) in &scene.displays {
-        let n = &spec.name;
+        let n = std::format!("displays::{}", spec.name);
         all.push((
-            std::format!("displays::{n}.rgb_to_xyz"),
-            std::format!("displays::{n}.rgb_to_xyz.as_flattened()"),
+            std::format!("{n}.rgb_to_xyz"),
+            chain(&n, &[".rgb_to_xyz", ".as_flattened()"]),
         ));
         all.push((
-            std::format!("displays::{n}.xyz_to_rgb"),
-            std::format!("displays::{n}.xyz_to_rgb.as_flattened()"),
+            std::format!("{n}.xyz_to_rgb"),
+            chain(&n, &[".xyz_to_rgb", ".as_flattened()"]),
         ));
     }
-    writeln!(o, "/// Every numeric table above as a slice, by name: for programs that must link them all (see `examples/size_probe.rs`).").ok();
-    writeln!(o, "pub static ALL_TABLES: &[(&str, &[f32])] = &[").ok();
-    for (name, expr) in &all {
-        writeln!(o, "    ({name:?}, {expr}),").ok();
-    }
-    writeln!(o, "];").ok();
-    writeln!(o, "/// Bytes of the numeric tables above (f32 values; rule tables count their nodes and weights): what the scene bakes.").ok();
-    writeln!(o, "pub const TABLE_BYTES: usize = {};", 4 * floats).ok();
+    let all = all
+        .into_iter()
+        .map(|(name, e)| Expr::Tuple(std::vec![quoted(&name), e]))
+        .collect();
+    item(
+        &mut o,
+        0,
+        "Every numeric table above as a slice, by name: for programs that must link them all (see `examples/size_probe.rs`).",
+        "pub static ALL_TABLES: &[(&str, &[f32])] =",
+        &Expr::Array(all).by_ref(),
+    );
+    item(
+        &mut o,
+        0,
+        "Bytes of the numeric tables above (f32 values; rule tables count their nodes and weights): what the scene bakes.",
+        "pub const TABLE_BYTES: usize =",
+        &Expr::atom((4 * floats).to_string()),
+    );
     o.push_str(&gamma_encoders_rs(
         scene.displays.iter().map(|(spec, _)| &spec.transfer),
     ));

@@ -5,5 +5,6 @@
 
 pub mod codegen;
 pub(crate) mod generate;
+pub(crate) mod layout;
 pub mod shader;
 pub(crate) mod transfer_tables;

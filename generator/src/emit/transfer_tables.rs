@@ -7,6 +7,7 @@
 use std::string::String;
 use std::vec::Vec;
 
+use super::layout::{self, Expr};
 use crate::derivation::display::Transfer;
 
 /// The bits of the smallest f32 at or above `t` (t ≥ 0 and finite): 1 (the smallest subnormal)
@@ -46,22 +47,41 @@ pub(crate) fn gamma_encoders_rs<'a>(transfers: impl IntoIterator<Item = &'a Tran
             }
         }
     }
-    let mut o = String::from(
-        "/// The 8-bit encoders of the baked displays' power laws (`TransferFunction::Gamma`), one per distinct γ: thresholds from generator/src/emit/transfer_tables.rs.\n",
+    let mut o = layout::comment(
+        0,
+        "///",
+        "The 8-bit encoders of the baked displays' power laws (`TransferFunction::Gamma`), one per distinct γ: thresholds from generator/src/emit/transfer_tables.rs.",
+        0,
     );
-    o.push_str(&std::format!(
-        "pub(crate) static GAMMA_ENCODERS: [crate::encode::GammaEncoder8; {}] = [\n",
-        gammas.len()
+    let encoders = gammas
+        .iter()
+        .map(|g| {
+            let t = gamma_thresholds(*g);
+            Expr::Struct(
+                "crate::encode::GammaEncoder8".into(),
+                std::vec![
+                    ("gamma".into(), Expr::atom(std::format!("{g:?}"))),
+                    (
+                        "thresholds".into(),
+                        Expr::Array(
+                            t.iter()
+                                .map(|b| Expr::atom(std::format!("{b:#010x}")))
+                                .collect(),
+                        ),
+                    ),
+                ],
+            )
+        })
+        .collect();
+    o.push_str(&layout::item(
+        0,
+        &std::format!(
+            "pub(crate) static GAMMA_ENCODERS: [crate::encode::GammaEncoder8; {}] =",
+            gammas.len()
+        ),
+        &Expr::Array(encoders),
     ));
-    for g in gammas {
-        let t = gamma_thresholds(g);
-        let items: Vec<String> = t.iter().map(|b| std::format!("{b:#010x}")).collect();
-        o.push_str(&std::format!(
-            "    crate::encode::GammaEncoder8 {{ gamma: {g:?}, thresholds: [{}] }},\n",
-            items.join(", ")
-        ));
-    }
-    o.push_str("];\n");
+    o.push('\n');
     o
 }
 
@@ -92,6 +112,6 @@ mod tests {
         let rs = gamma_encoders_rs(&ts);
         assert!(rs.contains("[crate::encode::GammaEncoder8; 2]"));
         assert!(rs.contains("gamma: 2.4,") && rs.contains("gamma: 2.2,"));
-        assert!(gamma_encoders_rs(&[Transfer::Srgb]).contains("; 0] = [\n];"));
+        assert!(gamma_encoders_rs(&[Transfer::Srgb]).contains("; 0] = [];"));
     }
 }
