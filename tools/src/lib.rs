@@ -20,6 +20,10 @@ pub mod stability;
 /// the derivation reads ([`spectral_quadrature_build::Settings::data_dir`]).
 pub const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");
 
+/// The runtime crate's root in this workspace: where its build script finds `data/` and
+/// resolves a relative `SPECTRAL_QUADRATURE_SCENE`.
+pub const CRATE_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+
 /// The paper's settings on the workspace's data ([`DATA_DIR`]).
 pub fn settings() -> spectral_quadrature_build::Settings {
     spectral_quadrature_build::Settings::new(DATA_DIR)
