@@ -50,6 +50,40 @@ fn every_scenes_tables_fit_in_100_columns() {
     }
 }
 
+/// A scene of long names and many of each thing: user sets, lights and a sensor whose names
+/// push chains, struct literals and items past their one-line widths, a one-wavelength set,
+/// every display with three transfer functions, and both extras. `dir` holds the scene file.
+fn scene_of_long_names(dir: &Path) -> String {
+    let data = crate_dir().join("data");
+    let data = data.display();
+    let text = format!(
+        r#"displays = ["DISPLAY_P3", "REC2020", "MEYER_1987", "SRGB"]
+sets = ["KQ_A_LONG_LIGHT_NAME_FOR_CHAINS_8", "AC1C2_8_6_7", "UNIFORM_64", "INTERP_A_7", "A_1", "C2_1"]
+[transfer]
+SRGB = "gamma 2.2"
+REC2020 = "linear"
+DISPLAY_P3 = "gamma 1.8"
+[extras]
+sensitivities = true
+rules = true
+[lights]
+A_LONG_LIGHT_NAME_FOR_CHAINS = "{data}/illuminant_LED_B3.csv"
+[sensors.VERY_LONG_SENSOR_NAME_THAT_GOES_ON_AND_ON]
+file = "{data}/sensor_as7341_gaussian.csv"
+[fixed.ONE]
+wavelengths_nm = [555.0]
+[fixed.MANY_WAVELENGTHS_FOR_A_FIXED_SET_WITH_A_LONG_NAME]
+wavelengths_nm = [400, 420, 440, 460, 480, 500, 520, 540, 560, 580, 600, 620, 640, 660, 680, 700]
+light = "F11"
+"#
+    );
+    let file = dir.join("long_names.toml");
+    std::fs::write(&file, text).unwrap();
+    sqd::generate(&crate_dir(), Some(file.as_os_str()))
+        .unwrap()
+        .tables_rs
+}
+
 #[test]
 fn rustfmt_leaves_every_scenes_tables_as_they_are() {
     let missing = |why: &str| {
@@ -72,8 +106,12 @@ fn rustfmt_leaves_every_scenes_tables_as_they_are() {
     // configuration holds.
     let config = dir.join("rustfmt.toml");
     std::fs::write(&config, "").unwrap();
+    let mut scenes = every_scene();
+    // Its doc links to sets of long names are single words longer than a line: only rustfmt's
+    // verdict is asked of it.
+    scenes.push(("long names".into(), scene_of_long_names(&dir)));
     let mut failures = Vec::new();
-    for (k, (scene, tables)) in every_scene().into_iter().enumerate() {
+    for (k, (scene, tables)) in scenes.into_iter().enumerate() {
         let file = dir.join(format!("tables_{k}.rs"));
         std::fs::write(&file, &tables).unwrap();
         let out = Command::new("rustfmt")

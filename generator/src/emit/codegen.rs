@@ -360,7 +360,10 @@ pub fn tables_rs(
     }
 
     if !scene.displays.is_empty() {
-        writeln!(o).ok();
+        // One blank line before the displays, also where the rule sets' module ends in one.
+        if !o.ends_with("\n\n") {
+            writeln!(o).ok();
+        }
         o.push_str(&layout::comment(0, "///", "Displays: primaries, white and transfer function, with matrices derived in f64 (white at Y = 1).", 0));
         writeln!(
             o,

@@ -282,6 +282,10 @@ fn list(
 /// [`STRUCT_LIT_WIDTH`] columns; else one field a line. A field's value goes on the field's line,
 /// or below it, indented, where it does not fit there.
 fn struct_lit(path: &str, fields: &[(String, Expr)], shape: Shape) -> Option<String> {
+    // 2 = ` {` after the path.
+    if width(path) + 2 > shape.width {
+        return None;
+    }
     let v_shape = Shape::block(shape.indent + TAB, 0);
     let field_shape = v_shape.sub_width(1)?;
     let laid = fields
