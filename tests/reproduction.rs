@@ -50,8 +50,8 @@ fn eq10_eigenvalue_ratios_within_1_5_percent() {
     for d in [paper_derivation(), default_derivation()] {
         let e = d.opponent.eigenvalues;
         let p = paper::EQ10_EIGENVALUE_RATIO;
-        // 1.5 %: the paper prints three significant digits and NOTES.md finds the last one
-        // reproducible to about 1 %.
+        // 1.5 %: the paper prints three significant digits and docs/reproducing-the-paper.md
+        // finds the last one reproducible to about 1 %.
         for (ours, printed, what) in [
             (e[0] / e[1], p[0] / p[1], "A/C1"),
             (e[1] / e[2], p[1] / p[2], "C1/C2"),
@@ -92,7 +92,8 @@ fn eq9_is_the_kl_transform() {
 fn sensitivities_peak_and_signs_as_the_paper_scales_them() {
     let d = paper_derivation();
     // On the 5 nm grid the peaks are at most 1 (they are scaled on the 1 nm table); the trough of
-    // c1 falls between grid points, so allow what NOTES.md measures (about 0.3 %).
+    // c1 falls between grid points, so allow what docs/reproducing-the-paper.md measures (about
+    // 0.3 %).
     let col = |c: usize| d.sensitivities.iter().map(move |s| s[c]);
     let max_a = col(0).fold(f64::MIN, f64::max);
     let min_c1 = col(1).fold(f64::MAX, f64::min);
@@ -274,7 +275,8 @@ fn table_1a_undefined_orders_have_the_reasons_notes_md_finds() {
 
 #[test]
 fn table_1a_weights_scale_is_a_constant_multiple() {
-    // NOTES.md: H_i ≈ 0.0099 × (weights for dλ in nm), the same factor for every channel.
+    // docs/reproducing-the-paper.md: H_i ≈ 0.0099 × (weights for dλ in nm), the same factor for
+    // every channel.
     // H_1 of A and C2 are printed to 5 decimals, so their factors agree to ~1e-5 relative; the
     // data differences allow 0.5 %.
     let d = paper_derivation();

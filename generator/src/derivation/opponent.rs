@@ -115,7 +115,8 @@ pub struct Opponent {
     pub ac1c2_to_xyz: [[f64; 3]; 3],
 }
 
-/// Solves the eigenproblem and fixes scale and sign of each row (paper/NOTES.md):
+/// Solves the eigenproblem and fixes scale and sign of each row (the paper's conventions,
+/// `docs/reproducing-the-paper.md`):
 ///
 /// * rows ordered by eigenvalue: A, C1, C2;
 /// * signs: A positive; C1 positive where M exceeds L (its m̄ coefficient above its l̄ one),
