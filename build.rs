@@ -1,10 +1,10 @@
-//! Bakes `OUT_DIR/tables.rs` and the shader snippets with the derivation crate
-//! (`spectral-quadrature-derive`), from this crate's `data/` and the scene named by the
+//! Bakes `OUT_DIR/tables.rs` and the shader snippets with the generator crate
+//! (`spectral-quadrature-build`), from this crate's `data/` and the scene named by the
 //! environment variable `SPECTRAL_QUADRATURE_SCENE` (or the default scene).
 
 use std::path::PathBuf;
 
-use spectral_quadrature_derive::{build, scene::SCENE_ENV};
+use spectral_quadrature_build::{generate, SCENE_ENV};
 
 fn main() {
     println!("cargo:rerun-if-changed=build.rs");
@@ -13,8 +13,7 @@ fn main() {
         std::env::var_os("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR"),
     );
     let scene = std::env::var_os(SCENE_ENV);
-    let out =
-        build::generate(&crate_dir, scene.as_deref()).unwrap_or_else(|e| fail(&e.to_string()));
+    let out = generate(&crate_dir, scene.as_deref()).unwrap_or_else(|e| fail(&e.to_string()));
     for path in &out.rerun_if_changed {
         println!("cargo:rerun-if-changed={}", path.display());
     }

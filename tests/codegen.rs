@@ -1,7 +1,7 @@
 //! The baked tables equal a fresh derivation: every f64 value rounded to f32 exactly as the code
 //! generator does (`as f32`), so the comparisons are exact.
 
-use spectral_quadrature_derive as sqd;
+use spectral_quadrature_build as sqd;
 
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data");
@@ -139,7 +139,7 @@ fn table2_sets_and_rule_sets() {
 #[test]
 fn generated_source_is_what_the_generator_writes_now() {
     // The whole file, byte for byte: nothing in it comes from anywhere but the derivation.
-    let generated = sqd::build::generate(std::path::Path::new(env!("CARGO_MANIFEST_DIR")), None)
+    let generated = sqd::generate(std::path::Path::new(env!("CARGO_MANIFEST_DIR")), None)
         .unwrap()
         .tables_rs;
     let baked = include_str!(concat!(env!("OUT_DIR"), "/tables.rs"));
@@ -228,5 +228,58 @@ fn sets_say_what_their_samples_are_and_folded_sets_carry_their_display() {
         n,
         6 * 4,
         "Table 2's two sets and four shared sets, for four displays"
+    );
+}
+
+/// The baked tables, as the build script wrote them.
+const TABLES_RS: &str = concat!(env!("OUT_DIR"), "/tables.rs");
+
+#[test]
+fn baked_tables_fit_in_100_columns() {
+    // rustfmt's max_width: the generator lays the tables out as rustfmt would.
+    let baked = include_str!(concat!(env!("OUT_DIR"), "/tables.rs"));
+    for (i, line) in baked.lines().enumerate() {
+        let columns = line.chars().count();
+        assert!(columns <= 100, "tables.rs:{}: {columns} columns", i + 1);
+    }
+}
+
+#[test]
+fn rustfmt_accepts_the_baked_tables() {
+    use std::io::Write as _;
+    use std::process::Command;
+    // Where rustfmt is not installed (a toolchain without the component), only the widths
+    // above are checked; say so in the test output (written past the harness's capture).
+    let missing = |why: &str| {
+        let note = format!(
+            "note: rustfmt is not available ({why}): tables.rs checked for 100 columns only\n"
+        );
+        std::io::stderr().write_all(note.as_bytes()).ok();
+    };
+    match Command::new("rustfmt").arg("--version").output() {
+        Err(e) => return missing(&e.to_string()),
+        Ok(out) if !out.status.success() => {
+            return missing(String::from_utf8_lossy(&out.stderr).trim());
+        }
+        Ok(_) => {}
+    }
+    // An empty configuration: rustfmt's defaults, whatever rustfmt.toml a parent directory or
+    // the user's configuration holds.
+    let dir = std::env::temp_dir().join(format!("sq-rustfmt-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let config = dir.join("rustfmt.toml");
+    std::fs::write(&config, "").unwrap();
+    let out = Command::new("rustfmt")
+        .args(["--check", "--edition", "2021", "--config-path"])
+        .arg(&config)
+        .arg(TABLES_RS)
+        .output()
+        .expect("rustfmt runs");
+    std::fs::remove_dir_all(&dir).ok();
+    assert!(
+        out.status.success(),
+        "rustfmt --check --edition 2021 {TABLES_RS} wants changes:\n{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
     );
 }

@@ -1,7 +1,7 @@
 //! The f32 runtime against the f64 derivation on extreme inputs: ±MAX, subnormals, mixtures of
 //! huge and tiny samples, and catastrophic cancellation in C1 and C2.
 
-use spectral_quadrature_derive as sqd;
+use spectral_quadrature_build as sqd;
 
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data");

@@ -10,7 +10,7 @@
 // Channel loops index several parallel arrays (weights, references, outputs) by channel.
 #![allow(clippy::needless_range_loop)]
 
-use spectral_quadrature_derive as sqd;
+use spectral_quadrature_build as sqd;
 
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data");

@@ -1,7 +1,7 @@
 //! The derivation reproduces the numbers the paper prints (Eq. 9, Eq. 10, Table 1a, Table 2).
 //! Each tolerance says where it comes from.
 
-use spectral_quadrature_derive as sqd;
+use spectral_quadrature_build as sqd;
 
 /// The data files the derivation reads (this crate's `data/`).
 const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data");

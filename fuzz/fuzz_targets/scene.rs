@@ -28,9 +28,9 @@ use std::path::Path;
 use std::sync::OnceLock;
 
 use libfuzzer_sys::fuzz_target;
-use spectral_quadrature_derive::display::{standard_displays, DisplaySpec, Transfer};
-use spectral_quadrature_derive::scene::Scene;
-use spectral_quadrature_derive::{Error, ObserverId, Settings};
+use spectral_quadrature_build::display::{standard_displays, DisplaySpec, Transfer};
+use spectral_quadrature_build::scene::Scene;
+use spectral_quadrature_build::{Error, ObserverId, Settings};
 
 const FILE: &str = "fuzz.toml";
 
@@ -156,7 +156,7 @@ fn check_scene(scene: &Scene, text: &str, data_dir: &Path) {
         .chain(own.sensors.iter().map(|s| (&s.name, s.line)))
     {
         assert!(
-            spectral_quadrature_derive::user::is_const_name(name),
+            spectral_quadrature_build::user::is_const_name(name),
             "name {name:?} accepted: {}",
             ctx()
         );
@@ -164,7 +164,7 @@ fn check_scene(scene: &Scene, text: &str, data_dir: &Path) {
         names.push(name);
         check_line(&format!("{name}"), line, text);
     }
-    let builtin = spectral_quadrature_derive::catalog::builtin_lights();
+    let builtin = spectral_quadrature_build::evaluate::builtin_lights();
     for light in own
         .fixed
         .iter()

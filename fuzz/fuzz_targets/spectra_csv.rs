@@ -19,8 +19,8 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use spectral_quadrature_derive::evaluate::{Curve, Spectra};
-use spectral_quadrature_derive::DataError;
+use spectral_quadrature_build::evaluate::{Curve, Spectra};
+use spectral_quadrature_build::DataError;
 
 const FILE: &str = "fuzz.csv";
 

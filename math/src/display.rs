@@ -191,9 +191,8 @@ pub fn display_matrices(
 /// The inverse of a 3×3 matrix (row-major) by cofactors, or `None` when its determinant is 0 or
 /// any entry of the result is not finite (NaN in `m` included).
 ///
-/// The operations and their order are those of nalgebra's closed-form 3×3 inverse, with which
-/// `spectral-quadrature-derive` has computed the baked displays' matrices: computed here, they
-/// keep their bits.
+/// The operations and their order are those of nalgebra's closed-form 3×3 inverse, with which the
+/// baked displays' matrices were computed before this crate held them, so they kept their bits.
 pub fn invert3(m: &[[f64; 3]; 3]) -> Option<[[f64; 3]; 3]> {
     let [[m11, m12, m13], [m21, m22, m23], [m31, m32, m33]] = *m;
     let minor_m12_m23 = m22 * m33 - m32 * m23;

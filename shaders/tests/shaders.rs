@@ -9,7 +9,7 @@
 //! lavapipe (Debian: `apt-get install mesa-vulkan-drivers libvulkan1`); run that way without any
 //! adapter, the test fails.
 
-use spectral_quadrature_derive as sqd;
+use spectral_quadrature_build as sqd;
 
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");

@@ -18,8 +18,8 @@
 
 use std::vec::Vec;
 
-use spectral_quadrature_derive::evaluate::{self, Curve, EvalSet, Reference, Spectra, Stimulus};
-use spectral_quadrature_derive::{self as sqd, shared, Derivation};
+use spectral_quadrature_build::evaluate::{self, Curve, EvalSet, Reference, Spectra, Stimulus};
+use spectral_quadrature_build::{self as sqd, shared, Derivation};
 
 use crate::Error;
 

@@ -1,4 +1,4 @@
-//! What only people at a desk need, on top of `spectral-quadrature-derive`: the analysis behind
+//! What only people at a desk need, on top of `spectral-quadrature-build`: the analysis behind
 //! the report and the planner. The programs are `report` (error against run time, the crate's
 //! main job), `plan` (a scene for an error budget) and `tables` (the derived tables beside the
 //! paper's).
@@ -19,21 +19,25 @@ pub mod sensitivity;
 pub mod stability;
 
 /// The runtime crate's `data/` in this workspace: the CIE tables, illuminants and reflectances
-/// the derivation reads ([`spectral_quadrature_derive::Settings::data_dir`]).
+/// the derivation reads ([`spectral_quadrature_build::Settings::data_dir`]).
 pub const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");
 
+/// The runtime crate's root in this workspace: where its build script finds `data/` and
+/// resolves a relative `SPECTRAL_QUADRATURE_SCENE`.
+pub const CRATE_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+
 /// The paper's settings on the workspace's data ([`DATA_DIR`]).
-pub fn settings() -> spectral_quadrature_derive::Settings {
-    spectral_quadrature_derive::Settings::new(DATA_DIR)
+pub fn settings() -> spectral_quadrature_build::Settings {
+    spectral_quadrature_build::Settings::new(DATA_DIR)
 }
 
-/// An error of the tools: the derivation's ([`spectral_quadrature_derive::Error`], which names
+/// An error of the tools: the derivation's ([`spectral_quadrature_build::Error`], which names
 /// the file and line where a file is at fault), or one of the tools' own.
 #[derive(Debug)]
 #[non_exhaustive]
 pub enum Error {
     /// From the derivation: data, settings, sets, lights, scenes, the planner.
-    Derive(spectral_quadrature_derive::Error),
+    Derive(spectral_quadrature_build::Error),
     /// A light with no power at a node where an interval set divides by it.
     NoPower {
         /// The light.
@@ -87,20 +91,20 @@ impl std::error::Error for Error {
     }
 }
 
-impl From<spectral_quadrature_derive::Error> for Error {
-    fn from(e: spectral_quadrature_derive::Error) -> Self {
+impl From<spectral_quadrature_build::Error> for Error {
+    fn from(e: spectral_quadrature_build::Error) -> Self {
         Error::Derive(e)
     }
 }
 
-impl From<spectral_quadrature_derive::DataError> for Error {
-    fn from(e: spectral_quadrature_derive::DataError) -> Self {
+impl From<spectral_quadrature_build::DataError> for Error {
+    fn from(e: spectral_quadrature_build::DataError) -> Self {
         Error::Derive(e.into())
     }
 }
 
-impl From<spectral_quadrature_derive::plan::PlanError> for Error {
-    fn from(e: spectral_quadrature_derive::plan::PlanError) -> Self {
+impl From<spectral_quadrature_build::plan::PlanError> for Error {
+    fn from(e: spectral_quadrature_build::plan::PlanError) -> Self {
         Error::Derive(e.into())
     }
 }

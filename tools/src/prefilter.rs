@@ -31,8 +31,8 @@
 //!   polynomials of low degree; for the others, the sensitivity-weighted average.
 //!
 //! The CIELAB white is integrated by the same rule as the stimulus in every method (the lamp
-//! seen by a perfect white reflector), as in [`spectral_quadrature_derive::evaluate`]; the reference stays the full
-//! integration of [`spectral_quadrature_derive::evaluate::Reference`] (normally every 1 nm).
+//! seen by a perfect white reflector), as in [`spectral_quadrature_build::evaluate`]; the reference stays the full
+//! integration of [`spectral_quadrature_build::evaluate::Reference`] (normally every 1 nm).
 //!
 //! Spiky stimulus families: [`monochromatic_lines`] (one line at every nm) and [`narrow_bands`]
 //! (Gaussian or box bands of a few nm), both seen directly; [`f_series`] and [`led_lamps`] load
@@ -51,7 +51,7 @@ use crate::Error;
 use std::string::String;
 use std::vec::Vec;
 
-use spectral_quadrature_derive::evaluate::{
+use spectral_quadrature_build::evaluate::{
     self, delta_e2000, delta_e76, lab_from_xyz, Curve, Errors, EvalSet, Reference, Spectra,
     Stimulus,
 };
@@ -68,7 +68,7 @@ use spectral_quadrature_derive::evaluate::{
 /// its nodes fall: a line more than 1 nm from every node is invisible to plain sampling, which is
 /// exactly the failure the paper warns about.
 ///
-/// Seen directly, so CIELAB's white is [`spectral_quadrature_derive::evaluate`]'s emission convention: equal energy
+/// Seen directly, so CIELAB's white is [`spectral_quadrature_build::evaluate`]'s emission convention: equal energy
 /// of the line's own reference luminance (L* = 100 for the reference; errors in luminance and
 /// in chromaticity both show). A line on a grey reflector would be meaningless: its white (the
 /// line itself) and the stimulus are both seen through the same nodes, so the ratio is exact
@@ -281,7 +281,7 @@ pub fn band_mean(curve: &Curve, band: [f64; 2]) -> f64 {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Channels {
     /// `weights[k][i]`: channel k's weight at the set's node i; exactly 0 where the channel does
-    /// not use the node (as [`spectral_quadrature_derive::WavelengthSet::merge`] leaves it).
+    /// not use the node (as [`spectral_quadrature_build::WavelengthSet::merge`] leaves it).
     pub weights: [Vec<f64>; 3],
     /// Channel values → XYZ (for AC1C2, `Opponent::ac1c2_to_xyz`).
     pub to_xyz: [[f64; 3]; 3],
@@ -319,7 +319,7 @@ impl ChannelSet {
 
     /// A merged set of per-channel rules (weights A, C1, C2) with the AC1C2 → XYZ matrix.
     pub fn from_wavelength_set(
-        set: &spectral_quadrature_derive::WavelengthSet,
+        set: &spectral_quadrature_build::WavelengthSet,
         name: &str,
         family: &str,
         orders: Option<[usize; 3]>,
@@ -858,10 +858,11 @@ impl Prefiltered {
     pub fn extra_wavelengths(&self, set: &EvalSet) -> usize {
         let mut extra: Vec<f64> = Vec::new();
         for (nm, _) in &self.lines {
-            let known =
-                set.wavelengths_nm.iter().chain(&extra).any(|l| {
-                    (l - nm).abs() <= spectral_quadrature_derive::sets::SAME_WAVELENGTH_NM
-                });
+            let known = set
+                .wavelengths_nm
+                .iter()
+                .chain(&extra)
+                .any(|l| (l - nm).abs() <= spectral_quadrature_build::sets::SAME_WAVELENGTH_NM);
             if !known {
                 extra.push(*nm);
             }
@@ -1087,7 +1088,7 @@ pub const BAND_CENTRE_STEP_NM: f64 = 5.0;
 /// The sets [`summary`] is meant for: Table 2's two rows, uniform 4, 6, 8 and 16, AC1C2
 /// combinations 4+2+2, 6+4+3 and 8+8+7 (orders A+C1+C2; C1's odd orders and C2's orders 4-6
 /// and 8 are undefined), all with their channels, and the full 5 nm integration.
-pub fn default_sets(d: &spectral_quadrature_derive::Derivation) -> Result<Vec<ChannelSet>, Error> {
+pub fn default_sets(d: &spectral_quadrature_build::Derivation) -> Result<Vec<ChannelSet>, Error> {
     let range = d.settings.range_nm;
     let m = &d.opponent.ac1c2_to_xyz;
     let mut sets = Vec::new();
@@ -1105,7 +1106,7 @@ pub fn default_sets(d: &spectral_quadrature_derive::Derivation) -> Result<Vec<Ch
     for o in wanted {
         let name = std::format!("AC1C2 {}+{}+{}", o[0], o[1], o[2]);
         let picked = [0, 1, 2].map(|c| Some(&rules[c][o[c] - 1]));
-        let merged = spectral_quadrature_derive::WavelengthSet::merge(&name, "", picked)?;
+        let merged = spectral_quadrature_build::WavelengthSet::merge(&name, "", picked)?;
         sets.push(ChannelSet::from_wavelength_set(
             &merged,
             &name,
@@ -1124,7 +1125,7 @@ pub fn default_sets(d: &spectral_quadrature_derive::Derivation) -> Result<Vec<Ch
 /// [`narrow_bands`] of [`BAND_WIDTHS_NM`] every [`BAND_CENTRE_STEP_NM`] across the range. Sets
 /// are measured in parallel.
 pub fn summary(
-    d: &spectral_quadrature_derive::Derivation,
+    d: &spectral_quadrature_build::Derivation,
     sets: &[ChannelSet],
 ) -> Result<Summary, Error> {
     let range = d.settings.range_nm;

@@ -262,11 +262,11 @@ impl Cells {
     }
 
     /// `radiance` weighted by a reference set's X, Y, Z weights (weights for a grid sum, as
-    /// [`spectral_quadrature_derive::evaluate::full_integration`] makes them): the integrand
+    /// [`spectral_quadrature_build::evaluate::full_integration`] makes them): the integrand
     /// whose integral is the reference's XYZ of that radiance. The set's wavelengths must be
     /// evenly spaced.
     pub fn weighted(
-        reference: &spectral_quadrature_derive::evaluate::EvalSet,
+        reference: &spectral_quadrature_build::evaluate::EvalSet,
         radiance: impl Fn(f64) -> f64,
     ) -> Result<Cells, Error> {
         let w = &reference.wavelengths_nm;

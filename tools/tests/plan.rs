@@ -2,7 +2,7 @@
 //! `tests/fixtures/plan/README.md`): the chosen set meets the budget, measured again here
 //! without the planner, and no set with fewer wavelengths does.
 
-use spectral_quadrature_derive as sqd;
+use spectral_quadrature_build as sqd;
 
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = spectral_quadrature_tools::DATA_DIR;

@@ -1,6 +1,6 @@
 //! Spiky spectra and pre-filtering: band averaging (a) and exact lines (b).
 
-use spectral_quadrature_derive as sqd;
+use spectral_quadrature_build as sqd;
 use spectral_quadrature_tools as tools;
 
 /// The data files the derivation reads (the runtime crate's `data/`).

@@ -3,7 +3,7 @@
 //! estimator is unbiased for the report's 1 nm reference integral, and the f32 path the report
 //! times computes what the f64 one does.
 
-use spectral_quadrature_derive as sqd;
+use spectral_quadrature_build as sqd;
 use spectral_quadrature_tools::random_wavelengths::{
     pixel_rng, reach, run_trials, Cells, Config, Reach, Sampler, SensorRgb, Target, Trials,
     VISIBLE_RANGE_NM,

@@ -1,6 +1,6 @@
 //! The report's figures and its input reader.
 
-use spectral_quadrature_derive as sqd;
+use spectral_quadrature_build as sqd;
 
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = spectral_quadrature_tools::DATA_DIR;

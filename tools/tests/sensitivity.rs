@@ -1,6 +1,6 @@
 //! How far the rules move with the data and settings, and displays the derivation refuses.
 
-use spectral_quadrature_derive as sqd;
+use spectral_quadrature_build as sqd;
 use spectral_quadrature_tools as tools;
 
 /// The data files the derivation reads (the runtime crate's `data/`).
@@ -160,7 +160,8 @@ fn standard_displays_are_well_conditioned_and_balanced() {
         assert!(m.condition < 50.0, "{}: {}", s.name, m.condition);
         assert!((m.luminance.iter().sum::<f64>() - 1.0).abs() < 1e-12);
     }
-    // The paper's monitor: Y_r : Y_g : Y_b ≈ 0.222 : 0.707 : 0.071 (paper/NOTES.md).
+    // The paper's monitor: Y_r : Y_g : Y_b ≈ 0.222 : 0.707 : 0.071
+    // (docs/reproducing-the-paper.md).
     let meyer = sqd::display::standard_displays().pop().unwrap();
     let l = display_matrices(&meyer).unwrap().luminance;
     for (v, expect) in l.iter().zip([0.222, 0.707, 0.071]) {

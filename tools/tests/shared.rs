@@ -1,7 +1,7 @@
 //! Shared sets by kernel quadrature: trained on the CIE test colour samples only, judged on the
 //! ColorChecker (Ohta) under C, D65, A and F11, with the white integrated by the same set.
 
-use spectral_quadrature_derive as sqd;
+use spectral_quadrature_build as sqd;
 use spectral_quadrature_tools as tools;
 
 /// The data files the derivation reads (the runtime crate's `data/`).

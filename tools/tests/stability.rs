@@ -2,7 +2,7 @@
 //! order's classification is from flipping (`tools/src/stability.rs`). Run with `--nocapture`
 //! for the tables. Every bound below says what was measured (CIE 1931 2°, 380-770 nm, 5 nm).
 
-use spectral_quadrature_derive as sqd;
+use spectral_quadrature_build as sqd;
 use spectral_quadrature_tools as tools;
 
 /// The data files the derivation reads (the runtime crate's `data/`).

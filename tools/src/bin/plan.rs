@@ -13,7 +13,7 @@
 //! test colour samples 1-14 under CIE illuminant C. Errors name the file and line and exit with
 //! code 2. With `--out -` the scene goes to standard output and the summary to standard error.
 
-use spectral_quadrature_derive as sqd;
+use spectral_quadrature_build as sqd;
 use spectral_quadrature_tools as tools;
 use tools::Error;
 

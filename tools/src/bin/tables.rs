@@ -3,13 +3,20 @@
 //! then the AC1C2 matrices, eigenvalues and rules of the other observers (CIE 1964 10°, CIE 2015
 //! 2° and 10°), derived here.
 //!
+//! With `--rust`, `--wgsl` or `--glsl` it prints instead what the build bakes for a scene: the
+//! `tables.rs` or the shader snippet the runtime's build script writes, byte for byte, for the
+//! scene named by `SPECTRAL_QUADRATURE_SCENE` (a path relative to the runtime crate's root, or
+//! absolute, as the build script reads it; the default scene without it).
+//!
 //! ```text
 //! cargo run --release -p spectral-quadrature-tools --bin tables          # side by side
 //! cargo run --release -p spectral-quadrature-tools --bin tables -- --csv # every rule as CSV
 //! cargo run --release -p spectral-quadrature-tools --bin tables -- --shared-cache > data/shared_nodes.csv
+//! SPECTRAL_QUADRATURE_SCENE=examples/scenes/minimal.toml \
+//!   cargo run -p spectral-quadrature-tools --bin tables -- --rust         # what the scene bakes
 //! ```
 
-use spectral_quadrature_derive as sqd;
+use spectral_quadrature_build as sqd;
 use spectral_quadrature_tools as tools;
 
 use clap::Parser;
@@ -26,11 +33,26 @@ struct Args {
     /// (data/shared_nodes.csv), which the build reuses instead of searching
     #[arg(long, conflicts_with = "csv")]
     shared_cache: bool,
+    /// Print the tables.rs the build bakes for the scene named by SPECTRAL_QUADRATURE_SCENE
+    /// (relative to the runtime crate's root, or absolute), or the default scene
+    #[arg(long, group = "baked", conflicts_with_all = ["csv", "shared_cache"])]
+    rust: bool,
+    /// Print the WGSL snippet the build bakes for that scene
+    #[arg(long, group = "baked", conflicts_with_all = ["csv", "shared_cache"])]
+    wgsl: bool,
+    /// Print the GLSL snippet the build bakes for that scene
+    #[arg(long, group = "baked", conflicts_with_all = ["csv", "shared_cache"])]
+    glsl: bool,
 }
 
 fn main() {
     let args = Args::parse();
-    if args.shared_cache {
+    if args.rust || args.wgsl || args.glsl {
+        if let Err(e) = print_baked(&args) {
+            eprintln!("error: {e}");
+            std::process::exit(2);
+        }
+    } else if args.shared_cache {
         if let Err(e) = print_shared_cache() {
             eprintln!("error: {e}");
             std::process::exit(2);
@@ -39,6 +61,36 @@ fn main() {
         print_csv();
     } else {
         print_side_by_side();
+    }
+}
+
+/// Prints what the runtime's build script writes for the scene of `SPECTRAL_QUADRATURE_SCENE`:
+/// the same call ([`sqd::generate`]) on the same crate directory, so the same bytes.
+fn print_baked(args: &Args) -> Result<(), sqd::Error> {
+    let crate_dir = std::fs::canonicalize(tools::CRATE_DIR).map_err(|e| {
+        sqd::Error::Data(sqd::DataError {
+            file: tools::CRATE_DIR.into(),
+            line: 0,
+            message: format!("cannot find the runtime crate: {e}"),
+        })
+    })?;
+    let scene = std::env::var_os(sqd::SCENE_ENV);
+    let out = sqd::generate(&crate_dir, scene.as_deref())?;
+    let text = if args.rust {
+        out.tables_rs
+    } else if args.wgsl {
+        out.wgsl
+    } else {
+        out.glsl
+    };
+    // A reader that stops early (`| head`) is not an error.
+    use std::io::Write as _;
+    match std::io::stdout().lock().write_all(text.as_bytes()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            eprintln!("error: cannot write to stdout: {e}");
+            std::process::exit(2);
+        }
+        _ => Ok(()),
     }
 }
 

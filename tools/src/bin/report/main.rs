@@ -18,7 +18,7 @@
 
 mod budget;
 mod random;
-use spectral_quadrature_derive as sqd;
+use spectral_quadrature_build as sqd;
 use spectral_quadrature_tools as tools;
 use tools::Error;
 mod stability;

@@ -1,0 +1,16 @@
+//! Meyer's derivation, in the paper's order: the observer's x̄ȳz̄ ([`observer`]), the cone
+//! fundamentals (Eq. 1), the covariance (Eq. 4-5) and the KL transform to AC1C2 (Eq. 9-10)
+//! ([`opponent`]), each channel's recurrence (Eq. 16) and Gauss rules ([`quadrature`]), and the
+//! wavelength sets merged from them (Table 2, [`sets`]); [`derive`] runs the steps from
+//! [`settings`]. Beside them: the display matrices ([`display`], from `spectral-quadrature-math`),
+//! and spectra with their exact integration, by which every set is measured in CIELAB with the
+//! colour differences of `spectral-quadrature-math` ([`evaluate`]).
+
+pub(crate) mod derive;
+pub mod display;
+pub mod evaluate;
+pub mod observer;
+pub mod opponent;
+pub mod quadrature;
+pub mod sets;
+pub(crate) mod settings;

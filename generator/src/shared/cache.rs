@@ -1,0 +1,218 @@
+//! The node cache: the nodes the search found for the sets the default and example scenes
+//! bake, in a data file, each with a fingerprint of what the search read. A build takes the
+//! nodes from it and computes only the weights, because the search is too slow for a build
+//! script at Cargo's default opt-level 0 (README, "Build cost", measures both).
+
+use std::string::String;
+use std::vec::Vec;
+
+use super::model::{problem, Shared, EMPIRICAL_WEIGHT, LENGTH_NM, NUGGET, TRAINING_FILE};
+use super::search::{optimize, MAX_MOVE, RANDOM_STARTS};
+use crate::base::error::{DataError, Error};
+use crate::base::files::{data_path, read_data, read_error, sha256_hex};
+use crate::derivation::derive::Derivation;
+
+/// The shared sets' node cache, a file in the data directory: the nodes
+/// [`Problem::optimize`](crate::shared::Problem::optimize) found for each set in [`CACHED`],
+/// with a fingerprint of everything the search depends on.
+/// `cargo run --release -p spectral-quadrature-tools --bin tables -- --shared-cache` writes it,
+/// and a test re-runs every search and checks that it finds the same nodes (or worse ones).
+pub const CACHE_FILE: &str = "data/shared_nodes.csv";
+
+/// The sets whose nodes [`CACHE_FILE`] holds: radiances and the lights C, D65, A and F11, at 4, 6
+/// and 8 wavelengths (the default scene's sets and the example scenes' among them).
+pub const CACHED: [(Option<&str>, usize); 15] = [
+    (None, 4),
+    (None, 6),
+    (None, 8),
+    (Some("C"), 4),
+    (Some("C"), 6),
+    (Some("C"), 8),
+    (Some("D65"), 4),
+    (Some("D65"), 6),
+    (Some("D65"), 8),
+    (Some("A"), 4),
+    (Some("A"), 6),
+    (Some("A"), 8),
+    (Some("F11"), 4),
+    (Some("F11"), 6),
+    (Some("F11"), 8),
+];
+
+/// The catalog name of a shared set: `KQ_<n>` or `KQ_<light>_<n>`.
+pub fn set_name(light: Option<&str>, n: usize) -> String {
+    match light {
+        Some(l) => std::format!("KQ_{l}_{n}"),
+        None => std::format!("KQ_{n}"),
+    }
+}
+
+/// One line of [`CACHE_FILE`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct CacheEntry {
+    /// The set's name ([`set_name`]).
+    pub name: String,
+    /// [`fingerprint`] of the inputs the nodes were found with.
+    pub fingerprint: String,
+    /// The nodes in nm, ascending, on the 1 nm grid.
+    pub wavelengths_nm: Vec<f64>,
+    /// The line in the file.
+    pub line: u64,
+}
+
+/// A SHA-256 over everything the node search for `light` depends on besides its code: the
+/// observer table, the range, the training reflectances, the light's file, and the kernel and
+/// search constants. A cached entry is used only while its fingerprint matches.
+pub fn fingerprint(d: &Derivation, light: Option<&str>) -> Result<String, Error> {
+    let read = |label: &str| read_data(&d.settings.data_dir, label);
+    let mut text = std::format!(
+        "observer {} {}\nrange {:?}\ntraining {}\nkernel matern52 {LENGTH_NM} empirical {EMPIRICAL_WEIGHT} nugget {NUGGET}\nsearch starts {RANDOM_STARTS} move {MAX_MOVE}\n",
+        d.observer.file,
+        d.observer.sha256,
+        d.settings.range_nm,
+        sha256_hex(&read(TRAINING_FILE)?),
+    );
+    if let Some(l) = light {
+        let label = std::format!("data/illuminant_{l}.csv");
+        text += &std::format!("light {l} {}\n", sha256_hex(&read(&label)?));
+    }
+    Ok(sha256_hex(text.as_bytes()))
+}
+
+/// Reads [`CACHE_FILE`] from `data_dir`: no file is an empty cache; a malformed one is an error
+/// naming the file and line.
+pub fn read_cache(data_dir: &std::path::Path) -> Result<Vec<CacheEntry>, DataError> {
+    let path = data_path(data_dir, CACHE_FILE);
+    let text = match std::fs::read_to_string(&path) {
+        Ok(t) => t,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
+        Err(e) => return Err(read_error(CACHE_FILE, &path, &e)),
+    };
+    parse_cache(CACHE_FILE, &text)
+}
+
+/// Parses the text of a node cache (see [`CACHE_FILE`]); `file` labels errors.
+pub fn parse_cache(file: &str, text: &str) -> Result<Vec<CacheEntry>, DataError> {
+    let err = |line: u64, message: String| DataError {
+        file: file.into(),
+        line,
+        message,
+    };
+    let mut out: Vec<CacheEntry> = Vec::new();
+    let mut header = false;
+    for (i, raw) in text.lines().enumerate() {
+        let line = i as u64 + 1;
+        let l = raw.trim();
+        if l.is_empty() || l.starts_with('#') {
+            continue;
+        }
+        if !header {
+            if l != "name,fingerprint,wavelengths_nm" {
+                return Err(err(
+                    line,
+                    std::format!(
+                        "expected the header name,fingerprint,wavelengths_nm, found {l:?}"
+                    ),
+                ));
+            }
+            header = true;
+            continue;
+        }
+        let fields: Vec<&str> = l.split(',').collect();
+        let [name, fingerprint, nodes] = fields[..] else {
+            return Err(err(
+                line,
+                std::format!(
+                    "expected 3 fields (name,fingerprint,wavelengths_nm), found {}",
+                    fields.len()
+                ),
+            ));
+        };
+        let wavelengths_nm = nodes
+            .split_whitespace()
+            .map(|v| match v.parse::<f64>() {
+                Ok(x) if x.is_finite() => Ok(x),
+                _ => Err(err(line, std::format!("{name}: {v:?} is not a wavelength"))),
+            })
+            .collect::<Result<Vec<f64>, _>>()?;
+        if wavelengths_nm.is_empty() || wavelengths_nm.windows(2).any(|w| w[0] >= w[1]) {
+            return Err(err(
+                line,
+                std::format!("{name}: the wavelengths must be strictly increasing"),
+            ));
+        }
+        if out.iter().any(|e| e.name == name) {
+            return Err(err(line, std::format!("{name} appears twice")));
+        }
+        out.push(CacheEntry {
+            name: name.into(),
+            fingerprint: fingerprint.into(),
+            wavelengths_nm,
+            line,
+        });
+    }
+    Ok(out)
+}
+
+/// The text of [`CACHE_FILE`] for `entries`.
+pub fn write_cache(entries: &[CacheEntry]) -> String {
+    let mut s = String::from(
+        "# Generated by `cargo run --release -p spectral-quadrature-tools --bin tables -- --shared-cache > data/shared_nodes.csv`.\n# The nodes (nm) the shared-set search found; the build reuses an entry while its fingerprint matches the inputs.\nname,fingerprint,wavelengths_nm\n",
+    );
+    for e in entries {
+        let nodes: Vec<String> = e
+            .wavelengths_nm
+            .iter()
+            .map(|v| std::format!("{v}"))
+            .collect();
+        s += &std::format!("{},{},{}\n", e.name, e.fingerprint, nodes.join(" "));
+    }
+    s
+}
+
+/// The shared set of `n` wavelengths for a built-in light (`None`: radiances): the nodes from
+/// [`CACHE_FILE`] when it has the set with a matching [`fingerprint`] (only the weights are
+/// computed then), otherwise [`optimize`]'s search.
+pub fn cached_or_optimize(d: &Derivation, light: Option<&str>, n: usize) -> Result<Shared, Error> {
+    let name = set_name(light, n);
+    let cache = read_cache(&d.settings.data_dir)?;
+    let Some(entry) = cache.iter().find(|e| e.name == name) else {
+        return optimize(d, light, n);
+    };
+    if entry.fingerprint != fingerprint(d, light)? || entry.wavelengths_nm.len() != n {
+        return optimize(d, light, n);
+    }
+    let p = problem(d, light)?;
+    let nodes = entry
+        .wavelengths_nm
+        .iter()
+        .map(|&nm| {
+            p.grid_nm
+                .iter()
+                .position(|&g| (g - nm).abs() < 1e-9)
+                .filter(|&i| p.allowed[i])
+                .ok_or_else(|| {
+                    Error::Data(DataError {
+                        file: CACHE_FILE.into(),
+                        line: entry.line,
+                        message: std::format!("{name}: {nm} nm is not a usable grid wavelength"),
+                    })
+                })
+        })
+        .collect::<Result<Vec<usize>, Error>>()?;
+    p.set_at(&nodes).ok_or_else(|| {
+        Error::Numerical("the kriging system is singular".into()).at(CACHE_FILE, entry.line)
+    })
+}
+
+/// The cache entry for one set, by a fresh search
+/// ([`Problem::optimize`](crate::shared::Problem::optimize)).
+pub fn cache_entry(d: &Derivation, light: Option<&str>, n: usize) -> Result<CacheEntry, Error> {
+    let s = optimize(d, light, n)?;
+    Ok(CacheEntry {
+        name: set_name(light, n),
+        fingerprint: fingerprint(d, light)?,
+        wavelengths_nm: s.wavelengths_nm,
+        line: 0,
+    })
+}

@@ -1,0 +1,182 @@
+//! The shared sets' node cache (data/shared_nodes.csv) cannot drift from the search: every
+//! entry is re-searched from scratch here, and its fingerprint must match the current inputs.
+
+use spectral_quadrature_build as sqd;
+
+use std::path::Path;
+use std::sync::OnceLock;
+
+use sqd::scene::{Scene, DEFAULT_SHARED_SETS};
+use sqd::shared::{self, CacheEntry, CACHED};
+use sqd::{derive, Derivation, Settings};
+
+/// The data files the derivation reads (the runtime crate's `data/`).
+const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");
+
+fn derivation() -> &'static Derivation {
+    static D: OnceLock<Derivation> = OnceLock::new();
+    D.get_or_init(|| derive(&Settings::new(DATA_DIR)).expect("default derivation"))
+}
+
+fn cache() -> Vec<CacheEntry> {
+    shared::read_cache(Path::new(DATA_DIR)).expect("data/shared_nodes.csv parses")
+}
+
+#[test]
+fn the_cache_holds_every_cached_set_with_current_fingerprints() {
+    let d = derivation();
+    let cache = cache();
+    assert_eq!(cache.len(), CACHED.len(), "one entry per shared::CACHED");
+    for &(light, n) in &CACHED {
+        let name = shared::set_name(light, n);
+        let e = cache
+            .iter()
+            .find(|e| e.name == name)
+            .unwrap_or_else(|| panic!("{name} is not in data/shared_nodes.csv"));
+        assert_eq!(e.wavelengths_nm.len(), n, "{name}");
+        assert_eq!(
+            e.fingerprint,
+            shared::fingerprint(d, light).unwrap(),
+            "{name}: stale fingerprint; regenerate with `cargo run --release -p spectral-quadrature-tools --bin tables -- --shared-cache > data/shared_nodes.csv`"
+        );
+    }
+}
+
+#[test]
+fn a_fresh_search_finds_the_cached_nodes_or_worse_ones() {
+    let d = derivation();
+    let cache = cache();
+    for light in [None, Some("C"), Some("D65"), Some("A"), Some("F11")] {
+        let p = shared::problem(d, light).unwrap();
+        for &(_, n) in CACHED.iter().filter(|(l, _)| *l == light) {
+            let name = shared::set_name(light, n);
+            let e = cache.iter().find(|e| e.name == name).unwrap();
+            let (fresh, fresh_error) = p.optimize(n);
+            let fresh_nm: Vec<f64> = fresh.iter().map(|&i| p.grid_nm[i]).collect();
+            if fresh_nm == e.wavelengths_nm {
+                continue;
+            }
+            let cached: Vec<usize> = e
+                .wavelengths_nm
+                .iter()
+                .map(|nm| p.grid_nm.iter().position(|g| g == nm).unwrap())
+                .collect();
+            // A different answer is acceptable only if the cached nodes are at least as good
+            // (the search's own comparison: relative 1e-12).
+            let cached_error = p.objective(&cached);
+            assert!(
+                cached_error <= fresh_error * (1.0 + 1e-12),
+                "{name}: the search now finds {fresh_nm:?} (error {fresh_error}), better than the cached {:?} ({cached_error}); regenerate the cache",
+                e.wavelengths_nm
+            );
+        }
+    }
+}
+
+#[test]
+fn cached_sets_equal_searched_sets() {
+    // The weights come from the same solve whichever way the nodes were found.
+    let d = derivation();
+    for (light, n) in [(Some("C"), 6), (None, 4)] {
+        let cached = shared::cached_or_optimize(d, light, n).unwrap();
+        let p = shared::problem(d, light).unwrap();
+        let nodes: Vec<usize> = cached
+            .wavelengths_nm
+            .iter()
+            .map(|nm| p.grid_nm.iter().position(|g| g == nm).unwrap())
+            .collect();
+        assert_eq!(p.set_at(&nodes).unwrap(), cached);
+    }
+}
+
+#[test]
+fn the_default_and_example_scenes_name_only_cached_shared_sets() {
+    // So that building them never searches (README: build cost).
+    let cached: Vec<String> = CACHED
+        .iter()
+        .map(|&(l, n)| shared::set_name(l, n))
+        .collect();
+    let mut named: Vec<String> = DEFAULT_SHARED_SETS.iter().map(|s| s.to_string()).collect();
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/scenes");
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        let text = std::fs::read_to_string(&path).unwrap();
+        let scene = Scene::parse(&path.display().to_string(), &text, Path::new(DATA_DIR)).unwrap();
+        // A light the scene reads from a file has no cache entry: its sets are searched
+        // (README: build cost), and only those may be.
+        let own: Vec<String> = scene
+            .user
+            .lights
+            .iter()
+            .map(|l| format!("KQ_{}_", l.name))
+            .collect();
+        named.extend(
+            scene
+                .sets
+                .into_iter()
+                .map(|(s, _)| s)
+                .filter(|s| !own.iter().any(|p| s.starts_with(p.as_str()))),
+        );
+    }
+    for name in named.iter().filter(|n| n.starts_with("KQ_")) {
+        assert!(cached.contains(name), "{name} is not cached");
+    }
+}
+
+#[test]
+fn a_stale_or_foreign_entry_is_not_used() {
+    // A changed input changes the fingerprint, so the build searches instead of trusting the
+    // cache: here, another light's fingerprint differs from C's.
+    let d = derivation();
+    assert_ne!(
+        shared::fingerprint(d, Some("C")).unwrap(),
+        shared::fingerprint(d, Some("D65")).unwrap()
+    );
+    assert_ne!(
+        shared::fingerprint(d, Some("C")).unwrap(),
+        shared::fingerprint(d, None).unwrap()
+    );
+}
+
+#[test]
+fn a_malformed_cache_names_file_and_line() {
+    let bad = [
+        ("name,fp,nodes\n", 1, "expected the header"),
+        (
+            "# c\nname,fingerprint,wavelengths_nm\nKQ_4,ab,450 500\nKQ_6,ab\n",
+            4,
+            "expected 3 fields",
+        ),
+        (
+            "name,fingerprint,wavelengths_nm\nKQ_4,ab,450 x 600 700\n",
+            2,
+            "is not a wavelength",
+        ),
+        (
+            "name,fingerprint,wavelengths_nm\nKQ_4,ab,450 440 600 700\n",
+            2,
+            "strictly increasing",
+        ),
+        (
+            "name,fingerprint,wavelengths_nm\nKQ_2,ab,450\nKQ_2,ab,460\n",
+            3,
+            "appears twice",
+        ),
+    ];
+    for (text, line, message) in bad {
+        let e = shared::parse_cache("data/shared_nodes.csv", text).unwrap_err();
+        let shown = e.to_string();
+        assert!(
+            shown.starts_with(&format!("data/shared_nodes.csv:{line}: "))
+                && shown.contains(message),
+            "{shown}"
+        );
+    }
+}
+
+#[test]
+fn the_cache_file_round_trips() {
+    let text = std::fs::read_to_string(Path::new(DATA_DIR).join("shared_nodes.csv")).unwrap();
+    let entries = shared::parse_cache("data/shared_nodes.csv", &text).unwrap();
+    assert_eq!(shared::write_cache(&entries), text);
+}
