@@ -84,34 +84,3 @@ pub(crate) fn gamma_encoders_rs<'a>(transfers: impl IntoIterator<Item = &'a Tran
     o.push('\n');
     o
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn thresholds_rise_and_end_below_one() {
-        for g in [2.2f32, 2.4, 0.5, 1.0, 40.0] {
-            let t = gamma_thresholds(g);
-            assert!(t.windows(2).all(|w| w[0] <= w[1]), "γ {g}");
-            assert!(t[1] > 0 && t[255] < 1.0f32.to_bits(), "γ {g}");
-        }
-        // γ = 1: the thresholds are (k − ½)/255 rounded up.
-        let t = gamma_thresholds(1.0);
-        assert_eq!(f32::from_bits(t[128]), (127.5f64 / 255.0) as f32);
-    }
-
-    #[test]
-    fn one_encoder_per_distinct_gamma() {
-        let ts = [
-            Transfer::Gamma(2.4),
-            Transfer::Srgb,
-            Transfer::Gamma(2.4),
-            Transfer::Gamma(2.2),
-        ];
-        let rs = gamma_encoders_rs(&ts);
-        assert!(rs.contains("[crate::encode::GammaEncoder8; 2]"));
-        assert!(rs.contains("gamma: 2.4,") && rs.contains("gamma: 2.2,"));
-        assert!(gamma_encoders_rs(&[Transfer::Srgb]).contains("; 0] = [];"));
-    }
-}

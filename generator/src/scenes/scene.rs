@@ -590,7 +590,7 @@ impl Scene {
             .iter()
             .map(|spec| {
                 d.display(&spec.name)
-                    .map(|(_, m)| (spec.clone(), m.clone()))
+                    .map(|(_, m)| (spec.clone(), *m))
                     .map_err(err(0))
             })
             .collect::<Result<Vec<_>, _>>()?;
