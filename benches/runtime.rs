@@ -24,14 +24,18 @@
 //!
 //! - `bandwidth/...`: the planar (structure-of-arrays) batch path against the memory bound, all
 //!   in one run; see [`bandwidth`]. `cargo bench --bench runtime -- bandwidth` runs only these.
+//!   `bandwidth/rounds/...` alternates the bound and the planar sRGB path in rounds and prints
+//!   the median of the per-round shares; see [`rounds_against_bound`].
 //!
 //! Run with `cargo bench --bench runtime`.
 
 use std::hint::black_box;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use criterion::measurement::WallTime;
-use criterion::{criterion_group, criterion_main, BenchmarkGroup, Criterion, Throughput};
+use criterion::{
+    criterion_group, criterion_main, BenchmarkGroup, Criterion, SamplingMode, Throughput,
+};
 use spectral_quadrature::tables::{self, displays::SRGB, folded};
 use spectral_quadrature::{Display, FoldedSet, GamutMapping, WavelengthSet, SRGB8_MAX_STEP_ERROR};
 
@@ -570,6 +574,118 @@ fn planar_against_bound<const N: usize>(
     });
 }
 
+/// Settings of the `bandwidth` group: each case's warm-up and measurement time (10 samples).
+const BANDWIDTH_WARM_UP: Duration = Duration::from_secs(1);
+/// See [`BANDWIDTH_WARM_UP`].
+const BANDWIDTH_TIME: Duration = Duration::from_secs(3);
+/// Measurement time of each `rounds/...` case: criterion fits into it ten samples of one round
+/// or more each, so a case runs at least ten rounds, and more where a round is shorter than
+/// the tenth of this (about 90 at N = 4 and 25 at N = 16 on the machine of
+/// docs/performance.md).
+const ROUNDS_TIME: Duration = Duration::from_secs(6);
+
+/// Case `rounds/soa_srgb_u8/N<n>`: the streaming bound for sRGB u8 (`stream::<N, 3>`, as in
+/// `stream/read_write_3B/N<n>`) and `encode_u8_planar` (sRGB, `Clip`, as in `soa/srgb_u8/N<n>`)
+/// on the same `planes` and `out`, alternating in rounds of one pass each, the bound first.
+/// A round's share of the bound is the bound's time over the path's (the definition of every
+/// `ratio` line); [`print_rounds`] prints the median of the rounds' shares and their spread.
+///
+/// Separate cases measure the bound and the path seconds apart, and the speed of a shared
+/// virtual machine drifts in between (the bound alone moved by a third from run to run on the
+/// machine of docs/performance.md); within a round both passes see the same machine, so the
+/// drift moves both alike and the median of the shares keeps little of it.
+///
+/// Criterion times each round's pass of the path (its `time:` line is the path's time per pass,
+/// measured between passes of the bound) and picks how many rounds go into each of its ten
+/// samples from a first round ([`ROUNDS_TIME`]). One untimed round comes before every other:
+/// it maps the output's pages, which the allocator hands out untouched.
+fn rounds_against_bound<const N: usize>(
+    g: &mut BenchmarkGroup<'_, WallTime>,
+    set: &FoldedSet<N>,
+    planes: [&[f32]; N],
+    out: &mut [[u8; 3]],
+) {
+    let id = format!("rounds/soa_srgb_u8/N{N}");
+    let out = &mut out[..planes[0].len()];
+    let mut round = || {
+        let start = Instant::now();
+        stream::<N, 3>(black_box(planes), black_box(out.as_flattened_mut()));
+        let bound = start.elapsed();
+        let start = Instant::now();
+        set.encode_u8_planar(GamutMapping::Clip, black_box(planes), black_box(&mut *out))
+            .unwrap();
+        (bound, start.elapsed())
+    };
+    let mut shares: Vec<[Duration; 2]> = Vec::new();
+    let mut primed = false;
+    g.warm_up_time(Duration::from_nanos(1))
+        .sampling_mode(SamplingMode::Flat)
+        .measurement_time(ROUNDS_TIME);
+    g.bench_function(&id, |b| {
+        if !primed {
+            round();
+            primed = true;
+        }
+        b.iter_custom(|rounds| {
+            let mut path_total = Duration::ZERO;
+            for _ in 0..rounds {
+                let (bound, path) = round();
+                shares.push([bound, path]);
+                path_total += path;
+            }
+            path_total
+        })
+    });
+    g.warm_up_time(BANDWIDTH_WARM_UP)
+        .sampling_mode(SamplingMode::Auto)
+        .measurement_time(BANDWIDTH_TIME);
+    if !shares.is_empty() {
+        ROUNDS.lock().unwrap().push((id, shares));
+    }
+}
+
+/// The rounds of each `rounds/...` case this process ran: its id and, per round, the bound's
+/// and the path's time.
+static ROUNDS: std::sync::Mutex<Vec<(String, Vec<[Duration; 2]>)>> =
+    std::sync::Mutex::new(Vec::new());
+
+/// Prints, for each `rounds/...` case of set width `n` this process ran, the median of its
+/// rounds' shares of the bound (bound time over path time), the middle half and the whole
+/// range of those shares, and the median times of the bound and the path, as
+/// `rounds bandwidth/<path>/N<n>: … % of the memory bound, median of … rounds`.
+fn print_rounds(n: usize) {
+    /// The median of `v` (sorted here), and its lower and upper quartiles (the values a quarter
+    /// of the way in from either end).
+    fn quartiles(v: &mut [f64]) -> [f64; 3] {
+        v.sort_by(f64::total_cmp);
+        let len = v.len();
+        let median = (v[(len - 1) / 2] + v[len / 2]) / 2.0;
+        [v[(len - 1) / 4], median, v[len - 1 - (len - 1) / 4]]
+    }
+    let suffix = format!("/N{n}");
+    for (id, rounds) in ROUNDS.lock().unwrap().iter() {
+        if !id.ends_with(&suffix) {
+            continue;
+        }
+        let ms = |d: Duration| d.as_secs_f64() * 1e3;
+        let mut shares: Vec<f64> = rounds
+            .iter()
+            .map(|[b, p]| 100.0 * b.as_secs_f64() / p.as_secs_f64())
+            .collect();
+        let [low, median, high] = quartiles(&mut shares);
+        let (min, max) = (shares[0], shares[shares.len() - 1]);
+        let [_, bound, _] = quartiles(&mut rounds.iter().map(|r| ms(r[0])).collect::<Vec<_>>());
+        let [_, path, _] = quartiles(&mut rounds.iter().map(|r| ms(r[1])).collect::<Vec<_>>());
+        let path_name = id.trim_start_matches("rounds/").replacen('_', "/", 1);
+        eprintln!(
+            "rounds bandwidth/{path_name}: {median:.1} % of the memory bound, median of {} rounds \
+             (middle half {low:.1} to {high:.1} %, all {min:.1} to {max:.1} %; bound {bound:.2} ms, \
+             path {path:.2} ms median)",
+            rounds.len()
+        );
+    }
+}
+
 /// The streaming bound: reads every sample of every plane once and writes `B` bytes per pixel
 /// taken from what it read. Nothing else: any conversion must read and write at least this
 /// much.
@@ -817,6 +933,7 @@ fn bandwidth_set<const N: usize>(
                 .unwrap()
         })
     });
+    rounds_against_bound(g, set, samples, &mut out);
 
     // The same planes, each from its first 64-byte boundary on, over 2²⁵ - 16 pixels (so that
     // every plane holds them): a plane that starts off a boundary has each 64-byte line read
@@ -982,6 +1099,8 @@ fn print_ratios(n: usize) {
 ///   `soa/srgb_u8_in_cache_offset/N<n>`: those samples copied to planes 64 bytes apart modulo
 ///   4 KiB; `soa/srgb_u8_in_cache_close/N<n>`: copied to planes 16 KiB apart, at the same
 ///   offset within a page as the bench's planes;
+/// - `rounds/soa_srgb_u8/N<n>`: the bound of `stream/read_write_3B/N<n>` and the path of
+///   `soa/srgb_u8/N<n>` alternating in rounds (see [`rounds_against_bound`]);
 /// - `per_pixel/srgb_u8/N<n>`: `encode_u8` per pixel on the same planes;
 /// - `full_1nm/srgb_u8`, `full_1nm_8acc/srgb_u8`: the 1 nm integration of the same spectra
 ///   (in-order sums, and 8 partial sums that vectorize), then the same encode.
@@ -993,7 +1112,8 @@ fn print_ratios(n: usize) {
 /// 100 MiB of samples). Throughput is in pixels, so criterion's time per element is ns/pixel.
 ///
 /// At the end it prints, for each path, its median against its bound's from this run, as
-/// `ratio bandwidth/<path>/N<n>: … % of the memory bound`.
+/// `ratio bandwidth/<path>/N<n>: … % of the memory bound`, and for each `rounds` case the
+/// median of its rounds' shares (see [`print_rounds`]).
 fn bandwidth(c: &mut Criterion) {
     // Which of the crate's x86-64 loops this CPU takes (the crate detects the same features).
     #[cfg(target_arch = "x86_64")]
@@ -1014,8 +1134,8 @@ fn bandwidth(c: &mut Criterion) {
     let full = Full1nm::new();
     let mut g = c.benchmark_group("bandwidth");
     g.sample_size(10)
-        .warm_up_time(Duration::from_secs(1))
-        .measurement_time(Duration::from_secs(3));
+        .warm_up_time(BANDWIDTH_WARM_UP)
+        .measurement_time(BANDWIDTH_TIME);
     bandwidth_set(&mut g, &refl, &folded::TABLE2_ROW2_SRGB);
     bandwidth_set(&mut g, &refl, &folded::TABLE2_ROW1_SRGB);
     bandwidth_set(&mut g, &refl, &uniform_set::<8>(&full, &SRGB));
@@ -1050,6 +1170,7 @@ fn bandwidth(c: &mut Criterion) {
     g.finish();
     for n in [4, 6, 8, 16] {
         print_ratios(n);
+        print_rounds(n);
     }
 }
 
