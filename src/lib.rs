@@ -119,6 +119,7 @@ mod simd;
 #[cfg(test)]
 mod test_inputs;
 mod transfer;
+mod upsample;
 
 #[cfg(feature = "defmt")]
 mod defmt;
@@ -142,6 +143,7 @@ pub use spectral_quadrature_math::{
 pub use transfer::{
     quantize_u16, quantize_u8, ChannelLuts, Rgb, TransferFunction, U16_MAX_STEP_ERROR,
 };
+pub use upsample::{Upsampling, UPSAMPLING_CODE_ONE};
 
 /// The tables baked at compile time by `build.rs` from `data/` (see the header of the generated
 /// file for the inputs and their checksums).
