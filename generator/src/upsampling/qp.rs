@@ -24,10 +24,16 @@ use std::vec::Vec;
 use crate::base::error::Error;
 
 /// The weight of the rows' residual against the distance to the target, inverted: ρ = 1/ε,
-/// relative to rows scaled to unit Frobenius norm. 1e-11 leaves a residual of about 1e-11 times
-/// the multipliers (far below a 16-bit table's step of 1.5e-5) and keeps the m × m systems'
-/// condition number (at most about 1/ε) within what f64 solves to 5 digits.
-pub const EPSILON: f64 = 1e-11;
+/// relative to rows scaled to unit Frobenius norm. 1e-9 leaves a residual of about 1e-9 times
+/// the multipliers (far below a 16-bit table's step of 1.5e-5), and amplifies the rounding of
+/// the right-hand side (about 1e-16) to about 1e-7 in the multipliers, which [`TOLERANCE`]
+/// stays above.
+pub const EPSILON: f64 = 1e-9;
+
+/// A fixed variable is freed only when its multiplier has the wrong sign by more than this: well
+/// above the multipliers' rounding (about 1e-16 / [`EPSILON`]), and a multiplier this small moves
+/// the solution by about as little.
+pub const TOLERANCE: f64 = 1e-6;
 
 /// Active-set steps allowed per variable (plus a constant): each step fixes or frees one
 /// variable, and the method seldom revisits one.
@@ -92,9 +98,6 @@ pub fn nearest_in_box(u: &[f64], b: &[Vec<f64>], d: &[f64]) -> Result<Solution, 
         })
         .collect();
     let limit = MAX_STEPS * n + 50;
-    // Multiplier tolerance: far above the rounding of the solves, far below any multiplier
-    // that matters for a 16-bit table.
-    let tol = 1e-12;
     for steps in 0..limit {
         let free: Vec<usize> = (0..n).filter(|&i| state[i] == State::Free).collect();
         // e = d − B_A x_A; rhs = B_F u_F − e.
@@ -164,7 +167,7 @@ pub fn nearest_in_box(u: &[f64], b: &[Vec<f64>], d: &[f64]) -> Result<Solution, 
                 State::Lower => -g,
                 State::Upper => g,
             };
-            if violation > tol && worst.is_none_or(|(_, v)| violation > v) {
+            if violation > TOLERANCE && worst.is_none_or(|(_, v)| violation > v) {
                 worst = Some((i, violation));
             }
         }
