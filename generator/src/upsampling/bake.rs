@@ -90,7 +90,10 @@ pub fn exact_rgb(
         [0, 1, 2].map(|c| (0..3).map(|k| display.xyz_to_rgb[c][k] * xyz[k]).sum())
     };
     let white = rgb_of(&|_| 1.0);
-    if white.iter().any(|w| !(*w > 0.0)) {
+    if white
+        .iter()
+        .any(|w| w.partial_cmp(&0.0) != Some(core::cmp::Ordering::Greater))
+    {
         return Err(Error::Numerical(std::format!(
             "the white under {} has RGB {white:?}: a channel is not positive",
             light.name
@@ -141,6 +144,76 @@ pub fn least_squares_map(rgb: &[[f64; 3]], nodes: &[Vec<f64>]) -> Result<Vec<[f6
             m.map(|m| [m[0], m[1], m[2]]).ok_or_else(|| {
                 Error::Numerical("the training colours do not determine a linear map".into())
             })
+        })
+        .collect()
+}
+
+/// The training colours' CIELAB distance over which the local fit's weights fall by e^(−½):
+/// the local map at a grid point is fitted mostly on the reflectances whose colour lies within
+/// about this ΔE*ab. Chosen by the cross-validation of report section 8 (`docs/upsampling.md`).
+pub const LOCAL_BANDWIDTH: f64 = 10.0;
+
+/// How strongly the local fit is pulled toward the global map, as a share of the local weights'
+/// sum: it keeps a local fit determined where the nearby training colours alone would not be.
+pub const LOCAL_PRIOR: f64 = 0.01;
+
+/// The map for colours near `rgb`: least squares on the training pairs weighted by
+/// `exp(−½ (ΔE*ab / bandwidth)²)` of their colour's distance from `rgb`, pulled toward the
+/// global map `global` with weight `prior` times the weights' sum, every row summing to 1.
+/// `bandwidth` infinite gives the global map.
+#[allow(clippy::too_many_arguments)]
+pub fn local_map(
+    display: &DisplayMatrices,
+    rgb: [f64; 3],
+    training_rgb: &[[f64; 3]],
+    training_labs: &[[f64; 3]],
+    nodes: &[Vec<f64>],
+    global: &[[f64; 3]],
+    bandwidth: f64,
+    prior: f64,
+) -> Result<Vec<[f64; 3]>, Error> {
+    if !bandwidth.is_finite() {
+        return Ok(global.to_vec());
+    }
+    let here = lab_of_rgb(display, rgb);
+    let w: Vec<f64> = training_labs
+        .iter()
+        .map(|l| {
+            let d2 = (0..3).map(|c| (l[c] - here[c]).powi(2)).sum::<f64>();
+            (-0.5 * d2 / (bandwidth * bandwidth)).exp()
+        })
+        .collect();
+    let total: f64 = w.iter().sum();
+    let alpha = prior * total.max(1e-12);
+    let mut kkt = Matrix4::<f64>::zeros();
+    for p in 0..3 {
+        for q in 0..3 {
+            kkt[(p, q)] = training_rgb
+                .iter()
+                .zip(&w)
+                .map(|(x, wk)| wk * x[p] * x[q])
+                .sum::<f64>();
+        }
+        kkt[(p, p)] += alpha;
+        kkt[(p, 3)] = 1.0;
+        kkt[(3, p)] = 1.0;
+    }
+    let lu = kkt.lu();
+    (0..global.len())
+        .map(|i| {
+            let mut h = Vector4::new(0.0, 0.0, 0.0, 1.0);
+            for p in 0..3 {
+                h[p] = alpha * global[i][p]
+                    + training_rgb
+                        .iter()
+                        .zip(nodes)
+                        .zip(&w)
+                        .map(|((x, y), wk)| wk * x[p] * y[i])
+                        .sum::<f64>();
+            }
+            let m = lu.solve(&h).filter(|m| m.iter().all(|v| v.is_finite()));
+            m.map(|m| [m[0], m[1], m[2]])
+                .ok_or_else(|| Error::Numerical("a local map is singular".into()))
         })
         .collect()
 }
@@ -276,6 +349,7 @@ pub fn bake(
         .map(|r| set.wavelengths_nm.iter().map(|&l| r.at(l)).collect())
         .collect();
     let map = least_squares_map(&rgb, &nodes)?;
+    let labs: Vec<[f64; 3]> = rgb.iter().map(|x| lab_of_rgb(m, *x)).collect();
     let n = set.len();
     let step = 1.0 / (grid - 1) as f64;
     let mut values = Vec::with_capacity(grid * grid * grid);
@@ -291,7 +365,17 @@ pub fn bake(
                     reachable.push(true);
                     continue;
                 }
-                let (v, ok) = project(m, &w, &map, p)?;
+                let local = local_map(
+                    m,
+                    p,
+                    &rgb,
+                    &labs,
+                    &nodes,
+                    &map,
+                    LOCAL_BANDWIDTH,
+                    LOCAL_PRIOR,
+                )?;
+                let (v, ok) = project(m, &w, &local, p)?;
                 values.push(v);
                 reachable.push(ok);
             }
@@ -343,6 +427,8 @@ pub fn grid_point(grid: usize, idx: usize) -> [f64; 3] {
 /// derivatives the differences along the tetrahedron's three edges from the cell's low corner
 /// to its high corner, times `grid − 1`; the tetrahedra meet without seams, so the largest sum
 /// of their absolute values over all tetrahedra and nodes bounds the whole cube.
+// The loops index several tables at once.
+#[allow(clippy::needless_range_loop)]
 pub fn lipschitz(grid: usize, n: usize, codes: &[Vec<u16>]) -> f64 {
     let strides = [grid * grid, grid, 1];
     let orders = [
@@ -427,6 +513,7 @@ pub fn interpolate(grid: usize, values: &[Vec<f64>], rgb: [f64; 3]) -> Vec<f64> 
 /// s ≥ 0 lie in the probability simplex, and the box programme finds the nearest such matrix to
 /// meeting `encoding · [U | s] = [I | 0]`. Returns the largest entry of that residual: 0 (to
 /// about 1e-9) where such a map exists.
+#[allow(clippy::needless_range_loop)]
 pub fn bounded_exact_linear_residual(encoding: &[Vec<f64>; 3]) -> Result<f64, Error> {
     let n = encoding[0].len();
     // Variables: P[i][k], i < N, k < 4, at index 4i + k.

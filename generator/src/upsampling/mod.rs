@@ -12,7 +12,9 @@
 //! 2. **A least-squares map** ([`least_squares_map`]): `r ≈ M · rgb`, fitted on the training
 //!    reflectances ([`TRAINING_FILES`]: the CIE test colours and the rawtoaces patches; never
 //!    the ColorChecker), their exact RGB under the reference light (1 nm) against their values at
-//!    the nodes, with each row of M summing to 1 (white and greys exact).
+//!    the nodes, with each row of M summing to 1 (white and greys exact). At each grid point the
+//!    fit is local ([`local_map`]): the training pairs weighted by how near their colour lies
+//!    in CIELAB ([`LOCAL_BANDWIDTH`]), pulled a little toward the global map ([`LOCAL_PRIOR`]).
 //! 3. **A projection per grid point** ([`project`]): `M · rgb` moved to the nearest node values
 //!    in [0, 1] that encode back to `rgb` exactly, or, where no node values in [0, 1] reach
 //!    `rgb`, to those that reach the nearest colour in CIELAB (linearised at `rgb`), and among
@@ -34,7 +36,7 @@ mod training;
 
 pub use bake::{
     bake, bounded_exact_linear_residual, encode, encoding, exact_rgb, grid_point, interpolate,
-    lab_of_rgb, least_squares_map, lipschitz, project, Baked, CODE_ONE, DEFAULT_GRID, GRID_SIZES,
-    RADIANCE_REFERENCE_LIGHT, REACHABLE_DELTA_E00,
+    lab_of_rgb, least_squares_map, lipschitz, local_map, project, Baked, CODE_ONE, DEFAULT_GRID,
+    GRID_SIZES, LOCAL_BANDWIDTH, LOCAL_PRIOR, RADIANCE_REFERENCE_LIGHT, REACHABLE_DELTA_E00,
 };
 pub use training::{parse_training, training, NEGATIVE_TOLERANCE, TRAINING_FILES};

@@ -198,7 +198,7 @@ fn cholesky_solve(s: &mut [f64], m: usize, rhs: &[f64]) -> Option<Vec<f64>> {
         for k in 0..j {
             diag -= s[j * m + k] * s[j * m + k];
         }
-        if !(diag > 0.0) {
+        if diag.partial_cmp(&0.0) != Some(core::cmp::Ordering::Greater) {
             return None;
         }
         let l = diag.sqrt();
