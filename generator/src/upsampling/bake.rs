@@ -161,7 +161,7 @@ pub const LOCAL_PRIOR: f64 = 0.01;
 /// `exp(−½ (ΔE*ab / bandwidth)²)` of their colour's distance from `rgb`, pulled toward the
 /// global map `global` with weight `prior` times the weights' sum, every row summing to 1.
 /// `bandwidth` infinite gives the global map.
-#[allow(clippy::too_many_arguments)]
+#[allow(clippy::too_many_arguments, clippy::needless_range_loop)]
 pub fn local_map(
     display: &DisplayMatrices,
     rgb: [f64; 3],
@@ -176,41 +176,53 @@ pub fn local_map(
         return Ok(global.to_vec());
     }
     let here = lab_of_rgb(display, rgb);
-    let w: Vec<f64> = training_labs
-        .iter()
-        .map(|l| {
-            let d2 = (0..3).map(|c| (l[c] - here[c]).powi(2)).sum::<f64>();
-            (-0.5 * d2 / (bandwidth * bandwidth)).exp()
-        })
-        .collect();
-    let total: f64 = w.iter().sum();
-    let alpha = prior * total.max(1e-12);
+    let n = global.len();
+    // One pass over the training pairs, in plain loops (the build runs this at opt-level 0):
+    // the weighted sums of x xᵀ and of x y for every node. A pair farther than eight
+    // bandwidths weighs less than e⁻³² and is left out.
+    let far = (8.0 * bandwidth).powi(2);
+    let mut xx = [[0.0f64; 3]; 3];
+    let mut xy = std::vec![[0.0f64; 3]; n];
+    let mut total = 0.0;
+    for k in 0..training_rgb.len() {
+        let l = training_labs[k];
+        let d2 = (l[0] - here[0]).powi(2) + (l[1] - here[1]).powi(2) + (l[2] - here[2]).powi(2);
+        if d2 > far {
+            continue;
+        }
+        let wk = (-0.5 * d2 / (bandwidth * bandwidth)).exp();
+        total += wk;
+        let x = training_rgb[k];
+        for p in 0..3 {
+            let wx = wk * x[p];
+            for q in 0..3 {
+                xx[p][q] += wx * x[q];
+            }
+            let y = &nodes[k];
+            for i in 0..n {
+                xy[i][p] += wx * y[i];
+            }
+        }
+    }
+    let alpha = prior * f64::max(total, 1e-12);
     let mut kkt = Matrix4::<f64>::zeros();
     for p in 0..3 {
         for q in 0..3 {
-            kkt[(p, q)] = training_rgb
-                .iter()
-                .zip(&w)
-                .map(|(x, wk)| wk * x[p] * x[q])
-                .sum::<f64>();
+            kkt[(p, q)] = xx[p][q];
         }
         kkt[(p, p)] += alpha;
         kkt[(p, 3)] = 1.0;
         kkt[(3, p)] = 1.0;
     }
     let lu = kkt.lu();
-    (0..global.len())
+    (0..n)
         .map(|i| {
-            let mut h = Vector4::new(0.0, 0.0, 0.0, 1.0);
-            for p in 0..3 {
-                h[p] = alpha * global[i][p]
-                    + training_rgb
-                        .iter()
-                        .zip(nodes)
-                        .zip(&w)
-                        .map(|((x, y), wk)| wk * x[p] * y[i])
-                        .sum::<f64>();
-            }
+            let h = Vector4::new(
+                alpha * global[i][0] + xy[i][0],
+                alpha * global[i][1] + xy[i][1],
+                alpha * global[i][2] + xy[i][2],
+                1.0,
+            );
             let m = lu.solve(&h).filter(|m| m.iter().all(|v| v.is_finite()));
             m.map(|m| [m[0], m[1], m[2]])
                 .ok_or_else(|| Error::Numerical("a local map is singular".into()))
