@@ -77,6 +77,12 @@
 //! with the weights in registers (`src/planar/scalar.rs`); other curves and mappings go pixel
 //! by pixel through [`FoldedSet::encode_u8`].
 //!
+//! **RGB materials** (`src/upsample.rs`): [`Upsampling::reflectance`] takes a linear RGB colour
+//! to a set's N node reflectances: each channel clamped to [0, 1] (NaN to 0), the cell of the
+//! baked grid and one of its six tetrahedra, then four table entries weighted and summed per node,
+//! in f32; [`Upsampling::reflectance_batch`] calls it on each pixel. The tables are in
+//! [`tables::upsampling`] for the sets and displays the scene names (see `docs/upsampling.md`).
+//!
 //! The x86-64 loops are chosen at run time: the CPU's features are detected on the first call
 //! (`cpuid`, with the `cpufeatures` crate) and cached, in `src/simd/mod.rs`. None of this uses
 //! f64: f64 is only where a user asks for it ([`TransferFunction::encode`] and
@@ -105,7 +111,7 @@ extern crate std;
 // - pixel (the per-pixel path, on set, display and simd);
 // - planar (the planar path and the portable loops, on pixel and simd); batch (the interleaved
 //   path, on pixel, planar's portable loops and simd);
-// - dynamic, paper, defmt and fast, on the types.
+// - dynamic, paper, defmt and fast, on the types; upsample (RGB → node reflectances, on error).
 mod batch;
 mod display;
 mod dynamic;
@@ -119,6 +125,7 @@ mod simd;
 #[cfg(test)]
 mod test_inputs;
 mod transfer;
+mod upsample;
 
 #[cfg(feature = "defmt")]
 mod defmt;
@@ -142,6 +149,7 @@ pub use spectral_quadrature_math::{
 pub use transfer::{
     quantize_u16, quantize_u8, ChannelLuts, Rgb, TransferFunction, U16_MAX_STEP_ERROR,
 };
+pub use upsample::{Upsampling, UPSAMPLING_CODE_ONE};
 
 /// The tables baked at compile time by `build.rs` from `data/` (see the header of the generated
 /// file for the inputs and their checksums).
@@ -220,3 +228,7 @@ struct YourLightAndSensorDoctests;
 #[cfg(doctest)]
 #[doc = include_str!("../docs/microcontrollers.md")]
 struct MicrocontrollersDoctests;
+
+#[cfg(doctest)]
+#[doc = include_str!("../docs/upsampling.md")]
+struct UpsamplingDoctests;

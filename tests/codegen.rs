@@ -27,7 +27,8 @@ fn header_constants() {
     assert_eq!(tables::RANGE_NM, [380.0, 770.0]);
     assert_eq!(tables::STEP_NM, 5.0);
     assert_eq!(tables::MAX_ORDER, d.settings.max_order);
-    // The observer, then what the default scene's shared sets (KQ_C_*, KQ_F11_6) were made from.
+    // The observer, then what the default scene's shared sets (KQ_C_*, KQ_F11_6) were made from,
+    // then what their upsamplings add (the other training file).
     let labels: Vec<&str> = tables::INPUTS.iter().map(|(l, _)| *l).collect();
     assert_eq!(
         labels,
@@ -36,7 +37,8 @@ fn header_constants() {
             "data/reflectance_cie_tcs.csv",
             "data/illuminant_C.csv",
             "data/shared_nodes.csv",
-            "data/illuminant_F11.csv"
+            "data/illuminant_F11.csv",
+            "data/reflectance_rawtoaces_190.csv"
         ]
     );
     assert_eq!(tables::INPUTS[0].1, d.observer.sha256);

@@ -56,6 +56,7 @@ mod derivation;
 mod emit;
 mod scenes;
 pub mod shared;
+pub mod upsampling;
 
 pub use base::error::{DataError, DisplayProblem, Error, LightProblem, SetNameProblem};
 pub use base::files::{data_path, sha256_hex};

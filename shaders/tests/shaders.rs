@@ -925,3 +925,95 @@ fn wgsl_and_glsl_run_on_vulkan_and_agree_with_the_runtime() {
         );
     }
 }
+
+// ---------------------------------------------------------------------------------------------
+// The upsamplings (`<set>_<display>_reflectance`): a kernel that calls every one validates.
+
+/// A kernel that writes, per invocation, every upsampling's node values of one RGB triple.
+fn upsampling_kernel(
+    lang: Language,
+    snippet: &str,
+    ups: &[(&str, usize)],
+    pixels: usize,
+) -> String {
+    let outs: usize = ups.iter().map(|(_, n)| n).sum();
+    let mut body = String::new();
+    let mut k = 0;
+    for (j, (name, n)) in ups.iter().enumerate() {
+        let lower = name.to_ascii_lowercase();
+        body.push_str(&match lang {
+            Language::Wgsl => format!("    let r{j} = {lower}_reflectance(rgb);\n"),
+            Language::Glsl => format!("    float r{j}[{n}] = {lower}_reflectance(rgb);\n"),
+        });
+        for i in 0..*n {
+            body.push_str(&format!("    results[o + {}u] = r{j}[{i}];\n", k + i));
+        }
+        k += n;
+    }
+    match lang {
+        Language::Wgsl => format!(
+            "{snippet}
+@group(0) @binding(0) var<storage, read> samples: array<f32>;
+@group(0) @binding(1) var<storage, read_write> results: array<f32>;
+
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {{
+    let i = id.x;
+    if (i >= {pixels}u) {{
+        return;
+    }}
+    let rgb = vec3<f32>(samples[3u * i], samples[3u * i + 1u], samples[3u * i + 2u]);
+    let o = i * {outs}u;
+{body}}}
+"
+        ),
+        Language::Glsl => format!(
+            "#version 450
+{snippet}
+layout(local_size_x = 64) in;
+layout(std430, set = 0, binding = 0) readonly buffer Samples {{ float samples[]; }};
+layout(std430, set = 0, binding = 1) buffer Results {{ float results[]; }};
+
+void main() {{
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= {pixels}u) {{
+        return;
+    }}
+    vec3 rgb = vec3(samples[3u * i], samples[3u * i + 1u], samples[3u * i + 2u]);
+    uint o = i * {outs}u;
+{body}}}
+"
+        ),
+    }
+}
+
+/// The default scene's upsamplings: name and N.
+fn upsamplings() -> Vec<(&'static str, usize)> {
+    use spectral_quadrature::tables::upsampling as up;
+    vec![
+        ("KQ_C_4_SRGB", up::KQ_C_4_SRGB.wavelengths_nm.len()),
+        ("KQ_C_6_SRGB", up::KQ_C_6_SRGB.wavelengths_nm.len()),
+        ("KQ_C_8_SRGB", up::KQ_C_8_SRGB.wavelengths_nm.len()),
+        ("KQ_F11_6_SRGB", up::KQ_F11_6_SRGB.wavelengths_nm.len()),
+    ]
+}
+
+#[test]
+fn upsampling_kernels_validate() {
+    let ups = upsamplings();
+    assert_eq!(
+        ups.len(),
+        spectral_quadrature::tables::shaders::WGSL
+            .matches("_reflectance(rgb: vec3<f32>)")
+            .count(),
+        "add the scene's new upsamplings to upsamplings()"
+    );
+    validate(
+        Language::Wgsl,
+        &upsampling_kernel(Language::Wgsl, shaders::WGSL, &ups, 64),
+    );
+    validate(
+        Language::Glsl,
+        &upsampling_kernel(Language::Glsl, shaders::GLSL, &ups, 64),
+    );
+}

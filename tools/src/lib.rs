@@ -8,6 +8,8 @@
 //! - [`stability`]: unstable alternatives to the crate's quadrature (section 6b).
 //! - [`sensitivity`]: how rules move with the grid, the range and the observer (section 6c).
 //! - [`random_wavelengths`]: what renderers do instead, random wavelengths per sample (section 7).
+//! - [`upsampling`]: RGB materials under another light, the crate's upsampling beside
+//!   Jakob-Hanika, Mallett-Yuksel and Smits (section 8).
 #![deny(missing_docs)]
 
 use std::path::PathBuf;
@@ -17,6 +19,7 @@ pub mod prefilter;
 pub mod random_wavelengths;
 pub mod sensitivity;
 pub mod stability;
+pub mod upsampling;
 
 /// The runtime crate's `data/` in this workspace: the CIE tables, illuminants and reflectances
 /// the derivation reads ([`spectral_quadrature_build::Settings::data_dir`]).

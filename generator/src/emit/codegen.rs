@@ -472,6 +472,8 @@ pub fn tables_rs(
         }
         writeln!(o, "}}\n").ok();
     }
+    let (upsampling, upsampling_bytes) = super::upsampling::upsampling_rs(scene, &f32_literal)?;
+    o.push_str(&upsampling);
     // Every table as a slice, so a program can link them all (examples/size_probe measures
     // what a scene costs when nothing is left unused).
     let chain = |root: &str, children: &[&str]| {
@@ -559,9 +561,9 @@ pub fn tables_rs(
     item(
         &mut o,
         0,
-        "Bytes of the numeric tables above (f32 values; rule tables count their nodes and weights): what the scene bakes.",
+        "Bytes of the numeric tables above (f32 values; rule tables count their nodes and weights; upsampling tables two bytes a code): what the scene bakes.",
         "pub const TABLE_BYTES: usize =",
-        &Expr::atom((4 * floats).to_string()),
+        &Expr::atom((4 * floats + upsampling_bytes).to_string()),
     );
     o.push_str(&gamma_encoders_rs(
         scene.displays.iter().map(|(spec, _)| &spec.transfer),

@@ -91,7 +91,9 @@ pub fn generate(crate_dir: &Path, scene: Option<&OsStr>) -> Result<Output, Error
     // Every data file a baked set was made from, after the observer and the scene's own files.
     let sets = resolved.colour_sets.iter().chain(&resolved.rule_sets);
     let own = scene.user.data_files();
-    for label in sets.flat_map(|s| catalog::input_files(&s.name)).chain(own) {
+    let upsampling = super::upsampling::input_files(&resolved);
+    let sets = sets.flat_map(|s| catalog::input_files(&s.name));
+    for label in sets.chain(own).chain(upsampling) {
         if inputs.iter().any(|(l, _)| *l == label) {
             continue;
         }

@@ -1,5 +1,6 @@
 //! The emitters: the Rust tables the runtime includes ([`codegen`]), the WGSL and GLSL snippets
-//! ([`shader`]), the 8-bit encoders' thresholds (`transfer_tables`), and
+//! ([`shader`]), the 8-bit encoders' thresholds (`transfer_tables`), the RGB upsamplings'
+//! tables ([`upsampling`]), and
 //! [`generate`](crate::generate), which the runtime's build script calls to run the whole
 //! generation for a scene.
 
@@ -8,3 +9,4 @@ pub(crate) mod generate;
 pub(crate) mod layout;
 pub mod shader;
 pub(crate) mod transfer_tables;
+pub mod upsampling;

@@ -32,6 +32,11 @@
 //! [sensors.AS7341]                 # optional: the best matrix from a sensor's readings
 //! file = "as7341.csv"              # wavelength, then one column per channel
 //! light = "C"                      # optional: fit for reflectances under it (else radiances)
+//!
+//! [upsampling]                     # optional: RGB → node reflectances (crate::upsampling)
+//! sets = ["KQ_C_8"]                # default: every colour set (sensor sets excepted)
+//! displays = ["SRGB"]              # default: every display of the scene
+//! grid = 9                         # points per axis, 2..=65
 //! ```
 //!
 //! `[fixed.*]` and `[sensors.*]` sets are baked whenever declared ([`crate::user`]).
@@ -48,6 +53,7 @@ use toml::Spanned;
 
 use super::catalog;
 use super::plan::{self, Metric};
+use super::upsampling::{RawUpsampling, UpsamplingRequest};
 use super::user::{self, fixed_set, sensor_set, Fitted, Sensor, UserLight};
 use crate::base::error::{DataError, Error};
 use crate::derivation::derive::Derivation;
@@ -57,6 +63,7 @@ use crate::derivation::observer::ObserverId;
 use crate::derivation::sets::WavelengthSet;
 use crate::derivation::settings::Settings;
 use crate::shared;
+use crate::upsampling::Baked;
 
 /// The environment variable naming the scene file.
 pub const SCENE_ENV: &str = "SPECTRAL_QUADRATURE_SCENE";
@@ -79,6 +86,7 @@ struct RawScene {
     lights: Option<BTreeMap<Spanned<String>, Spanned<String>>>,
     fixed: Option<BTreeMap<Spanned<String>, Spanned<RawFixed>>>,
     sensors: Option<BTreeMap<Spanned<String>, Spanned<RawSensor>>>,
+    upsampling: Option<Spanned<RawUpsampling>>,
 }
 
 #[derive(Deserialize)]
@@ -249,6 +257,8 @@ pub struct Scene {
     pub user: UserInputs,
     /// Whether this is the default scene (everything).
     pub is_default: bool,
+    /// The `[upsampling]` table, if any.
+    pub upsampling: Option<UpsamplingRequest>,
 }
 
 fn line_of(text: &str, offset: usize) -> usize {
@@ -273,6 +283,7 @@ impl Scene {
             plan: None,
             user: UserInputs::default(),
             is_default: true,
+            upsampling: Some(UpsamplingRequest::default_scene(&DEFAULT_SHARED_SETS)),
         }
     }
 
@@ -413,6 +424,10 @@ impl Scene {
             .parent()
             .unwrap_or(std::path::Path::new("."));
         let user = parse_user(own, dir, &at, &err)?;
+        let upsampling = match raw.upsampling.take() {
+            Some(u) => Some(UpsamplingRequest::parse(file, u, &at)?),
+            None => None,
+        };
         if sets.is_empty() && plan.is_none() && user.fixed.is_empty() && user.sensors.is_empty() {
             return Err(err(
                 0,
@@ -431,6 +446,7 @@ impl Scene {
             plan,
             user,
             is_default: false,
+            upsampling,
         })
     }
 }
@@ -576,6 +592,8 @@ pub struct Resolved {
     pub extras: Extras,
     /// What the planner chose, as a sentence for the generated header, if it ran.
     pub planned: Option<String>,
+    /// The upsamplings the scene asks for, baked.
+    pub upsamplings: Vec<Baked>,
 }
 
 impl Scene {
@@ -603,6 +621,7 @@ impl Scene {
             for name in DEFAULT_SHARED_SETS {
                 colour_sets.push(catalog::resolve(d, name).map_err(err(0))?);
             }
+            let upsamplings = self.upsamplings(d, &colour_sets, &displays, &[])?;
             return Ok(Resolved {
                 file: self.file.clone(),
                 colour_sets,
@@ -610,6 +629,7 @@ impl Scene {
                 displays,
                 extras: self.extras,
                 planned: None,
+                upsamplings,
             });
         }
         let user = self.resolve_user(d)?;
@@ -644,6 +664,7 @@ impl Scene {
         for set in user.1 {
             colour_sets.push(set.wavelength_set(d));
         }
+        let upsamplings = self.upsamplings(d, &colour_sets, &displays, &user.0)?;
         Ok(Resolved {
             file: self.file.clone(),
             colour_sets,
@@ -651,7 +672,22 @@ impl Scene {
             displays,
             extras: self.extras,
             planned,
+            upsamplings,
         })
+    }
+
+    /// Bakes the `[upsampling]` table's maps, if any.
+    fn upsamplings(
+        &self,
+        d: &Derivation,
+        sets: &[WavelengthSet],
+        displays: &[(DisplaySpec, DisplayMatrices)],
+        lights: &[UserLight],
+    ) -> Result<Vec<Baked>, Error> {
+        match &self.upsampling {
+            Some(u) => u.resolve(&self.file, d, sets, displays, lights),
+            None => Ok(Vec::new()),
+        }
     }
 
     /// Reads the scene's lights and builds its fixed and sensor sets. Errors name the scene's

@@ -11,6 +11,8 @@
 //!
 //! Section 7 measures random wavelengths per sample (pbrt-v4's sampler, hero, uniform) against
 //! the fixed sets; `--trials` and `--seed` set its trials (see `docs/random-wavelengths.md`).
+//! Section 8 relights RGB materials upsampled to a set's nodes: the crate's map beside
+//! Jakob-Hanika, Mallett-Yuksel and Smits (see `docs/upsampling.md`).
 //!
 //! Spectra files: CSV, first column wavelength in nm, one column per spectrum, any spacing;
 //! they are interpolated linearly and must cover the observer's 380-770 nm. Errors name the file
@@ -22,6 +24,7 @@ use spectral_quadrature_build as sqd;
 use spectral_quadrature_tools as tools;
 use tools::Error;
 mod stability;
+mod upsampling;
 mod user;
 
 use std::fmt::Write as _;
@@ -87,7 +90,7 @@ fn main() {
 }
 
 /// The report's steps, in order: the progress line counts these.
-const STEPS: [&str; 9] = [
+const STEPS: [&str; 10] = [
     "deriving the rules (CIE 1931 2°, 380-770 nm, 5 nm)",
     "reading spectra",
     "section 1: Table 2 (ColorChecker under C)",
@@ -97,6 +100,7 @@ const STEPS: [&str; 9] = [
     "section 5: shared sets at each wavelength budget (fitting and judging)",
     "section 6: stability",
     "section 7: against random wavelengths (seeded trials, timing)",
+    "section 8: RGB materials under another light (fitting and relighting)",
 ];
 
 /// Progress on standard error, one line per step of [`STEPS`].
@@ -315,6 +319,23 @@ fn run(args: &Args) -> Result<(), Error> {
     )?;
     files.extend(random_files);
 
+    progress.next();
+    let (upsampling_text, upsampling_files) = upsampling::section(
+        &upsampling::Inputs {
+            d: &d,
+            reflectances: args
+                .reflectances
+                .as_ref()
+                .map(|_| (inputs.surfaces.as_slice(), inputs.surfaces_from.as_str())),
+            lights: args
+                .illuminants
+                .as_ref()
+                .map(|_| inputs.user_lights.as_slice()),
+        },
+        out,
+    )?;
+    files.extend(upsampling_files);
+
     if args.csv {
         print!("{section4_csv}");
     } else {
@@ -326,6 +347,8 @@ fn run(args: &Args) -> Result<(), Error> {
         rest.push_str(&stability_text);
         rest.push('\n');
         rest.push_str(&random_text);
+        rest.push('\n');
+        rest.push_str(&upsampling_text);
         print!("{rest}");
         text.push_str(&rest);
         files.push(write(out, "report.txt", &text)?);

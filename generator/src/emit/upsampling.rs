@@ -1,0 +1,292 @@
+//! The `upsampling` module of `tables.rs`: one `Upsampling` const per set and display a scene
+//! asks for ([`crate::upsampling`]), its table of 16-bit codes laid out as rustfmt would.
+
+use std::string::{String, ToString};
+use std::vec::Vec;
+
+use super::layout::{self, Expr};
+use crate::base::error::Error;
+use crate::derivation::evaluate::builtin_lights;
+use crate::scenes::scene::Resolved;
+use crate::upsampling::TRAINING_FILES;
+
+/// The const name of the upsampling of `set` for `display`: `<SET>_<DISPLAY>`.
+pub fn const_name(set: &str, display: &str) -> String {
+    std::format!("{set}_{display}")
+}
+
+/// The data files (labels `data/<file>`) the scene's upsamplings are made from: the training
+/// reflectances and each built-in reference light. Empty when there are none.
+pub(crate) fn input_files(scene: &Resolved) -> Vec<String> {
+    if scene.upsamplings.is_empty() {
+        return Vec::new();
+    }
+    let mut files: Vec<String> = TRAINING_FILES.iter().map(|f| f.to_string()).collect();
+    for u in &scene.upsamplings {
+        let file = std::format!("data/illuminant_{}.csv", u.light);
+        if builtin_lights().contains(&u.light.as_str()) && !files.contains(&file) {
+            files.push(file);
+        }
+    }
+    files
+}
+
+/// The module's source and the bytes of its tables (two per code), or an empty string and 0
+/// when the scene asks for no upsampling. `f32_literal`: the Rust literal of an f64 rounded to
+/// f32 (`codegen`'s, so that every baked f32 is written one way).
+pub(crate) fn upsampling_rs(
+    scene: &Resolved,
+    f32_literal: &dyn Fn(f64) -> Result<String, Error>,
+) -> Result<(String, usize), Error> {
+    if scene.upsamplings.is_empty() {
+        return Ok((String::new(), 0));
+    }
+    let mut o = String::new();
+    let mut bytes = 0;
+    o.push_str(&layout::comment(
+        0,
+        "///",
+        "RGB materials: each upsampling maps the display's linear RGB, white-balanced under the set's reference light, to the set's node reflectances in [0, 1] (see `docs/upsampling.md`). Named `<SET>_<DISPLAY>`.",
+        0,
+    ));
+    o.push_str("pub mod upsampling {\n    use crate::Upsampling;\n");
+    for u in &scene.upsamplings {
+        let (spec, _) = scene
+            .displays
+            .iter()
+            .find(|(s, _)| s.name == u.display)
+            .ok_or_else(|| Error::UnknownDisplay {
+                name: u.display.clone(),
+                valid: scene.displays.iter().map(|(s, _)| s.name.clone()).collect(),
+            })?;
+        let n = u.wavelengths_nm.len();
+        let rows: Vec<Expr> = u
+            .codes
+            .iter()
+            .map(|c| Expr::Array(c.iter().map(|v| Expr::atom(v.to_string())).collect()))
+            .collect();
+        bytes += 2 * n * rows.len();
+        let f32s = |v: &[f64]| -> Result<Expr, Error> {
+            v.iter()
+                .map(|&x| f32_literal(x).map(Expr::Atom))
+                .collect::<Result<Vec<_>, _>>()
+                .map(Expr::Array)
+        };
+        let quoted = |s: &str| Expr::atom(std::format!("{s:?}"));
+        let value = Expr::Struct(
+            "Upsampling".into(),
+            std::vec![
+                ("set".into(), quoted(&u.set)),
+                ("display".into(), quoted(&spec.label)),
+                ("light".into(), quoted(&u.light)),
+                ("wavelengths_nm".into(), f32s(&u.wavelengths_nm)?),
+                ("lipschitz".into(), Expr::Atom(f32_literal(u.lipschitz)?)),
+                (
+                    "max_round_trip_delta_e00".into(),
+                    Expr::Atom(f32_literal(u.max_round_trip_de00)?)
+                ),
+                (
+                    "reachable_share".into(),
+                    Expr::Atom(f32_literal(u.reachable_share())?)
+                ),
+                ("grid".into(), Expr::atom(u.grid.to_string())),
+                ("table".into(), Expr::Array(rows).by_ref()),
+            ],
+        );
+        let doc = std::format!(
+            "[`{set}`](super::{set}) for [`{disp}`](super::displays::{disp}): linear {label} RGB white-balanced under {light} → {n} node reflectances, a {g}×{g}×{g} grid ({bytes} bytes); {share:.1} % of the grid reachable; Lipschitz {lip:.3}; round trip within {rt:.4} ΔE00 at the reachable grid points.",
+            set = u.set,
+            disp = u.display,
+            label = spec.label,
+            light = u.light,
+            g = u.grid,
+            bytes = 2 * n * u.codes.len(),
+            share = 100.0 * u.reachable_share(),
+            lip = u.lipschitz,
+            rt = u.max_round_trip_de00,
+        );
+        o.push_str(&layout::comment(4, "///", &doc, 0));
+        o.push_str(&layout::item(
+            4,
+            &std::format!(
+                "pub const {}: Upsampling<{n}> =",
+                const_name(&u.set, &u.display)
+            ),
+            &value,
+        ));
+        o.push('\n');
+    }
+    o.push_str("}\n\n");
+    Ok((o, bytes))
+}
+
+/// The scene's upsamplings as shader source: per upsampling `<SET>_<DISPLAY>`, its codes packed
+/// two to a `u32` (`<SET>_<DISPLAY>_CODES`, low half first) and the function
+/// `<set>_<display>_reflectance(rgb)`, the runtime's `Upsampling::reflectance` with its f32
+/// operations in the same order. `wgsl`: WGSL, else GLSL; `float`: the language's literal of an
+/// f64 rounded to f32.
+pub(crate) fn shader_snippet(
+    scene: &Resolved,
+    wgsl: bool,
+    float: &dyn Fn(f64) -> Result<String, Error>,
+) -> Result<String, Error> {
+    let mut o = String::new();
+    for u in &scene.upsamplings {
+        let name = const_name(&u.set, &u.display);
+        let lower = name.to_ascii_lowercase();
+        let n = u.wavelengths_nm.len();
+        let g = u.grid;
+        let flat: Vec<u16> = u.codes.iter().flatten().copied().collect();
+        let words: Vec<String> = flat
+            .chunks(2)
+            .map(|pair| {
+                let lo = u32::from(pair[0]);
+                let hi = u32::from(pair.get(1).copied().unwrap_or(0));
+                std::format!("0x{:08x}u", lo | (hi << 16))
+            })
+            .collect();
+        let len = words.len();
+        let body = words
+            .chunks(8)
+            .map(|c| c.join(", "))
+            .collect::<Vec<_>>()
+            .join(",\n    ");
+        let (uint, float_t, vec3) = if wgsl {
+            ("u32", "f32", "vec3<f32>")
+        } else {
+            ("uint", "float", "vec3")
+        };
+        o.push_str(&std::format!(
+            "// {name}: linear RGB (white-balanced under {}) -> {n} node reflectances in [0, 1], a {g}x{g}x{g} grid of 16-bit codes, two to a word (Upsampling::reflectance).\n",
+            u.light
+        ));
+        if wgsl {
+            o.push_str(&std::format!(
+                "const {name}_CODES: array<u32, {len}> = array<u32, {len}>(\n    {body},\n);\n"
+            ));
+        } else {
+            o.push_str(&std::format!(
+                "const uint {name}_CODES[{len}] = uint[{len}](\n    {body}\n);\n"
+            ));
+        }
+        let (zero, one) = (float(0.0)?, float(1.0)?);
+        let cells = float((g - 1) as f64)?;
+        // The runtime's scale, 1 / 65535 rounded to f32 by an f32 division.
+        let scale = float(f64::from(1.0f32 / 65535.0f32))?;
+        let clamp = |c: &str| std::format!("select({zero}, min(rgb.{c}, {one}), rgb.{c} > {zero})");
+        let clamp_glsl =
+            |c: &str| std::format!("(rgb.{c} > {zero} ? min(rgb.{c}, {one}) : {zero})");
+        let c3 =
+            |f: &dyn Fn(&str) -> String| std::format!("{vec3}({}, {}, {})", f("x"), f("y"), f("z"));
+        let v = if wgsl { c3(&clamp) } else { c3(&clamp_glsl) };
+        let (decl, uvec3, let_) = if wgsl {
+            (
+                std::format!("fn {lower}_reflectance(rgb: vec3<f32>) -> array<f32, {n}> {{\n"),
+                "vec3<u32>",
+                "let",
+            )
+        } else {
+            (
+                std::format!("float[{n}] {lower}_reflectance(vec3 rgb) {{\n"),
+                "uvec3",
+                "",
+            )
+        };
+        let lets = |name: &str, ty: &str, value: &str| {
+            if wgsl {
+                std::format!("    {let_} {name} = {value};\n")
+            } else {
+                std::format!("    {ty} {name} = {value};\n")
+            }
+        };
+        o.push_str(&decl);
+        o.push_str(
+            "    // Each channel clamped to [0, 1] (NaN to 0), its cell and the position in it.\n",
+        );
+        o.push_str(&lets("x", vec3, &std::format!("{v} * {cells}")));
+        o.push_str(&lets(
+            "cell",
+            uvec3,
+            &std::format!("min({uvec3}(x), {uvec3}({}u))", g - 2),
+        ));
+        o.push_str(&lets("f", vec3, &std::format!("x - {vec3}(cell)")));
+        o.push_str(
+            "    // The tetrahedron: the axes in decreasing order of f (strides of r, g, b).\n",
+        );
+        let (sr, sg, sb) = (g * g, g, 1);
+        let var = |name: &str, ty: &str| {
+            if wgsl {
+                std::format!("    var {name}: {ty};\n")
+            } else {
+                std::format!("    {ty} {name};\n")
+            }
+        };
+        o.push_str(&var("s", uvec3));
+        o.push_str(&var("fs", vec3));
+        let branch = |a: usize, b: usize, c: usize| {
+            let stride = [sr, sg, sb];
+            let comp = ["x", "y", "z"];
+            std::format!(
+                "s = {uvec3}({}u, {}u, {}u); fs = {vec3}(f.{}, f.{}, f.{});",
+                stride[a],
+                stride[b],
+                stride[c],
+                comp[a],
+                comp[b],
+                comp[c]
+            )
+        };
+        o.push_str(&std::format!(
+            "    if (f.x >= f.y) {{\n        if (f.y >= f.z) {{ {} }} else if (f.x >= f.z) {{ {} }} else {{ {} }}\n    }} else if (f.x >= f.z) {{ {} }} else if (f.y >= f.z) {{ {} }} else {{ {} }}\n",
+            branch(0, 1, 2),
+            branch(0, 2, 1),
+            branch(2, 0, 1),
+            branch(1, 0, 2),
+            branch(1, 2, 0),
+            branch(2, 1, 0)
+        ));
+        o.push_str(&lets(
+            "i0",
+            uint,
+            &std::format!("((cell.x * {g}u + cell.y) * {g}u + cell.z) * {n}u"),
+        ));
+        o.push_str(&lets("i1", uint, &std::format!("i0 + s.x * {n}u")));
+        o.push_str(&lets("i2", uint, &std::format!("i1 + s.y * {n}u")));
+        o.push_str(&lets("i3", uint, &std::format!("i2 + s.z * {n}u")));
+        o.push_str(&lets("w0", float_t, &std::format!("{one} - fs.x")));
+        o.push_str(&lets("w1", float_t, "fs.x - fs.y"));
+        o.push_str(&lets("w2", float_t, "fs.y - fs.z"));
+        o.push_str(&lets("w3", float_t, "fs.z"));
+        o.push_str(&var(
+            "nodes",
+            &if wgsl {
+                std::format!("array<f32, {n}>")
+            } else {
+                std::format!("float[{n}]")
+            },
+        ));
+        let code = |idx: &str| {
+            std::format!(
+                "{float_t}(({name}_CODES[({idx} + k) >> 1u] >> ((({idx} + k) & 1u) * 16u)) & 0xffffu)"
+            )
+        };
+        let loop_head = if wgsl {
+            std::format!("    for (var k = 0u; k < {n}u; k = k + 1u) {{\n")
+        } else {
+            std::format!("    for (uint k = 0u; k < {n}u; k++) {{\n")
+        };
+        o.push_str(&loop_head);
+        o.push_str(&std::format!(
+            "        {}acc = w0 * {} + w1 * {} + w2 * {} + w3 * {};\n",
+            if wgsl { "let " } else { "float " },
+            code("i0"),
+            code("i1"),
+            code("i2"),
+            code("i3")
+        ));
+        o.push_str(&std::format!(
+            "        nodes[k] = clamp(acc * {scale}, {zero}, {one});\n    }}\n    return nodes;\n}}\n\n"
+        ));
+    }
+    Ok(o)
+}

@@ -1,0 +1,191 @@
+//! A scene's `[upsampling]` table: which colour sets and displays get an RGB → node reflectance
+//! map baked ([`crate::upsampling`]), and on how fine a grid.
+//!
+//! ```toml
+//! [upsampling]              # optional; the default scene has it for its KQ sets and SRGB
+//! sets = ["KQ_C_8"]         # default: every colour set of the scene (sensor sets excepted)
+//! displays = ["SRGB"]       # default: every display of the scene
+//! grid = 9                  # points per axis, 2..=65 (default 9)
+//! ```
+
+use std::string::{String, ToString};
+use std::vec::Vec;
+
+use serde::Deserialize;
+use toml::Spanned;
+
+use super::user::UserLight;
+use crate::base::error::{DataError, Error};
+use crate::derivation::derive::Derivation;
+use crate::derivation::display::{DisplayMatrices, DisplaySpec};
+use crate::derivation::evaluate;
+use crate::derivation::sets::WavelengthSet;
+use crate::upsampling::{self, Baked, DEFAULT_GRID, GRID_SIZES, RADIANCE_REFERENCE_LIGHT};
+
+/// The `[upsampling]` table as written.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawUpsampling {
+    sets: Option<Vec<Spanned<String>>>,
+    displays: Option<Vec<Spanned<String>>>,
+    grid: Option<Spanned<i64>>,
+}
+
+/// What a scene asks to upsample.
+#[derive(Debug, Clone, PartialEq)]
+pub struct UpsamplingRequest {
+    /// Set names with their lines; `None`: every colour set of the scene that samples
+    /// wavelengths.
+    pub sets: Option<Vec<(String, usize)>>,
+    /// Display names with their lines; `None`: every display of the scene.
+    pub displays: Option<Vec<(String, usize)>>,
+    /// Grid points per axis.
+    pub grid: usize,
+    /// The line of the `[upsampling]` table.
+    pub line: usize,
+}
+
+impl UpsamplingRequest {
+    /// The default scene's: `sets` (its shared sets) for `SRGB`, on the default grid.
+    pub(crate) fn default_scene(sets: &[&str]) -> UpsamplingRequest {
+        UpsamplingRequest {
+            sets: Some(sets.iter().map(|s| (s.to_string(), 0)).collect()),
+            displays: Some(std::vec![("SRGB".to_string(), 0)]),
+            grid: DEFAULT_GRID,
+            line: 0,
+        }
+    }
+
+    /// Checks the table's form: a grid size in [`GRID_SIZES`]. Errors name `file` and the line.
+    pub(crate) fn parse(
+        file: &str,
+        raw: Spanned<RawUpsampling>,
+        at: &dyn Fn(core::ops::Range<usize>) -> usize,
+    ) -> Result<UpsamplingRequest, Error> {
+        let line = at(raw.span());
+        let raw = raw.into_inner();
+        let grid = match raw.grid {
+            None => DEFAULT_GRID,
+            Some(g) => {
+                let v = *g.get_ref();
+                usize::try_from(v)
+                    .ok()
+                    .filter(|v| GRID_SIZES.contains(v))
+                    .ok_or_else(|| {
+                        Error::Data(DataError {
+                            file: file.into(),
+                            line: at(g.span()) as u64,
+                            message: std::format!(
+                                "[upsampling] grid = {v}: a grid has {} to {} points per axis",
+                                GRID_SIZES.start(),
+                                GRID_SIZES.end()
+                            ),
+                        })
+                    })?
+            }
+        };
+        let names = |v: Option<Vec<Spanned<String>>>| {
+            v.map(|v| {
+                v.into_iter()
+                    .map(|s| (s.get_ref().clone(), at(s.span())))
+                    .collect()
+            })
+        };
+        Ok(UpsamplingRequest {
+            sets: names(raw.sets),
+            displays: names(raw.displays),
+            grid,
+            line,
+        })
+    }
+
+    /// Bakes the upsamplings the request names among the scene's resolved `sets` and
+    /// `displays`; `lights`: the scene's own lights, for sets that fold one in. Errors name
+    /// `file`, the line and the valid choices: a set or display the scene does not bake, a
+    /// sensor set (its samples are not wavelengths).
+    pub(crate) fn resolve(
+        &self,
+        file: &str,
+        d: &Derivation,
+        sets: &[WavelengthSet],
+        displays: &[(DisplaySpec, DisplayMatrices)],
+        lights: &[UserLight],
+    ) -> Result<Vec<Baked>, Error> {
+        let at = |line: usize, message: String| {
+            Error::Data(DataError {
+                file: file.into(),
+                line: line as u64,
+                message,
+            })
+        };
+        let candidates: Vec<&WavelengthSet> = sets.iter().filter(|s| s.sensor.is_none()).collect();
+        let chosen_sets: Vec<&WavelengthSet> = match &self.sets {
+            None => candidates.clone(),
+            Some(names) => names
+                .iter()
+                .map(|(name, line)| {
+                    candidates.iter().copied().find(|s| &s.name == name).ok_or_else(|| {
+                        at(
+                            *line,
+                            std::format!(
+                                "[upsampling] names set {name}, which is not among the scene's colour sets that sample wavelengths: {}",
+                                candidates.iter().map(|s| s.name.as_str()).collect::<Vec<_>>().join(", ")
+                            ),
+                        )
+                    })
+                })
+                .collect::<Result<_, _>>()?,
+        };
+        let chosen_displays: Vec<&(DisplaySpec, DisplayMatrices)> = match &self.displays {
+            None => displays.iter().collect(),
+            Some(names) => names
+                .iter()
+                .map(|(name, line)| {
+                    displays.iter().find(|(s, _)| &s.name == name).ok_or_else(|| {
+                        at(
+                            *line,
+                            std::format!(
+                                "[upsampling] names display {name}, which the scene does not use; its displays: {}",
+                                displays.iter().map(|(s, _)| s.name.as_str()).collect::<Vec<_>>().join(", ")
+                            ),
+                        )
+                    })
+                })
+                .collect::<Result<_, _>>()?,
+        };
+        if chosen_sets.is_empty() || chosen_displays.is_empty() {
+            return Ok(Vec::new());
+        }
+        let range = d.settings.range_nm;
+        let training = upsampling::training(&d.settings.data_dir, range)?;
+        let mut out = Vec::new();
+        for set in chosen_sets {
+            let name = set.light.as_deref().unwrap_or(RADIANCE_REFERENCE_LIGHT);
+            let light = match lights.iter().find(|l| l.name == name) {
+                Some(l) => {
+                    let mut c = l.curve.clone();
+                    c.name = name.to_string();
+                    c
+                }
+                None => evaluate::builtin_illuminant(&d.settings.data_dir, name, range)?,
+            };
+            for (spec, m) in &chosen_displays {
+                let baked = upsampling::bake(
+                    d,
+                    set,
+                    (&spec.name, m),
+                    &light,
+                    set.light.is_some(),
+                    &training,
+                    self.grid,
+                )
+                .map_err(|e| Error::InSet {
+                    name: set.name.clone(),
+                    error: std::boxed::Box::new(e),
+                })?;
+                out.push(baked);
+            }
+        }
+        Ok(out)
+    }
+}

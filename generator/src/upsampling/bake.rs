@@ -1,0 +1,556 @@
+//! The upsampling of one set for one display: the encoding weights under the reference light,
+//! the least-squares map fitted on the training reflectances, and the grid of node values, each
+//! projected onto the node values in [0, 1] that the set encodes back to the grid point's colour
+//! (or, where none does, to the nearest colour one does).
+
+use std::string::String;
+use std::vec::Vec;
+
+use nalgebra::{Matrix4, Vector4};
+
+use super::qp::nearest_in_box;
+use crate::base::error::Error;
+use crate::derivation::derive::Derivation;
+use crate::derivation::display::DisplayMatrices;
+use crate::derivation::evaluate::{self, delta_e2000, lab_from_xyz, Curve};
+use crate::derivation::sets::WavelengthSet;
+
+/// The light a set for radiances is upsampled under: the RGB is a surface's colour under it,
+/// and the renderer multiplies the node reflectances by its own light's samples.
+pub const RADIANCE_REFERENCE_LIGHT: &str = "D65";
+
+/// Grid points per axis the crate bakes unless a scene says otherwise.
+pub const DEFAULT_GRID: usize = 9;
+
+/// The grid sizes a scene may ask for: 2 (the cube's corners alone) to 65 points per axis.
+pub const GRID_SIZES: core::ops::RangeInclusive<usize> = 2..=65;
+
+/// The table's code for a node value of 1: node value = code / 65535.
+pub const CODE_ONE: f64 = 65535.0;
+
+/// A grid point counts as reachable when its projection's colour is within this ΔE00 of it. The
+/// projection meets a reachable colour to about 1e-8 ΔE00 (the programme's ε); an unreachable
+/// one stays at least its distance from the set's gamut, far more than this.
+pub const REACHABLE_DELTA_E00: f64 = 1e-4;
+
+/// Encoding weights: `rgb = weights · r` for node reflectances r under the reference light,
+/// white-balanced so that r = 1 gives RGB (1, 1, 1).
+///
+/// `light_at_nodes`: `None` for a set with its light folded in (its folded weights take
+/// reflectances already); for a set for radiances, the reference light at the nodes (any
+/// scale). Errors if a channel of the white is not positive.
+pub fn encoding(
+    d: &Derivation,
+    set: &WavelengthSet,
+    display: &DisplayMatrices,
+    light_at_nodes: Option<&[f64]>,
+) -> Result<[Vec<f64>; 3], Error> {
+    let mut w = d.folded(set, display);
+    if let Some(l) = light_at_nodes {
+        for row in w.iter_mut() {
+            for (v, l) in row.iter_mut().zip(l) {
+                *v *= l;
+            }
+        }
+    }
+    for (c, row) in w.iter_mut().enumerate() {
+        let white: f64 = row.iter().sum();
+        if !(white > 0.0 && white.is_finite()) {
+            return Err(Error::Numerical(std::format!(
+                "{}: channel {c} of the white under the reference light is {white}, not positive",
+                set.name
+            )));
+        }
+        for v in row.iter_mut() {
+            *v /= white;
+        }
+    }
+    Ok(w)
+}
+
+/// The white-balanced linear RGB of reflectances under `light`, integrated every 1 nm over the
+/// derivation's range: `rgb / rgb(white)` per channel, so that a perfect white is (1, 1, 1).
+pub fn exact_rgb(
+    d: &Derivation,
+    display: &DisplayMatrices,
+    light: &Curve,
+    reflectances: &[Curve],
+) -> Result<Vec<[f64; 3]>, Error> {
+    let full = evaluate::full_integration(&d.observer, d.settings.range_nm, 1.0)?;
+    let lw: Vec<f64> = full.wavelengths_nm.iter().map(|&nm| light.at(nm)).collect();
+    let rgb_of = |r: &dyn Fn(f64) -> f64| -> [f64; 3] {
+        let xyz = [0, 1, 2].map(|c| {
+            full.xyz_weights[c]
+                .iter()
+                .zip(&full.wavelengths_nm)
+                .zip(&lw)
+                .map(|((w, &nm), l)| w * l * r(nm))
+                .sum::<f64>()
+        });
+        [0, 1, 2].map(|c| (0..3).map(|k| display.xyz_to_rgb[c][k] * xyz[k]).sum())
+    };
+    let white = rgb_of(&|_| 1.0);
+    if white
+        .iter()
+        .any(|w| w.partial_cmp(&0.0) != Some(core::cmp::Ordering::Greater))
+    {
+        return Err(Error::Numerical(std::format!(
+            "the white under {} has RGB {white:?}: a channel is not positive",
+            light.name
+        )));
+    }
+    Ok(reflectances
+        .iter()
+        .map(|r| {
+            let rgb = rgb_of(&|nm| r.at(nm));
+            [0, 1, 2].map(|c| rgb[c] / white[c])
+        })
+        .collect())
+}
+
+/// The least-squares map from white-balanced RGB to node reflectances, `r ≈ map · rgb` (one
+/// row of three per node), fitted on `(rgb, node values)` pairs with every row summing to 1,
+/// so that white gives 1 at every node and a grey g gives g (a flat spectrum). Errors if the
+/// pairs do not determine the map (fewer than three independent colours).
+pub fn least_squares_map(rgb: &[[f64; 3]], nodes: &[Vec<f64>]) -> Result<Vec<[f64; 3]>, Error> {
+    let n = nodes.first().map_or(0, Vec::len);
+    let mut g = [[0.0; 3]; 3];
+    for x in rgb {
+        for p in 0..3 {
+            for q in 0..3 {
+                g[p][q] += x[p] * x[q];
+            }
+        }
+    }
+    // minimise Σ_k (y_k − m·x_k)² subject to m·(1, 1, 1) = 1: [G 1; 1ᵀ 0] [m; μ] = [h; 1].
+    let mut kkt = Matrix4::<f64>::zeros();
+    for p in 0..3 {
+        for q in 0..3 {
+            kkt[(p, q)] = g[p][q];
+        }
+        kkt[(p, 3)] = 1.0;
+        kkt[(3, p)] = 1.0;
+    }
+    let lu = kkt.lu();
+    (0..n)
+        .map(|i| {
+            let mut h = Vector4::new(0.0, 0.0, 0.0, 1.0);
+            for (x, y) in rgb.iter().zip(nodes) {
+                for p in 0..3 {
+                    h[p] += x[p] * y[i];
+                }
+            }
+            let m = lu.solve(&h).filter(|m| m.iter().all(|v| v.is_finite()));
+            m.map(|m| [m[0], m[1], m[2]]).ok_or_else(|| {
+                Error::Numerical("the training colours do not determine a linear map".into())
+            })
+        })
+        .collect()
+}
+
+/// The training colours' CIELAB distance over which the local fit's weights fall by e^(−½):
+/// the local map at a grid point is fitted mostly on the reflectances whose colour lies within
+/// about this ΔE*ab. Chosen by the cross-validation of report section 8 (`docs/upsampling.md`).
+pub const LOCAL_BANDWIDTH: f64 = 10.0;
+
+/// How strongly the local fit is pulled toward the global map, as a share of the local weights'
+/// sum: it keeps a local fit determined where the nearby training colours alone would not be.
+pub const LOCAL_PRIOR: f64 = 0.01;
+
+/// The map for colours near `rgb`: least squares on the training pairs weighted by
+/// `exp(−½ (ΔE*ab / bandwidth)²)` of their colour's distance from `rgb`, pulled toward the
+/// global map `global` with weight `prior` times the weights' sum, every row summing to 1.
+/// `bandwidth` infinite gives the global map.
+#[allow(clippy::too_many_arguments, clippy::needless_range_loop)]
+pub fn local_map(
+    display: &DisplayMatrices,
+    rgb: [f64; 3],
+    training_rgb: &[[f64; 3]],
+    training_labs: &[[f64; 3]],
+    nodes: &[Vec<f64>],
+    global: &[[f64; 3]],
+    bandwidth: f64,
+    prior: f64,
+) -> Result<Vec<[f64; 3]>, Error> {
+    if !bandwidth.is_finite() {
+        return Ok(global.to_vec());
+    }
+    let here = lab_of_rgb(display, rgb);
+    let n = global.len();
+    // One pass over the training pairs, in plain loops (the build runs this at opt-level 0):
+    // the weighted sums of x xᵀ and of x y for every node. A pair farther than eight
+    // bandwidths weighs less than e⁻³² and is left out.
+    let far = (8.0 * bandwidth).powi(2);
+    let mut xx = [[0.0f64; 3]; 3];
+    let mut xy = std::vec![[0.0f64; 3]; n];
+    let mut total = 0.0;
+    for k in 0..training_rgb.len() {
+        let l = training_labs[k];
+        let d2 = (l[0] - here[0]).powi(2) + (l[1] - here[1]).powi(2) + (l[2] - here[2]).powi(2);
+        if d2 > far {
+            continue;
+        }
+        let wk = (-0.5 * d2 / (bandwidth * bandwidth)).exp();
+        total += wk;
+        let x = training_rgb[k];
+        for p in 0..3 {
+            let wx = wk * x[p];
+            for q in 0..3 {
+                xx[p][q] += wx * x[q];
+            }
+            let y = &nodes[k];
+            for i in 0..n {
+                xy[i][p] += wx * y[i];
+            }
+        }
+    }
+    let alpha = prior * f64::max(total, 1e-12);
+    let mut kkt = Matrix4::<f64>::zeros();
+    for p in 0..3 {
+        for q in 0..3 {
+            kkt[(p, q)] = xx[p][q];
+        }
+        kkt[(p, p)] += alpha;
+        kkt[(p, 3)] = 1.0;
+        kkt[(3, p)] = 1.0;
+    }
+    let lu = kkt.lu();
+    (0..n)
+        .map(|i| {
+            let h = Vector4::new(
+                alpha * global[i][0] + xy[i][0],
+                alpha * global[i][1] + xy[i][1],
+                alpha * global[i][2] + xy[i][2],
+                1.0,
+            );
+            let m = lu.solve(&h).filter(|m| m.iter().all(|v| v.is_finite()));
+            m.map(|m| [m[0], m[1], m[2]])
+                .ok_or_else(|| Error::Numerical("a local map is singular".into()))
+        })
+        .collect()
+}
+
+/// An upsampling baked on a grid: what the runtime's `Upsampling` holds, with the f64 values
+/// behind it and the figures its docs state.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Baked {
+    /// The set's name.
+    pub set: String,
+    /// The display's name (`SRGB`).
+    pub display: String,
+    /// The reference light: the set's folded light, or [`RADIANCE_REFERENCE_LIGHT`].
+    pub light: String,
+    /// The set's wavelengths, nm.
+    pub wavelengths_nm: Vec<f64>,
+    /// Grid points per axis.
+    pub grid: usize,
+    /// The encoding weights ([`encoding`]).
+    pub encoding: [Vec<f64>; 3],
+    /// The least-squares map ([`least_squares_map`]), one row per node.
+    pub map: Vec<[f64; 3]>,
+    /// Node values at each grid point, index `(r · grid + g) · grid + b`, in [0, 1].
+    pub values: Vec<Vec<f64>>,
+    /// Whether each grid point's colour is reachable by node values in [0, 1].
+    pub reachable: Vec<bool>,
+    /// The values as the runtime's 16-bit codes ([`CODE_ONE`] is 1).
+    pub codes: Vec<Vec<u16>>,
+    /// The largest ΔE00 between a reachable grid point and the colour its codes encode to.
+    pub max_round_trip_de00: f64,
+    /// The smallest Lipschitz constant of the interpolated codes: no node value changes by more
+    /// than `lipschitz · max(|Δr|, |Δg|, |Δb|)`.
+    pub lipschitz: f64,
+}
+
+/// CIELAB of display RGB with the display's white as the reference white.
+pub fn lab_of_rgb(display: &DisplayMatrices, rgb: [f64; 3]) -> [f64; 3] {
+    let xyz = mat3_vec(&display.rgb_to_xyz, rgb);
+    let white = mat3_vec(&display.rgb_to_xyz, [1.0; 3]);
+    lab_from_xyz(xyz, white)
+}
+
+fn mat3_vec(m: &[[f64; 3]; 3], v: [f64; 3]) -> [f64; 3] {
+    [0, 1, 2].map(|r| (0..3).map(|k| m[r][k] * v[k]).sum())
+}
+
+/// The rows of CIELAB's differential at `rgb` (∂Lab/∂RGB): the metric in which an unreachable
+/// colour's nearest reachable colour is found.
+fn lab_jacobian(display: &DisplayMatrices, rgb: [f64; 3]) -> [[f64; 3]; 3] {
+    let xyz = mat3_vec(&display.rgb_to_xyz, rgb);
+    let white = mat3_vec(&display.rgb_to_xyz, [1.0; 3]);
+    let fprime = |t: f64| {
+        const D: f64 = 6.0 / 29.0;
+        if t > D * D * D {
+            1.0 / (3.0 * t.cbrt().powi(2))
+        } else {
+            1.0 / (3.0 * D * D)
+        }
+    };
+    let g = [0, 1, 2].map(|c| fprime(xyz[c] / white[c]) / white[c]);
+    let j = [
+        [0.0, 116.0 * g[1], 0.0],
+        [500.0 * g[0], -500.0 * g[1], 0.0],
+        [0.0, 200.0 * g[1], -200.0 * g[2]],
+    ];
+    [0, 1, 2].map(|r| [0, 1, 2].map(|c| (0..3).map(|k| j[r][k] * display.rgb_to_xyz[k][c]).sum()))
+}
+
+/// The node values for one colour: `map · rgb` projected onto the node values in [0, 1] that
+/// `encoding` takes to `rgb`, or, where there are none, to the colour nearest `rgb` in CIELAB
+/// (the difference linearised at `rgb`) that node values in [0, 1] reach. Returns the values
+/// and whether `rgb` was reachable.
+pub fn project(
+    display: &DisplayMatrices,
+    encoding: &[Vec<f64>; 3],
+    map: &[[f64; 3]],
+    rgb: [f64; 3],
+) -> Result<(Vec<f64>, bool), Error> {
+    let u: Vec<f64> = map
+        .iter()
+        .map(|m| m[0] * rgb[0] + m[1] * rgb[1] + m[2] * rgb[2])
+        .collect();
+    let a = lab_jacobian(display, rgb);
+    let n = u.len();
+    let b: Vec<Vec<f64>> = (0..3)
+        .map(|r| {
+            (0..n)
+                .map(|i| (0..3).map(|k| a[r][k] * encoding[k][i]).sum())
+                .collect()
+        })
+        .collect();
+    let d: Vec<f64> = (0..3)
+        .map(|r| (0..3).map(|k| a[r][k] * rgb[k]).sum())
+        .collect();
+    let s = nearest_in_box(&u, &b, &d)?;
+    let back = encode(encoding, &s.x);
+    let de = delta_e2000(lab_of_rgb(display, rgb), lab_of_rgb(display, back));
+    Ok((s.x, de <= REACHABLE_DELTA_E00))
+}
+
+/// `encoding · values`.
+pub fn encode(encoding: &[Vec<f64>; 3], values: &[f64]) -> [f64; 3] {
+    [0, 1, 2].map(|c| encoding[c].iter().zip(values).map(|(w, v)| w * v).sum())
+}
+
+/// Bakes the upsampling of `set` for `display` with `grid` points per axis.
+///
+/// `light`: the reference light (the set's folded light, or [`RADIANCE_REFERENCE_LIGHT`] for a
+/// set for radiances); `folded`: whether the set's weights already hold it. `training`: the
+/// reflectances the least-squares map is fitted on.
+pub fn bake(
+    d: &Derivation,
+    set: &WavelengthSet,
+    display: (&str, &DisplayMatrices),
+    light: &Curve,
+    folded: bool,
+    training: &[Curve],
+    grid: usize,
+) -> Result<Baked, Error> {
+    let (display_name, m) = display;
+    if !GRID_SIZES.contains(&grid) {
+        return Err(Error::Settings(std::format!(
+            "an upsampling grid has {} to {} points per axis, not {grid}",
+            GRID_SIZES.start(),
+            GRID_SIZES.end()
+        )));
+    }
+    let at_nodes: Vec<f64> = set.wavelengths_nm.iter().map(|&l| light.at(l)).collect();
+    let w = encoding(d, set, m, (!folded).then_some(at_nodes.as_slice()))?;
+    let rgb = exact_rgb(d, m, light, training)?;
+    let nodes: Vec<Vec<f64>> = training
+        .iter()
+        .map(|r| set.wavelengths_nm.iter().map(|&l| r.at(l)).collect())
+        .collect();
+    let map = least_squares_map(&rgb, &nodes)?;
+    let labs: Vec<[f64; 3]> = rgb.iter().map(|x| lab_of_rgb(m, *x)).collect();
+    let n = set.len();
+    let step = 1.0 / (grid - 1) as f64;
+    let mut values = Vec::with_capacity(grid * grid * grid);
+    let mut reachable = Vec::with_capacity(grid * grid * grid);
+    for i in 0..grid {
+        for j in 0..grid {
+            for k in 0..grid {
+                let p = [i as f64 * step, j as f64 * step, k as f64 * step];
+                if i == j && j == k {
+                    // Greys: the map gives g at every node (its rows sum to 1), which encodes
+                    // to the grey itself; written exactly, so that greys interpolate flat.
+                    values.push(std::vec![p[0]; n]);
+                    reachable.push(true);
+                    continue;
+                }
+                let local = local_map(
+                    m,
+                    p,
+                    &rgb,
+                    &labs,
+                    &nodes,
+                    &map,
+                    LOCAL_BANDWIDTH,
+                    LOCAL_PRIOR,
+                )?;
+                let (v, ok) = project(m, &w, &local, p)?;
+                values.push(v);
+                reachable.push(ok);
+            }
+        }
+    }
+    let codes: Vec<Vec<u16>> = values
+        .iter()
+        .map(|v| v.iter().map(|x| (x * CODE_ONE).round() as u16).collect())
+        .collect();
+    let mut max_round_trip_de00: f64 = 0.0;
+    for (idx, c) in codes.iter().enumerate() {
+        if !reachable[idx] {
+            continue;
+        }
+        let p = grid_point(grid, idx);
+        let decoded: Vec<f64> = c.iter().map(|&q| f64::from(q) / CODE_ONE).collect();
+        let de = delta_e2000(lab_of_rgb(m, p), lab_of_rgb(m, encode(&w, &decoded)));
+        max_round_trip_de00 = max_round_trip_de00.max(de);
+    }
+    let lipschitz = lipschitz(grid, n, &codes);
+    Ok(Baked {
+        set: set.name.clone(),
+        display: display_name.into(),
+        light: light.name.clone(),
+        wavelengths_nm: set.wavelengths_nm.clone(),
+        grid,
+        encoding: w,
+        map,
+        values,
+        reachable,
+        codes,
+        max_round_trip_de00,
+        lipschitz,
+    })
+}
+
+/// The RGB of grid point `idx` (index `(r · grid + g) · grid + b`).
+pub fn grid_point(grid: usize, idx: usize) -> [f64; 3] {
+    let s = 1.0 / (grid - 1) as f64;
+    [
+        (idx / (grid * grid)) as f64 * s,
+        ((idx / grid) % grid) as f64 * s,
+        (idx % grid) as f64 * s,
+    ]
+}
+
+/// The Lipschitz constant (max-norm to max-norm) of the tetrahedral interpolation of `codes`
+/// decoded to node values: on each tetrahedron of a cell the interpolant is linear, its partial
+/// derivatives the differences along the tetrahedron's three edges from the cell's low corner
+/// to its high corner, times `grid − 1`; the tetrahedra meet without seams, so the largest sum
+/// of their absolute values over all tetrahedra and nodes bounds the whole cube.
+// The loops index several tables at once.
+#[allow(clippy::needless_range_loop)]
+pub fn lipschitz(grid: usize, n: usize, codes: &[Vec<u16>]) -> f64 {
+    let strides = [grid * grid, grid, 1];
+    let orders = [
+        [0, 1, 2],
+        [0, 2, 1],
+        [1, 0, 2],
+        [1, 2, 0],
+        [2, 0, 1],
+        [2, 1, 0],
+    ];
+    let mut worst: f64 = 0.0;
+    for i in 0..grid - 1 {
+        for j in 0..grid - 1 {
+            for k in 0..grid - 1 {
+                let base = (i * grid + j) * grid + k;
+                for order in orders {
+                    let v1 = base + strides[order[0]];
+                    let v2 = v1 + strides[order[1]];
+                    let v3 = v2 + strides[order[2]];
+                    for node in 0..n {
+                        let q = |v: usize| f64::from(codes[v][node]);
+                        let sum =
+                            (q(v1) - q(base)).abs() + (q(v2) - q(v1)).abs() + (q(v3) - q(v2)).abs();
+                        worst = worst.max(sum);
+                    }
+                }
+            }
+        }
+    }
+    worst * (grid - 1) as f64 / CODE_ONE
+}
+
+impl Baked {
+    /// The tetrahedral interpolation of the f64 node values at `rgb` (each channel clamped to
+    /// [0, 1]): the runtime's function without its rounding to 16 bits and f32.
+    pub fn interpolate(&self, rgb: [f64; 3]) -> Vec<f64> {
+        interpolate(self.grid, &self.values, rgb)
+    }
+
+    /// The share of grid points whose colour node values in [0, 1] reach.
+    pub fn reachable_share(&self) -> f64 {
+        self.reachable.iter().filter(|&&r| r).count() as f64 / self.reachable.len() as f64
+    }
+}
+
+/// Tetrahedral interpolation on a `grid`³ table of node values (index `(r · grid + g) · grid +
+/// b`), each channel of `rgb` clamped to [0, 1]: the cell's Kuhn tetrahedron that holds the
+/// point (the axes taken in decreasing order of the point's position in the cell), its four
+/// corners weighted by the point's barycentric coordinates.
+pub fn interpolate(grid: usize, values: &[Vec<f64>], rgb: [f64; 3]) -> Vec<f64> {
+    let cells = (grid - 1) as f64;
+    let mut cell = [0usize; 3];
+    let mut frac = [0.0f64; 3];
+    for c in 0..3 {
+        let x = rgb[c].clamp(0.0, 1.0) * cells;
+        let i = (x.floor() as usize).min(grid - 2);
+        cell[c] = i;
+        frac[c] = x - i as f64;
+    }
+    let strides = [grid * grid, grid, 1];
+    let mut axes = [0usize, 1, 2];
+    axes.sort_by(|&a, &b| frac[b].total_cmp(&frac[a]));
+    let base = (cell[0] * grid + cell[1]) * grid + cell[2];
+    let v1 = base + strides[axes[0]];
+    let v2 = v1 + strides[axes[1]];
+    let v3 = v2 + strides[axes[2]];
+    let (fa, fb, fc) = (frac[axes[0]], frac[axes[1]], frac[axes[2]]);
+    let w = [1.0 - fa, fa - fb, fb - fc, fc];
+    (0..values[base].len())
+        .map(|node| {
+            w[0] * values[base][node]
+                + w[1] * values[v1][node]
+                + w[2] * values[v2][node]
+                + w[3] * values[v3][node]
+        })
+        .collect()
+}
+
+/// Whether some linear map U (N × 3) is bounded and exact at once: `encoding · U = I` (every
+/// colour round-trips) and `U · rgb` in [0, 1]ᴺ for every RGB in the unit cube (U ≥ 0 and each
+/// row sums to at most 1). Decided as a feasibility programme: the rows `[U | s]` with a slack
+/// s ≥ 0 lie in the probability simplex, and the box programme finds the nearest such matrix to
+/// meeting `encoding · [U | s] = [I | 0]`. Returns the largest entry of that residual: 0 (to
+/// about 1e-9) where such a map exists.
+#[allow(clippy::needless_range_loop)]
+pub fn bounded_exact_linear_residual(encoding: &[Vec<f64>; 3]) -> Result<f64, Error> {
+    let n = encoding[0].len();
+    // Variables: P[i][k], i < N, k < 4, at index 4i + k.
+    let vars = 4 * n;
+    let mut rows: Vec<Vec<f64>> = Vec::new();
+    let mut rhs: Vec<f64> = Vec::new();
+    for c in 0..3 {
+        for k in 0..4 {
+            let mut row = std::vec![0.0; vars];
+            for i in 0..n {
+                row[4 * i + k] = encoding[c][i];
+            }
+            rows.push(row);
+            rhs.push(if k == c { 1.0 } else { 0.0 });
+        }
+    }
+    for i in 0..n {
+        let mut row = std::vec![0.0; vars];
+        for k in 0..4 {
+            row[4 * i + k] = 1.0;
+        }
+        rows.push(row);
+        rhs.push(1.0);
+    }
+    let u = std::vec![0.25; vars];
+    let s = nearest_in_box(&u, &rows, &rhs)?;
+    Ok(s.residual.iter().fold(0.0f64, |m, r| m.max(r.abs())))
+}

@@ -1,0 +1,42 @@
+//! RGB materials at a set's wavelengths: an upsampling from linear display RGB to the set's N
+//! node reflectances, baked on a grid for each set and display a scene asks for.
+//!
+//! A renderer that samples a few fixed wavelengths still has RGB textures and material colours:
+//! it needs each colour's reflectance at those wavelengths. The map from RGB to node
+//! reflectances is built in three steps:
+//!
+//! 1. **The set's encoding under its reference light** ([`encoding`]): the set's folded weights
+//!    for the display, times the reference light at the nodes for a set for radiances
+//!    ([`RADIANCE_REFERENCE_LIGHT`]; a set with a light folded in has it in its weights), each
+//!    row divided by its sum, so that node values of 1 give RGB (1, 1, 1): white-balanced RGB.
+//! 2. **A least-squares map** ([`least_squares_map`]): `r ≈ M · rgb`, fitted on the training
+//!    reflectances ([`TRAINING_FILES`]: the CIE test colours and the rawtoaces patches; never
+//!    the ColorChecker), their exact RGB under the reference light (1 nm) against their values at
+//!    the nodes, with each row of M summing to 1 (white and greys exact). At each grid point the
+//!    fit is local ([`local_map`]): the training pairs weighted by how near their colour lies
+//!    in CIELAB ([`LOCAL_BANDWIDTH`]), pulled a little toward the global map ([`LOCAL_PRIOR`]).
+//! 3. **A projection per grid point** ([`project`]): `M · rgb` moved to the nearest node values
+//!    in [0, 1] that encode back to `rgb` exactly, or, where no node values in [0, 1] reach
+//!    `rgb`, to those that reach the nearest colour in CIELAB (linearised at `rgb`), and among
+//!    them the nearest to `M · rgb`. A small quadratic programme ([`qp`]).
+//!
+//! The runtime interpolates the grid tetrahedrally: a convex combination of four grid points
+//! (so bounded), exact on the grey diagonal (an edge of every tetrahedron), and reproducing
+//! anything linear in RGB, so that the encoding of the interpolated values is the interpolated
+//! RGB: exact wherever the four grid points round-trip. [`bake`] returns the table and the
+//! figures the runtime states: the largest round-trip error at the grid points, the Lipschitz
+//! constant, the share of the grid that is reachable.
+//!
+//! The files, each importing only those before it: `qp` (the box programme), `training` (the
+//! training reflectances), `bake` (encoding, map, projection, grid).
+
+mod bake;
+pub mod qp;
+mod training;
+
+pub use bake::{
+    bake, bounded_exact_linear_residual, encode, encoding, exact_rgb, grid_point, interpolate,
+    lab_of_rgb, least_squares_map, lipschitz, local_map, project, Baked, CODE_ONE, DEFAULT_GRID,
+    GRID_SIZES, LOCAL_BANDWIDTH, LOCAL_PRIOR, RADIANCE_REFERENCE_LIGHT, REACHABLE_DELTA_E00,
+};
+pub use training::{parse_training, training, NEGATIVE_TOLERANCE, TRAINING_FILES};

@@ -1,0 +1,193 @@
+//! The upsampling's build-time side: the box programme against its optimality conditions, the
+//! training reader's tolerance, the scene's `[upsampling]` table, and the figures the docs state
+//! for the radiance sets (what node values reach, whether a bounded exact linear map exists, the
+//! round trip on a 17³ grid).
+
+use spectral_quadrature_build as sqd;
+use sqd::upsampling::{self as up, qp::nearest_in_box};
+use sqd::{derive, Settings};
+
+/// The data files the derivation reads (the runtime crate's `data/`).
+const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");
+
+/// A deterministic stream in [0, 1).
+fn lcg(seed: u64) -> impl FnMut() -> f64 {
+    let mut s = seed;
+    move || {
+        s = s
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (s >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+#[test]
+fn box_programme_meets_its_optimality_conditions() {
+    let mut r = lcg(7);
+    for case in 0..300 {
+        let n = 3 + case % 8;
+        let m = 1 + case % 3;
+        let u: Vec<f64> = (0..n).map(|_| 2.0 * r() - 0.5).collect();
+        let b: Vec<Vec<f64>> = (0..m)
+            .map(|_| (0..n).map(|_| r() - 0.3).collect())
+            .collect();
+        // A right-hand side the box reaches (the image of a point in it) or, every third case,
+        // one it may not.
+        let x0: Vec<f64> = (0..n).map(|_| r()).collect();
+        let d: Vec<f64> = b
+            .iter()
+            .map(|row| {
+                let v: f64 = row.iter().zip(&x0).map(|(a, x)| a * x).sum();
+                if case % 3 == 0 {
+                    v + 3.0
+                } else {
+                    v
+                }
+            })
+            .collect();
+        let s = nearest_in_box(&u, &b, &d).unwrap();
+        assert!(s.x.iter().all(|v| (0.0..=1.0).contains(v)));
+        if case % 3 != 0 {
+            // Reachable: the rows are met to within the penalty's ε times the multipliers.
+            let worst = s.residual.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            assert!(worst < 1e-6, "case {case}: residual {worst}");
+        }
+        // No feasible direction lowers the objective: perturbing one variable, or two in
+        // opposite directions, within the box never does better (by more than rounding).
+        let f = |x: &[f64]| {
+            let near: f64 = x.iter().zip(&u).map(|(a, b)| (a - b).powi(2)).sum::<f64>() / 2.0;
+            let norm = b.iter().flatten().map(|v| v * v).sum::<f64>().sqrt();
+            let rows: f64 = b
+                .iter()
+                .zip(&d)
+                .map(|(row, di)| (row.iter().zip(x).map(|(a, v)| a * v).sum::<f64>() - di).powi(2))
+                .sum::<f64>()
+                / (norm * norm);
+            near + rows / (2.0 * up::qp::EPSILON)
+        };
+        let best = f(&s.x);
+        for i in 0..n {
+            for step in [1e-4, -1e-4] {
+                let mut x = s.x.clone();
+                x[i] = (x[i] + step).clamp(0.0, 1.0);
+                assert!(
+                    f(&x) >= best - 1e-9 * best.abs().max(1.0),
+                    "case {case} var {i}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn training_reader_takes_rounding_noise_and_refuses_the_rest() {
+    let ok = "wavelength_nm,a,b\n380,0.5,-6.9e-18\n770,-5.6e-17,1\n";
+    let curves = up::parse_training("noise.csv", ok, [380.0, 770.0]).unwrap();
+    assert_eq!(curves[1].values, [0.0, 1.0]);
+    assert_eq!(curves[0].values, [0.5, 0.0]);
+    let bad = "wavelength_nm,a,b\n380,0.5,0.1\n770,-1e-6,1\n";
+    let e = up::parse_training("bad.csv", bad, [380.0, 770.0]).unwrap_err();
+    let text = e.to_string();
+    assert!(
+        text.contains("bad.csv") && text.contains('3') && text.contains("column 2"),
+        "{text}"
+    );
+    // The shipped file's noise is read.
+    let all = up::training(std::path::Path::new(DATA_DIR), [380.0, 770.0]).unwrap();
+    assert_eq!(all.len(), 14 + 190);
+}
+
+#[test]
+fn scene_upsampling_table() {
+    let data = std::path::Path::new(DATA_DIR);
+    let parse = |text: &str| sqd::scene::Scene::parse("s.toml", text, data);
+    let s = parse("sets = [\"KQ_4\"]\ndisplays = [\"SRGB\"]\n[upsampling]\ngrid = 5\n").unwrap();
+    assert_eq!(s.upsampling.as_ref().map(|u| u.grid), Some(5));
+    let e = parse("sets = [\"KQ_4\"]\n[upsampling]\ngrid = 1\n").unwrap_err();
+    assert!(e.to_string().contains("s.toml:3"), "{e}");
+    let e = parse("sets = [\"KQ_4\"]\n[upsampling]\nsize = 9\n").unwrap_err();
+    assert!(e.to_string().contains("s.toml"), "{e}");
+    let d = derive(&Settings::new(DATA_DIR)).unwrap();
+    let s = parse("sets = [\"KQ_4\"]\ndisplays = [\"SRGB\"]\n[upsampling]\nsets = [\"KQ_6\"]\n")
+        .unwrap();
+    let e = s.resolve(&d).unwrap_err().to_string();
+    assert!(
+        e.contains("s.toml:4") && e.contains("KQ_6") && e.contains("KQ_4"),
+        "{e}"
+    );
+    let s =
+        parse("sets = [\"KQ_4\"]\ndisplays = [\"SRGB\"]\n[upsampling]\ndisplays = [\"REC2020\"]\n")
+            .unwrap();
+    let e = s.resolve(&d).unwrap_err().to_string();
+    assert!(e.contains("s.toml:4") && e.contains("REC2020"), "{e}");
+    // Without the table nothing is upsampled; with it, the scene's sets on its displays.
+    let s = parse("sets = [\"KQ_4\"]\ndisplays = [\"SRGB\"]\n").unwrap();
+    assert!(s.resolve(&d).unwrap().upsamplings.is_empty());
+    let s = parse("sets = [\"KQ_4\", \"KQ_C_6\"]\ndisplays = [\"SRGB\", \"DISPLAY_P3\"]\n[upsampling]\ngrid = 3\n")
+        .unwrap();
+    let r = s.resolve(&d).unwrap();
+    let names: Vec<(String, String, String)> = r
+        .upsamplings
+        .iter()
+        .map(|u| (u.set.clone(), u.display.clone(), u.light.clone()))
+        .collect();
+    assert_eq!(
+        names,
+        [
+            ("KQ_4".into(), "SRGB".into(), "D65".into()),
+            ("KQ_4".into(), "DISPLAY_P3".into(), "D65".into()),
+            ("KQ_C_6".into(), "SRGB".into(), "C".into()),
+            ("KQ_C_6".into(), "DISPLAY_P3".into(), "C".into()),
+        ]
+    );
+}
+
+/// What the docs state for the radiance sets at sRGB under D65: the share of a 9³ grid that
+/// node values in [0, 1] reach, whether a bounded exact linear map exists, and on a 17³ table
+/// the round trip within 0.05 ΔE00 at every reachable point of the 17³ grid.
+#[test]
+fn radiance_sets_reach_round_trip_and_linear_maps() {
+    let d = derive(&Settings::new(DATA_DIR)).unwrap();
+    let data = std::path::Path::new(DATA_DIR);
+    let range = d.settings.range_nm;
+    let training = up::training(data, range).unwrap();
+    let d65 = sqd::evaluate::builtin_illuminant(data, "D65", range).unwrap();
+    let (_, m) = d.display("SRGB").unwrap();
+    // (set, reachable share of 9³ rounded to 0.1 %, bounded exact linear map)
+    for (name, share, linear) in [
+        ("KQ_4", 96.2, false),
+        ("KQ_6", 99.7, false),
+        ("KQ_8", 100.0, true),
+    ] {
+        let set = sqd::catalog::resolve(&d, name).unwrap();
+        let b9 = up::bake(&d, &set, ("SRGB", m), &d65, false, &training, 9).unwrap();
+        assert_eq!(
+            (1000.0 * b9.reachable_share()).round() / 10.0,
+            share,
+            "{name}"
+        );
+        let residual = up::bounded_exact_linear_residual(&b9.encoding).unwrap();
+        // Exists: the residual is the penalty's (about 1e-7); does not: at least 1e-3.
+        assert_eq!(residual < 1e-5, linear, "{name}: {residual}");
+        assert!(linear || residual > 1e-3, "{name}: {residual}");
+        let b17 = up::bake(&d, &set, ("SRGB", m), &d65, false, &training, 17).unwrap();
+        let mut worst = 0.0f64;
+        for idx in 0..17 * 17 * 17 {
+            if !b17.reachable[idx] {
+                continue;
+            }
+            let p = up::grid_point(17, idx);
+            let decoded: Vec<f64> = b17.codes[idx]
+                .iter()
+                .map(|&q| f64::from(q) / up::CODE_ONE)
+                .collect();
+            let back = up::encode(&b17.encoding, &decoded);
+            worst = worst.max(sqd::evaluate::delta_e2000(
+                up::lab_of_rgb(m, p),
+                up::lab_of_rgb(m, back),
+            ));
+        }
+        assert!(worst <= 0.05, "{name}: {worst}");
+        assert_eq!(worst, b17.max_round_trip_de00);
+    }
+}

@@ -1,0 +1,184 @@
+//! RGB materials at a set's wavelengths: [`Upsampling`], a baked map from linear display RGB to
+//! node reflectances, and its per-pixel and batch paths.
+
+#![forbid(unsafe_code)]
+
+use crate::Error;
+
+/// The 16-bit code of a node value of 1 in an [`Upsampling`]'s table: value = code / 65535.
+pub const UPSAMPLING_CODE_ONE: u16 = u16::MAX;
+
+/// An upsampling baked for one set and one display: linear RGB of the display, white-balanced
+/// under the set's reference light, to the set's N node reflectances.
+///
+/// Build time fits a least-squares map on measured reflectances, then moves each point of a
+/// `grid`³ lattice of the RGB cube to the nearest node values in [0, 1] that the set encodes
+/// back to that RGB (or, where node values in [0, 1] cannot reach it, to the nearest colour
+/// they reach, in CIELAB). [`reflectance`](Self::reflectance) interpolates the lattice
+/// tetrahedrally. What follows from that, each property asserted by `tests/upsampling.rs`:
+///
+/// - **Bounded**: every output is a convex combination of four table entries, so every node
+///   value is in [0, 1], for any input.
+/// - **White, black, greys**: RGB (1, 1, 1) gives 1 at every node, (0, 0, 0) gives 0, and a grey
+///   (g, g, g) gives the same value at every node (a flat spectrum): the grey diagonal is an edge
+///   of every tetrahedron it crosses, and the table holds greys exactly.
+/// - **Round trip**: the set's weights under the reference light take the output back to the
+///   input RGB wherever the tetrahedron's four corners are reachable (for the set's own
+///   figures, see `docs/upsampling.md`), up to the table's 16-bit rounding
+///   ([`max_round_trip_delta_e00`](Self::max_round_trip_delta_e00)).
+/// - **Continuous**: no node value changes by more than
+///   [`lipschitz`](Self::lipschitz)` · max(|Δr|, |Δg|, |Δb|)` between any two inputs.
+///
+/// For a set with a light folded in, the RGB is the surface's colour under that light and the
+/// node values feed the set directly. For a set for radiances, the RGB is the surface's colour
+/// under D65 and the renderer multiplies the node values by its own light's samples.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Upsampling<const N: usize> {
+    /// The set's name (`"KQ_C_8"`).
+    pub set: &'static str,
+    /// The display whose linear RGB it takes (`"sRGB"`).
+    pub display: &'static str,
+    /// The reference light: the set's folded light, or `"D65"` for a set for radiances.
+    pub light: &'static str,
+    /// The set's wavelengths in nm: the order of the node values.
+    pub wavelengths_nm: [f32; N],
+    /// A Lipschitz constant of [`reflectance`](Self::reflectance) from the max norm of the RGB
+    /// change to the largest change of a node value, computed from the table at build time.
+    pub lipschitz: f32,
+    /// The largest CIEDE2000 difference between a reachable grid point and the colour the set
+    /// gives its table entry (the table's 16-bit rounding).
+    pub max_round_trip_delta_e00: f32,
+    /// The share of the grid's points that node values in [0, 1] reach.
+    pub reachable_share: f32,
+    /// Points per axis, at least 2.
+    pub(crate) grid: usize,
+    /// `grid³` entries, index `(r · grid + g) · grid + b`, codes of
+    /// [`UPSAMPLING_CODE_ONE`]ths.
+    pub(crate) table: &'static [[u16; N]],
+}
+
+impl<const N: usize> Upsampling<N> {
+    /// An upsampling from a table of `grid³` entries (index `(r · grid + g) · grid + b`, node
+    /// values in 65535ths), with empty names, zero wavelengths and NaN figures for the caller
+    /// to fill in. `None` unless `grid ≥ 2` and `table.len() == grid³`.
+    pub const fn new(grid: usize, table: &'static [[u16; N]]) -> Option<Self> {
+        let Some(sq) = grid.checked_mul(grid) else {
+            return None;
+        };
+        let Some(cube) = sq.checked_mul(grid) else {
+            return None;
+        };
+        if grid < 2 || table.len() != cube {
+            return None;
+        }
+        Some(Upsampling {
+            set: "",
+            display: "",
+            light: "",
+            wavelengths_nm: [0.0; N],
+            lipschitz: f32::NAN,
+            max_round_trip_delta_e00: f32::NAN,
+            reachable_share: f32::NAN,
+            grid,
+            table,
+        })
+    }
+
+    /// Points per axis of the table.
+    pub const fn grid(&self) -> usize {
+        self.grid
+    }
+
+    /// The table: `grid³` entries of N codes, node value = code / 65535.
+    pub const fn table(&self) -> &'static [[u16; N]] {
+        self.table
+    }
+
+    /// The node reflectances of a linear, white-balanced RGB colour, each in [0, 1].
+    ///
+    /// Each channel is clamped to [0, 1] first: a negative or NaN channel counts as 0, one
+    /// above 1 (or +∞) as 1, so any input gives node values in [0, 1] and nothing panics.
+    /// (Reflectances do not exceed 1; scale HDR colours down before, and the result up after,
+    /// if a renderer needs them.) Subnormal channels are used as they are.
+    ///
+    /// Cost: three clamps and a cell lookup, three compares to pick the tetrahedron, then four
+    /// table entries weighted and summed: 4·N loads and multiply-adds. No f64, no allocation.
+    #[inline]
+    pub fn reflectance(&self, rgb: [f32; 3]) -> [f32; N] {
+        let g = self.grid;
+        let cells = (g - 1) as f32;
+        let mut cell = [0usize; 3];
+        let mut frac = [0.0f32; 3];
+        for c in 0..3 {
+            // NaN fails both comparisons and becomes 0.
+            let v = if rgb[c] > 0.0 { rgb[c].min(1.0) } else { 0.0 };
+            let x = v * cells;
+            // x ≥ 0, so the cast truncates to the cell below; x = cells is the last cell's top.
+            let i = (x as usize).min(g - 2);
+            cell[c] = i;
+            frac[c] = x - i as f32;
+        }
+        let strides = [g * g, g, 1];
+        let [fr, fg, fb] = frac;
+        // The Kuhn tetrahedron: the axes in decreasing order of the position in the cell.
+        let (a, b, c) = if fr >= fg {
+            if fg >= fb {
+                (0, 1, 2)
+            } else if fr >= fb {
+                (0, 2, 1)
+            } else {
+                (2, 0, 1)
+            }
+        } else if fr >= fb {
+            (1, 0, 2)
+        } else if fg >= fb {
+            (1, 2, 0)
+        } else {
+            (2, 1, 0)
+        };
+        let base = (cell[0] * g + cell[1]) * g + cell[2];
+        let i1 = base + strides[a];
+        let i2 = i1 + strides[b];
+        let i3 = i2 + strides[c];
+        let w0 = 1.0 - frac[a];
+        let w1 = frac[a] - frac[b];
+        let w2 = frac[b] - frac[c];
+        let w3 = frac[c];
+        // `new` and the baked tables hold grid³ entries, so the indices are in range; `get`
+        // keeps the function free of panics whatever the compiler can prove.
+        let (Some(v0), Some(v1), Some(v2), Some(v3)) = (
+            self.table.get(base),
+            self.table.get(i1),
+            self.table.get(i2),
+            self.table.get(i3),
+        ) else {
+            return [0.0; N];
+        };
+        let scale = 1.0 / UPSAMPLING_CODE_ONE as f32;
+        core::array::from_fn(|n| {
+            let acc = w0 * f32::from(v0[n])
+                + w1 * f32::from(v1[n])
+                + w2 * f32::from(v2[n])
+                + w3 * f32::from(v3[n]);
+            (acc * scale).clamp(0.0, 1.0)
+        })
+    }
+
+    /// [`reflectance`](Self::reflectance) for every pixel: `out[p] = reflectance(rgb[p])`.
+    ///
+    /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless
+    /// `rgb.len() == out.len()`. Per-pixel input handling as
+    /// [`reflectance`](Self::reflectance).
+    pub fn reflectance_batch(&self, rgb: &[[f32; 3]], out: &mut [[f32; N]]) -> Result<(), Error> {
+        if rgb.len() != out.len() {
+            return Err(Error::LengthMismatch {
+                inputs: rgb.len(),
+                outputs: out.len(),
+            });
+        }
+        for (o, p) in out.iter_mut().zip(rgb) {
+            *o = self.reflectance(*p);
+        }
+        Ok(())
+    }
+}

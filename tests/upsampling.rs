@@ -1,0 +1,409 @@
+//! The baked RGB upsamplings (`tables::upsampling`): their tables equal a fresh bake, and the
+//! per-pixel function keeps every promise its docs make: bounded for any input, white, black and
+//! greys exact, the round trip through the set's own weights, and its Lipschitz bound.
+
+mod common;
+
+use std::sync::OnceLock;
+
+use spectral_quadrature::tables::{folded, upsampling};
+use spectral_quadrature::{delta_e2000, lab_from_xyz, Error, FoldedSet, Upsampling};
+use spectral_quadrature_build as sqd;
+use sqd::scene::{Resolved, Scene};
+use sqd::upsampling::Baked;
+
+use common::check_property;
+use proptest::prelude::*;
+
+/// The data files the derivation reads (the runtime crate's `data/`).
+const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data");
+
+/// The default scene, resolved afresh: the same bakes as the tables, in f64.
+fn fresh() -> &'static (sqd::Derivation, Resolved) {
+    static R: OnceLock<(sqd::Derivation, Resolved)> = OnceLock::new();
+    R.get_or_init(|| {
+        let d = sqd::derive(&sqd::Settings::new(DATA_DIR)).unwrap();
+        let r = Scene::default_scene(std::path::Path::new(DATA_DIR))
+            .resolve(&d)
+            .unwrap();
+        (d, r)
+    })
+}
+
+fn baked(set: &str) -> &'static Baked {
+    fresh()
+        .1
+        .upsamplings
+        .iter()
+        .find(|b| b.set == set && b.display == "SRGB")
+        .unwrap()
+}
+
+/// Calls `f` with each baked upsampling of the default scene, its folded set and its fresh bake.
+fn each(f: impl Fn(&dyn Dyn, &Baked)) {
+    f(
+        &(upsampling::KQ_C_4_SRGB, folded::KQ_C_4_SRGB),
+        baked("KQ_C_4"),
+    );
+    f(
+        &(upsampling::KQ_C_6_SRGB, folded::KQ_C_6_SRGB),
+        baked("KQ_C_6"),
+    );
+    f(
+        &(upsampling::KQ_C_8_SRGB, folded::KQ_C_8_SRGB),
+        baked("KQ_C_8"),
+    );
+    f(
+        &(upsampling::KQ_F11_6_SRGB, folded::KQ_F11_6_SRGB),
+        baked("KQ_F11_6"),
+    );
+}
+
+/// An upsampling and its folded set, whatever N.
+trait Dyn {
+    fn name(&self) -> &str;
+    fn grid(&self) -> usize;
+    fn lipschitz(&self) -> f32;
+    fn max_round_trip(&self) -> f32;
+    fn table(&self) -> Vec<Vec<u16>>;
+    fn reflectance(&self, rgb: [f32; 3]) -> Vec<f32>;
+    /// The set's linear RGB of node values, white-balanced (node values of 1 give (1, 1, 1)).
+    fn encode(&self, values: &[f32]) -> [f64; 3];
+    fn batch_agrees(&self, rgb: &[[f32; 3]]) -> bool;
+}
+
+impl<const N: usize> Dyn for (Upsampling<N>, FoldedSet<N>) {
+    fn name(&self) -> &str {
+        self.0.set
+    }
+    fn grid(&self) -> usize {
+        self.0.grid()
+    }
+    fn lipschitz(&self) -> f32 {
+        self.0.lipschitz
+    }
+    fn max_round_trip(&self) -> f32 {
+        self.0.max_round_trip_delta_e00
+    }
+    fn table(&self) -> Vec<Vec<u16>> {
+        self.0.table().iter().map(|e| e.to_vec()).collect()
+    }
+    fn reflectance(&self, rgb: [f32; 3]) -> Vec<f32> {
+        self.0.reflectance(rgb).to_vec()
+    }
+    fn encode(&self, values: &[f32]) -> [f64; 3] {
+        let w = &self.1.weights;
+        let white: [f64; 3] =
+            core::array::from_fn(|c| w[c].iter().map(|&x| f64::from(x)).sum::<f64>());
+        core::array::from_fn(|c| {
+            w[c].iter()
+                .zip(values)
+                .map(|(&x, &v)| f64::from(x) * f64::from(v))
+                .sum::<f64>()
+                / white[c]
+        })
+    }
+    fn batch_agrees(&self, rgb: &[[f32; 3]]) -> bool {
+        let mut out = vec![[0.0f32; N]; rgb.len()];
+        self.0.reflectance_batch(rgb, &mut out).unwrap();
+        let mut short = vec![[0.0f32; N]; rgb.len() + 1];
+        let mismatch = self.0.reflectance_batch(rgb, &mut short);
+        mismatch
+            == Err(Error::LengthMismatch {
+                inputs: rgb.len(),
+                outputs: rgb.len() + 1,
+            })
+            && short.iter().all(|o| o.iter().all(|&v| v == 0.0))
+            && rgb
+                .iter()
+                .zip(&out)
+                .all(|(p, o)| self.0.reflectance(*p).to_bits() == o.map(f32::to_bits))
+    }
+}
+
+trait Bits<const N: usize> {
+    fn to_bits(self) -> [u32; N];
+}
+impl<const N: usize> Bits<N> for [f32; N] {
+    fn to_bits(self) -> [u32; N] {
+        self.map(f32::to_bits)
+    }
+}
+
+/// CIELAB of white-balanced sRGB, the display's white as the reference white.
+fn lab(rgb: [f64; 3]) -> [f64; 3] {
+    let m = spectral_quadrature::tables::displays::SRGB.rgb_to_xyz;
+    let xyz = |v: [f64; 3]| -> [f64; 3] {
+        core::array::from_fn(|r| (0..3).map(|k| f64::from(m[r][k]) * v[k]).sum())
+    };
+    lab_from_xyz(xyz(rgb), xyz([1.0; 3]))
+}
+
+#[test]
+fn tables_equal_a_fresh_bake() {
+    each(|u, b| {
+        assert_eq!(u.grid(), b.grid, "{}", u.name());
+        assert_eq!(u.table(), b.codes, "{}", u.name());
+        assert_eq!(u.lipschitz(), b.lipschitz as f32, "{}", u.name());
+        assert_eq!(u.max_round_trip(), b.max_round_trip_de00 as f32);
+    });
+    assert_eq!(upsampling::KQ_C_8_SRGB.light, "C");
+    assert_eq!(upsampling::KQ_F11_6_SRGB.light, "F11");
+    assert_eq!(upsampling::KQ_C_8_SRGB.display, "sRGB");
+    assert_eq!(
+        upsampling::KQ_C_8_SRGB.wavelengths_nm,
+        folded::KQ_C_8_SRGB.wavelengths_nm
+    );
+}
+
+#[test]
+fn white_black_and_greys() {
+    each(|u, _| {
+        assert!(
+            u.reflectance([1.0; 3]).iter().all(|&v| v == 1.0),
+            "{}",
+            u.name()
+        );
+        assert!(
+            u.reflectance([0.0; 3]).iter().all(|&v| v == 0.0),
+            "{}",
+            u.name()
+        );
+        for k in 0..=1000 {
+            let g = k as f32 / 1000.0;
+            let v = u.reflectance([g; 3]);
+            // Flat: every node computes the same sum of the same codes.
+            assert!(v.iter().all(|&x| x == v[0]), "{} grey {g}: {v:?}", u.name());
+            // The grey itself, up to the codes' rounding (half a step, 0.5 / 65535) and the f32
+            // sum (a few units of 2⁻²⁴).
+            assert!(
+                (v[0] - g).abs() <= 0.5 / 65535.0 + 4.0 * f32::EPSILON,
+                "{} {g}",
+                u.name()
+            );
+        }
+    });
+}
+
+#[test]
+fn bounded_for_any_input() {
+    let specials = [
+        f32::NAN,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+        f32::MAX,
+        -f32::MAX,
+        f32::MIN_POSITIVE / 2.0,
+        -0.0,
+        1.0 + f32::EPSILON,
+        1e30,
+        -1e-30,
+    ];
+    each(|u, _| {
+        for &a in &specials {
+            for &b in &specials {
+                for &c in &[0.3f32, f32::NAN, 2.0] {
+                    let v = u.reflectance([a, b, c]);
+                    assert!(
+                        v.iter().all(|x| (0.0..=1.0).contains(x)),
+                        "{} {v:?}",
+                        u.name()
+                    );
+                }
+            }
+        }
+        // NaN and negative channels read as 0, channels above 1 as 1.
+        assert_eq!(
+            u.reflectance([f32::NAN, -3.0, 7.0]),
+            u.reflectance([0.0, 0.0, 1.0])
+        );
+    });
+    check_property(
+        2000,
+        "node values in [0, 1]",
+        prop::array::uniform3(-0.5f32..1.5),
+        |rgb| {
+            each(|u, _| {
+                let v = u.reflectance(rgb);
+                assert!(
+                    v.iter().all(|x| (0.0..=1.0).contains(x)),
+                    "{} {v:?}",
+                    u.name()
+                );
+            });
+            Ok(())
+        },
+    );
+}
+
+/// The round trip: at the reachable grid points within the baked figure (at most 0.05 ΔE00), and
+/// between them, on a 17³ grid of the cube, within 0.05 ΔE00 wherever the tetrahedron's four
+/// corners are reachable; in the cells at the edge of what the set reaches, within the bound
+/// `docs/upsampling.md` states for each set.
+#[test]
+fn round_trip() {
+    let (_, r) = fresh();
+    let displays = &r.displays;
+    let m = &displays.iter().find(|(s, _)| s.name == "SRGB").unwrap().1;
+    each(|u, b| {
+        assert!(u.max_round_trip() <= 0.05, "{}", u.name());
+        let g = u.grid();
+        for (idx, &ok) in b.reachable.iter().enumerate() {
+            if !ok {
+                continue;
+            }
+            let p = sqd::upsampling::grid_point(g, idx);
+            let v = u.reflectance(p.map(|x| x as f32));
+            let de = delta_e2000(lab(p), lab(u.encode(&v)));
+            // The f32 path adds a few units of f32 rounding to the baked figure.
+            assert!(
+                de <= f64::from(u.max_round_trip()) + 1e-3,
+                "{} at {p:?}: {de}",
+                u.name()
+            );
+        }
+        let (mut inside, mut edge) = (0.0f64, 0.0f64);
+        for idx in 0..17 * 17 * 17 {
+            let p = sqd::upsampling::grid_point(17, idx);
+            let (_, reachable) = sqd::upsampling::project(m, &b.encoding, &b.map, p).unwrap();
+            if !reachable {
+                continue;
+            }
+            let v = u.reflectance(p.map(|x| x as f32));
+            let de = delta_e2000(lab(p), lab(u.encode(&v)));
+            if corners_reachable(b, p) {
+                inside = inside.max(de);
+            } else {
+                edge = edge.max(de);
+            }
+        }
+        assert!(inside <= 0.05, "{}: {inside}", u.name());
+        let edge_bound = match u.name() {
+            // Measured by this test (see docs/upsampling.md): the worst 17³ point in a cell at the
+            // edge of what the set reaches, rounded up.
+            "KQ_C_4" => 0.5,
+            "KQ_C_6" => 1.2,
+            "KQ_F11_6" => 0.8,
+            _ => 0.05,
+        };
+        assert!(edge <= edge_bound, "{}: edge cells {edge}", u.name());
+        println!(
+            "{}: round trip inside {inside:.4}, edge cells {edge:.4} ΔE00",
+            u.name()
+        );
+    });
+}
+
+/// Whether all four corners of the tetrahedron that holds `p` are reachable.
+fn corners_reachable(b: &Baked, p: [f64; 3]) -> bool {
+    let g = b.grid;
+    let cells = (g - 1) as f64;
+    let mut cell = [0usize; 3];
+    let mut frac = [0.0; 3];
+    for c in 0..3 {
+        let x = p[c] * cells;
+        cell[c] = (x.floor() as usize).min(g - 2);
+        frac[c] = x - cell[c] as f64;
+    }
+    let mut axes = [0usize, 1, 2];
+    axes.sort_by(|&a, &c| frac[c].total_cmp(&frac[a]));
+    let strides = [g * g, g, 1];
+    let mut i = (cell[0] * g + cell[1]) * g + cell[2];
+    let mut all = b.reachable[i];
+    for (k, &a) in axes.iter().enumerate() {
+        i += strides[a];
+        // A corner with zero weight does not count.
+        let weight = if k == 2 {
+            frac[a]
+        } else {
+            frac[a] - frac[axes[k + 1]]
+        };
+        all &= b.reachable[i] || weight == 0.0;
+    }
+    all
+}
+
+#[test]
+fn lipschitz_bound() {
+    check_property(
+        2000,
+        "Lipschitz",
+        (
+            prop::array::uniform3(0.0f32..=1.0),
+            prop::array::uniform3(-0.2f32..0.2),
+        ),
+        |(p, dp)| {
+            let q: [f32; 3] = core::array::from_fn(|c| (p[c] + dp[c]).clamp(0.0, 1.0));
+            let dist = (0..3).map(|c| (p[c] - q[c]).abs()).fold(0.0f32, f32::max);
+            each(|u, _| {
+                let (a, b) = (u.reflectance(p), u.reflectance(q));
+                let change = a
+                    .iter()
+                    .zip(&b)
+                    .map(|(x, y)| (x - y).abs())
+                    .fold(0.0, f32::max);
+                // f32 rounding of the two evaluations: each output within a few units of 2⁻²⁴
+                // of the exact interpolant.
+                let slack = 8.0 * f32::EPSILON;
+                assert!(
+                    change <= u.lipschitz() * dist + slack,
+                    "{}: {change} > {} · {dist}",
+                    u.name(),
+                    u.lipschitz()
+                );
+            });
+            Ok(())
+        },
+    );
+}
+
+#[test]
+fn continuous_across_cell_faces() {
+    // Either side of every cell face on a line through the cube: no seam.
+    each(|u, _| {
+        let g = u.grid();
+        for k in 1..g - 1 {
+            let face = k as f32 / (g - 1) as f32;
+            for c in 0..3 {
+                let mut below = [0.37f32, 0.61, 0.18];
+                let mut above = below;
+                below[c] = face - 1e-6;
+                above[c] = face + 1e-6;
+                let (a, b) = (u.reflectance(below), u.reflectance(above));
+                let jump = a
+                    .iter()
+                    .zip(&b)
+                    .map(|(x, y)| (x - y).abs())
+                    .fold(0.0, f32::max);
+                assert!(
+                    jump <= u.lipschitz() * 2e-6 + 8.0 * f32::EPSILON,
+                    "{} {jump}",
+                    u.name()
+                );
+            }
+        }
+    });
+}
+
+#[test]
+fn batch_is_per_pixel() {
+    let rgb: Vec<[f32; 3]> = (0..300)
+        .map(|i| {
+            let t = i as f32 / 300.0;
+            [t, (t * 7.3).fract(), (t * 3.1).fract()]
+        })
+        .collect();
+    each(|u, _| assert!(u.batch_agrees(&rgb), "{}", u.name()));
+}
+
+#[test]
+fn new_checks_the_table() {
+    static TABLE: [[u16; 2]; 8] = [[0; 2]; 8];
+    assert!(Upsampling::new(2, &TABLE).is_some());
+    assert!(Upsampling::new(3, &TABLE).is_none());
+    assert!(Upsampling::<2>::new(1, &TABLE[..1]).is_none());
+    assert!(Upsampling::new(usize::MAX, &TABLE).is_none());
+    let u = Upsampling::new(2, &TABLE).unwrap();
+    assert_eq!(u.reflectance([0.5; 3]), [0.0; 2]);
+    assert_eq!(u.grid(), 2);
+}

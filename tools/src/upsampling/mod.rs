@@ -1,0 +1,88 @@
+//! RGB materials under another light (report section 8): the crate's upsampling
+//! ([`spectral_quadrature_build::upsampling`]) beside the peers a renderer would use instead,
+//! each judged by relighting.
+//!
+//! **The relighting test** ([`relit_de00`]). A real reflectance's linear sRGB under D65
+//! (integrated every 1 nm, white-balanced: a perfect white is (1, 1, 1); [`srgb_under_d65`]) is
+//! upsampled to a radiance set's N nodes, the node values are multiplied by another light's
+//! samples and integrated by the set's radiance weights, and the colour is compared in CIEDE2000
+//! with the real reflectance under that light integrated every 1 nm (each white integrated by
+//! the same rule as its colour, as in Table 2).
+//!
+//! The peers, each evaluated at the same nodes:
+//! - [`jakob_hanika`]: Jakob and Hanika (2019), pbrt-v4's and Mitsuba 3's `RGBAlbedoSpectrum`:
+//!   a sigmoid of a quadratic in wavelength, fitted per colour by Gauss-Newton in CIELAB;
+//! - [`smooth`]: Mallett and Yuksel (2019), three basis spectra, and Smits (1999), seven
+//!   piecewise-constant spectra, each derived here by its paper's recipe (the smoothest spectra
+//!   in [0, 1] with the given colours).
+
+pub mod jakob_hanika;
+pub mod smooth;
+
+use spectral_quadrature_build as sqd;
+use sqd::evaluate::{self, delta_e2000, lab_from_xyz, Curve, EvalSet};
+use sqd::Derivation;
+
+use crate::Error;
+
+/// White-balanced linear sRGB of reflectances under D65, integrated every 1 nm: the colours an
+/// sRGB texture holds for them.
+pub fn srgb_under_d65(d: &Derivation, reflectances: &[Curve]) -> Result<Vec<[f64; 3]>, Error> {
+    let (_, m) = d.display("SRGB")?;
+    let d65 = d65(d)?;
+    Ok(sqd::upsampling::exact_rgb(d, m, &d65, reflectances)?)
+}
+
+/// CIE D65 from the crate's data.
+pub fn d65(d: &Derivation) -> Result<Curve, Error> {
+    Ok(evaluate::builtin_illuminant(
+        &d.settings.data_dir,
+        "D65",
+        d.settings.range_nm,
+    )?)
+}
+
+/// CIEDE2000 of each reflectance relit: `values[k]`, node values of `reflectances[k]` at the
+/// set's wavelengths, times `light` there, through the set's radiance weights (`set`, XYZ rows),
+/// against the reflectance under `light` through `reference` (the 1 nm integration).
+pub fn relit_de00(
+    set: &EvalSet,
+    reference: &EvalSet,
+    reflectances: &[Curve],
+    values: &[Vec<f64>],
+    light: &Curve,
+) -> Vec<f64> {
+    let white_ref = reference.xyz(|l| light.at(l));
+    let white_set = set.xyz(|l| light.at(l));
+    reflectances
+        .iter()
+        .zip(values)
+        .map(|(r, v)| {
+            let exact = lab_from_xyz(reference.xyz(|l| r.at(l) * light.at(l)), white_ref);
+            let samples: Vec<f64> = v
+                .iter()
+                .zip(&set.wavelengths_nm)
+                .map(|(x, &l)| x * light.at(l))
+                .collect();
+            let xyz = [0, 1, 2].map(|c| {
+                set.xyz_weights[c]
+                    .iter()
+                    .zip(&samples)
+                    .map(|(w, s)| w * s)
+                    .sum::<f64>()
+            });
+            delta_e2000(exact, lab_from_xyz(xyz, white_set))
+        })
+        .collect()
+}
+
+/// The mean and the 95th percentile (nearest rank) of `v`.
+pub fn mean_p95(v: &[f64]) -> (f64, f64) {
+    if v.is_empty() {
+        return (f64::NAN, f64::NAN);
+    }
+    let mut s = v.to_vec();
+    s.sort_by(f64::total_cmp);
+    let rank = ((0.95 * s.len() as f64).ceil() as usize).clamp(1, s.len());
+    (s.iter().sum::<f64>() / s.len() as f64, s[rank - 1])
+}
