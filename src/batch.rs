@@ -63,11 +63,14 @@ impl<const N: usize> FoldedSet<N> {
         samples: &[[f32; N]],
         out: &mut [[u8; 3]],
     ) -> Result<(), Error> {
+        crate::set::assert_width::<N>();
         check(samples.len(), out.len())?;
+        let srgb_clip = self.display.is_srgb_clip(mapping);
+        let vector_units = crate::planar::portable::VECTOR_UNITS && crate::simd::allowed!(Portable);
         // For the sRGB curve with `Clip` on a target with vector units: the AVX-512 or AVX2
         // loop where the CPU has one (the same bytes; see `simd`), then the portable loop for
         // the rest.
-        if crate::planar::portable::VECTOR_UNITS && self.display.is_srgb_clip(mapping) {
+        if vector_units && srgb_clip {
             let done =
                 crate::simd::encode_srgb8_batch(&self.weights, samples, out.as_flattened_mut());
             crate::planar::portable::encode_srgb8_batch_portable(
@@ -78,6 +81,9 @@ impl<const N: usize> FoldedSet<N> {
             return Ok(());
         }
         // Pixel by pixel: other curves and mappings, and targets without vector units.
+        if srgb_clip {
+            crate::simd::note!(Scalar, false);
+        }
         for (o, s) in out.iter_mut().zip(samples) {
             *o = self.encode_u8(mapping, s);
         }

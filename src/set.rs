@@ -126,11 +126,60 @@ pub struct GaussRule {
     pub weights: &'static [f32],
 }
 
+/// The most wavelengths (or sensor channels) a [`WavelengthSet`] or [`FoldedSet`] may have, N.
+///
+/// Every method of the two types checks N against it at compile time: calling one with a larger
+/// N stops the build (`cargo build`; `cargo check` does not evaluate the check). The generator
+/// bakes no larger set (`UNIFORM_64`, and user and sensor sets of up to 64 samples, are its
+/// largest).
+///
+/// The bound is on the stack: the batch and planar loops keep arrays of N elements on the
+/// stack for the length of a call. The largest are the AVX-512 loops' (the weights broadcast to
+/// 3·N registers of 64 bytes and N registers of samples: 256·N bytes) and the AVX2 loops' (a
+/// block's partial sums, 12 KiB at every N above 4, and two groups' samples, 64·N bytes); the
+/// portable loops hold 64·N bytes of samples per chunk, the per-pixel functions none. At
+/// N = 64 a call needs at most about 32 KiB of stack on x86-64 (docs/performance.md has each
+/// loop's frame at N = 4, 16 and 64, and the command that measures them), well inside the
+/// 2 MiB of a spawned thread; on a microcontroller the scalar loop's frame grows by 12·N bytes
+/// for the weights it copies.
+///
+/// With N = 0 (no samples, a set of no wavelengths) every path gives the colour of no signal:
+/// `[0.0, 0.0, 0.0]` from the linear functions, the display's encoding of black from the
+/// encoders, for every pixel of a batch or planar call (whose pixel count then comes from its
+/// output, there being no planes).
+///
+/// ```compile_fail
+/// use spectral_quadrature::{tables::folded::TABLE2_ROW2_SRGB as SRGB, FoldedSet};
+/// let wide = FoldedSet::<65> {
+///     wavelengths_nm: [500.0; 65],
+///     weights: [[0.0; 65]; 3],
+///     samples: SRGB.samples,
+///     display: SRGB.display,
+/// };
+/// let planes = [&[0.5f32][..]; 65];
+/// let (mut r, mut g, mut b) = ([0.0f32], [0.0f32], [0.0f32]);
+/// let _ = wide.linear_rgb_planar(planes, [&mut r, &mut g, &mut b]);
+/// ```
+pub const MAX_WAVELENGTHS: usize = 64;
+
+/// Stops the build of a set's method for N above [`MAX_WAVELENGTHS`] (evaluated when the
+/// method is compiled for that N).
+#[inline(always)]
+pub(crate) const fn assert_width<const N: usize>() {
+    const {
+        assert!(
+            N <= MAX_WAVELENGTHS,
+            "a wavelength set has at most MAX_WAVELENGTHS (64) wavelengths"
+        )
+    }
+}
+
 /// N distinct wavelengths and a 3×N weight matrix that turns samples of a spectrum at those
 /// wavelengths into A, C1 and C2.
 ///
 /// Every set the crate offers has this type: a per-channel Gauss rule (two rows zero), Table 2's
-/// merged sets, and any other set.
+/// merged sets, and any other set. N is at most [`MAX_WAVELENGTHS`] (checked at compile time);
+/// N = 0 is allowed and gives the colour of no signal (see there).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WavelengthSet<const N: usize> {
     /// Wavelengths in nm, ascending and distinct.
@@ -171,7 +220,7 @@ impl<const N: usize> WavelengthSet<N> {
 }
 
 /// A wavelength set with a display's colour matrix folded into its weights: samples → linear
-/// RGB is one 3×N product.
+/// RGB is one 3×N product. N is at most [`MAX_WAVELENGTHS`], as for [`WavelengthSet`].
 ///
 /// The set carries the display it was folded for, and its encoders use that display's transfer
 /// function, so weights and encoding cannot be paired wrongly:

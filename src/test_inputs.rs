@@ -48,3 +48,11 @@ pub(crate) const EDGES: [f32; 22] = [
     f32::MIN,
     -f32::MIN_POSITIVE,
 ];
+
+/// Says in the test's output that a check did not run on this machine, and why: written to the
+/// process's standard error directly, past the test harness's capture (which holds back
+/// `eprintln!` of passing tests), so that a skipped check shows in every run.
+pub(crate) fn skipped(what: &str, why: &str) {
+    use std::io::Write;
+    let _ = writeln!(std::io::stderr(), "skipped: {what}: {why}");
+}
