@@ -135,13 +135,15 @@ pub struct GaussRule {
 ///
 /// The bound is on the stack: the batch and planar loops keep arrays of N elements on the
 /// stack for the length of a call. The largest are the AVX-512 loops' (the weights broadcast to
-/// 3·N registers of 64 bytes and N registers of samples: 256·N bytes) and the AVX2 loops' (a
-/// block's partial sums, 12 KiB at every N above 4, and two groups' samples, 64·N bytes); the
-/// portable loops hold 64·N bytes of samples per chunk, the per-pixel functions none. At
-/// N = 64 a call needs at most about 32 KiB of stack on x86-64 (docs/performance.md has each
-/// loop's frame at N = 4, 16 and 64, and the command that measures them), well inside the
-/// 2 MiB of a spawned thread; on a microcontroller the scalar loop's frame grows by 12·N bytes
-/// for the weights it copies.
+/// 3·N registers of 64 bytes and N registers of samples: 256·N bytes, with copies of the N
+/// planes' slices besides) and the AVX2 loops' (a block's partial sums, 12 KiB at every N above
+/// 4, and two groups' samples, 64·N bytes); the portable loops hold 64·N bytes of samples per
+/// chunk and its products, the per-pixel functions nothing that grows with N. The deepest
+/// call on x86-64 takes about 1.7 KiB of stack at N = 4, 14 KiB at N = 16 and 35 KiB at
+/// N = 64 (docs/performance.md, "Stack use per N", has each loop's frame and the command that
+/// measures them): well inside the 2 MiB of a spawned thread, but worth knowing on a small
+/// stack. On a microcontroller the scalar loop's frame grows by 12·N bytes for the weights it
+/// copies.
 ///
 /// With N = 0 (no samples, a set of no wavelengths) every path gives the colour of no signal:
 /// `[0.0, 0.0, 0.0]` from the linear functions, the display's encoding of black from the
@@ -198,7 +200,8 @@ impl<const N: usize> WavelengthSet<N> {
     /// that [`FoldedSet::linear_rgb`] is one 3×N product; the folded set keeps `display` (its
     /// encoders use it) and [`samples`](Self::samples). The baked
     /// [`folded`](crate::tables::folded) sets do the same in f64 at build time with
-    /// `scale = 1 / UNIT_SPECTRUM_Y`. Non-finite weights or scale propagate into the result.
+    /// `scale = 1 / UNIT_SPECTRUM_Y`. Non-finite weights or scale propagate into the result; with
+    /// N = 0 the folded set has no weights either.
     pub fn fold(&self, display: &crate::Display, scale: f32) -> FoldedSet<N> {
         let m = crate::matrix::mat3_mul(&display.xyz_to_rgb, &crate::tables::AC1C2_TO_XYZ);
         let mut weights = [[0.0f32; N]; 3];
