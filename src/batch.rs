@@ -56,7 +56,8 @@ impl<const N: usize> FoldedSet<N> {
     /// [`encode_u8_planar`](Self::encode_u8_planar), in loops the compiler vectorizes; without
     /// vector units (microcontrollers), pixel by pixel. Every way gives
     /// [`encode_u8`](Self::encode_u8)'s bytes, bit for bit (with N = 0, the display's encoding
-    /// of black for every pixel).
+    /// of black for every pixel). N above [`MAX_WAVELENGTHS`](crate::MAX_WAVELENGTHS) does not
+    /// compile (the vector loops' stack use grows with N).
     ///
     /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless the lengths agree.
     pub fn encode_u8_batch(

@@ -126,24 +126,31 @@ pub struct GaussRule {
     pub weights: &'static [f32],
 }
 
-/// The most wavelengths (or sensor channels) a [`WavelengthSet`] or [`FoldedSet`] may have, N.
+/// The most wavelengths (or sensor channels), N, of a [`FoldedSet`] whose planar functions
+/// ([`linear_rgb_planar`](FoldedSet::linear_rgb_planar),
+/// [`encode_u8_planar`](FoldedSet::encode_u8_planar)) or
+/// [`encode_u8_batch`](FoldedSet::encode_u8_batch) are called: those three check N against it at
+/// compile time, and a call with a larger N stops the build (`cargo build`; `cargo check` does
+/// not evaluate the check). The generator bakes no larger set (`UNIFORM_64`, and user and
+/// sensor sets of up to 64 samples, are its largest).
 ///
-/// Every method of the two types checks N against it at compile time: calling one with a larger
-/// N stops the build (`cargo build`; `cargo check` does not evaluate the check). The generator
-/// bakes no larger set (`UNIFORM_64`, and user and sensor sets of up to 64 samples, are its
-/// largest).
+/// The bound is on the stack: those functions' loops keep arrays of N elements on the stack for
+/// the length of a call. The largest are the AVX-512 loops' (the weights broadcast to 3·N
+/// registers of 64 bytes and N registers of samples: 256·N bytes, with copies of the N planes'
+/// slices besides) and the AVX2 loops' (a block's partial sums, 12 KiB at every N above 4, and
+/// two groups' samples, 64·N bytes); the portable loops hold 64·N bytes of samples per chunk and
+/// its products. The deepest call on x86-64 takes about 1.7 KiB of stack at N = 4, 14 KiB at
+/// N = 16 and 35 KiB at N = 64 (docs/performance.md, "Stack use per N", has each loop's frame
+/// and the command that measures them): well inside the 2 MiB of a spawned thread, but worth
+/// knowing on a small stack. On a microcontroller the scalar loop's frame grows by 12·N bytes
+/// for the weights it copies.
 ///
-/// The bound is on the stack: the batch and planar loops keep arrays of N elements on the
-/// stack for the length of a call. The largest are the AVX-512 loops' (the weights broadcast to
-/// 3·N registers of 64 bytes and N registers of samples: 256·N bytes, with copies of the N
-/// planes' slices besides) and the AVX2 loops' (a block's partial sums, 12 KiB at every N above
-/// 4, and two groups' samples, 64·N bytes); the portable loops hold 64·N bytes of samples per
-/// chunk and its products, the per-pixel functions nothing that grows with N. The deepest
-/// call on x86-64 takes about 1.7 KiB of stack at N = 4, 14 KiB at N = 16 and 35 KiB at
-/// N = 64 (docs/performance.md, "Stack use per N", has each loop's frame and the command that
-/// measures them): well inside the 2 MiB of a spawned thread, but worth knowing on a small
-/// stack. On a microcontroller the scalar loop's frame grows by 12·N bytes for the weights it
-/// copies.
+/// The per-pixel functions, [`fold`](WavelengthSet::fold) and the other batch functions
+/// ([`ac1c2_batch`](WavelengthSet::ac1c2_batch),
+/// [`linear_rgb_batch`](FoldedSet::linear_rgb_batch),
+/// [`encode_u16_batch`](FoldedSet::encode_u16_batch)) keep nothing on the stack that grows with
+/// N beyond the caller's samples (`fold`: its 3×N result), and take any N: a reference
+/// integration over every 1 nm (N = 391) is a set too.
 ///
 /// With N = 0 (no samples, a set of no wavelengths) every path gives the colour of no signal:
 /// `[0.0, 0.0, 0.0]` from the linear functions, the display's encoding of black from the
@@ -164,14 +171,14 @@ pub struct GaussRule {
 /// ```
 pub const MAX_WAVELENGTHS: usize = 64;
 
-/// Stops the build of a set's method for N above [`MAX_WAVELENGTHS`] (evaluated when the
-/// method is compiled for that N).
+/// Stops the build of a planar function or `encode_u8_batch` for N above [`MAX_WAVELENGTHS`]
+/// (evaluated when the function is compiled for that N).
 #[inline(always)]
 pub(crate) const fn assert_width<const N: usize>() {
     const {
         assert!(
             N <= MAX_WAVELENGTHS,
-            "a wavelength set has at most MAX_WAVELENGTHS (64) wavelengths"
+            "the planar functions and encode_u8_batch take at most MAX_WAVELENGTHS (64) wavelengths"
         )
     }
 }
@@ -180,8 +187,8 @@ pub(crate) const fn assert_width<const N: usize>() {
 /// wavelengths into A, C1 and C2.
 ///
 /// Every set the crate offers has this type: a per-channel Gauss rule (two rows zero), Table 2's
-/// merged sets, and any other set. N is at most [`MAX_WAVELENGTHS`] (checked at compile time);
-/// N = 0 is allowed and gives the colour of no signal (see there).
+/// merged sets, and any other set. N = 0 is allowed and gives the colour of no signal; the
+/// planar and 8-bit batch loops of [`FoldedSet`] take N up to [`MAX_WAVELENGTHS`] (see there).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WavelengthSet<const N: usize> {
     /// Wavelengths in nm, ascending and distinct.
@@ -223,7 +230,8 @@ impl<const N: usize> WavelengthSet<N> {
 }
 
 /// A wavelength set with a display's colour matrix folded into its weights: samples → linear
-/// RGB is one 3×N product. N is at most [`MAX_WAVELENGTHS`], as for [`WavelengthSet`].
+/// RGB is one 3×N product. Its planar functions and `encode_u8_batch` take N up to
+/// [`MAX_WAVELENGTHS`] (checked at compile time).
 ///
 /// The set carries the display it was folded for, and its encoders use that display's transfer
 /// function, so weights and encoding cannot be paired wrongly:
