@@ -18,7 +18,8 @@ impl<const N: usize> WavelengthSet<N> {
     /// [`ac1c2`](Self::ac1c2) for every pixel: `out[p] = ac1c2(&samples[p])`.
     ///
     /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless
-    /// `samples.len() == out.len()`. Per-pixel input handling as [`ac1c2`](Self::ac1c2).
+    /// `samples.len() == out.len()`. Per-pixel input handling as [`ac1c2`](Self::ac1c2); with
+    /// N = 0 every pixel is `[0.0, 0.0, 0.0]`.
     pub fn ac1c2_batch(&self, samples: &[[f32; N]], out: &mut [[f32; 3]]) -> Result<(), Error> {
         check(samples.len(), out.len())?;
         for (o, s) in out.iter_mut().zip(samples) {
@@ -29,7 +30,7 @@ impl<const N: usize> WavelengthSet<N> {
 }
 
 impl<const N: usize> FoldedSet<N> {
-    /// [`linear_rgb`](Self::linear_rgb) for every pixel.
+    /// [`linear_rgb`](Self::linear_rgb) for every pixel (with N = 0, `[0.0, 0.0, 0.0]`).
     ///
     /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless the lengths agree.
     pub fn linear_rgb_batch(
@@ -54,7 +55,9 @@ impl<const N: usize> FoldedSet<N> {
     /// transposed into planes on the stack and encoded as by
     /// [`encode_u8_planar`](Self::encode_u8_planar), in loops the compiler vectorizes; without
     /// vector units (microcontrollers), pixel by pixel. Every way gives
-    /// [`encode_u8`](Self::encode_u8)'s bytes, bit for bit.
+    /// [`encode_u8`](Self::encode_u8)'s bytes, bit for bit (with N = 0, the display's encoding
+    /// of black for every pixel). N above [`MAX_WAVELENGTHS`](crate::MAX_WAVELENGTHS) does not
+    /// compile (the vector loops' stack use grows with N).
     ///
     /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless the lengths agree.
     pub fn encode_u8_batch(
@@ -63,11 +66,14 @@ impl<const N: usize> FoldedSet<N> {
         samples: &[[f32; N]],
         out: &mut [[u8; 3]],
     ) -> Result<(), Error> {
+        crate::set::assert_width::<N>();
         check(samples.len(), out.len())?;
+        let srgb_clip = self.display.is_srgb_clip(mapping);
+        let vector_units = crate::planar::portable::VECTOR_UNITS && crate::simd::allowed!(Portable);
         // For the sRGB curve with `Clip` on a target with vector units: the AVX-512 or AVX2
         // loop where the CPU has one (the same bytes; see `simd`), then the portable loop for
         // the rest.
-        if crate::planar::portable::VECTOR_UNITS && self.display.is_srgb_clip(mapping) {
+        if vector_units && srgb_clip {
             let done =
                 crate::simd::encode_srgb8_batch(&self.weights, samples, out.as_flattened_mut());
             crate::planar::portable::encode_srgb8_batch_portable(
@@ -78,13 +84,17 @@ impl<const N: usize> FoldedSet<N> {
             return Ok(());
         }
         // Pixel by pixel: other curves and mappings, and targets without vector units.
+        if srgb_clip {
+            crate::simd::note!(Scalar, false);
+        }
         for (o, s) in out.iter_mut().zip(samples) {
             *o = self.encode_u8(mapping, s);
         }
         Ok(())
     }
 
-    /// [`encode_u16`](Self::encode_u16) for every pixel (NaN anywhere in a pixel → black).
+    /// [`encode_u16`](Self::encode_u16) for every pixel (NaN anywhere in a pixel → black; with
+    /// N = 0, the display's encoding of black).
     ///
     /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless the lengths agree.
     pub fn encode_u16_batch(

@@ -100,7 +100,8 @@
 #![deny(unsafe_op_in_unsafe_fn)]
 #![deny(clippy::undocumented_unsafe_blocks)]
 
-#[cfg(any(test, feature = "std"))]
+// The unit tests and the fuzz targets' loop switch (`simd::forced`) use std.
+#[cfg(any(test, fuzzing, feature = "std"))]
 extern crate std;
 
 // The modules, each importing only from those in the lines above it (and from `tables`, the
@@ -142,7 +143,7 @@ pub use error::Error;
 pub use fast::ENCODE_FAST_MAX_ERROR;
 pub use matrix::{ac1c2_from_xyz, xyz_from_ac1c2};
 pub use pixel::f32_budget;
-pub use set::{Channel, FoldedSet, GaussRule, RuleStatus, Samples, WavelengthSet};
+pub use set::{Channel, FoldedSet, GaussRule, RuleStatus, Samples, WavelengthSet, MAX_WAVELENGTHS};
 pub use spectral_quadrature_math::{
     delta_e2000, delta_e76, lab_from_xyz, MAX_PRIMARIES_CONDITION, MIN_WHITE_SHARE,
 };
@@ -150,6 +151,15 @@ pub use transfer::{
     quantize_u16, quantize_u8, ChannelLuts, Rgb, TransferFunction, U16_MAX_STEP_ERROR,
 };
 pub use upsample::{Upsampling, UPSAMPLING_CODE_ONE};
+
+/// Internal, for the fuzz targets in `fuzz/` alone: caps the loops the batch and planar paths
+/// may take on this thread (`simd::forced`). Compiled only with `--cfg fuzzing`, which
+/// cargo-fuzz sets; not part of the API, and absent from every other build.
+#[cfg(fuzzing)]
+#[doc(hidden)]
+pub mod __fuzzing {
+    pub use crate::simd::forced::{force, take_ran, Loops, Ran};
+}
 
 /// The tables baked at compile time by `build.rs` from `data/` (see the header of the generated
 /// file for the inputs and their checksums).

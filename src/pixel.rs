@@ -24,7 +24,7 @@ impl<const N: usize> WavelengthSet<N> {
     /// apply: a NaN sample makes every channel NaN, and an infinite sample makes every channel
     /// ±Inf or NaN (NaN where its weight is 0, since 0 · ∞ = NaN, or where infinities of both
     /// signs meet); subnormal and negative samples are used as they are; products or sums beyond
-    /// `f32::MAX` overflow to ±Inf.
+    /// `f32::MAX` overflow to ±Inf. With N = 0 (no samples) it is `[0.0, 0.0, 0.0]`.
     ///
     /// # Accuracy
     /// For finite samples whose products do not overflow, each channel is within
@@ -47,7 +47,7 @@ impl<const N: usize> WavelengthSet<N> {
     /// `[X, Y, Z]` from samples: [`ac1c2`](Self::ac1c2) followed by
     /// [`AC1C2_TO_XYZ`](crate::tables::AC1C2_TO_XYZ). XYZ are in the units of the weights (dλ in
     /// nm): a spectrum of constant 1 has Y ≈ [`UNIT_SPECTRUM_Y`](crate::tables::UNIT_SPECTRUM_Y).
-    /// IEEE arithmetic, as [`ac1c2`](Self::ac1c2).
+    /// IEEE arithmetic, as [`ac1c2`](Self::ac1c2); `[0.0, 0.0, 0.0]` with N = 0.
     #[inline]
     pub fn xyz(&self, samples: &[f32; N]) -> [f32; 3] {
         crate::matrix::xyz_from_ac1c2(self.ac1c2(samples))
@@ -61,6 +61,7 @@ impl<const N: usize> FoldedSet<N> {
     /// NaN, an infinite one makes every channel ±Inf or NaN, subnormal and negative samples are
     /// used as they are, products or sums beyond `f32::MAX` overflow to ±Inf. Out-of-gamut colours
     /// have channels below 0 or above 1; see [`Display::map_gamut`](crate::Display::map_gamut).
+    /// With N = 0 (no samples) it is `[0.0, 0.0, 0.0]`.
     ///
     /// # Accuracy
     /// As [`WavelengthSet::ac1c2`]: each channel within
@@ -73,7 +74,8 @@ impl<const N: usize> FoldedSet<N> {
     }
 
     /// Samples → gamut-mapped, encoded 8-bit RGB with the set's [`display`](Self::display).
-    /// NaN anywhere → black; see [`Display::encode_u8`](crate::Display::encode_u8).
+    /// NaN anywhere → black; see [`Display::encode_u8`](crate::Display::encode_u8). With N = 0,
+    /// the display's encoding of black (`[0, 0, 0]` for every built-in transfer function).
     ///
     /// The bytes of `self.display.encode_u8(self.linear_rgb(samples), mapping)`. Each channel's
     /// sum starts from its first product instead of 0.0 (one addition less), which differs
@@ -92,7 +94,7 @@ impl<const N: usize> FoldedSet<N> {
             .encode_u8(mat_vec_for_encoding(&self.weights, samples), mapping)
     }
 
-    /// As [`encode_u8`](Self::encode_u8), 16 bits.
+    /// As [`encode_u8`](Self::encode_u8), 16 bits (N = 0 included).
     #[inline]
     pub fn encode_u16(&self, mapping: crate::GamutMapping, samples: &[f32; N]) -> [u16; 3] {
         self.display.encode_u16(self.linear_rgb(samples), mapping)

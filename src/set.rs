@@ -126,11 +126,69 @@ pub struct GaussRule {
     pub weights: &'static [f32],
 }
 
+/// The most wavelengths (or sensor channels), N, of a [`FoldedSet`] whose planar functions
+/// ([`linear_rgb_planar`](FoldedSet::linear_rgb_planar),
+/// [`encode_u8_planar`](FoldedSet::encode_u8_planar)) or
+/// [`encode_u8_batch`](FoldedSet::encode_u8_batch) are called: those three check N against it at
+/// compile time, and a call with a larger N stops the build (`cargo build`; `cargo check` does
+/// not evaluate the check). The generator bakes no larger set (`UNIFORM_64`, and user and
+/// sensor sets of up to 64 samples, are its largest).
+///
+/// The bound is on the stack: those functions' loops keep arrays of N elements on the stack for
+/// the length of a call. The largest are the AVX-512 loops' (the weights broadcast to 3·N
+/// registers of 64 bytes and N registers of samples: 256·N bytes, with copies of the N planes'
+/// slices besides) and the AVX2 loops' (a block's partial sums, 12 KiB at every N above 4, and
+/// two groups' samples, 64·N bytes); the portable loops hold 64·N bytes of samples per chunk and
+/// its products. The deepest call on x86-64 takes about 1.7 KiB of stack at N = 4, 14 KiB at
+/// N = 16 and 35 KiB at N = 64 (docs/performance.md, "Stack use per N", has each loop's frame
+/// and the command that measures them): well inside the 2 MiB of a spawned thread, but worth
+/// knowing on a small stack. On a microcontroller the scalar loop's frame grows by 12·N bytes
+/// for the weights it copies.
+///
+/// The per-pixel functions, [`fold`](WavelengthSet::fold) and the other batch functions
+/// ([`ac1c2_batch`](WavelengthSet::ac1c2_batch),
+/// [`linear_rgb_batch`](FoldedSet::linear_rgb_batch),
+/// [`encode_u16_batch`](FoldedSet::encode_u16_batch)) keep nothing on the stack that grows with
+/// N beyond the caller's samples (`fold`: its 3×N result), and take any N: a reference
+/// integration over every 1 nm (N = 391) is a set too.
+///
+/// With N = 0 (no samples, a set of no wavelengths) every path gives the colour of no signal:
+/// `[0.0, 0.0, 0.0]` from the linear functions, the display's encoding of black from the
+/// encoders, for every pixel of a batch or planar call (whose pixel count then comes from its
+/// output, there being no planes).
+///
+/// ```compile_fail
+/// use spectral_quadrature::{tables::folded::TABLE2_ROW2_SRGB as SRGB, FoldedSet};
+/// let wide = FoldedSet::<65> {
+///     wavelengths_nm: [500.0; 65],
+///     weights: [[0.0; 65]; 3],
+///     samples: SRGB.samples,
+///     display: SRGB.display,
+/// };
+/// let planes = [&[0.5f32][..]; 65];
+/// let (mut r, mut g, mut b) = ([0.0f32], [0.0f32], [0.0f32]);
+/// let _ = wide.linear_rgb_planar(planes, [&mut r, &mut g, &mut b]);
+/// ```
+pub const MAX_WAVELENGTHS: usize = 64;
+
+/// Stops the build of a planar function or `encode_u8_batch` for N above [`MAX_WAVELENGTHS`]
+/// (evaluated when the function is compiled for that N).
+#[inline(always)]
+pub(crate) const fn assert_width<const N: usize>() {
+    const {
+        assert!(
+            N <= MAX_WAVELENGTHS,
+            "the planar functions and encode_u8_batch take at most MAX_WAVELENGTHS (64) wavelengths"
+        )
+    }
+}
+
 /// N distinct wavelengths and a 3×N weight matrix that turns samples of a spectrum at those
 /// wavelengths into A, C1 and C2.
 ///
 /// Every set the crate offers has this type: a per-channel Gauss rule (two rows zero), Table 2's
-/// merged sets, and any other set.
+/// merged sets, and any other set. N = 0 is allowed and gives the colour of no signal; the
+/// planar and 8-bit batch loops of [`FoldedSet`] take N up to [`MAX_WAVELENGTHS`] (see there).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WavelengthSet<const N: usize> {
     /// Wavelengths in nm, ascending and distinct.
@@ -149,7 +207,8 @@ impl<const N: usize> WavelengthSet<N> {
     /// that [`FoldedSet::linear_rgb`] is one 3×N product; the folded set keeps `display` (its
     /// encoders use it) and [`samples`](Self::samples). The baked
     /// [`folded`](crate::tables::folded) sets do the same in f64 at build time with
-    /// `scale = 1 / UNIT_SPECTRUM_Y`. Non-finite weights or scale propagate into the result.
+    /// `scale = 1 / UNIT_SPECTRUM_Y`. Non-finite weights or scale propagate into the result; with
+    /// N = 0 the folded set has no weights either.
     pub fn fold(&self, display: &crate::Display, scale: f32) -> FoldedSet<N> {
         let m = crate::matrix::mat3_mul(&display.xyz_to_rgb, &crate::tables::AC1C2_TO_XYZ);
         let mut weights = [[0.0f32; N]; 3];
@@ -171,7 +230,8 @@ impl<const N: usize> WavelengthSet<N> {
 }
 
 /// A wavelength set with a display's colour matrix folded into its weights: samples → linear
-/// RGB is one 3×N product.
+/// RGB is one 3×N product. Its planar functions and `encode_u8_batch` take N up to
+/// [`MAX_WAVELENGTHS`] (checked at compile time).
 ///
 /// The set carries the display it was folded for, and its encoders use that display's transfer
 /// function, so weights and encoding cannot be paired wrongly:

@@ -48,3 +48,18 @@ pub(crate) const EDGES: [f32; 22] = [
     f32::MIN,
     -f32::MIN_POSITIVE,
 ];
+
+/// Says in the test's output that a check did not run on this machine, and why: written to the
+/// process's standard error directly, past the test harness's capture (which holds back
+/// `eprintln!` of passing tests), so that a skipped check shows in every run; once per message.
+pub(crate) fn skipped(what: &str, why: &str) {
+    use std::io::Write;
+    static SAID: std::sync::Mutex<std::vec::Vec<std::string::String>> =
+        std::sync::Mutex::new(std::vec::Vec::new());
+    let line = std::format!("skipped: {what}: {why}");
+    let mut said = SAID.lock().unwrap_or_else(|e| e.into_inner());
+    if !said.contains(&line) {
+        let _ = writeln!(std::io::stderr(), "{line}");
+        said.push(line);
+    }
+}

@@ -15,9 +15,14 @@ use crate::{Error, FoldedSet, GamutMapping};
 use portable::{encode_srgb8_planar_portable, linear_planar_portable, VECTOR_UNITS};
 
 /// Checks that every sample plane has the length of plane 0 and that every output length
-/// equals it.
+/// equals it; returns that length, the number of pixels. Without planes (N = 0) the first
+/// output's length is the number of pixels, as the length of the slice of pixels is for the
+/// interleaved path.
 fn check_planes<const N: usize>(samples: &[&[f32]; N], outputs: &[usize]) -> Result<usize, Error> {
-    let pixels = samples.first().map_or(0, |p| p.len());
+    let pixels = match samples.first() {
+        Some(plane) => plane.len(),
+        None => outputs.first().copied().unwrap_or(0),
+    };
     for len in samples
         .iter()
         .map(|p| p.len())
@@ -56,6 +61,13 @@ impl<const N: usize> FoldedSet<N> {
     /// output has the same length; `inputs` is then the length of `samples[0]` and `outputs`
     /// the first length (another plane's or an output's) that differs from it.
     ///
+    /// With N = 0 there are no planes: the number of pixels is the length of `out[0]`
+    /// (`inputs` in the error), the other outputs must have it too, and every pixel is
+    /// [`linear_rgb`](Self::linear_rgb) of no samples, `[0.0, 0.0, 0.0]`, as for
+    /// [`linear_rgb_batch`](Self::linear_rgb_batch) with that many pixels. N above
+    /// [`MAX_WAVELENGTHS`](crate::MAX_WAVELENGTHS) does not compile (its stack use grows with
+    /// N).
+    ///
     /// ```
     /// use spectral_quadrature::tables::folded::TABLE2_ROW2_SRGB as SET;
     /// let (a, b, c, d) = ([0.5f32; 20], [0.4f32; 20], [0.3f32; 20], [0.2f32; 20]);
@@ -68,6 +80,7 @@ impl<const N: usize> FoldedSet<N> {
         samples: [&[f32]; N],
         out: [&mut [f32]; 3],
     ) -> Result<(), Error> {
+        crate::set::assert_width::<N>();
         check_planes(&samples, &[out[0].len(), out[1].len(), out[2].len()])?;
         let [r, g, b] = out;
         // The AVX-512 or AVX2 loop where the CPU has one (the same bits; see `simd`), then the
@@ -115,6 +128,13 @@ impl<const N: usize> FoldedSet<N> {
     /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless every plane and `out`
     /// have the same length, reported as for [`linear_rgb_planar`](Self::linear_rgb_planar).
     ///
+    /// With N = 0 there are no planes: `out.len()` is the number of pixels, and every pixel is
+    /// [`encode_u8`](Self::encode_u8) of no samples (the display's encoding of black,
+    /// `[0, 0, 0]` for every built-in transfer function), as for
+    /// [`encode_u8_batch`](Self::encode_u8_batch) with that many pixels. N above
+    /// [`MAX_WAVELENGTHS`](crate::MAX_WAVELENGTHS) does not compile (its stack use grows with
+    /// N).
+    ///
     /// ```
     /// use spectral_quadrature::tables::folded::TABLE2_ROW2_SRGB as SET;
     /// use spectral_quadrature::GamutMapping;
@@ -131,11 +151,14 @@ impl<const N: usize> FoldedSet<N> {
         samples: [&[f32]; N],
         out: &mut [[u8; 3]],
     ) -> Result<(), Error> {
+        crate::set::assert_width::<N>();
         let pixels = check_planes(&samples, &[out.len()])?;
         let srgb_clip = self.display.is_srgb_clip(mapping);
-        if !(VECTOR_UNITS && srgb_clip) {
+        let vector_units = VECTOR_UNITS && crate::simd::allowed!(Portable);
+        if !(vector_units && srgb_clip) {
             if srgb_clip {
                 // No vector units: one pixel at a time, the weights in registers.
+                crate::simd::note!(Scalar, false);
                 scalar::encode_srgb8_clip(&self.weights, samples, out);
                 return Ok(());
             }

@@ -474,7 +474,7 @@ pub(crate) fn encode_srgb8_batch<const N: usize>(
 // figures).
 
 /// Planes per pass: at most this many input streams are read at a time.
-const PASS_PLANES: usize = 4;
+pub(crate) const PASS_PLANES: usize = 4;
 
 /// Groups per block: 1024 pixels, 4 KiB of each plane, 12 KiB of partial sums.
 pub(crate) const BLOCK_GROUPS: usize = 128;
@@ -631,6 +631,9 @@ fn linear_pairs<const N: usize>(
         linear_last_pass(weights, &planes, 0, None, [r, g, b]);
         return pairs * 2 * LANES;
     }
+    // From here on the output may be written with non-temporal stores: the fence follows them
+    // on every way out.
+    let _fence = stream.then_some(super::StoreFence);
     let mut sums = Sums::ZERO;
     let block = BLOCK_GROUPS / 2;
     let blocks = r
@@ -668,12 +671,6 @@ fn linear_pairs<const N: usize>(
                 )
             );
         }
-    }
-    if stream {
-        // Non-temporal stores are weakly ordered: this orders them before every store that
-        // follows, as ordinary stores are (another thread that synchronizes with this one
-        // afterwards sees the output).
-        _mm_sfence();
     }
     pairs * 2 * LANES
 }

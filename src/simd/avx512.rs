@@ -652,6 +652,8 @@ fn linear_groups<const N: usize>(
         acc
     };
     if stream {
+        // The fence follows the non-temporal stores on every way out of this block.
+        let _fence = super::StoreFence;
         let mut out = [r, g, b].map(|o| StreamedPlane::new(o));
         for j in 0..groups {
             for (o, v) in out.iter_mut().zip(rgb(j)) {
@@ -661,10 +663,6 @@ fn linear_groups<const N: usize>(
         for o in out {
             o.finish();
         }
-        // Non-temporal stores are weakly ordered: this orders them before every store that
-        // follows, as ordinary stores are (another thread that synchronizes with this one
-        // afterwards sees the output).
-        _mm_sfence();
     } else {
         for (j, ((r, g), b)) in r.iter_mut().zip(g.iter_mut()).zip(b.iter_mut()).enumerate() {
             for (o, v) in [r, g, b].into_iter().zip(rgb(j)) {
@@ -755,7 +753,10 @@ mod tests {
     #[test]
     fn the_vector_encoder_is_exact_where_it_does_not_flag() {
         if !available() {
-            std::eprintln!("skipped: this CPU has no AVX-512 (F, BW, VBMI)");
+            crate::test_inputs::skipped(
+                "the AVX-512 encoder",
+                "this CPU has no AVX-512 (F, BW, VBMI)",
+            );
             return;
         }
         // SAFETY: the CPU has the features (checked above).
@@ -808,7 +809,10 @@ mod tests {
     #[test]
     fn the_encoders_error_stays_inside_its_window() {
         if !available() {
-            std::eprintln!("skipped: this CPU has no AVX-512 (F, BW, VBMI)");
+            crate::test_inputs::skipped(
+                "the AVX-512 encoder",
+                "this CPU has no AVX-512 (F, BW, VBMI)",
+            );
             return;
         }
         // SAFETY: the CPU has the features (checked above).

@@ -35,10 +35,55 @@
 pub(crate) mod avx2;
 #[cfg(target_arch = "x86_64")]
 pub(crate) mod avx512;
+#[cfg(any(test, fuzzing))]
+pub(crate) mod forced;
 #[cfg(target_arch = "x86_64")]
 pub(crate) mod sse2;
 #[cfg(test)]
 mod tests;
+
+/// Whether the loops of a level of [`forced::Loops`] (`Scalar`, `Portable`, `Avx2`, `Avx512`)
+/// may run: always, except in test and fuzz builds, where [`forced`] caps them per thread.
+macro_rules! allowed {
+    ($level:ident) => {{
+        #[cfg(any(test, fuzzing))]
+        let allowed = $crate::simd::forced::allows($crate::simd::forced::Loops::$level);
+        #[cfg(not(any(test, fuzzing)))]
+        let allowed = true;
+        allowed
+    }};
+}
+pub(crate) use allowed;
+
+/// In test and fuzz builds, records which level of loops a fast path ran and whether it
+/// streamed ([`forced::take_ran`]); nothing otherwise.
+macro_rules! note {
+    ($level:ident, $streamed:expr) => {
+        #[cfg(any(test, fuzzing))]
+        $crate::simd::forced::note($crate::simd::forced::Loops::$level, $streamed);
+    };
+}
+pub(crate) use note;
+
+/// Orders the non-temporal stores made before it is dropped (`sfence`), on every way out of
+/// the scope that holds it, a panic's unwinding included. The streaming loops hold one from
+/// their first non-temporal store on: nothing between that store and the end of the loop is
+/// meant to panic (the only panics there are `debug_assert!`s of invariants), and the guard
+/// makes that matter not at all, so that no store is left unordered whatever happens.
+#[cfg(target_arch = "x86_64")]
+pub(crate) struct StoreFence;
+
+#[cfg(target_arch = "x86_64")]
+impl Drop for StoreFence {
+    #[inline]
+    fn drop(&mut self) {
+        // Non-temporal stores are weakly ordered: this orders them before every store that
+        // follows, as ordinary stores are (another thread that synchronizes with this one
+        // afterwards sees the output).
+        // SAFETY: `sfence` is an SSE instruction, and SSE is part of x86-64.
+        unsafe { core::arch::x86_64::_mm_sfence() };
+    }
+}
 
 /// Runs an accelerated planar sRGB 8-bit loop, `steps` (whole steps of `unit` pixels from the
 /// start of the planes and output it is given; it returns how many pixels it wrote), once at
@@ -132,15 +177,18 @@ pub(crate) fn encode_srgb8_planar<const N: usize>(
 ) -> usize {
     #[cfg(target_arch = "x86_64")]
     {
-        if avx512::available() {
+        if allowed!(Avx512) && avx512::available() {
+            note!(Avx512, false);
             // SAFETY: the CPU has the AVX-512 subsets the loop needs (checked just above).
             return unsafe { avx512::encode_srgb8_planar(weights, planes, out) };
         }
-        if avx2::available() {
+        if allowed!(Avx2) && avx2::available() {
+            note!(Avx2, false);
             // SAFETY: the CPU has AVX2 (checked just above).
             return unsafe { avx2::encode_srgb8_planar(weights, planes, out) };
         }
     }
+    note!(Portable, false);
     let _ = (weights, planes, out);
     0
 }
@@ -156,15 +204,19 @@ pub(crate) fn linear_planar<const N: usize>(
     #[cfg(target_arch = "x86_64")]
     {
         let stream = out.iter().map(|o| o.len()).min().unwrap_or(0) >= STREAM_MIN_PIXELS;
-        if avx512::available() {
+        if allowed!(Avx512) && avx512::available() {
+            note!(Avx512, stream);
             // SAFETY: the CPU has the AVX-512 subsets the loop needs (checked just above).
             return unsafe { avx512::linear_planar(weights, planes, out, stream) };
         }
-        if avx2::available() {
+        if allowed!(Avx2) && avx2::available() {
+            // The AVX2 loop streams above four planes only.
+            note!(Avx2, stream && N > avx2::PASS_PLANES);
             // SAFETY: the CPU has AVX2 (checked just above).
             return unsafe { avx2::linear_planar(weights, planes, out, stream) };
         }
     }
+    note!(Portable, false);
     let _ = (weights, planes, out);
     0
 }
@@ -187,15 +239,18 @@ pub(crate) fn encode_srgb8_batch<const N: usize>(
 ) -> usize {
     #[cfg(target_arch = "x86_64")]
     {
-        if avx512::available() && avx512::BATCH_WIDTHS.contains(&N) {
+        if allowed!(Avx512) && avx512::available() && avx512::BATCH_WIDTHS.contains(&N) {
+            note!(Avx512, false);
             // SAFETY: the CPU has the AVX-512 subsets the loop needs (checked just above).
             return unsafe { avx512::encode_srgb8_batch(weights, samples, out) };
         }
-        if avx2::available() {
+        if allowed!(Avx2) && avx2::available() {
+            note!(Avx2, false);
             // SAFETY: the CPU has AVX2 (checked just above).
             return unsafe { avx2::encode_srgb8_batch(weights, samples, out) };
         }
     }
+    note!(Portable, false);
     let _ = (weights, samples, out);
     0
 }

@@ -3,8 +3,9 @@
 //! whole chunks): bit for bit for linear output (NaN against NaN), byte for byte for sRGB.
 
 use crate::pixel::{mat_vec, mat_vec_for_encoding};
+use crate::simd::forced::{force, take_ran, Loops, Ran};
 use crate::tables::folded::{KQ_C_8_SRGB, TABLE2_ROW1_SRGB, TABLE2_ROW2_SRGB};
-use crate::test_inputs::{Rng, EDGES};
+use crate::test_inputs::{skipped, Rng, EDGES};
 use crate::GamutMapping;
 
 /// A sample: mostly reflectance-like, the rest negative, any bit pattern, or an edge.
@@ -157,6 +158,10 @@ fn check<const N: usize>(set: &crate::FoldedSet<N>, pixels: usize, seed: u64) {
     #[cfg(target_arch = "x86_64")]
     for x86 in x86_loops::<N>() {
         if !x86.available {
+            skipped(
+                &std::format!("the {} loops, N = {N}", x86.name),
+                "this CPU does not have them",
+            );
             continue;
         }
         let name = x86.name;
@@ -307,6 +312,8 @@ fn every_loop_gives_the_per_pixel_bytes_for_other_widths() {
     check(&random_set::<3>(6), 100_007, 7);
     check(&random_set::<5>(8), 100_009, 9);
     check(&random_set::<16>(10), 100_011, 11);
+    // The largest width a set may have.
+    check(&random_set::<{ crate::MAX_WAVELENGTHS }>(20), 10_007, 21);
     // Fewer pixels than one group: the tails alone; one group and a part (the pipeline's
     // shortest run, where no two stages overlap); two, three and five groups, and one step
     // of the linear loop and a part.
@@ -315,5 +322,182 @@ fn every_loop_gives_the_per_pixel_bytes_for_other_widths() {
     for (pixels, seed) in [(9, 14), (16, 15), (17, 16), (24, 17), (40, 18), (31, 19)] {
         check(&TABLE2_ROW2_SRGB, pixels, seed);
         check(&random_set::<16>(seed), pixels, seed + 100);
+    }
+}
+
+/// Forces `level` on this thread for `f`, then lifts the cap; says so and skips `f` where this
+/// CPU or target does not have that level.
+fn with_loops(level: Loops, f: impl FnOnce()) {
+    let got = force(level);
+    if got == level {
+        f();
+    } else {
+        skipped(
+            &std::format!("the public functions with the {} loops", level.name()),
+            &std::format!("this CPU's fastest loops are {}", got.name()),
+        );
+    }
+    force(Loops::Avx512);
+}
+
+/// The level whose loop an interleaved sRGB call at width `n` takes under a cap of `level`:
+/// the AVX-512 interleaved loop takes N = 4 alone, and the AVX2 loop the other widths.
+fn batch_level(level: Loops, n: usize) -> Loops {
+    #[cfg(target_arch = "x86_64")]
+    if level == Loops::Avx512 && !super::avx512::BATCH_WIDTHS.contains(&n) {
+        return Loops::Avx2;
+    }
+    let _ = n;
+    level
+}
+
+/// Whether the linear planar loop of `level` writes with non-temporal stores at width `n`
+/// from `STREAM_MIN_PIXELS` on: the AVX-512 loop at every width, the AVX2 loop above four
+/// planes.
+fn streams(level: Loops, n: usize) -> bool {
+    match level {
+        Loops::Avx512 => true,
+        #[cfg(target_arch = "x86_64")]
+        Loops::Avx2 => n > super::avx2::PASS_PLANES,
+        _ => false,
+    }
+}
+
+/// Each level through the public functions, on `pixels` pixels (random, the edge inputs in
+/// every position first): the loop that ran is the forced one, streamed where it streams at
+/// that size, and every output equals the per-pixel function's.
+fn public_functions_at<const N: usize>(set: &crate::FoldedSet<N>, pixels: usize, seed: u64) {
+    let mut rng = Rng(seed);
+    let aos: std::vec::Vec<[f32; N]> = (0..pixels)
+        .map(|p| {
+            let mut s: [f32; N] = core::array::from_fn(|_| sample(&mut rng));
+            if N > 0 && p < EDGES.len() * N {
+                s[p % N] = EDGES[p / N];
+            }
+            s
+        })
+        .collect();
+    let planes: std::vec::Vec<std::vec::Vec<f32>> =
+        (0..N).map(|i| aos.iter().map(|s| s[i]).collect()).collect();
+    let planes: [&[f32]; N] = core::array::from_fn(|i| &planes[i][..]);
+    let want: std::vec::Vec<[u8; 3]> = aos.iter().map(|s| reference(set, s)).collect();
+    #[cfg(target_arch = "x86_64")]
+    let stream_from = super::STREAM_MIN_PIXELS;
+    #[cfg(not(target_arch = "x86_64"))]
+    let stream_from = usize::MAX;
+    for level in Loops::ALL {
+        with_loops(level, || {
+            let ran = |loops, streamed| Some(Ran { loops, streamed });
+            let mut lin = [0, 1, 2].map(|_| std::vec![0.0f32; pixels]);
+            {
+                let [r, g, b] = &mut lin;
+                set.linear_rgb_planar(planes, [r, g, b]).unwrap();
+            }
+            // Without vector units the linear planar path is the portable loop too.
+            let linear_level = level.max(Loops::Portable);
+            let streamed = pixels >= stream_from && streams(level, N);
+            assert_eq!(
+                take_ran(),
+                ran(linear_level, streamed),
+                "linear, {level:?}, N = {N}"
+            );
+            for (p, s) in aos.iter().enumerate() {
+                let one = mat_vec(&set.weights, s);
+                assert!(
+                    (0..3).all(|c| same_f32(lin[c][p], one[c])),
+                    "linear_rgb_planar, {level:?}, N = {N}, pixel {p}: {s:?}"
+                );
+            }
+            let mut got = std::vec![[0xA5u8; 3]; pixels];
+            set.encode_u8_planar(GamutMapping::Clip, planes, &mut got)
+                .unwrap();
+            assert_eq!(take_ran(), ran(level, false), "planar, {level:?}, N = {N}");
+            let bad = got.iter().zip(&want).position(|(g, w)| g != w);
+            assert_eq!(bad, None, "encode_u8_planar, {level:?}, N = {N}");
+            let mut got = std::vec![[0xA5u8; 3]; pixels];
+            set.encode_u8_batch(GamutMapping::Clip, &aos, &mut got)
+                .unwrap();
+            let batch = batch_level(level, N);
+            assert_eq!(take_ran(), ran(batch, false), "batch, {level:?}, N = {N}");
+            let bad = got.iter().zip(&want).position(|(g, w)| g != w);
+            assert_eq!(bad, None, "encode_u8_batch, {level:?}, N = {N}");
+        });
+    }
+}
+
+#[test]
+fn each_loop_through_the_public_functions_reaches_the_streaming_path() {
+    // 2²⁰ + 13 pixels: from `STREAM_MIN_PIXELS` on, the AVX-512 linear loop streams at every
+    // width and the AVX2 one above four planes (N = 6); a partial group and chunk at the end.
+    let pixels = (1 << 20) + 13;
+    public_functions_at(&TABLE2_ROW2_SRGB, pixels, 31);
+    public_functions_at(&TABLE2_ROW1_SRGB, pixels, 32);
+}
+
+#[test]
+fn each_loop_through_the_public_functions_at_small_sizes() {
+    // Under Miri (the portable and scalar loops alone there), fewer and shorter runs.
+    let sizes: &[usize] = if cfg!(miri) {
+        &[0, 17, 33]
+    } else {
+        &[0, 1, 7, 15, 16, 17, 33, 100, 1029]
+    };
+    for (k, &pixels) in sizes.iter().enumerate() {
+        let seed = 40 + k as u64;
+        public_functions_at(&TABLE2_ROW2_SRGB, pixels, seed);
+        public_functions_at(&random_set::<1>(seed), pixels, seed);
+        public_functions_at(&random_set::<5>(seed), pixels, seed);
+        public_functions_at(&random_set::<16>(seed), pixels, seed);
+    }
+}
+
+/// N = 0: no planes, so the outputs say how many pixels there are; every path, forced in turn,
+/// gives black (linear: +0.0), as the interleaved path and the per-pixel functions do.
+#[test]
+fn no_wavelengths_give_the_colour_of_no_signal_on_every_path() {
+    let set = random_set::<0>(1);
+    let sizes: &[usize] = if cfg!(miri) {
+        &[0, 5, 37]
+    } else {
+        &[0, 5, 16, 37, 1000]
+    };
+    for &pixels in sizes {
+        for level in Loops::ALL {
+            with_loops(level, || {
+                let mut out = std::vec![[9u8; 3]; pixels];
+                assert_eq!(
+                    set.encode_u8_planar(GamutMapping::Clip, [], &mut out),
+                    Ok(())
+                );
+                assert!(out.iter().all(|o| *o == [0; 3]), "{level:?} {pixels}");
+                let mut batch = std::vec![[9u8; 3]; pixels];
+                let none = std::vec![[0.0f32; 0]; pixels];
+                assert_eq!(
+                    set.encode_u8_batch(GamutMapping::Clip, &none, &mut batch),
+                    Ok(())
+                );
+                assert_eq!(batch, out);
+                assert_eq!(set.encode_u8(GamutMapping::Clip, &[]), [0; 3]);
+                let mut lin = [0, 1, 2].map(|_| std::vec![-7.5f32; pixels]);
+                let [r, g, b] = &mut lin;
+                assert_eq!(set.linear_rgb_planar([], [r, g, b]), Ok(()));
+                assert!(lin.iter().flatten().all(|v| v.to_bits() == 0), "{level:?}");
+                let mut rows = std::vec![[-7.5f32; 3]; pixels];
+                assert_eq!(set.linear_rgb_batch(&none, &mut rows), Ok(()));
+                assert!(rows.iter().flatten().all(|v| v.to_bits() == 0), "{level:?}");
+                // Outputs of other lengths: the first output's length is the pixel count.
+                let mut lin = [0, 1, 2].map(|_| std::vec![-7.5f32; pixels]);
+                lin[2].push(1.0);
+                let [r, g, b] = &mut lin;
+                assert_eq!(
+                    set.linear_rgb_planar([], [r, g, b]),
+                    Err(crate::Error::LengthMismatch {
+                        inputs: pixels,
+                        outputs: pixels + 1
+                    })
+                );
+                assert!(lin.iter().flatten().all(|v| *v == -7.5 || *v == 1.0));
+            });
+        }
     }
 }

@@ -4,6 +4,8 @@
 //! patterns, so a failure can be reproduced from the message as well as from the artifact.
 #![allow(dead_code)]
 
+pub mod loops;
+
 use std::sync::OnceLock;
 
 use spectral_quadrature::tables::{self, displays, folded};

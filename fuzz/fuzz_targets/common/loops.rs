@@ -1,0 +1,467 @@
+//! The batch and planar loops at every shape, one level of loops forced per target: bytes → a
+//! width N, a pixel count, a display and mapping, weights, the placement of every plane and
+//! output, samples (the first from the bytes, the rest from a generator the bytes seed) and a
+//! length to get wrong.
+//!
+//! - N ∈ {0, 1, 2, 3, 4, 5, 6, 8, 12, 16, 64}: the baked widths, the AVX2 loops' passes of four
+//!   planes with a last pass of one to four, the scalar loop's written-out steps and its loop,
+//!   no planes at all, and `MAX_WAVELENGTHS`.
+//! - 0 to 4351 pixels: below a group, whole groups and chunks and partial ones, the AVX2
+//!   loops' blocks of 1024 pixels and their ends.
+//! - Every plane and output in an allocation of its own that ends where it ends (so that the
+//!   sanitizer cargo-fuzz builds with reports any access past it), starting 0 to 15 elements
+//!   past a 64-byte boundary, each at its own offset: the accelerated loops choose where their
+//!   groups start from these offsets.
+//!
+//! Checked, with the level capped by `__fuzzing::force`: the loop that ran is the forced one;
+//! `linear_rgb_planar` and `linear_rgb_batch` equal `linear_rgb` bit for bit (NaN payloads
+//! aside) on every pixel; `encode_u8_planar` and `encode_u8_batch` equal `encode_u8` and the
+//! scalar route `display.encode_u8(linear_rgb(s))` on every pixel; `encode_u16_batch` and
+//! `ac1c2_batch` equal their per-pixel functions; one plane or output shorter or longer is
+//! `Err(LengthMismatch)` with the lengths the docs name, and writes nothing.
+
+use std::alloc::{self, Layout};
+use std::ptr::NonNull;
+
+use spectral_quadrature::__fuzzing::{force, take_ran, Loops};
+use spectral_quadrature::tables::displays;
+use spectral_quadrature::{Display, Error, FoldedSet, GamutMapping, WavelengthSet};
+
+use super::{same, step_ulps, Bytes, FOLDED_ROW1, FOLDED_ROW2, INTERESTING, MAPPINGS};
+
+/// The most pixels an input asks for: four blocks of the AVX2 loops in passes, and a part.
+pub const MAX_PIXELS: usize = 4351;
+
+/// Says once, at the start of a run, which level of loops the target forces and which one this
+/// CPU runs under that cap (`.ci/fuzz` prints it with the run's counts).
+pub fn announce(level: Loops) {
+    let got = force(level);
+    if got == level {
+        eprintln!("forced loops: {}", level.name());
+    } else {
+        eprintln!(
+            "forced loops: {} NOT AVAILABLE on this CPU; fuzzing {} instead",
+            level.name(),
+            got.name()
+        );
+    }
+}
+
+/// One input, with the loops capped at `level`.
+pub fn run(level: Loops, data: &[u8]) {
+    let level = force(level);
+    let mut b = Bytes::new(data);
+    match b.u8() % 11 {
+        0 => shape::<0>(level, &mut b),
+        1 => shape::<1>(level, &mut b),
+        2 => shape::<2>(level, &mut b),
+        3 => shape::<3>(level, &mut b),
+        4 => shape::<4>(level, &mut b),
+        5 => shape::<5>(level, &mut b),
+        6 => shape::<6>(level, &mut b),
+        7 => shape::<8>(level, &mut b),
+        8 => shape::<12>(level, &mut b),
+        9 => shape::<16>(level, &mut b),
+        _ => shape::<64>(level, &mut b),
+    }
+}
+
+/// xorshift64*, seeded by the input: the samples past those the bytes give.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
+    }
+
+    fn unit(&mut self) -> f32 {
+        (self.next() >> 40) as f32 / (1u64 << 24) as f32
+    }
+
+    /// Mostly reflectance-like values in and out of gamut, some negative, tiny, any bit
+    /// pattern, or a landmark moved by a few ulps.
+    fn sample(&mut self) -> f32 {
+        let r = self.next();
+        match r % 16 {
+            0 => -self.unit(),
+            1 => f32::from_bits((r >> 32) as u32),
+            2 => step_ulps(
+                INTERESTING[(r >> 8) as usize % INTERESTING.len()],
+                ((r >> 16) % 16) as i32 - 8,
+            ),
+            3 => self.unit() * 1e-3,
+            _ => 1.2 * self.unit(),
+        }
+    }
+}
+
+/// `values` in an allocation of their own that ends where they end and starts `lead` elements
+/// before them, at a 64-byte boundary: the values start `lead · size_of::<T>()` bytes past
+/// it. The lead elements hold `values[0]`'s type's `fill`, and are never part of a slice.
+pub struct Placed<T: Copy> {
+    ptr: NonNull<T>,
+    lead: usize,
+    len: usize,
+    layout: Option<Layout>,
+}
+
+impl<T: Copy> Placed<T> {
+    pub fn new(values: &[T], lead: usize, fill: T) -> Self {
+        let total = lead + values.len();
+        let size = total * std::mem::size_of::<T>();
+        if size == 0 {
+            return Placed {
+                ptr: NonNull::dangling(),
+                lead: 0,
+                len: values.len(),
+                layout: None,
+            };
+        }
+        let layout = Layout::from_size_align(size, 64.max(std::mem::align_of::<T>()))
+            .expect("a layout of at most a few MiB");
+        // SAFETY: `layout` has a non-zero size.
+        let raw = unsafe { alloc::alloc(layout) }.cast::<T>();
+        let Some(ptr) = NonNull::new(raw) else {
+            alloc::handle_alloc_error(layout)
+        };
+        for i in 0..total {
+            let v = if i < lead { fill } else { values[i - lead] };
+            // SAFETY: i < total, inside the allocation of `total` elements of T, aligned.
+            unsafe { ptr.as_ptr().add(i).write(v) };
+        }
+        Placed {
+            ptr,
+            lead,
+            len: values.len(),
+            layout: Some(layout),
+        }
+    }
+
+    pub fn get(&self) -> &[T] {
+        // SAFETY: elements lead..lead + len were written in `new` and live as long as `self`;
+        // without an allocation, len elements of a zero-sized type or none.
+        unsafe { std::slice::from_raw_parts(self.ptr.as_ptr().add(self.lead), self.len) }
+    }
+
+    pub fn get_mut(&mut self) -> &mut [T] {
+        // SAFETY: as in `get`, and `&mut self` makes the borrow unique.
+        unsafe { std::slice::from_raw_parts_mut(self.ptr.as_ptr().add(self.lead), self.len) }
+    }
+}
+
+impl<T: Copy> Drop for Placed<T> {
+    fn drop(&mut self) {
+        if let Some(layout) = self.layout {
+            // SAFETY: allocated in `new` with this layout.
+            unsafe { alloc::dealloc(self.ptr.as_ptr().cast(), layout) };
+        }
+    }
+}
+
+/// Planes, pixels and weights of one input.
+struct Case<const N: usize> {
+    set: FoldedSet<N>,
+    mapping: GamutMapping,
+    pixels: Vec<[f32; N]>,
+    /// Each plane's lead (elements before it in its allocation).
+    leads: [usize; N],
+    /// The outputs' leads: red, green and blue planes, the 8-bit pixels.
+    out_leads: [usize; 4],
+    /// Which length to get wrong (a plane, or an output), and how.
+    wrong: u8,
+}
+
+fn case<const N: usize>(b: &mut Bytes) -> Case<N> {
+    let size = b.u8();
+    // Mostly short runs (up to 255 pixels, or up to 31), now and then up to MAX_PIXELS.
+    let pixels = match size >> 5 {
+        0..=3 => usize::from(size),
+        4 | 5 => usize::from(size & 31),
+        _ => (usize::from(size & 31) << 8 | usize::from(b.u8())) % (MAX_PIXELS + 1),
+    };
+    let look = b.u8();
+    // The fast paths (sRGB or Display P3 with `Clip`) three times in four.
+    let (display, mapping): (&Display, GamutMapping) = if look < 0xC0 {
+        (&displays::ALL[usize::from(look & 1)], GamutMapping::Clip)
+    } else {
+        (
+            &displays::ALL[usize::from(look) % displays::ALL.len()],
+            MAPPINGS[usize::from(look >> 2) % 2],
+        )
+    };
+    let mut rng = Rng(u64::from_le_bytes(std::array::from_fn(|_| b.u8())) | 1);
+    let weights: [[f32; N]; 3] = match b.u8() % 4 {
+        // Weights from the input: any value, NaN and infinities included.
+        0 => std::array::from_fn(|_| std::array::from_fn(|_| b.value())),
+        // A baked folded set where one has this width.
+        1 if N == 4 => {
+            std::array::from_fn(|c| std::array::from_fn(|i| FOLDED_ROW2[0].weights[c][i]))
+        }
+        1 if N == 6 => {
+            std::array::from_fn(|c| std::array::from_fn(|i| FOLDED_ROW1[0].weights[c][i]))
+        }
+        // Random weights of either sign, scaled to the folded sets' range.
+        _ => std::array::from_fn(|_| std::array::from_fn(|_| (2.0 * rng.unit() - 0.6) / N as f32)),
+    };
+    let set = FoldedSet {
+        wavelengths_nm: std::array::from_fn(|i| 400.0 + i as f32),
+        weights,
+        samples: FOLDED_ROW2[0].samples,
+        display: *display,
+    };
+    let leads = std::array::from_fn(|_| usize::from(b.u8() % 16));
+    let out_leads = std::array::from_fn(|_| usize::from(b.u8() % 16));
+    let wrong = b.u8();
+    // The first samples from the bytes, the rest from the generator.
+    let pixels = (0..pixels)
+        .map(|_| {
+            std::array::from_fn(|_| {
+                if b.is_empty() {
+                    rng.sample()
+                } else {
+                    b.value()
+                }
+            })
+        })
+        .collect();
+    Case {
+        set,
+        mapping,
+        pixels,
+        leads,
+        out_leads,
+        wrong,
+    }
+}
+
+fn shape<const N: usize>(level: Loops, b: &mut Bytes) {
+    let c = case::<N>(b);
+    let n = c.pixels.len();
+    let set = &c.set;
+    let planes: [Placed<f32>; N] = std::array::from_fn(|i| {
+        let plane: Vec<f32> = c.pixels.iter().map(|s| s[i]).collect();
+        Placed::new(&plane, c.leads[i], f32::NAN)
+    });
+    let samples: [&[f32]; N] = std::array::from_fn(|i| planes[i].get());
+    let fast = set.display.transfer == spectral_quadrature::TransferFunction::Srgb
+        && c.mapping == GamutMapping::Clip;
+
+    // Linear planar: every loop writes linear output, whatever the display.
+    let mut lin: [Placed<f32>; 3] =
+        std::array::from_fn(|k| Placed::new(&vec![-7.5; n], c.out_leads[k], 0.0));
+    {
+        let [r, g, bl] = &mut lin;
+        let out = [r.get_mut(), g.get_mut(), bl.get_mut()];
+        assert_eq!(
+            set.linear_rgb_planar(samples, out),
+            Ok(()),
+            "linear_rgb_planar N={N}"
+        );
+    }
+    let ran = take_ran().expect("linear_rgb_planar records its loop");
+    // Without vector units the linear loop is the portable one too.
+    assert_eq!(
+        ran.loops,
+        level.max(Loops::Portable),
+        "linear_rgb_planar N={N}: {ran:?}"
+    );
+    let per_pixel: Vec<[f32; 3]> = c.pixels.iter().map(|s| set.linear_rgb(s)).collect();
+    for (p, one) in per_pixel.iter().enumerate() {
+        let got = [lin[0].get()[p], lin[1].get()[p], lin[2].get()[p]];
+        assert!(
+            (0..3).all(|k| same(got[k], one[k])),
+            "linear_rgb_planar {level:?} N={N} pixel {p} of {n}: {got:?} != linear_rgb {one:?}; \
+             samples {:?}",
+            c.pixels[p]
+        );
+    }
+
+    // 8-bit planar.
+    let mut out8 = Placed::new(&vec![[0xA5u8; 3]; n], c.out_leads[3], [0x5A; 3]);
+    assert_eq!(
+        set.encode_u8_planar(c.mapping, samples, out8.get_mut()),
+        Ok(()),
+        "encode_u8_planar N={N}"
+    );
+    if fast {
+        let ran = take_ran().expect("encode_u8_planar records its loop");
+        assert_eq!(ran.loops, level, "encode_u8_planar N={N}: {ran:?}");
+    }
+    let want8: Vec<[u8; 3]> = c
+        .pixels
+        .iter()
+        .map(|s| set.encode_u8(c.mapping, s))
+        .collect();
+    for (p, (s, one)) in c.pixels.iter().zip(&want8).enumerate() {
+        let scalar = set.display.encode_u8(per_pixel[p], c.mapping);
+        assert_eq!(
+            *one, scalar,
+            "encode_u8 {} {:?} N={N} pixel {p}: differs from the display's encode_u8 of \
+             linear_rgb; samples {s:?}",
+            set.display.name, c.mapping
+        );
+        assert_eq!(
+            out8.get()[p],
+            *one,
+            "encode_u8_planar {level:?} {} {:?} N={N} pixel {p} of {n}; samples {s:?}",
+            set.display.name,
+            c.mapping
+        );
+    }
+
+    // Interleaved.
+    let aos = Placed::new(
+        &c.pixels,
+        c.leads.first().copied().unwrap_or(0),
+        [f32::NAN; N],
+    );
+    let mut batch8 = Placed::new(&vec![[0xA5u8; 3]; n], c.out_leads[0], [0x5A; 3]);
+    assert_eq!(
+        set.encode_u8_batch(c.mapping, aos.get(), batch8.get_mut()),
+        Ok(())
+    );
+    if fast {
+        let ran = take_ran().expect("encode_u8_batch records its loop");
+        // The AVX-512 interleaved loop takes some widths; the AVX2 loop the others.
+        let ok = ran.loops == level || (level == Loops::Avx512 && ran.loops == Loops::Avx2);
+        assert!(ok, "encode_u8_batch {level:?} N={N}: {ran:?}");
+    }
+    assert!(
+        batch8.get() == &want8[..],
+        "encode_u8_batch {level:?} {} {:?} N={N}: pixel {:?} of {n} differs",
+        set.display.name,
+        c.mapping,
+        batch8.get().iter().zip(&want8).position(|(a, b)| a != b)
+    );
+    let mut rows = vec![[-7.5f32; 3]; n];
+    assert_eq!(set.linear_rgb_batch(aos.get(), &mut rows), Ok(()));
+    for (p, (o, one)) in rows.iter().zip(&per_pixel).enumerate() {
+        assert!(
+            (0..3).all(|k| same(o[k], one[k])),
+            "linear_rgb_batch N={N} pixel {p}: {o:?} != {one:?}"
+        );
+    }
+    let mut rows16 = vec![[7u16; 3]; n];
+    assert_eq!(
+        set.encode_u16_batch(c.mapping, aos.get(), &mut rows16),
+        Ok(())
+    );
+    for (p, (o, s)) in rows16.iter().zip(&c.pixels).enumerate() {
+        assert_eq!(
+            *o,
+            set.encode_u16(c.mapping, s),
+            "encode_u16_batch N={N} pixel {p}"
+        );
+    }
+    let unfolded = WavelengthSet {
+        wavelengths_nm: set.wavelengths_nm,
+        weights: set.weights,
+        samples: set.samples,
+    };
+    let mut ac = vec![[-7.5f32; 3]; n];
+    assert_eq!(unfolded.ac1c2_batch(aos.get(), &mut ac), Ok(()));
+    for (p, (o, s)) in ac.iter().zip(&c.pixels).enumerate() {
+        let one = unfolded.ac1c2(s);
+        assert!(
+            (0..3).all(|k| same(o[k], one[k])),
+            "ac1c2_batch N={N} pixel {p}"
+        );
+    }
+
+    mismatches(&c, &planes);
+}
+
+/// One plane or output (chosen by `wrong`) shorter or longer by 1 to 8: an error naming the
+/// lengths, and nothing written. The pixel count is plane 0's length, or, without planes, the
+/// first output's.
+fn mismatches<const N: usize>(c: &Case<N>, planes: &[Placed<f32>; N]) {
+    let n = c.pixels.len();
+    let set = &c.set;
+    let by = usize::from(c.wrong >> 5) % 4 + 1;
+    let longer = c.wrong & 16 != 0;
+    let other = if longer || n < by { n + by } else { n - by };
+    let which = usize::from(c.wrong & 15) % (N + 3);
+    // Planes `which` (< N) longer or shorter, or output `which − N` (red, green, blue; the
+    // 8-bit output for the last).
+    let len_of = |i: usize| if i == which { other } else { n };
+    let values: [Vec<f32>; N] = std::array::from_fn(|i| {
+        planes[i]
+            .get()
+            .iter()
+            .copied()
+            .chain(std::iter::repeat(0.5))
+            .take(len_of(i))
+            .collect()
+    });
+    let moved: [Placed<f32>; N] =
+        std::array::from_fn(|i| Placed::new(&values[i], c.leads[i], f32::NAN));
+    let samples: [&[f32]; N] = std::array::from_fn(|i| moved[i].get());
+    let out_len = |k: usize| {
+        if which >= N && which - N == k {
+            other
+        } else {
+            n
+        }
+    };
+    // What the docs say: `inputs` is plane 0's length (the first output's without planes),
+    // `outputs` the first length that differs from it, planes first, then outputs in order.
+    let expect = |outputs: &[usize]| {
+        let lengths: Vec<usize> = (0..N).map(len_of).chain(outputs.iter().copied()).collect();
+        let inputs = lengths[0];
+        lengths
+            .iter()
+            .find(|&&l| l != inputs)
+            .map(|&outputs| Err(Error::LengthMismatch { inputs, outputs }))
+            .unwrap_or(Ok(()))
+    };
+
+    let mut lin: [Placed<f32>; 3] =
+        std::array::from_fn(|k| Placed::new(&vec![-7.5; out_len(k)], c.out_leads[k], 0.0));
+    let want = expect(&[out_len(0), out_len(1), out_len(2)]);
+    {
+        let [r, g, b] = &mut lin;
+        let got = set.linear_rgb_planar(samples, [r.get_mut(), g.get_mut(), b.get_mut()]);
+        assert_eq!(
+            got, want,
+            "linear_rgb_planar N={N}, {n} pixels, which {which}, other {other}"
+        );
+    }
+    if want.is_err() {
+        assert!(lin.iter().all(|o| o.get().iter().all(|v| *v == -7.5)));
+    }
+    // The 8-bit output's length is wrong where `which` names the last output; the linear
+    // outputs' lengths play no part.
+    let len8 = if which == N + 2 { other } else { n };
+    let mut out8 = Placed::new(&vec![[9u8; 3]; len8], c.out_leads[3], [0x5A; 3]);
+    let want = expect(&[len8]);
+    let got = set.encode_u8_planar(c.mapping, samples, out8.get_mut());
+    assert_eq!(
+        got, want,
+        "encode_u8_planar N={N}, {n} pixels, which {which}"
+    );
+    if want.is_err() {
+        assert!(out8.get().iter().all(|o| *o == [9; 3]));
+    }
+    // Interleaved: the output shorter or longer.
+    let mut bad = vec![[9u8; 3]; other];
+    assert_eq!(
+        set.encode_u8_batch(c.mapping, &c.pixels, &mut bad),
+        Err(Error::LengthMismatch {
+            inputs: n,
+            outputs: other
+        })
+    );
+    assert!(bad.iter().all(|o| *o == [9; 3]));
+    let mut bad = vec![[-7.5f32; 3]; other];
+    assert_eq!(
+        set.linear_rgb_batch(&c.pixels, &mut bad),
+        Err(Error::LengthMismatch {
+            inputs: n,
+            outputs: other
+        })
+    );
+    assert!(bad.iter().flatten().all(|v| *v == -7.5));
+}

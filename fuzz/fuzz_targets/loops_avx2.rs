@@ -1,0 +1,13 @@
+//! The batch and planar loops at every width and length, with AVX2 forced
+//! (`common::loops` has the shapes and the checks).
+#![no_main]
+
+mod common;
+
+use libfuzzer_sys::fuzz_target;
+use spectral_quadrature::__fuzzing::Loops;
+
+fuzz_target!(
+    init: common::loops::announce(Loops::Avx2),
+    |data: &[u8]| common::loops::run(Loops::Avx2, data)
+);
