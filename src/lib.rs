@@ -220,3 +220,7 @@ struct YourLightAndSensorDoctests;
 #[cfg(doctest)]
 #[doc = include_str!("../docs/microcontrollers.md")]
 struct MicrocontrollersDoctests;
+
+#[cfg(doctest)]
+#[doc = include_str!("../docs/measured-data.md")]
+struct MeasuredDataDoctests;
