@@ -30,9 +30,9 @@ use super::error::DataError;
 /// How far below zero a value may be, relative to the file's largest value, and still be read
 /// as rounding noise: values at or above `−NEGATIVE_TOLERANCE × largest` are read as 0.
 ///
-/// One part in a million is far above the rounding noise of a file written in double precision
-/// (about 1e-16 of its largest value) or to six significant digits (5e-7), and far below what a
-/// reflectance or a sensitivity can be trusted to.
+/// One part in a million is ten orders of magnitude above the rounding noise of a file written
+/// in double precision (about 1e-16 of its largest value), and below what a measured reflectance
+/// or sensitivity can be trusted to.
 pub const NEGATIVE_TOLERANCE: f64 = 1e-6;
 
 /// What a reader does with values below zero (see the [module docs](self)).
