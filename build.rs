@@ -17,6 +17,11 @@ fn main() {
     for path in &out.rerun_if_changed {
         println!("cargo:rerun-if-changed={}", path.display());
     }
+    // Negative values read as 0 in an input file (rounding noise, or clamped where the scene
+    // asks): said once per file, so that nothing changes silently.
+    for warning in &out.warnings {
+        println!("cargo:warning=spectral-quadrature build: {warning}");
+    }
     let dir = PathBuf::from(std::env::var_os("OUT_DIR").expect("cargo sets OUT_DIR"));
     for (file, text) in [
         ("tables.rs", &out.tables_rs),

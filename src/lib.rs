@@ -242,3 +242,5 @@ struct MicrocontrollersDoctests;
 #[cfg(doctest)]
 #[doc = include_str!("../docs/upsampling.md")]
 struct UpsamplingDoctests;
+#[doc = include_str!("../docs/measured-data.md")]
+struct MeasuredDataDoctests;

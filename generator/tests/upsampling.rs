@@ -85,7 +85,8 @@ fn training_reader_takes_rounding_noise_and_refuses_the_rest() {
     let curves = up::parse_training("noise.csv", ok, [380.0, 770.0]).unwrap();
     assert_eq!(curves[1].values, [0.0, 1.0]);
     assert_eq!(curves[0].values, [0.5, 0.0]);
-    let bad = "wavelength_nm,a,b\n380,0.5,0.1\n770,-1e-6,1\n";
+    // −1e-5 of the largest value is ten times the readers' tolerance (table::NEGATIVE_TOLERANCE).
+    let bad = "wavelength_nm,a,b\n380,0.5,0.1\n770,-1e-5,1\n";
     let e = up::parse_training("bad.csv", bad, [380.0, 770.0]).unwrap_err();
     let text = e.to_string();
     assert!(

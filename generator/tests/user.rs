@@ -286,6 +286,69 @@ fn mistakes_in_the_users_inputs_name_the_file_and_line() {
     assert!(msg.contains("built-in illuminant's name"), "{msg}");
 }
 
+/// `text` with the value at (1-based `line`, `column`) replaced by `value`.
+fn with_value(text: &str, line: usize, column: usize, value: &str) -> String {
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    let mut fields: Vec<&str> = lines[line - 1].split(',').collect();
+    fields[column - 1] = value;
+    lines[line - 1] = fields.join(",");
+    lines.join("\n") + "\n"
+}
+
+#[test]
+fn negative_values_in_a_scenes_files_follow_the_readers_rule() {
+    let dir = scratch("negatives");
+    let led = std::fs::read_to_string(Path::new(DATA_DIR).join("illuminant_LED_B3.csv")).unwrap();
+    let chip = std::fs::read_to_string(Path::new(DATA_DIR).join(SENSOR_FILE)).unwrap();
+    // Rounding noise in the light (line 2, 380 nm, where it is 0) and in the sensor's fourth
+    // channel (line 3, 381 nm, column 5): read as 0, one warning per file through the build.
+    std::fs::write(dir.join("shop.csv"), with_value(&led, 2, 2, "-3e-17")).unwrap();
+    std::fs::write(dir.join("chip.csv"), with_value(&chip, 3, 5, "-7e-18")).unwrap();
+    let text = "displays = [\"SRGB\"]\n[lights]\nSHOP = \"shop.csv\"\n[fixed.HERO]\nwavelengths_nm = [450, 550, 650]\nlight = \"SHOP\"\n[sensors.CHIP]\nfile = \"chip.csv\"\n";
+    let scene_path = dir.join("scene.toml");
+    std::fs::write(&scene_path, text).unwrap();
+    let crate_dir = Path::new(DATA_DIR).parent().unwrap();
+    let out = sqd::generate(crate_dir, Some(scene_path.as_os_str())).unwrap();
+    assert_eq!(out.warnings.len(), 2, "{:?}", out.warnings);
+    assert!(
+        out.warnings[0].ends_with("shop.csv:2: column 2 (relative_power): 1 negative value read as 0, the first here (-3e-17); all within the tolerance (1e-6 × the file's largest value 18.87), as rounding noise"),
+        "{}",
+        out.warnings[0]
+    );
+    assert!(
+        out.warnings[1].contains("chip.csv:3: column 5 (F4_515): 1 negative value read as 0"),
+        "{}",
+        out.warnings[1]
+    );
+    // A real negative in the light: the scene's line, then the file's line and column.
+    std::fs::write(dir.join("shop.csv"), with_value(&led, 30, 2, "-0.2")).unwrap();
+    let e = scene(&dir, text).unwrap_err();
+    assert_eq!(e.location().map(|(_, line)| line), Some(3), "{e}");
+    let msg = e.to_string();
+    assert!(
+        msg.contains("shop.csv:30: column 2 (relative_power): -0.2 is negative"),
+        "{msg}"
+    );
+    assert!(msg.contains("clamp_negatives = true"), "{msg}");
+    // The scene opts in: read as 0, and still said.
+    let r = scene(&dir, &format!("clamp_negatives = true\n{text}")).unwrap();
+    assert_eq!(r.warnings.len(), 2, "{:?}", r.warnings);
+    let light = &r.warnings[0];
+    assert_eq!((light.count, light.beyond_tolerance), (1, 1));
+    assert_eq!((light.first.line, light.first.column), (30, 2));
+    assert!(light.to_string().contains("clamped as asked"), "{light}");
+    // The light as a set sees 0 there: the clamped file gives the set of the file with a 0.
+    std::fs::write(dir.join("shop.csv"), with_value(&led, 30, 2, "0")).unwrap();
+    let zero = scene(&dir, text).unwrap();
+    assert_eq!(
+        zero.warnings.len(),
+        1,
+        "only the sensor's noise: {:?}",
+        zero.warnings
+    );
+    assert_eq!(r.colour_sets, zero.colour_sets);
+}
+
 #[test]
 fn the_planner_considers_folded_fixed_and_sensor_sets() {
     // ColorChecker under C (a file whose light is named C), a budget no catalogue set of up to 8

@@ -34,6 +34,31 @@ pub fn settings() -> spectral_quadrature_build::Settings {
     spectral_quadrature_build::Settings::new(DATA_DIR)
 }
 
+/// Prints, on standard error, one warning per file whose negative values were read as 0
+/// ([`spectral_quadrature_build::table::ZeroedNegatives`]: how many, where the first is, the
+/// tolerance or the clamping), as `<program>: warning: <file>:<line>: ...`.
+pub fn warn_zeroed<'a>(
+    program: &str,
+    zeroed: impl IntoIterator<Item = &'a spectral_quadrature_build::table::ZeroedNegatives>,
+) {
+    for z in zeroed {
+        eprintln!("{program}: warning: {z}");
+    }
+}
+
+/// The rule for negative values the tools apply to the spectra files given on their command
+/// line: [`Negatives::Clamp`](spectral_quadrature_build::table::Negatives::Clamp) with
+/// `--clamp-negatives`, otherwise the readers' default (rounding noise read as 0, anything
+/// more negative an error naming file, line and column).
+pub fn negatives(clamp: bool) -> spectral_quadrature_build::table::Negatives {
+    use spectral_quadrature_build::table::Negatives;
+    if clamp {
+        Negatives::Clamp
+    } else {
+        Negatives::Refuse
+    }
+}
+
 /// An error of the tools: the derivation's ([`spectral_quadrature_build::Error`], which names
 /// the file and line where a file is at fault), or one of the tools' own.
 #[derive(Debug)]

@@ -12,6 +12,7 @@ use std::sync::OnceLock;
 
 use sqd::evaluate::{self, EvalSet, Reference, Stimulus};
 use sqd::plan::{self, Candidate, Metric, PlanError};
+use sqd::table::Negatives;
 use sqd::{catalog, Derivation, Settings};
 
 const BUDGETS: [(Metric, f64); 5] = [
@@ -41,13 +42,15 @@ fn fixture_data() -> &'static Fixture {
     static F: OnceLock<Fixture> = OnceLock::new();
     F.get_or_init(|| {
         let d = sqd::derive(&Settings::new(DATA_DIR)).unwrap();
-        let stimuli = plan::stimuli_from_files(
+        let (stimuli, zeroed) = plan::stimuli_from_files(
             d.settings.range_nm,
             Some(&fixture("reflectances.csv")),
             Some(&fixture("illuminant.csv")),
             None,
+            Negatives::Refuse,
         )
         .unwrap();
+        assert_eq!(zeroed, []);
         assert_eq!(stimuli.len(), 6);
         let candidates = plan::evaluate_all(&d, &stimuli).unwrap();
         let reference = Reference::new(
@@ -392,12 +395,19 @@ fn input_errors_name_the_file() {
         Some(&missing),
         Some(&fixture("illuminant.csv")),
         None,
+        Negatives::Refuse,
     )
     .unwrap_err();
     let (file, _) = e.location().expect("a missing file names it");
     assert!(file.contains("no_such_file.csv"), "{e}");
-    let e =
-        plan::stimuli_from_files(f.d.settings.range_nm, Some(&missing), None, None).unwrap_err();
+    let e = plan::stimuli_from_files(
+        f.d.settings.range_nm,
+        Some(&missing),
+        None,
+        None,
+        Negatives::Refuse,
+    )
+    .unwrap_err();
     assert_eq!(e, sqd::Error::Plan(PlanError::NoSpectra));
     assert!(e.to_string().contains("emission"), "{e}");
     let e = plan::evaluate_all(&f.d, &[]).unwrap_err();
@@ -411,4 +421,64 @@ fn input_errors_name_the_file() {
         "{e:?}"
     );
     assert!(e.to_string().contains("\"dark\""), "{e}");
+}
+
+/// The `plan` program, as Cargo built it for these tests.
+const PLAN: &str = env!("CARGO_BIN_EXE_plan");
+
+/// Runs `plan --emission <file> --max-delta-e 5 --out -` plus `extra`: exit code and standard
+/// error.
+fn plan_on(file: &Path, extra: &[&str]) -> (Option<i32>, String) {
+    let out = std::process::Command::new(PLAN)
+        .arg("--emission")
+        .arg(file)
+        .args(["--max-delta-e", "5", "--out", "-"])
+        .args(extra)
+        .output()
+        .unwrap();
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn the_planner_reads_noise_as_zero_refuses_negatives_and_clamps_on_request() {
+    let path = std::env::temp_dir().join(format!("sq-plan-negatives-{}.csv", std::process::id()));
+    let file = |value: &str| {
+        let mut text = String::from("wavelength_nm,led\n");
+        for nm in (380..=780).step_by(20) {
+            let v = if nm == 420 {
+                value.to_string()
+            } else {
+                format!("{}", 1.0 + f64::from(nm - 380) / 400.0)
+            };
+            text.push_str(&format!("{nm},{v}\n"));
+        }
+        std::fs::write(&path, text).unwrap();
+        path.display().to_string()
+    };
+    // 420 nm is the file's fourth line.
+    let label = file("-4e-17");
+    let (code, err) = plan_on(&path, &[]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(
+        err.contains(&format!("plan: warning: {label}:4: column 2 (led): 1 negative value read as 0, the first here (-4e-17)")),
+        "{err}"
+    );
+    let label = file("-0.3");
+    let (code, err) = plan_on(&path, &[]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(
+        err.contains(&format!(
+            "plan: error: {label}:4: column 2 (led): -0.3 is negative"
+        )),
+        "{err}"
+    );
+    assert!(err.contains("--clamp-negatives"), "{err}");
+    let (code, err) = plan_on(&path, &["--clamp-negatives"]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(err.contains("1 value beyond the tolerance"), "{err}");
+    assert!(err.contains("clamped as asked"), "{err}");
+    std::fs::remove_file(&path).ok();
 }

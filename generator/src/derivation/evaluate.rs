@@ -16,7 +16,7 @@ use super::quadrature::{self, Measure, Rule};
 use super::sets::WavelengthSet;
 use crate::base::error::{DataError, Error};
 use crate::base::files::read_data_text;
-use crate::base::table::{parse_table, read_text, Spacing, Table};
+use crate::base::table::{parse_table_with, read_text, Negatives, Spacing, Table, ZeroedNegatives};
 
 /// CIELAB and the colour differences: one copy, shared with the runtime.
 pub use spectral_quadrature_math::{delta_e2000, delta_e76, lab_from_xyz};
@@ -35,10 +35,18 @@ pub struct Spectra {
 
 impl Spectra {
     /// Parses CSV text. Errors name `file` and the line: malformed rows (see
-    /// [`crate::table::parse_table`]) and negative values (no reflectance or
-    /// spectral power is negative).
+    /// [`crate::table::parse_table`]), wavelengths outside (0, 100 µm], and values below zero by
+    /// more than the tolerance ([`crate::table::Negatives::Refuse`]: no reflectance or spectral
+    /// power is negative; rounding noise is read as 0 and reported by [`zeroed`](Self::zeroed)).
     pub fn parse(file: &str, text: &str) -> Result<Spectra, DataError> {
-        let table = parse_table(file, text, None, Spacing::Any)?;
+        Self::parse_with(file, text, Negatives::Refuse)
+    }
+
+    /// [`parse`](Self::parse) with the rule for negative values given: [`Negatives::Clamp`]
+    /// reads every negative value as 0 (and reports it), for measured data whose noise is larger
+    /// than the tolerance.
+    pub fn parse_with(file: &str, text: &str, negatives: Negatives) -> Result<Spectra, DataError> {
+        let table = parse_table_with(file, text, None, Spacing::Any, negatives)?;
         for (nm, line) in table.wavelengths.iter().zip(&table.lines) {
             if !(*nm > 0.0 && *nm <= MAX_WAVELENGTH_NM) {
                 return Err(DataError {
@@ -50,27 +58,25 @@ impl Spectra {
                 });
             }
         }
-        for (row, line) in table.values.iter().zip(&table.lines) {
-            if let Some(j) = row.iter().position(|v| *v < 0.0) {
-                return Err(DataError {
-                    file: file.into(),
-                    line: *line,
-                    message: std::format!(
-                        "column {} ({}): {} is negative; spectra must be non-negative",
-                        j + 2,
-                        table.columns[j],
-                        row[j]
-                    ),
-                });
-            }
-        }
         Ok(Spectra { table })
     }
 
-    /// Reads a CSV file; errors name the path and line.
+    /// Reads a CSV file ([`parse`](Self::parse)); errors name the path and line.
     pub fn read(path: &std::path::Path) -> Result<Spectra, DataError> {
+        Self::read_with(path, Negatives::Refuse)
+    }
+
+    /// Reads a CSV file ([`parse_with`](Self::parse_with)); errors name the path and line.
+    pub fn read_with(path: &std::path::Path, negatives: Negatives) -> Result<Spectra, DataError> {
         let (label, text) = read_text(path)?;
-        Self::parse(&label, &text)
+        Self::parse_with(&label, &text, negatives)
+    }
+
+    /// The negative values read as 0, for the caller to report once as a warning (its
+    /// `Display` names the file, the first value's line and column, and how many); `None` when
+    /// the file has none.
+    pub fn zeroed(&self) -> Option<&ZeroedNegatives> {
+        self.table.zeroed.as_ref()
     }
 
     /// One of the spectra files the runtime crate ships in `data/`, by its label (e.g.
@@ -482,6 +488,7 @@ pub fn combinations(rules: &[Vec<Rule>; 3], to_xyz: &[[f64; 3]; 3], family: &str
 pub const BUILTIN: &[&str] = &[
     "data/reflectance_colorchecker_ohta.csv",
     "data/reflectance_cie_tcs.csv",
+    "data/reflectance_rawtoaces_190.csv",
     "data/illuminant_A.csv",
     "data/illuminant_C.csv",
     "data/illuminant_D50.csv",

@@ -6,7 +6,7 @@ use std::vec::Vec;
 use super::opponent::MEYER_EQ1_XYZ_TO_SML;
 use crate::base::error::{DataError, Error};
 use crate::base::files::{read_data_text, sha256_hex};
-use crate::base::table::{parse_table, read_text, Spacing};
+use crate::base::table::{parse_table, read_text, Spacing, ZeroedNegatives};
 
 /// The colour-matching functions the crate ships (all at 1 nm in `data/`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -157,11 +157,15 @@ pub struct Observer {
     pub xyz: Vec<[f64; 3]>,
     /// SHA-256 of the file's text, for generated headers.
     pub sha256: String,
+    /// The negative values within the tolerance that were read as 0
+    /// ([`crate::table::Negatives`]), for the caller to report; `None` when there were none.
+    pub zeroed: Option<ZeroedNegatives>,
 }
 
 impl Observer {
-    /// Parses an observer table: header plus rows `wavelength,x_bar,y_bar,z_bar`, evenly spaced.
-    /// Errors name `file` and the offending line.
+    /// Parses an observer table: header plus rows `wavelength,x_bar,y_bar,z_bar`, evenly spaced,
+    /// non-negative up to rounding noise ([`crate::table::parse_table`]). Errors name `file` and
+    /// the offending line.
     pub fn parse(name: &str, file: &str, text: &str) -> Result<Observer, DataError> {
         let table = parse_table(file, text, Some(3), Spacing::Even)?;
         Ok(Observer {
@@ -170,6 +174,7 @@ impl Observer {
             wavelengths: table.wavelengths,
             xyz: table.values.iter().map(|r| [r[0], r[1], r[2]]).collect(),
             sha256: sha256_hex(text.as_bytes()),
+            zeroed: table.zeroed,
         })
     }
 

@@ -27,6 +27,10 @@ pub struct Output {
     pub glsl: String,
     /// Files and directories the output depends on (`cargo:rerun-if-changed`).
     pub rerun_if_changed: Vec<PathBuf>,
+    /// What the build script should print as warnings (`cargo:warning`), one line each: the
+    /// negative values read as 0 in each input file that has any
+    /// ([`crate::table::ZeroedNegatives`]), the observer's first.
+    pub warnings: Vec<String>,
 }
 
 /// Runs the whole generation for the crate at `crate_dir` (its `data/` holds the data files).
@@ -39,7 +43,8 @@ pub struct Output {
 /// let crate_dir = std::path::PathBuf::from(std::env::var_os("CARGO_MANIFEST_DIR").unwrap());
 /// let scene = std::env::var_os(spectral_quadrature_build::SCENE_ENV);
 /// let out = spectral_quadrature_build::generate(&crate_dir, scene.as_deref()).unwrap();
-/// // ... print out.rerun_if_changed, write out.tables_rs, out.wgsl and out.glsl to OUT_DIR
+/// // ... print out.rerun_if_changed and out.warnings, write out.tables_rs, out.wgsl and
+/// // out.glsl to OUT_DIR
 /// ```
 pub fn generate(crate_dir: &Path, scene: Option<&OsStr>) -> Result<Output, Error> {
     let data_dir = crate_dir.join("data");
@@ -106,11 +111,19 @@ pub fn generate(crate_dir: &Path, scene: Option<&OsStr>) -> Result<Output, Error
     }
     let tables_rs = tables_rs(&d, &inputs, &resolved)?;
     let [wgsl, glsl] = shaders(&d, &resolved)?;
+    let warnings = d
+        .observer
+        .zeroed
+        .iter()
+        .chain(&resolved.warnings)
+        .map(ToString::to_string)
+        .collect();
     Ok(Output {
         tables_rs,
         wgsl,
         glsl,
         rerun_if_changed: rerun,
+        warnings,
     })
 }
 

@@ -28,6 +28,7 @@ use std::vec::Vec;
 use super::catalog;
 use super::user::UserLight;
 use crate::base::error::Error;
+use crate::base::table::{Negatives, ZeroedNegatives};
 use crate::derivation::derive::Derivation;
 use crate::derivation::evaluate::{self, builtin_lights, EvalSet, Reference, Stimulus};
 use crate::shared;
@@ -364,22 +365,32 @@ impl Plan {
 }
 
 /// The stimuli of spectra files, on `range_nm`: every reflectance under every illuminant, or
-/// lights seen directly (`emission`). Give either `emission` or both of the others. Errors name
-/// the file and line ([`DataError`](crate::DataError)).
+/// lights seen directly (`emission`). Give either `emission` or both of the others. Negative
+/// values follow `negatives` ([`Negatives`]); those read as 0 come back beside the stimuli, one
+/// [`ZeroedNegatives`] per file that has any, for the caller to report. Errors name the file and
+/// line ([`DataError`](crate::DataError)).
 pub fn stimuli_from_files(
     range_nm: [f64; 2],
     reflectances: Option<&std::path::Path>,
     illuminants: Option<&std::path::Path>,
     emission: Option<&std::path::Path>,
-) -> Result<Vec<Stimulus>, Error> {
-    let read = |p: &std::path::Path| -> Result<_, Error> {
-        Ok(evaluate::Spectra::read(p).and_then(|s| s.curves(range_nm))?)
+    negatives: Negatives,
+) -> Result<(Vec<Stimulus>, Vec<ZeroedNegatives>), Error> {
+    let mut zeroed = Vec::new();
+    let mut read = |p: &std::path::Path| -> Result<_, Error> {
+        let spectra = evaluate::Spectra::read_with(p, negatives)?;
+        zeroed.extend(spectra.zeroed().cloned());
+        Ok(spectra.curves(range_nm)?)
     };
-    match (reflectances, illuminants, emission) {
-        (None, None, Some(e)) => Ok(evaluate::emissions(&read(e)?)),
-        (Some(r), Some(i), None) => Ok(evaluate::surfaces_under_lights(&read(r)?, &read(i)?)),
-        _ => Err(PlanError::NoSpectra.into()),
-    }
+    let stimuli = match (reflectances, illuminants, emission) {
+        (None, None, Some(e)) => evaluate::emissions(&read(e)?),
+        (Some(r), Some(i), None) => {
+            let surfaces = read(r)?;
+            evaluate::surfaces_under_lights(&surfaces, &read(i)?)
+        }
+        _ => return Err(PlanError::NoSpectra.into()),
+    };
+    Ok((stimuli, zeroed))
 }
 
 /// A TOML basic string: quoted, with `"`, `\` and control characters escaped.

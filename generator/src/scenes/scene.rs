@@ -7,6 +7,8 @@
 //! ```toml
 //! observer = "cie1931_2deg"        # optional; also range_nm = [380, 770], step_nm = 5
 //! sets = ["TABLE2_ROW2", "A_3"]    # names from the catalog module
+//! clamp_negatives = false          # optional: true reads every negative value in the files
+//!                                  # below (lights, sensors, plan spectra) as 0
 //! displays = ["SRGB"]              # SRGB, DISPLAY_P3, REC2020, MEYER_1987
 //!
 //! [transfer]                       # optional: another transfer function for a display
@@ -41,6 +43,12 @@
 //!
 //! `[fixed.*]` and `[sensors.*]` sets are baked whenever declared ([`crate::user`]).
 //!
+//! The spectra files a scene names follow the readers' rule for negative values
+//! ([`crate::table::Negatives`]): rounding noise (at or above −1e-6 of the file's largest value)
+//! is read as 0 and reported as a warning ([`Resolved::warnings`]); a more negative value is an
+//! error naming the file, line and column, unless `clamp_negatives = true` reads it as 0 as well
+//! (for measured data whose noise is larger; still reported).
+//!
 //! Every mistake (unknown key, set, observer or display, an undefined order, a bad budget) is
 //! an error naming the file, the line and the valid choices.
 
@@ -56,6 +64,7 @@ use super::plan::{self, Metric};
 use super::upsampling::{RawUpsampling, UpsamplingRequest};
 use super::user::{self, fixed_set, sensor_set, Fitted, Sensor, UserLight};
 use crate::base::error::{DataError, Error};
+use crate::base::table::{Negatives, ZeroedNegatives};
 use crate::derivation::derive::Derivation;
 use crate::derivation::display::{self, DisplayMatrices, DisplaySpec, Transfer};
 use crate::derivation::evaluate::{self, builtin_lights, Curve, Stimulus};
@@ -79,6 +88,7 @@ struct RawScene {
     range_nm: Option<Spanned<[f64; 2]>>,
     step_nm: Option<Spanned<f64>>,
     sets: Option<Vec<Spanned<String>>>,
+    clamp_negatives: Option<bool>,
     displays: Option<Vec<Spanned<String>>>,
     transfer: Option<BTreeMap<Spanned<String>, Spanned<String>>>,
     extras: Option<Extras>,
@@ -255,6 +265,9 @@ pub struct Scene {
     pub plan: Option<PlanRequest>,
     /// The user's lights, fixed wavelengths and sensors.
     pub user: UserInputs,
+    /// How the spectra files the scene names treat negative values: [`Negatives::Clamp`] with
+    /// `clamp_negatives = true`, otherwise [`Negatives::Refuse`].
+    pub negatives: Negatives,
     /// Whether this is the default scene (everything).
     pub is_default: bool,
     /// The `[upsampling]` table, if any.
@@ -282,6 +295,7 @@ impl Scene {
             },
             plan: None,
             user: UserInputs::default(),
+            negatives: Negatives::Refuse,
             is_default: true,
             upsampling: Some(UpsamplingRequest::default_scene(&DEFAULT_SHARED_SETS)),
         }
@@ -445,6 +459,11 @@ impl Scene {
             extras: raw.extras.unwrap_or_default(),
             plan,
             user,
+            negatives: if raw.clamp_negatives == Some(true) {
+                Negatives::Clamp
+            } else {
+                Negatives::Refuse
+            },
             is_default: false,
             upsampling,
         })
@@ -594,6 +613,9 @@ pub struct Resolved {
     pub planned: Option<String>,
     /// The upsamplings the scene asks for, baked.
     pub upsamplings: Vec<Baked>,
+    /// The negative values read as 0 in the files the scene names (its lights, sensors and plan
+    /// spectra), one entry per file that has any: the build prints each as a warning.
+    pub warnings: Vec<ZeroedNegatives>,
 }
 
 impl Scene {
@@ -630,14 +652,19 @@ impl Scene {
                 extras: self.extras,
                 planned: None,
                 upsamplings,
+                warnings: Vec::new(),
             });
         }
         let user = self.resolve_user(d)?;
         let lights = &user.0;
+        let mut warnings = user_warnings(&user.0, &user.1);
         let mut names = self.sets.clone();
         let mut planned = None;
         if let Some(p) = &self.plan {
-            let (name, sentence) = p.resolve(d, &user.0, &user.1).map_err(err(p.line))?;
+            let (name, sentence, zeroed) = p
+                .resolve(d, &user.0, &user.1, self.negatives)
+                .map_err(err(p.line))?;
+            warnings.extend(zeroed);
             planned = Some(sentence);
             // A scene's own set is baked anyway.
             if !user.1.iter().any(|f| f.name == name) {
@@ -673,6 +700,7 @@ impl Scene {
             extras: self.extras,
             planned,
             upsamplings,
+            warnings,
         })
     }
 
@@ -691,7 +719,9 @@ impl Scene {
     }
 
     /// Reads the scene's lights and builds its fixed and sensor sets. Errors name the scene's
-    /// line that declares the input, around the file's own error (which names its line).
+    /// line that declares the input, around the file's own error (which names its line). The
+    /// negative values read as 0 in the lights' and sensors' files are in each
+    /// [`UserLight::zeroed`] and [`Sensor::zeroed`] ([`user_warnings`] gathers them).
     pub fn resolve_user(&self, d: &Derivation) -> Result<(Vec<UserLight>, Vec<Fitted>), Error> {
         let range = d.settings.range_nm;
         let err = |line: usize| move |e: Error| e.at(&self.file, line as u64);
@@ -700,14 +730,15 @@ impl Scene {
             .lights
             .iter()
             .map(|l| {
-                UserLight::read(&l.name, &l.path, &l.path.display().to_string(), range).map_err(
-                    |e| Error::At {
+                let label = l.path.display().to_string();
+                UserLight::read(&l.name, &l.path, &label, range, self.negatives).map_err(|e| {
+                    Error::At {
                         file: self.file.clone(),
                         line: l.line as u64,
                         error: std::boxed::Box::new(e),
                         hint: None,
-                    },
-                )
+                    }
+                })
             })
             .collect::<Result<Vec<_>, _>>()?;
         let curve = |name: &Option<String>, line: usize| -> Result<Option<Curve>, Error> {
@@ -730,8 +761,9 @@ impl Scene {
         }
         for s in &self.user.sensors {
             let light = curve(&s.light, s.line)?;
+            let label = s.path.display().to_string();
             let sensor =
-                Sensor::read(&s.path, &s.path.display().to_string(), range).map_err(|e| {
+                Sensor::read_with(&s.path, &label, range, self.negatives).map_err(|e| {
                     Error::At {
                         file: self.file.clone(),
                         line: s.line as u64,
@@ -758,8 +790,9 @@ impl PlanRequest {
         d: &Derivation,
         lights: &[UserLight],
         own: &[Fitted],
-    ) -> Result<(String, String), Error> {
-        let stimuli = self.stimuli(d.settings.range_nm)?;
+        negatives: Negatives,
+    ) -> Result<(String, String, Vec<ZeroedNegatives>), Error> {
+        let (stimuli, zeroed) = self.stimuli(d.settings.range_nm, negatives)?;
         let mut extra = plan::shared_sets(d, &stimuli, lights)?;
         extra.extend(
             own.iter()
@@ -779,16 +812,34 @@ impl PlanRequest {
                 self.metric,
                 self.max_delta_e00
             ),
+            zeroed,
         ))
     }
 
-    /// The stimuli the request names: surfaces under illuminants, or lights seen directly.
-    pub(crate) fn stimuli(&self, range_nm: [f64; 2]) -> Result<Vec<Stimulus>, Error> {
+    /// The stimuli the request names: surfaces under illuminants, or lights seen directly; and
+    /// the negative values read as 0 in their files.
+    pub(crate) fn stimuli(
+        &self,
+        range_nm: [f64; 2],
+        negatives: Negatives,
+    ) -> Result<(Vec<Stimulus>, Vec<ZeroedNegatives>), Error> {
         plan::stimuli_from_files(
             range_nm,
             self.reflectances.as_deref(),
             self.illuminants.as_deref(),
             self.emission.as_deref(),
+            negatives,
         )
     }
+}
+
+/// The negative values read as 0 in the files of a scene's lights and sensors
+/// ([`Scene::resolve_user`]'s results), one entry per file that has any, lights first.
+pub fn user_warnings(lights: &[UserLight], sets: &[Fitted]) -> Vec<ZeroedNegatives> {
+    let sensors = sets.iter().filter_map(|f| f.channels.as_ref());
+    lights
+        .iter()
+        .filter_map(|l| l.zeroed.clone())
+        .chain(sensors.filter_map(|s| s.zeroed.clone()))
+        .collect()
 }

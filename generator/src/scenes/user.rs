@@ -20,6 +20,7 @@ use std::vec::Vec;
 
 use crate::base::error::{DataError, Error};
 use crate::base::files::read_error;
+use crate::base::table::{Negatives, ZeroedNegatives};
 use crate::derivation::derive::Derivation;
 use crate::derivation::display;
 use crate::derivation::evaluate::{self, Curve, EvalSet, Spectra};
@@ -62,6 +63,8 @@ pub struct UserLight {
     pub file: String,
     /// The spectral power, named `name`.
     pub curve: Curve,
+    /// The negative values read as 0 ([`Spectra::zeroed`]), for the caller to report.
+    pub zeroed: Option<ZeroedNegatives>,
 }
 
 impl UserLight {
@@ -74,7 +77,18 @@ impl UserLight {
         text: &str,
         range_nm: [f64; 2],
     ) -> Result<UserLight, Error> {
-        let spectra = Spectra::parse(file, text)?;
+        Self::parse_with(name, file, text, range_nm, Negatives::Refuse)
+    }
+
+    /// [`parse`](Self::parse) with the rule for negative values given ([`Spectra::parse_with`]).
+    pub fn parse_with(
+        name: &str,
+        file: &str,
+        text: &str,
+        range_nm: [f64; 2],
+        negatives: Negatives,
+    ) -> Result<UserLight, Error> {
+        let spectra = Spectra::parse_with(file, text, negatives)?;
         if spectra.len() != 1 {
             return Err(DataError {
                 file: file.into(),
@@ -104,17 +118,25 @@ impl UserLight {
             name: name.into(),
             file: file.into(),
             curve,
+            zeroed: spectra.zeroed().cloned(),
         })
     }
 
-    /// Reads a light file (see [`parse`](Self::parse)); `label` names it in errors.
+    /// Reads a light file (see [`parse_with`](Self::parse_with)); `label` names it in errors.
     pub(crate) fn read(
         name: &str,
         path: &std::path::Path,
         label: &str,
         range_nm: [f64; 2],
+        negatives: Negatives,
     ) -> Result<UserLight, Error> {
-        Self::parse(name, label, &read_labelled(path, label)?, range_nm)
+        Self::parse_with(
+            name,
+            label,
+            &read_labelled(path, label)?,
+            range_nm,
+            negatives,
+        )
     }
 }
 
@@ -126,14 +148,22 @@ pub struct Sensor {
     pub file: String,
     /// One curve per channel, named by the header.
     pub channels: Vec<Curve>,
+    /// The negative values read as 0 ([`Spectra::zeroed`]), for the caller to report.
+    pub zeroed: Option<ZeroedNegatives>,
 }
 
 impl Sensor {
     /// Parses a sensor file's text. Errors name `file` and the line: what [`Spectra::parse`]
-    /// refuses (negative sensitivities among them), data that do not cover `range_nm`, more than
-    /// [`MAX_SAMPLES`] channels, and a channel that is zero over the range.
-    pub(crate) fn parse(file: &str, text: &str, range_nm: [f64; 2]) -> Result<Sensor, Error> {
-        let spectra = Spectra::parse(file, text)?;
+    /// refuses (negative sensitivities beyond the rounding noise among them), data that do not
+    /// cover `range_nm`, more than [`MAX_SAMPLES`] channels, and a channel that is zero over the
+    /// range.
+    pub(crate) fn parse(
+        file: &str,
+        text: &str,
+        range_nm: [f64; 2],
+        negatives: Negatives,
+    ) -> Result<Sensor, Error> {
+        let spectra = Spectra::parse_with(file, text, negatives)?;
         if spectra.len() > MAX_SAMPLES {
             return Err(DataError {
                 file: file.into(),
@@ -166,15 +196,26 @@ impl Sensor {
         Ok(Sensor {
             file: file.into(),
             channels,
+            zeroed: spectra.zeroed().cloned(),
         })
     }
 
     /// Reads a sensor file: wavelength in nm, one column of sensitivity per channel. Errors name
-    /// `label` and the line: what [`Spectra::parse`] refuses (negative sensitivities among them),
-    /// data that do not cover `range_nm`, more than [`MAX_SAMPLES`] channels, and a channel that
-    /// is zero over the range.
+    /// `label` and the line: what [`Spectra::parse`] refuses (negative sensitivities beyond the
+    /// rounding noise among them), data that do not cover `range_nm`, more than [`MAX_SAMPLES`]
+    /// channels, and a channel that is zero over the range.
     pub fn read(path: &std::path::Path, label: &str, range_nm: [f64; 2]) -> Result<Sensor, Error> {
-        Self::parse(label, &read_labelled(path, label)?, range_nm)
+        Self::read_with(path, label, range_nm, Negatives::Refuse)
+    }
+
+    /// [`read`](Self::read) with the rule for negative values given ([`Spectra::parse_with`]).
+    pub fn read_with(
+        path: &std::path::Path,
+        label: &str,
+        range_nm: [f64; 2],
+        negatives: Negatives,
+    ) -> Result<Sensor, Error> {
+        Self::parse(label, &read_labelled(path, label)?, range_nm, negatives)
     }
 
     /// Each channel's peak wavelength (the first maximum on the 1 nm grid of `range_nm`), in

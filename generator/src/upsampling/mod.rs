@@ -39,4 +39,4 @@ pub use bake::{
     lab_of_rgb, least_squares_map, lipschitz, local_map, project, Baked, CODE_ONE, DEFAULT_GRID,
     GRID_SIZES, LOCAL_BANDWIDTH, LOCAL_PRIOR, RADIANCE_REFERENCE_LIGHT, REACHABLE_DELTA_E00,
 };
-pub use training::{parse_training, training, NEGATIVE_TOLERANCE, TRAINING_FILES};
+pub use training::{parse_training, training, TRAINING_FILES};

@@ -11,7 +11,9 @@
 //! Spectra files: CSV, first column wavelength in nm, one column per spectrum, any spacing;
 //! they must cover the observer's 380-770 nm. Defaults: the ColorChecker (Ohta) and the CIE
 //! test colour samples 1-14 under CIE illuminant C. Errors name the file and line and exit with
-//! code 2. With `--out -` the scene goes to standard output and the summary to standard error.
+//! code 2. Negative values within 1e-6 of a file's largest value are rounding noise, read as 0
+//! with one warning per file on standard error; a more negative value is an error naming its
+//! line and column, unless `--clamp-negatives` reads it as 0 too. With `--out -` the scene goes to standard output and the summary to standard error.
 
 use spectral_quadrature_build as sqd;
 use spectral_quadrature_tools as tools;
@@ -39,6 +41,11 @@ struct Args {
     /// Light spectra seen directly (CSV), instead of surfaces under illuminants.
     #[arg(long, value_name = "FILE", conflicts_with_all = ["reflectances", "illuminants"])]
     emission: Option<PathBuf>,
+    /// Read every negative value of the spectra files given here as 0 (each file's count is
+    /// printed as a warning), for measured data whose noise exceeds the tolerance (1e-6 of the
+    /// file's largest value; within it, values are read as 0 without this flag).
+    #[arg(long)]
+    clamp_negatives: bool,
     /// The budget: the largest acceptable ΔE00 (mean or max over the spectra, see --metric).
     #[arg(long, value_name = "X", allow_hyphen_values = true)]
     max_delta_e: f64,
@@ -88,6 +95,7 @@ fn run(args: &Args) -> Result<(), Error> {
     let metric = Metric::from(args.metric);
     plan::check_budget(budget)?;
     let d = sqd::derive(&tools::settings())?;
+    tools::warn_zeroed("plan", &d.observer.zeroed);
     let displays = check_displays(&d, &args.displays)?;
     let range = d.settings.range_nm;
     let (stimuli, described) = load_stimuli(args, range)?;
@@ -149,12 +157,18 @@ fn check_displays(d: &sqd::Derivation, names: &[String]) -> Result<Vec<String>, 
 
 /// The stimuli and a few words saying what they are.
 fn load_stimuli(args: &Args, range: [f64; 2]) -> Result<(Vec<Stimulus>, String), Error> {
+    let negatives = tools::negatives(args.clamp_negatives);
     if let Some(path) = &args.emission {
-        let s = plan::stimuli_from_files(range, None, None, Some(path))?;
+        let (s, zeroed) = plan::stimuli_from_files(range, None, None, Some(path), negatives)?;
+        tools::warn_zeroed("plan", &zeroed);
         let described = format!("{} in {}", plural(s.len(), "light"), path.display());
         return Ok((s, described));
     }
-    let read = |p: &std::path::Path| evaluate::Spectra::read(p).and_then(|s| s.curves(range));
+    let read = |p: &std::path::Path| {
+        let spectra = evaluate::Spectra::read_with(p, negatives)?;
+        tools::warn_zeroed("plan", spectra.zeroed());
+        spectra.curves(range)
+    };
     let (surfaces, surfaces_from) = match &args.reflectances {
         Some(p) => (read(p)?, p.display().to_string()),
         None => (

@@ -16,7 +16,9 @@
 //!
 //! Spectra files: CSV, first column wavelength in nm, one column per spectrum, any spacing;
 //! they are interpolated linearly and must cover the observer's 380-770 nm. Errors name the file
-//! and line and exit with code 2.
+//! and line and exit with code 2. Negative values within 1e-6 of a file's largest value are
+//! rounding noise, read as 0 with one warning per file on standard error; a more negative value
+//! is an error naming its line and column, unless `--clamp-negatives` reads it as 0 too.
 
 mod budget;
 mod random;
@@ -57,6 +59,12 @@ struct Args {
     /// Light spectra seen directly (CSV), instead of surfaces under illuminants.
     #[arg(long, value_name = "FILE", conflicts_with_all = ["reflectances", "illuminants"])]
     emission: Option<PathBuf>,
+    /// Read every negative value of the spectra files given here as 0 (each file's count is
+    /// printed as a warning), for measured data whose noise exceeds the tolerance (1e-6 of the
+    /// file's largest value; within it, values are read as 0 without this flag). A scene sets
+    /// its own files' rule with `clamp_negatives = true`.
+    #[arg(long)]
+    clamp_negatives: bool,
     /// Folder for the CSV files and SVG plots.
     #[arg(long, value_name = "DIR", default_value = "target/report")]
     out: PathBuf,
@@ -142,6 +150,7 @@ fn run(args: &Args) -> Result<(), Error> {
     };
     progress.next();
     let d = sqd::derive(&tools::settings())?;
+    tools::warn_zeroed("report", &d.observer.zeroed);
     let range = d.settings.range_nm;
     let reference_set = evaluate::full_integration(&d.observer, range, 1.0)?;
 
@@ -383,7 +392,11 @@ struct Inputs {
 }
 
 fn load_inputs(args: &Args, range: [f64; 2]) -> Result<Inputs, Error> {
-    let read = |p: &Path| Spectra::read(p).and_then(|s| s.curves(range));
+    let read = |p: &Path| {
+        let spectra = Spectra::read_with(p, tools::negatives(args.clamp_negatives))?;
+        tools::warn_zeroed("report", spectra.zeroed());
+        spectra.curves(range)
+    };
     let (surfaces, surfaces_from) = match &args.reflectances {
         Some(p) => (read(p)?, p.display().to_string()),
         None => (

@@ -84,6 +84,7 @@ pub fn scene_extras(
         .into());
     }
     let (lights, fitted) = scene.resolve_user(d)?;
+    crate::tools::warn_zeroed("report", &sqd::scene::user_warnings(&lights, &fitted));
     let light_curve = |name: &str| -> Result<Curve, Error> {
         if let Some(l) = lights.iter().find(|l| l.name == name) {
             return Ok(l.curve.clone());
