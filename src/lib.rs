@@ -107,6 +107,7 @@ extern crate std;
 //   path, on pixel, planar's portable loops and simd);
 // - dynamic, paper, defmt and fast, on the types.
 mod batch;
+mod cct;
 mod display;
 mod dynamic;
 mod encode;
@@ -127,6 +128,7 @@ mod fast;
 
 pub mod paper;
 
+pub use cct::{uv_from_xyz, Cct, PlanckianLocus, CCT_MAX_ERROR_MIRED, DUV_MAX_ERROR, MAX_DUV};
 pub use display::{Display, GamutMapping};
 pub use dynamic::DynamicSet;
 pub use encode::{srgb8_from_linear, SRGB8_MAX_DELTA_E, SRGB8_MAX_STEP_ERROR};

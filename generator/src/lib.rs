@@ -66,7 +66,7 @@ pub use derivation::opponent::{Covariance, Opponent};
 pub use derivation::quadrature::{Measure, Recurrence, Rule, Status};
 pub use derivation::sets::WavelengthSet;
 pub use derivation::settings::Settings;
-pub use derivation::{display, evaluate, observer, opponent, quadrature, sets};
+pub use derivation::{display, evaluate, observer, opponent, planckian, quadrature, sets};
 pub use emit::generate::{generate, Output};
 pub use emit::{codegen, shader};
 pub use scenes::scene::SCENE_ENV;

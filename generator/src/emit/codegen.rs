@@ -257,6 +257,13 @@ pub fn tables_rs(
     writeln!(o).ok();
     floats += 9 + 9 + 3 + 1;
 
+    if scene.extras.cct {
+        let (locus, n) = super::planckian::planckian_rs(d, f32_literal)?;
+        o.push_str(&locus);
+        writeln!(o).ok();
+        floats += n;
+    }
+
     if scene.extras.sensitivities {
         item(
             &mut o,
@@ -497,6 +504,21 @@ pub fn tables_rs(
             "SENSITIVITIES".into(),
             chain("SENSITIVITIES", &[".as_flattened()"]),
         ));
+    }
+    if scene.extras.cct {
+        all.push((
+            "PLANCKIAN_LOCUS.mired".into(),
+            chain("PLANCKIAN_LOCUS", &[".mired"]).by_ref(),
+        ));
+        for field in ["uv", "tangent", "chord"] {
+            all.push((
+                std::format!("PLANCKIAN_LOCUS.{field}"),
+                chain(
+                    "PLANCKIAN_LOCUS",
+                    &[&std::format!(".{field}"), ".as_flattened()"],
+                ),
+            ));
+        }
     }
     if scene.extras.rules {
         for (c, name) in CHANNELS.iter().enumerate() {

@@ -12,9 +12,10 @@
 //! [transfer]                       # optional: another transfer function for a display
 //! SRGB = "gamma 2.2"               # "srgb", "linear" or "gamma <γ>"
 //!
-//! [extras]                         # optional, both false by default
+//! [extras]                         # optional, all false by default
 //! sensitivities = true             # GRID_NM and SENSITIVITIES
 //! rules = true                     # the rule tables (A_RULES, ..., RULES, MAX_ORDER)
+//! cct = true                       # PLANCKIAN_LOCUS: colour temperature and Duv from XYZ
 //!
 //! [plan]                           # optional: add the set the planner picks for a budget
 //! max_delta_e00 = 1.0
@@ -201,6 +202,9 @@ pub struct Extras {
     /// `MAX_ORDER`).
     #[serde(default)]
     pub rules: bool,
+    /// The Planckian locus table (`PLANCKIAN_LOCUS`) for correlated colour temperature and Duv.
+    #[serde(default)]
+    pub cct: bool,
 }
 
 #[derive(Deserialize)]
@@ -257,7 +261,7 @@ fn line_of(text: &str, offset: usize) -> usize {
 
 impl Scene {
     /// The default scene: the default settings, every colour set and per-channel rule the
-    /// default tables have always had, every display, and both extras.
+    /// default tables have always had, every display, and every extra.
     /// `data_dir`: where the derivation reads its data ([`Settings::data_dir`]).
     pub fn default_scene(data_dir: &std::path::Path) -> Scene {
         // The sets: Table 2's rows and DEFAULT_SHARED_SETS (see `resolve`).
@@ -269,6 +273,7 @@ impl Scene {
             extras: Extras {
                 sensitivities: true,
                 rules: true,
+                cct: true,
             },
             plan: None,
             user: UserInputs::default(),
