@@ -88,6 +88,12 @@ impl Format for Error {
             Error::SingularPrimaries => write!(f, "SingularPrimaries"),
             Error::WhiteOutsideGamut => write!(f, "WhiteOutsideGamut"),
             Error::InvalidGamma => write!(f, "InvalidGamma"),
+            Error::Calibration { channel, problem } => write!(
+                f,
+                "Calibration {{ channel: {=usize}, problem: {=str} }}",
+                channel,
+                problem.as_str()
+            ),
         }
     }
 }

@@ -107,11 +107,13 @@ extern crate std;
 //   path, on pixel, planar's portable loops and simd);
 // - dynamic, paper, defmt and fast, on the types.
 mod batch;
+mod calibration;
 mod cct;
 mod display;
 mod dynamic;
 mod encode;
 mod error;
+mod lux;
 mod matrix;
 mod pixel;
 mod planar;
@@ -128,6 +130,7 @@ mod fast;
 
 pub mod paper;
 
+pub use calibration::{Calibration, CalibrationProblem, CountCalibration};
 pub use cct::{uv_from_xyz, Cct, PlanckianLocus, CCT_MAX_ERROR_MIRED, DUV_MAX_ERROR, MAX_DUV};
 pub use display::{Display, GamutMapping};
 pub use dynamic::DynamicSet;
@@ -135,6 +138,7 @@ pub use encode::{srgb8_from_linear, SRGB8_MAX_DELTA_E, SRGB8_MAX_STEP_ERROR};
 pub use error::Error;
 #[cfg(feature = "micromath")]
 pub use fast::ENCODE_FAST_MAX_ERROR;
+pub use lux::LuxScale;
 pub use matrix::{ac1c2_from_xyz, xyz_from_ac1c2};
 pub use pixel::f32_budget;
 pub use set::{Channel, FoldedSet, GaussRule, RuleStatus, Samples, WavelengthSet};

@@ -70,4 +70,4 @@ pub use derivation::{display, evaluate, observer, opponent, planckian, quadratur
 pub use emit::generate::{generate, Output};
 pub use emit::{codegen, shader};
 pub use scenes::scene::SCENE_ENV;
-pub use scenes::{catalog, plan, scene, user};
+pub use scenes::{calibration, catalog, plan, scene, user};

@@ -479,6 +479,9 @@ pub fn tables_rs(
         }
         writeln!(o, "}}\n").ok();
     }
+    let (sensors, sensor_tables, n) = super::sensors::sensors_rs(&scene.sensors, f32_literal)?;
+    o.push_str(&sensors);
+    floats += n;
     // Every table as a slice, so a program can link them all (examples/size_probe measures
     // what a scene costs when nothing is left unused).
     let chain = |root: &str, children: &[&str]| {
@@ -567,6 +570,7 @@ pub fn tables_rs(
             chain(&n, &[".xyz_to_rgb", ".as_flattened()"]),
         ));
     }
+    all.extend(sensor_tables);
     let all = all
         .into_iter()
         .map(|(name, e)| Expr::Tuple(std::vec![quoted(&name), e]))

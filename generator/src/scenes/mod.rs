@@ -1,7 +1,9 @@
 //! What one application uses, so the build bakes only that: the scene file ([`scene`]), every
 //! set the crate can build by name ([`catalog`]), the user's own lights, wavelengths and sensors
-//! ([`user`]), and the planner that picks a set for a ΔE budget ([`plan`]).
+//! ([`user`]) with a sensor's white reference and calibration ([`calibration`]), and the planner
+//! that picks a set for a ΔE budget ([`plan`]).
 
+pub mod calibration;
 pub mod catalog;
 pub mod plan;
 pub mod scene;

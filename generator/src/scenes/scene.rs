@@ -33,6 +33,8 @@
 //! [sensors.AS7341]                 # optional: the best matrix from a sensor's readings
 //! file = "as7341.csv"              # wavelength, then one column per channel
 //! light = "C"                      # optional: fit for reflectances under it (else radiances)
+//! calibration = "device.csv"       # optional: a device's readings of known reflectances
+//! calibration_reflectances = "chart.csv"  # optional: their spectra (else the ColorChecker)
 //! ```
 //!
 //! `[fixed.*]` and `[sensors.*]` sets are baked whenever declared ([`crate::user`]).
@@ -47,13 +49,15 @@ use std::vec::Vec;
 use serde::Deserialize;
 use toml::Spanned;
 
+use super::calibration::{self, SensorTables};
 use super::catalog;
 use super::plan::{self, Metric};
 use super::user::{self, fixed_set, sensor_set, Fitted, Sensor, UserLight};
 use crate::base::error::{DataError, Error};
+use crate::base::files::read_error;
 use crate::derivation::derive::Derivation;
 use crate::derivation::display::{self, DisplayMatrices, DisplaySpec, Transfer};
-use crate::derivation::evaluate::{self, builtin_lights, Curve, Stimulus};
+use crate::derivation::evaluate::{self, builtin_lights, Curve, Spectra, Stimulus};
 use crate::derivation::observer::ObserverId;
 use crate::derivation::sets::WavelengthSet;
 use crate::derivation::settings::Settings;
@@ -94,6 +98,8 @@ struct RawFixed {
 struct RawSensor {
     file: Spanned<String>,
     light: Option<Spanned<String>>,
+    calibration: Option<Spanned<String>>,
+    calibration_reflectances: Option<Spanned<String>>,
 }
 
 /// A light a scene reads from a file (`[lights] NAME = "file.csv"`).
@@ -132,6 +138,12 @@ pub struct SceneSensor {
     pub light: Option<String>,
     /// The line of its table.
     pub line: usize,
+    /// A device's readings of known reflectances under `light`, to fit its calibration to
+    /// (`calibration = "readings.csv"`), relative to the scene's directory (or absolute).
+    pub calibration: Option<std::path::PathBuf>,
+    /// The reflectances the readings name (`calibration_reflectances`); `None`: the
+    /// ColorChecker of the crate's data.
+    pub calibration_reflectances: Option<std::path::PathBuf>,
 }
 
 /// What a scene brings of the user's own: lights, fixed wavelengths, sensors.
@@ -153,6 +165,13 @@ impl UserInputs {
             return Vec::new();
         }
         let mut files = std::vec![shared::TRAINING_FILE.to_string()];
+        let default_chart = self
+            .sensors
+            .iter()
+            .any(|s| s.calibration.is_some() && s.calibration_reflectances.is_none());
+        if default_chart {
+            files.push(calibration::DEFAULT_REFLECTANCES.to_string());
+        }
         let lights = self
             .fixed
             .iter()
@@ -170,12 +189,16 @@ impl UserInputs {
         files
     }
 
-    /// The files the scene's own inputs read (lights, then sensors).
+    /// The files the scene's own inputs read (lights, then sensors and their calibrations).
     pub(crate) fn files_mut(&mut self) -> impl Iterator<Item = &mut std::path::PathBuf> {
         self.lights
             .iter_mut()
             .map(|l| &mut l.path)
-            .chain(self.sensors.iter_mut().map(|s| &mut s.path))
+            .chain(self.sensors.iter_mut().flat_map(|s| {
+                core::iter::once(&mut s.path)
+                    .chain(s.calibration.as_mut())
+                    .chain(s.calibration_reflectances.as_mut())
+            }))
     }
 }
 
@@ -537,11 +560,32 @@ fn parse_user(
         check_name(name, "sensor")?;
         check_set_name(name)?;
         let t = table.get_ref();
+        let light = check_light(&t.light)?;
+        if let (Some(c), None) = (&t.calibration, &light) {
+            return Err(err(
+                at(c.span()),
+                std::format!(
+                    "calibration: the readings are of reflectances under the sensor's light; give [sensors.{}] a light",
+                    name.get_ref()
+                ),
+            ));
+        }
+        if let (Some(r), None) = (&t.calibration_reflectances, &t.calibration) {
+            return Err(err(
+                at(r.span()),
+                "calibration_reflectances without calibration: there are no readings to fit".into(),
+            ));
+        }
         user.sensors.push(SceneSensor {
             name: name.get_ref().clone(),
             path: dir.join(t.file.get_ref()),
-            light: check_light(&t.light)?,
+            light,
             line: at(name.span()),
+            calibration: t.calibration.as_ref().map(|c| dir.join(c.get_ref())),
+            calibration_reflectances: t
+                .calibration_reflectances
+                .as_ref()
+                .map(|r| dir.join(r.get_ref())),
         });
     }
     Ok(user)
@@ -581,6 +625,8 @@ pub struct Resolved {
     pub extras: Extras,
     /// What the planner chose, as a sentence for the generated header, if it ran.
     pub planned: Option<String>,
+    /// Each sensor's white reference and fitted calibration, baked in `tables::sensors`.
+    pub sensors: Vec<SensorTables>,
 }
 
 impl Scene {
@@ -615,6 +661,7 @@ impl Scene {
                 displays,
                 extras: self.extras,
                 planned: None,
+                sensors: Vec::new(),
             });
         }
         let user = self.resolve_user(d)?;
@@ -649,6 +696,7 @@ impl Scene {
         for set in user.1 {
             colour_sets.push(set.wavelength_set(d));
         }
+        let sensors = self.resolve_sensors(d, &user.0)?;
         Ok(Resolved {
             file: self.file.clone(),
             colour_sets,
@@ -656,7 +704,81 @@ impl Scene {
             displays,
             extras: self.extras,
             planned,
+            sensors,
         })
+    }
+
+    /// Each sensor's white reference and, where the scene gives readings, the calibration
+    /// fitted to them ([`calibration`]). Errors name the scene's line that declares the sensor,
+    /// around the file's own error (which names its line).
+    pub fn resolve_sensors(
+        &self,
+        d: &Derivation,
+        lights: &[UserLight],
+    ) -> Result<Vec<SensorTables>, Error> {
+        let range = d.settings.range_nm;
+        let mut out = Vec::new();
+        for s in &self.user.sensors {
+            let within = |e: Error| Error::At {
+                file: self.file.clone(),
+                line: s.line as u64,
+                error: std::boxed::Box::new(e),
+                hint: None,
+            };
+            let sensor =
+                Sensor::read(&s.path, &s.path.display().to_string(), range).map_err(within)?;
+            let light = match &s.light {
+                None => None,
+                Some(n) => match lights.iter().find(|l| &l.name == n) {
+                    Some(l) => Some(l.curve.clone()),
+                    None => Some(
+                        evaluate::builtin_illuminant(&d.settings.data_dir, n, range)
+                            .map_err(|e| within(e.into()))?,
+                    ),
+                },
+            };
+            let white = calibration::white_readings(d, &sensor, light.as_ref()).map_err(within)?;
+            let fitted = match &s.calibration {
+                None => None,
+                Some(path) => {
+                    let label = path.display().to_string();
+                    let text = std::fs::read_to_string(path)
+                        .map_err(|e| within(read_error(&label, path, &e).into()))?;
+                    let names: Vec<String> =
+                        sensor.channels.iter().map(|c| c.name.clone()).collect();
+                    let readings = calibration::Readings::parse(&label, &text, &names)
+                        .map_err(|e| within(e.into()))?;
+                    let chart = match &s.calibration_reflectances {
+                        Some(r) => Spectra::read(r),
+                        None => Spectra::builtin(
+                            &d.settings.data_dir,
+                            calibration::DEFAULT_REFLECTANCES,
+                        ),
+                    }
+                    .map_err(|e| within(e.into()))?;
+                    let reflectances = readings
+                        .reflectances(&chart, range)
+                        .map_err(|e| within(e.into()))?;
+                    let golden =
+                        calibration::golden_readings(d, &sensor, light.as_ref(), &reflectances)
+                            .map_err(within)?;
+                    let fit = calibration::fit(&golden, &readings.values).map_err(|message| {
+                        within(Error::Data(DataError {
+                            file: label.clone(),
+                            line: 0,
+                            message,
+                        }))
+                    })?;
+                    Some(fit)
+                }
+            };
+            out.push(SensorTables {
+                name: s.name.clone(),
+                white,
+                calibration: fitted,
+            });
+        }
+        Ok(out)
     }
 
     /// Reads the scene's lights and builds its fixed and sensor sets. Errors name the scene's
