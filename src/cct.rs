@@ -61,14 +61,28 @@ pub struct PlanckianLocus<const K: usize> {
     /// `uv[i + 1] − uv[i]`, computed before rounding (the difference of the rounded points
     /// would lose the direction of short segments), and `[0, 0]` at the last node.
     pub chord: [[f32; 2]; K],
+    /// The unit tangent at each node in 1.14 fixed point (16 384 is 1): the binary search over
+    /// the nodes runs in integers, where an f32 operation is a library call of a hundred
+    /// instructions.
+    pub unit_tangent_q14: [[i16; 2]; K],
+    /// `L · T̂` at each node, the point in 16 fractional bits times the unit tangent above (30
+    /// fractional bits): a point P (16 fractional bits) lies on the hot side of the node's
+    /// isotemperature line where `P · T̂ − L · T̂ ≥ 0`.
+    pub along_q30: [i32; K],
 }
 
-/// How many Newton steps refine the foot of the perpendicular on a segment, from where the
-/// linear interpolation of the slope between its ends vanishes. Newton's method converges
+/// At most how many Newton steps refine the foot of the perpendicular on a segment, from where
+/// the linear interpolation of the slope between its ends vanishes. Newton's method converges
 /// quadratically: two steps reach f32 rounding on every point `tests/cct.rs` tries (a dense
-/// sweep and 200 000 random points once; 2000 in each run), and a third changes none of its
+/// sweep, and 200 000 random points once; 2000 in each run), and a third changes none of its
 /// largest errors by more than a tenth.
 const NEWTON_STEPS: usize = 2;
+
+/// A Newton step smaller than this (in t, the segment's parameter) ends the refinement: the
+/// next step would be about its square (times the segment's curvature term, of order 1), below
+/// 10⁻⁷ of a segment of at most 16 mired, 2 × 10⁻⁶ mired. Most points near the locus stop
+/// after one step.
+const NEWTON_DONE: f32 = 3e-4;
 
 /// CIE 1960 (u, v) from XYZ: u = 4X / (X + 15Y + 3Z), v = 6Y / (X + 15Y + 3Z), in f32.
 ///
@@ -146,26 +160,41 @@ impl<const K: usize> PlanckianLocus<K> {
         if K < 2 {
             return None;
         }
+        // The point in 16 fractional bits; outside u < 0.6, v < 0.5 (NaN among it) nothing is
+        // within MAX_DUV of any locus (the CIE 1931 locus spans u 0.18-0.45, v 0.26-0.36), and
+        // inside it the products below stay within i32.
+        let (pu, pv) = (q16(uv[0])?, q16(uv[1])?);
+        if pu >= 39_322 || pv >= 32_768 {
+            return None;
+        }
+        // The side of node i's isotemperature line, in integers: the sign of (P − L_i) · T̂_i.
+        let side = |i: usize| {
+            let [a, b] = self.unit_tangent_q14[i];
+            pu * i32::from(a) + pv * i32::from(b) - self.along_q30[i]
+        };
+        // The segment whose ends the point lies between (the slope falls through zero where the
+        // distance is least), or an end segment when it lies beyond the table; the integer
+        // sides are exact to about 2 × 10⁻⁵ in (u, v), so the foot may lie a little outside
+        // the segment found, which the Newton steps below allow for.
+        let (mut lo, mut hi) = (0, K - 1);
+        if side(0) < 0 {
+            hi = 1;
+        } else if side(K - 1) >= 0 {
+            lo = K - 2;
+        }
+        while hi - lo > 1 {
+            let mid = (lo + hi) / 2;
+            if side(mid) >= 0 {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
         let slope = |i: usize| {
             (uv[0] - self.uv[i][0]) * self.tangent[i][0]
                 + (uv[1] - self.uv[i][1]) * self.tangent[i][1]
         };
-        // The slope falls through zero where the distance is least: positive at the hot end,
-        // negative at the cold end, or the foot lies beyond the table (and NaN fails both).
-        let (mut lo, mut hi) = (0, K - 1);
-        let (mut s_lo, mut s_hi) = (slope(lo), slope(hi));
-        if !(s_lo >= 0.0 && s_hi <= 0.0) {
-            return None;
-        }
-        while hi - lo > 1 {
-            let mid = (lo + hi) / 2;
-            let s = slope(mid);
-            if s >= 0.0 {
-                (lo, s_lo) = (mid, s);
-            } else {
-                (hi, s_hi) = (mid, s);
-            }
-        }
+        let (s_lo, s_hi) = (slope(lo), slope(hi));
         // The segment's cubic in t ∈ [0, 1], relative to its first node:
         // L(t) − L(0) = c1 t + c2 t² + c3 t³, from the end points and the tangents times h.
         let h = self.mired[hi] - self.mired[lo];
@@ -177,27 +206,30 @@ impl<const K: usize> PlanckianLocus<K> {
             [ma, 3.0 * d - 2.0 * ma - mb, ma + mb - 2.0 * d]
         };
         let [cu, cv] = [c(0), c(1)];
-        // Start where the slope's linear interpolation vanishes (s_lo ≥ 0 ≥ s_hi).
-        let span = s_lo - s_hi;
-        let mut t = if span > 0.0 { s_lo / span } else { 0.0 };
-        let residual = |t: f32| {
-            let at = |c: [f32; 3]| ((c[2] * t + c[1]) * t + c[0]) * t;
-            [q[0] - at(cu), q[1] - at(cv)]
-        };
-        let derivative = |t: f32| {
-            let at = |c: [f32; 3]| (3.0 * c[2] * t + 2.0 * c[1]) * t + c[0];
-            [at(cu), at(cv)]
-        };
+        // Start where the slope's linear interpolation vanishes.
+        let mut t = extended(s_lo / (s_lo - s_hi));
+        // Newton's method on f(t) = r(t)·L′(t), r = q − (L(t) − L(0)): the foot of the
+        // perpendicular. Each step leaves r moved to the new t to first order (r − Δt L′),
+        // which is what the distance needs: the neglected Δt² L″ / 2 is below f32 rounding
+        // once Δt is below NEWTON_DONE.
+        let mut r = [0.0f32; 2];
+        let mut d1 = [0.0f32; 2];
         for _ in 0..NEWTON_STEPS {
-            let r = residual(t);
-            let d1 = derivative(t);
+            let at = |c: [f32; 3]| ((c[2] * t + c[1]) * t + c[0]) * t;
+            r = [q[0] - at(cu), q[1] - at(cv)];
+            let slope = |c: [f32; 3]| (3.0 * c[2] * t + 2.0 * c[1]) * t + c[0];
+            d1 = [slope(cu), slope(cv)];
             let d2 = [6.0 * cu[2] * t + 2.0 * cu[1], 6.0 * cv[2] * t + 2.0 * cv[1]];
             let f = r[0] * d1[0] + r[1] * d1[1];
             let df = r[0] * d2[0] + r[1] * d2[1] - (d1[0] * d1[0] + d1[1] * d1[1]);
-            t = unit_interval(t - f / df);
+            let next = extended(t - f / df);
+            let dt = next - t;
+            r = [r[0] - dt * d1[0], r[1] - dt * d1[1]];
+            t = next;
+            if dt.abs() < NEWTON_DONE {
+                break;
+            }
         }
-        let r = residual(t);
-        let d1 = derivative(t);
         // The distance, with the sign of the side: the tangent turned anticlockwise points up.
         let distance = libm::sqrtf(r[0] * r[0] + r[1] * r[1]);
         let duv = if r[1] * d1[0] - r[0] * d1[1] < 0.0 {
@@ -205,7 +237,9 @@ impl<const K: usize> PlanckianLocus<K> {
         } else {
             distance
         };
-        if duv.is_nan() || duv.abs() > MAX_DUV {
+        // Beyond the table's ends (and NaN: a point no segment holds), nothing.
+        let beyond = (lo == 0 && t < 0.0) || (hi == K - 1 && t > 1.0);
+        if beyond || duv.is_nan() || duv.abs() > MAX_DUV {
             return None;
         }
         Some(Cct {
@@ -215,9 +249,31 @@ impl<const K: usize> PlanckianLocus<K> {
     }
 }
 
-/// `x` clamped to [0, 1], and a NaN (a Newton step of 0 / 0) to 0: `f32::max` returns the
-/// number where `f32::clamp` would return the NaN.
+/// `x` clamped to the segment and a tenth beyond either end (where a foot the integer search
+/// placed in the neighbouring segment may lie; the cubic extends smoothly there), and a NaN
+/// (0 / 0) to 0: `f32::max` returns the number where `f32::clamp` would return the NaN.
 #[allow(clippy::manual_clamp)]
-fn unit_interval(x: f32) -> f32 {
-    x.max(0.0).min(1.0)
+fn extended(x: f32) -> f32 {
+    x.max(-0.1).min(1.1)
+}
+
+/// `x` in 16 fractional bits, rounded, for 0 ≤ x < 1 (−0.0 too); `None` for negative numbers,
+/// 1 and more, infinities and NaN. From the bits, with integer operations only.
+fn q16(x: f32) -> Option<i32> {
+    let bits = x.to_bits();
+    if bits == 0x8000_0000 {
+        return Some(0);
+    }
+    // The sign bit set, or a biased exponent of 127 or more (x ≥ 1, ∞, NaN).
+    let exponent = bits >> 23;
+    if exponent >= 127 {
+        return None;
+    }
+    // x = m · 2^(e − 150) with the implicit bit (e > 0), so x · 2¹⁶ = m / 2^(134 − e).
+    let mantissa = (bits & 0x007f_ffff) | if exponent > 0 { 0x0080_0000 } else { 0 };
+    let shift = 134 - exponent;
+    if shift > 24 {
+        return Some(0);
+    }
+    Some(((mantissa + (1 << (shift - 1))) >> shift) as i32)
 }

@@ -66,6 +66,9 @@ fn the_baked_table_is_a_fresh_derivations() {
         assert_eq!(PLANCKIAN_LOCUS.mired[i], n.mired as f32);
         assert_eq!(PLANCKIAN_LOCUS.uv[i], n.uv.map(|c| c as f32));
         assert_eq!(PLANCKIAN_LOCUS.tangent[i], n.tangent.map(|c| c as f32));
+        let (unit, along) = n.fixed_point();
+        assert_eq!(PLANCKIAN_LOCUS.unit_tangent_q14[i], unit);
+        assert_eq!(PLANCKIAN_LOCUS.along_q30[i], along);
         let chord = match nodes.get(i + 1) {
             Some(next) => [0, 1].map(|c| (next.uv[c] - n.uv[c]) as f32),
             None => [0.0; 2],
@@ -164,6 +167,29 @@ fn dense_sweep_within_the_stated_accuracy() {
             "| {lo}-{hi} K | {} | {:.1e} mired | {:.4} K | {:.1e} | {:.1e} mired | {:.4} K | {:.1e} |",
             w3.points, w3.mired, w3.kelvin, w3.duv, w5.mired, w5.kelvin, w5.duv
         );
+    }
+}
+
+/// Points whose foot lies at a node or just beside one, where the binary search's integer sides
+/// (exact to about 2e-5 in (u, v)) may pick either neighbouring segment: within the bounds.
+#[test]
+fn feet_at_the_nodes() {
+    let nodes = fixture().locus.table();
+    for (i, n) in nodes.iter().enumerate() {
+        for offset in [-1e-3, -1e-4, 0.0, 1e-4, 1e-3] {
+            let mired = n.mired + offset;
+            let end = (i == 0 && offset <= 0.0) || (i == nodes.len() - 1 && offset >= 0.0);
+            if end {
+                continue;
+            }
+            for duv in [-0.0499, -0.02, 0.0, 0.003, 0.0499] {
+                let (_, _, dmired, dduv) = errors(xyz_at(mired, duv));
+                assert!(
+                    dmired <= f64::from(CCT_MAX_ERROR_MIRED) && dduv <= f64::from(DUV_MAX_ERROR),
+                    "node {i} ({mired} mired), Duv {duv}: Δμ {dmired:e}, ΔDuv {dduv:e}"
+                );
+            }
+        }
     }
 }
 
@@ -298,6 +324,8 @@ fn outside_the_range_is_none() {
         uv: [],
         tangent: [],
         chord: [],
+        unit_tangent_q14: [],
+        along_q30: [],
     };
     assert_eq!(empty.cct([1.0, 1.0, 1.0]), None);
     assert!(empty.kelvin_range()[0].is_nan());
@@ -306,6 +334,8 @@ fn outside_the_range_is_none() {
         uv: [PLANCKIAN_LOCUS.uv[5]],
         tangent: [PLANCKIAN_LOCUS.tangent[5]],
         chord: [[0.0; 2]],
+        unit_tangent_q14: [PLANCKIAN_LOCUS.unit_tangent_q14[5]],
+        along_q30: [PLANCKIAN_LOCUS.along_q30[5]],
     };
     assert_eq!(
         one.cct(xyz_at(f64::from(PLANCKIAN_LOCUS.mired[5]), 0.0)),

@@ -60,6 +60,20 @@ pub struct LocusNode {
     pub tangent: [f64; 2],
 }
 
+impl LocusNode {
+    /// The node's unit tangent in 1.14 fixed point (16 384 is 1) and `L · T̂` with (u, v) in 16
+    /// fractional bits times that tangent (so 30 fractional bits): what the runtime's binary
+    /// search computes the slope's sign from in integers, `(P · T̂) − L · T̂` for a point P in
+    /// 16 fractional bits.
+    pub fn fixed_point(&self) -> ([i16; 2], i32) {
+        let norm = self.tangent[0].hypot(self.tangent[1]);
+        let unit = self.tangent.map(|t| (t / norm * 16_384.0).round() as i16);
+        let along =
+            self.uv[0] * 65_536.0 * f64::from(unit[0]) + self.uv[1] * 65_536.0 * f64::from(unit[1]);
+        (unit, along.round() as i32)
+    }
+}
+
 /// The CCT and Duv of a chromaticity, and where on the locus it lies.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CctDuv {

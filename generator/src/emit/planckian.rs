@@ -1,7 +1,7 @@
 //! The Planckian locus table (`tables::PLANCKIAN_LOCUS`) the runtime's CCT interpolates, baked
 //! when a scene asks for it (`[extras] cct = true`, and in the default scene).
 
-use std::string::String;
+use std::string::{String, ToString};
 use std::vec::Vec;
 
 use super::layout::{self, Expr};
@@ -33,6 +33,20 @@ pub(crate) fn planckian_rs(
         .iter()
         .map(|n| f32_literal(n.mired).map(Expr::Atom))
         .collect::<Result<Vec<_>, Error>>()?;
+    let fixed: Vec<([i16; 2], i32)> = nodes.iter().map(|n| n.fixed_point()).collect();
+    let unit_tangent = fixed
+        .iter()
+        .map(|([a, b], _)| {
+            Expr::Array(std::vec![
+                Expr::atom(a.to_string()),
+                Expr::atom(b.to_string())
+            ])
+        })
+        .collect();
+    let along = fixed
+        .iter()
+        .map(|(_, c)| Expr::atom(c.to_string()))
+        .collect();
     let value = Expr::Struct(
         "crate::PlanckianLocus".into(),
         std::vec![
@@ -46,10 +60,12 @@ pub(crate) fn planckian_rs(
                     None => [0.0; 2],
                 })?
             ),
+            ("unit_tangent_q14".into(), Expr::Array(unit_tangent)),
+            ("along_q30".into(), Expr::Array(along)),
         ],
     );
     let doc = std::format!(
-        "The Planckian locus in CIE 1960 (u, v) with this observer, {} to {} mired ({} K to {} K): {} nodes, each a point, its tangent d(u, v)/dμ and the chord to the next, close enough that their cubic Hermite interpolation stays within 5e-9 of the locus. [`PlanckianLocus::cct`](crate::PlanckianLocus::cct) gives the CCT and Duv of an XYZ.",
+        "The Planckian locus in CIE 1960 (u, v) with this observer, {} to {} mired ({} K to {} K): {} nodes, each a point, its tangent d(u, v)/dμ, the chord to the next and the tangent's direction in fixed point, close enough that their cubic Hermite interpolation stays within 5e-9 of the locus. [`PlanckianLocus::cct`](crate::PlanckianLocus::cct) gives the CCT and Duv of an XYZ.",
         nodes[0].mired,
         nodes[nodes.len() - 1].mired,
         (1e6 / nodes[nodes.len() - 1].mired).round(),
@@ -66,5 +82,6 @@ pub(crate) fn planckian_rs(
         &value,
     ));
     o.push('\n');
-    Ok((o, 7 * nodes.len()))
+    // Seven f32 a node, and two i16 and an i32: the bytes of nine f32.
+    Ok((o, 9 * nodes.len()))
 }
