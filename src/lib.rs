@@ -83,6 +83,15 @@
 //! [`TransferFunction::decode`], [`Display::new`], [`delta_e2000`] and the other colour
 //! differences, [`f32_budget`]).
 //!
+//! ## Beyond a pixel
+//!
+//! For sensor firmware, from any set's XYZ: [`PlanckianLocus::cct`] on
+//! `tables::PLANCKIAN_LOCUS` (correlated colour temperature and Duv, f32, the scene's
+//! `[extras] cct`), [`LuxScale`] (illuminance), and a device's calibration before the set's
+//! matrix, [`Calibration`] in f32 or [`CountCalibration`] in integers (dark offsets and gains,
+//! from a dark and a white reading or fitted at build time). See
+//! `docs/colour-temperature-and-calibration.md`.
+//!
 //! ## Features
 //! - `std`: links the standard library (`std::error::Error` for [`Error`]).
 #![no_std]
@@ -226,3 +235,7 @@ struct YourLightAndSensorDoctests;
 #[cfg(doctest)]
 #[doc = include_str!("../docs/microcontrollers.md")]
 struct MicrocontrollersDoctests;
+
+#[cfg(doctest)]
+#[doc = include_str!("../docs/colour-temperature-and-calibration.md")]
+struct ColourTemperatureAndCalibrationDoctests;
