@@ -88,6 +88,12 @@ impl Format for Error {
             Error::SingularPrimaries => write!(f, "SingularPrimaries"),
             Error::WhiteOutsideGamut => write!(f, "WhiteOutsideGamut"),
             Error::InvalidGamma => write!(f, "InvalidGamma"),
+            Error::Calibration { channel, problem } => write!(
+                f,
+                "Calibration {{ channel: {=usize}, problem: {=str} }}",
+                channel,
+                problem.as_str()
+            ),
         }
     }
 }
@@ -168,6 +174,61 @@ impl<const CAP: usize> Format for crate::DynamicSet<CAP> {
             self.weights(0),
             self.weights(1),
             self.weights(2)
+        )
+    }
+}
+
+impl Format for crate::Cct {
+    fn format(&self, f: Formatter<'_>) {
+        write!(
+            f,
+            "Cct {{ kelvin: {=f32}, duv: {=f32} }}",
+            self.kelvin, self.duv
+        )
+    }
+}
+
+impl<const K: usize> Format for crate::PlanckianLocus<K> {
+    fn format(&self, f: Formatter<'_>) {
+        let [lo, hi] = self.kelvin_range();
+        write!(
+            f,
+            "PlanckianLocus {{ nodes: {=usize}, kelvin: {=f32}-{=f32} }}",
+            K, lo, hi
+        )
+    }
+}
+
+impl Format for crate::LuxScale {
+    fn format(&self, f: Formatter<'_>) {
+        write!(f, "LuxScale {{ lux_per_y: {=f32} }}", self.lux_per_y)
+    }
+}
+
+impl Format for crate::CalibrationProblem {
+    fn format(&self, f: Formatter<'_>) {
+        write!(f, "{=str}", self.as_str())
+    }
+}
+
+impl<const N: usize> Format for crate::Calibration<N> {
+    fn format(&self, f: Formatter<'_>) {
+        write!(
+            f,
+            "Calibration {{ dark: {=[?]}, gain: {=[?]} }}",
+            &self.dark[..],
+            &self.gain[..]
+        )
+    }
+}
+
+impl<const N: usize> Format for crate::CountCalibration<N> {
+    fn format(&self, f: Formatter<'_>) {
+        write!(
+            f,
+            "CountCalibration {{ dark: {=[?]}, gain_q16: {=[?]} }}",
+            &self.dark[..],
+            &self.gain_q16[..]
         )
     }
 }

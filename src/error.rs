@@ -44,6 +44,14 @@ pub enum Error {
     /// A `Gamma(γ)` transfer function given to [`Display::new`](crate::Display::new) has a γ
     /// that is not finite and positive.
     InvalidGamma,
+    /// A [`Calibration`](crate::Calibration) or [`CountCalibration`](crate::CountCalibration)
+    /// cannot be formed for a channel.
+    Calibration {
+        /// The channel, counted from 0 in the sensor's order.
+        channel: usize,
+        /// What is wrong with it.
+        problem: crate::CalibrationProblem,
+    },
 }
 
 impl fmt::Display for Error {
@@ -74,6 +82,9 @@ impl fmt::Display for Error {
                 f.write_str("the white point lies outside the primaries' triangle")
             }
             Error::InvalidGamma => f.write_str("gamma must be finite and positive"),
+            Error::Calibration { channel, problem } => {
+                write!(f, "calibration of channel {channel}: {}", problem.as_str())
+            }
         }
     }
 }

@@ -89,6 +89,15 @@
 //! [`TransferFunction::decode`], [`Display::new`], [`delta_e2000`] and the other colour
 //! differences, [`f32_budget`]).
 //!
+//! ## Beyond a pixel
+//!
+//! For sensor firmware, from any set's XYZ: [`PlanckianLocus::cct`] on
+//! `tables::PLANCKIAN_LOCUS` (correlated colour temperature and Duv, f32, the scene's
+//! `[extras] cct`), [`LuxScale`] (illuminance), and a device's calibration before the set's
+//! matrix, [`Calibration`] in f32 or [`CountCalibration`] in integers (dark offsets and gains,
+//! from a dark and a white reading or fitted at build time). See
+//! `docs/colour-temperature-and-calibration.md`.
+//!
 //! ## Features
 //! - `std`: links the standard library (`std::error::Error` for [`Error`]).
 #![no_std]
@@ -114,10 +123,13 @@ extern crate std;
 //   path, on pixel, planar's portable loops and simd);
 // - dynamic, paper, defmt and fast, on the types; upsample (RGB → node reflectances, on error).
 mod batch;
+mod calibration;
+mod cct;
 mod display;
 mod dynamic;
 mod encode;
 mod error;
+mod lux;
 mod matrix;
 mod pixel;
 mod planar;
@@ -135,12 +147,15 @@ mod fast;
 
 pub mod paper;
 
+pub use calibration::{Calibration, CalibrationProblem, CountCalibration};
+pub use cct::{uv_from_xyz, Cct, PlanckianLocus, CCT_MAX_ERROR_MIRED, DUV_MAX_ERROR, MAX_DUV};
 pub use display::{Display, GamutMapping};
 pub use dynamic::DynamicSet;
 pub use encode::{srgb8_from_linear, SRGB8_MAX_DELTA_E, SRGB8_MAX_STEP_ERROR};
 pub use error::Error;
 #[cfg(feature = "micromath")]
 pub use fast::ENCODE_FAST_MAX_ERROR;
+pub use lux::LuxScale;
 pub use matrix::{ac1c2_from_xyz, xyz_from_ac1c2};
 pub use pixel::f32_budget;
 pub use set::{Channel, FoldedSet, GaussRule, RuleStatus, Samples, WavelengthSet, MAX_WAVELENGTHS};
@@ -242,5 +257,11 @@ struct MicrocontrollersDoctests;
 #[cfg(doctest)]
 #[doc = include_str!("../docs/upsampling.md")]
 struct UpsamplingDoctests;
+
+#[cfg(doctest)]
 #[doc = include_str!("../docs/measured-data.md")]
 struct MeasuredDataDoctests;
+
+#[cfg(doctest)]
+#[doc = include_str!("../docs/colour-temperature-and-calibration.md")]
+struct ColourTemperatureAndCalibrationDoctests;

@@ -385,3 +385,35 @@ fn planar_paths_never_allocate() {
         let _ = black_box(spectral_quadrature::srgb8_from_linear(black_box(0.5)));
     });
 }
+
+#[test]
+fn colour_temperature_lux_and_calibration_do_not_allocate() {
+    use spectral_quadrature::{uv_from_xyz, Calibration, CountCalibration, LuxScale};
+    let xyz = black_box([
+        [95.047f32, 100.0, 108.883],
+        [0.0, 0.0, 0.0],
+        [f32::NAN, 1.0, 1.0],
+        [f32::MAX, f32::MAX, f32::MAX],
+        [1e-45, 1e-45, 1e-45],
+        [0.3, 0.6, 0.1],
+    ]);
+    let counts = black_box([[0u16, 100, 40_000, 65_535], [7, 7, 7, 7]]);
+    let floats = counts.map(|c| c.map(f32::from));
+    assert_no_alloc("PlanckianLocus::cct, uv_from_xyz, LuxScale", || {
+        for x in &xyz {
+            black_box(tables::PLANCKIAN_LOCUS.cct(black_box(*x)));
+            black_box(uv_from_xyz(black_box(*x)));
+            black_box(LuxScale::from_reading(black_box(x[1]), 500.0).map(|s| s.lux(*x)));
+        }
+    });
+    assert_no_alloc("Calibration, CountCalibration", || {
+        let c = CountCalibration::from_dark_white(&counts[1], &counts[0], &counts[0]);
+        let _ = black_box(c.map(|c| c.apply(&counts[0])));
+        let f = Calibration::from_dark_white(&floats[1], &floats[0], &floats[0]);
+        let _ = black_box(f.map(|f| (f.apply(&floats[0]), f.to_counts(1.0))));
+        // The errors too (a channel without signal).
+        let _ = black_box(Calibration::from_dark_white(
+            &floats[0], &floats[0], &floats[0],
+        ));
+    });
+}

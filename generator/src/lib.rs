@@ -40,10 +40,11 @@
 //! 1. `base`: the errors, the data files and their checksums, the CSV reader ([`table`]);
 //! 2. `derivation`: [`Settings`], [`derive()`] and its steps ([`observer`], [`opponent`],
 //!    [`quadrature`], [`sets`]), the display matrices ([`display`]), CIELAB and the measuring of
-//!    sets on spectra ([`evaluate`]);
+//!    sets on spectra ([`evaluate`]), the Planckian locus and the exact CCT ([`planckian`]);
 //! 3. `shared`: the shared sets ([`shared`]: model, fit, node search, node cache);
 //! 4. `scenes`: the scene file ([`scene`]), the sets by name ([`catalog`]), the user's inputs
-//!    ([`user`]) and the planner ([`plan`]);
+//!    ([`user`]), a sensor's white reference and fitted calibration ([`calibration`]) and the
+//!    planner ([`plan`]);
 //! 5. `emit`: the Rust tables ([`codegen`]), the shader snippets ([`shader`]) and [`generate`].
 //!
 //! This file only re-exports: the modules above under their own names, and at the root what
@@ -67,8 +68,8 @@ pub use derivation::opponent::{Covariance, Opponent};
 pub use derivation::quadrature::{Measure, Recurrence, Rule, Status};
 pub use derivation::sets::WavelengthSet;
 pub use derivation::settings::Settings;
-pub use derivation::{display, evaluate, observer, opponent, quadrature, sets};
+pub use derivation::{display, evaluate, observer, opponent, planckian, quadrature, sets};
 pub use emit::generate::{generate, Output};
 pub use emit::{codegen, shader};
 pub use scenes::scene::SCENE_ENV;
-pub use scenes::{catalog, plan, scene, user};
+pub use scenes::{calibration, catalog, plan, scene, user};

@@ -4,13 +4,15 @@
 //! wavelength sets merged from them (Table 2, [`sets`]); [`derive`] runs the steps from
 //! [`settings`]. Beside them: the display matrices ([`display`], from `spectral-quadrature-math`),
 //! and spectra with their exact integration, by which every set is measured in CIELAB with the
-//! colour differences of `spectral-quadrature-math` ([`evaluate`]).
+//! colour differences of `spectral-quadrature-math` ([`evaluate`]); the Planckian locus, the exact
+//! correlated colour temperature and the locus table the runtime interpolates ([`planckian`]).
 
 pub(crate) mod derive;
 pub mod display;
 pub mod evaluate;
 pub mod observer;
 pub mod opponent;
+pub mod planckian;
 pub mod quadrature;
 pub mod sets;
 pub(crate) mod settings;

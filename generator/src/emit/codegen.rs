@@ -257,6 +257,13 @@ pub fn tables_rs(
     writeln!(o).ok();
     floats += 9 + 9 + 3 + 1;
 
+    if scene.extras.cct {
+        let (locus, n) = super::planckian::planckian_rs(d, f32_literal)?;
+        o.push_str(&locus);
+        writeln!(o).ok();
+        floats += n;
+    }
+
     if scene.extras.sensitivities {
         item(
             &mut o,
@@ -474,6 +481,9 @@ pub fn tables_rs(
     }
     let (upsampling, upsampling_bytes) = super::upsampling::upsampling_rs(scene, &f32_literal)?;
     o.push_str(&upsampling);
+    let (sensors, sensor_tables, n) = super::sensors::sensors_rs(&scene.sensors, f32_literal)?;
+    o.push_str(&sensors);
+    floats += n;
     // Every table as a slice, so a program can link them all (examples/size_probe measures
     // what a scene costs when nothing is left unused).
     let chain = |root: &str, children: &[&str]| {
@@ -499,6 +509,21 @@ pub fn tables_rs(
             "SENSITIVITIES".into(),
             chain("SENSITIVITIES", &[".as_flattened()"]),
         ));
+    }
+    if scene.extras.cct {
+        all.push((
+            "PLANCKIAN_LOCUS.mired".into(),
+            chain("PLANCKIAN_LOCUS", &[".mired"]).by_ref(),
+        ));
+        for field in ["uv", "tangent", "chord"] {
+            all.push((
+                std::format!("PLANCKIAN_LOCUS.{field}"),
+                chain(
+                    "PLANCKIAN_LOCUS",
+                    &[&std::format!(".{field}"), ".as_flattened()"],
+                ),
+            ));
+        }
     }
     if scene.extras.rules {
         for (c, name) in CHANNELS.iter().enumerate() {
@@ -547,6 +572,7 @@ pub fn tables_rs(
             chain(&n, &[".xyz_to_rgb", ".as_flattened()"]),
         ));
     }
+    all.extend(sensor_tables);
     let all = all
         .into_iter()
         .map(|(name, e)| Expr::Tuple(std::vec![quoted(&name), e]))

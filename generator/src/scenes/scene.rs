@@ -14,9 +14,10 @@
 //! [transfer]                       # optional: another transfer function for a display
 //! SRGB = "gamma 2.2"               # "srgb", "linear" or "gamma <γ>"
 //!
-//! [extras]                         # optional, both false by default
+//! [extras]                         # optional, all false by default
 //! sensitivities = true             # GRID_NM and SENSITIVITIES
 //! rules = true                     # the rule tables (A_RULES, ..., RULES, MAX_ORDER)
+//! cct = true                       # PLANCKIAN_LOCUS: colour temperature and Duv from XYZ
 //!
 //! [plan]                           # optional: add the set the planner picks for a budget
 //! max_delta_e00 = 1.0
@@ -34,6 +35,8 @@
 //! [sensors.AS7341]                 # optional: the best matrix from a sensor's readings
 //! file = "as7341.csv"              # wavelength, then one column per channel
 //! light = "C"                      # optional: fit for reflectances under it (else radiances)
+//! calibration = "device.csv"       # optional: a device's readings of known reflectances
+//! calibration_reflectances = "chart.csv"  # optional: their spectra (else the ColorChecker)
 //!
 //! [upsampling]                     # optional: RGB → node reflectances (crate::upsampling)
 //! sets = ["KQ_C_8"]                # default: every colour set (sensor sets excepted)
@@ -59,15 +62,17 @@ use std::vec::Vec;
 use serde::Deserialize;
 use toml::Spanned;
 
+use super::calibration::{self, SensorTables};
 use super::catalog;
 use super::plan::{self, Metric};
 use super::upsampling::{RawUpsampling, UpsamplingRequest};
 use super::user::{self, fixed_set, sensor_set, Fitted, Sensor, UserLight};
 use crate::base::error::{DataError, Error};
+use crate::base::files::read_error;
 use crate::base::table::{Negatives, ZeroedNegatives};
 use crate::derivation::derive::Derivation;
 use crate::derivation::display::{self, DisplayMatrices, DisplaySpec, Transfer};
-use crate::derivation::evaluate::{self, builtin_lights, Curve, Stimulus};
+use crate::derivation::evaluate::{self, builtin_lights, Curve, Spectra, Stimulus};
 use crate::derivation::observer::ObserverId;
 use crate::derivation::sets::WavelengthSet;
 use crate::derivation::settings::Settings;
@@ -111,6 +116,8 @@ struct RawFixed {
 struct RawSensor {
     file: Spanned<String>,
     light: Option<Spanned<String>>,
+    calibration: Option<Spanned<String>>,
+    calibration_reflectances: Option<Spanned<String>>,
 }
 
 /// A light a scene reads from a file (`[lights] NAME = "file.csv"`).
@@ -149,6 +156,12 @@ pub struct SceneSensor {
     pub light: Option<String>,
     /// The line of its table.
     pub line: usize,
+    /// A device's readings of known reflectances under `light`, to fit its calibration to
+    /// (`calibration = "readings.csv"`), relative to the scene's directory (or absolute).
+    pub calibration: Option<std::path::PathBuf>,
+    /// The reflectances the readings name (`calibration_reflectances`); `None`: the
+    /// ColorChecker of the crate's data.
+    pub calibration_reflectances: Option<std::path::PathBuf>,
 }
 
 /// What a scene brings of the user's own: lights, fixed wavelengths, sensors.
@@ -170,6 +183,13 @@ impl UserInputs {
             return Vec::new();
         }
         let mut files = std::vec![shared::TRAINING_FILE.to_string()];
+        let default_chart = self
+            .sensors
+            .iter()
+            .any(|s| s.calibration.is_some() && s.calibration_reflectances.is_none());
+        if default_chart {
+            files.push(calibration::DEFAULT_REFLECTANCES.to_string());
+        }
         let lights = self
             .fixed
             .iter()
@@ -187,12 +207,16 @@ impl UserInputs {
         files
     }
 
-    /// The files the scene's own inputs read (lights, then sensors).
+    /// The files the scene's own inputs read (lights, then sensors and their calibrations).
     pub(crate) fn files_mut(&mut self) -> impl Iterator<Item = &mut std::path::PathBuf> {
         self.lights
             .iter_mut()
             .map(|l| &mut l.path)
-            .chain(self.sensors.iter_mut().map(|s| &mut s.path))
+            .chain(self.sensors.iter_mut().flat_map(|s| {
+                core::iter::once(&mut s.path)
+                    .chain(s.calibration.as_mut())
+                    .chain(s.calibration_reflectances.as_mut())
+            }))
     }
 }
 
@@ -219,6 +243,9 @@ pub struct Extras {
     /// `MAX_ORDER`).
     #[serde(default)]
     pub rules: bool,
+    /// The Planckian locus table (`PLANCKIAN_LOCUS`) for correlated colour temperature and Duv.
+    #[serde(default)]
+    pub cct: bool,
 }
 
 #[derive(Deserialize)]
@@ -280,7 +307,7 @@ fn line_of(text: &str, offset: usize) -> usize {
 
 impl Scene {
     /// The default scene: the default settings, every colour set and per-channel rule the
-    /// default tables have always had, every display, and both extras.
+    /// default tables have always had, every display, and every extra.
     /// `data_dir`: where the derivation reads its data ([`Settings::data_dir`]).
     pub fn default_scene(data_dir: &std::path::Path) -> Scene {
         // The sets: Table 2's rows and DEFAULT_SHARED_SETS (see `resolve`).
@@ -292,6 +319,7 @@ impl Scene {
             extras: Extras {
                 sensitivities: true,
                 rules: true,
+                cct: true,
             },
             plan: None,
             user: UserInputs::default(),
@@ -567,11 +595,32 @@ fn parse_user(
         check_name(name, "sensor")?;
         check_set_name(name)?;
         let t = table.get_ref();
+        let light = check_light(&t.light)?;
+        if let (Some(c), None) = (&t.calibration, &light) {
+            return Err(err(
+                at(c.span()),
+                std::format!(
+                    "calibration: the readings are of reflectances under the sensor's light; give [sensors.{}] a light",
+                    name.get_ref()
+                ),
+            ));
+        }
+        if let (Some(r), None) = (&t.calibration_reflectances, &t.calibration) {
+            return Err(err(
+                at(r.span()),
+                "calibration_reflectances without calibration: there are no readings to fit".into(),
+            ));
+        }
         user.sensors.push(SceneSensor {
             name: name.get_ref().clone(),
             path: dir.join(t.file.get_ref()),
-            light: check_light(&t.light)?,
+            light,
             line: at(name.span()),
+            calibration: t.calibration.as_ref().map(|c| dir.join(c.get_ref())),
+            calibration_reflectances: t
+                .calibration_reflectances
+                .as_ref()
+                .map(|r| dir.join(r.get_ref())),
         });
     }
     Ok(user)
@@ -616,6 +665,8 @@ pub struct Resolved {
     /// The negative values read as 0 in the files the scene names (its lights, sensors and plan
     /// spectra), one entry per file that has any: the build prints each as a warning.
     pub warnings: Vec<ZeroedNegatives>,
+    /// Each sensor's white reference and fitted calibration, baked in `tables::sensors`.
+    pub sensors: Vec<SensorTables>,
 }
 
 impl Scene {
@@ -653,6 +704,7 @@ impl Scene {
                 planned: None,
                 upsamplings,
                 warnings: Vec::new(),
+                sensors: Vec::new(),
             });
         }
         let user = self.resolve_user(d)?;
@@ -692,6 +744,7 @@ impl Scene {
             colour_sets.push(set.wavelength_set(d));
         }
         let upsamplings = self.upsamplings(d, &colour_sets, &displays, &user.0)?;
+        let sensors = self.resolve_sensors(d, &user.0)?;
         Ok(Resolved {
             file: self.file.clone(),
             colour_sets,
@@ -701,6 +754,7 @@ impl Scene {
             planned,
             upsamplings,
             warnings,
+            sensors,
         })
     }
 
@@ -716,6 +770,84 @@ impl Scene {
             Some(u) => u.resolve(&self.file, d, sets, displays, lights),
             None => Ok(Vec::new()),
         }
+    }
+
+    /// Each sensor's white reference and, where the scene gives readings, the calibration
+    /// fitted to them ([`calibration`]). Errors name the scene's line that declares the sensor,
+    /// around the file's own error (which names its line).
+    pub fn resolve_sensors(
+        &self,
+        d: &Derivation,
+        lights: &[UserLight],
+    ) -> Result<Vec<SensorTables>, Error> {
+        let range = d.settings.range_nm;
+        let mut out = Vec::new();
+        for s in &self.user.sensors {
+            let within = |e: Error| Error::At {
+                file: self.file.clone(),
+                line: s.line as u64,
+                error: std::boxed::Box::new(e),
+                hint: None,
+            };
+            let sensor = Sensor::read_with(
+                &s.path,
+                &s.path.display().to_string(),
+                range,
+                self.negatives,
+            )
+            .map_err(within)?;
+            let light = match &s.light {
+                None => None,
+                Some(n) => match lights.iter().find(|l| &l.name == n) {
+                    Some(l) => Some(l.curve.clone()),
+                    None => Some(
+                        evaluate::builtin_illuminant(&d.settings.data_dir, n, range)
+                            .map_err(|e| within(e.into()))?,
+                    ),
+                },
+            };
+            let white = calibration::white_readings(d, &sensor, light.as_ref()).map_err(within)?;
+            let fitted = match &s.calibration {
+                None => None,
+                Some(path) => {
+                    let label = path.display().to_string();
+                    let text = std::fs::read_to_string(path)
+                        .map_err(|e| within(read_error(&label, path, &e).into()))?;
+                    let names: Vec<String> =
+                        sensor.channels.iter().map(|c| c.name.clone()).collect();
+                    let readings = calibration::Readings::parse(&label, &text, &names)
+                        .map_err(|e| within(e.into()))?;
+                    let chart = match &s.calibration_reflectances {
+                        Some(r) => Spectra::read(r),
+                        None => Spectra::builtin(
+                            &d.settings.data_dir,
+                            calibration::DEFAULT_REFLECTANCES,
+                        ),
+                    }
+                    .map_err(|e| within(e.into()))?;
+                    let reflectances = readings
+                        .reflectances(&chart, range)
+                        .map_err(|e| within(e.into()))?;
+                    let golden =
+                        calibration::golden_readings(d, &sensor, light.as_ref(), &reflectances)
+                            .map_err(within)?;
+                    let fit = calibration::fit(&golden, &readings.values).map_err(|message| {
+                        within(Error::Data(DataError {
+                            file: label.clone(),
+                            line: 0,
+                            message,
+                        }))
+                    })?;
+                    Some(fit)
+                }
+            };
+            out.push(SensorTables {
+                name: s.name.clone(),
+                white,
+                calibration: fitted,
+            });
+        }
+        Ok(out)
     }
 
     /// Reads the scene's lights and builds its fixed and sensor sets. Errors name the scene's

@@ -1,0 +1,327 @@
+//! The Planckian locus in CIE 1960 (u, v) with the derivation's observer, the exact correlated
+//! colour temperature (CCT) and Duv it defines, and the table of locus points the runtime's
+//! `PlanckianLocus::cct` interpolates.
+//!
+//! The locus is Planck's law integrated against the observer's x̄ȳz̄ at 1 nm over the
+//! derivation's range (the same integration every exact colour of the crate uses), with the
+//! second radiation constant of CIE 015 (c₂ = 1.4388 × 10⁻² m·K). It is parametrised by the
+//! reciprocal temperature in mired, μ = 10⁶ / T, in which it is smooth up to T = ∞ (μ = 0).
+//!
+//! The CCT of a chromaticity is the temperature of the nearest point of the locus in (u, v), and
+//! Duv its distance, positive above the locus (toward green) and negative below (toward
+//! magenta), as CIE 015 and ANSI C78.377 define them. [`PlanckianLocus::cct_duv`] finds that
+//! point in f64 by scanning the locus and solving for the foot of the perpendicular (the zero of
+//! the distance's derivative) by false position: the reference the runtime is tested against.
+
+use std::vec::Vec;
+
+use super::evaluate::full_integration;
+use super::observer::Observer;
+use crate::base::error::Error;
+
+/// Planck's second radiation constant as CIE 015 gives it, in nm·K (1.4388 × 10⁻² m·K).
+pub const C2_NM_K: f64 = 1.4388e7;
+
+/// The locus table's ends in mired: 10 (100 000 K) to 1000 (1000 K).
+pub const TABLE_MIRED: [f64; 2] = [10.0, 1000.0];
+
+/// How far (in u, v) the cubic Hermite interpolation between two table nodes may stray from the
+/// locus: about the rounding of u and v to f32 (half a unit in the last place of 0.2-0.4 is
+/// 0.7-1.5 × 10⁻⁸), so that the table's interpolation adds no more error to Duv than its storage
+/// in f32 does.
+pub const TABLE_TOLERANCE_UV: f64 = 5e-9;
+
+/// How far (in mired) the interpolation may move the foot of the perpendicular from a point up
+/// to 0.05 from the locus (the largest |Duv| with a CCT): its error in position plus 0.05 times
+/// its error in direction (radians), over the locus's speed |dL/dμ|. Off the locus the
+/// direction matters: a tangent off by ε rad moves the foot by 0.05 ε. The bound is what the
+/// f32 rounding of (u, v) alone moves the foot where the locus is slowest (3 × 10⁻⁸ over
+/// 2.3 × 10⁻⁴ per mired, at 1000 K): a tighter one doubles the table and changes the runtime's
+/// largest error by a tenth (`tests/cct.rs` prints it).
+pub const TABLE_TOLERANCE_MIRED: f64 = 1e-4;
+
+/// The largest |Duv| the table is made for.
+const TABLE_MAX_DUV: f64 = 0.05;
+
+/// The scan the reference starts from: every 0.25 mired from 0 to 1500 mired (667 K).
+const SCAN_MIRED: [f64; 2] = [0.0, 1500.0];
+const SCAN_STEP_MIRED: f64 = 0.25;
+
+/// One node of the locus table: the point and its tangent at μ mired.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LocusNode {
+    /// μ = 10⁶ / T, mired.
+    pub mired: f64,
+    /// CIE 1960 (u, v) of the blackbody at μ.
+    pub uv: [f64; 2],
+    /// d(u, v)/dμ at μ, per mired.
+    pub tangent: [f64; 2],
+}
+
+impl LocusNode {
+    /// The node's unit tangent in 1.14 fixed point (16 384 is 1) and `L · T̂` with (u, v) in 16
+    /// fractional bits times that tangent (so 30 fractional bits): what the runtime's binary
+    /// search computes the slope's sign from in integers, `(P · T̂) − L · T̂` for a point P in
+    /// 16 fractional bits.
+    pub fn fixed_point(&self) -> ([i16; 2], i32) {
+        let norm = self.tangent[0].hypot(self.tangent[1]);
+        let unit = self.tangent.map(|t| (t / norm * 16_384.0).round() as i16);
+        let along =
+            self.uv[0] * 65_536.0 * f64::from(unit[0]) + self.uv[1] * 65_536.0 * f64::from(unit[1]);
+        (unit, along.round() as i32)
+    }
+}
+
+/// The CCT and Duv of a chromaticity, and where on the locus it lies.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CctDuv {
+    /// The correlated colour temperature, K.
+    pub kelvin: f64,
+    /// The nearest point's μ = 10⁶ / T, mired.
+    pub mired: f64,
+    /// The signed distance from the locus in (u, v): positive above (toward green).
+    pub duv: f64,
+}
+
+/// The Planckian locus of one observer over one range of wavelengths.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlanckianLocus {
+    /// x̄ȳz̄ · dλ on the 1 nm grid.
+    weights: [Vec<f64>; 3],
+    /// λ⁻⁵ and c₂ / (10⁶ λ) at each wavelength: what every evaluation needs (the build script
+    /// runs this at opt-level 0, where a call to `powi` costs).
+    per_wavelength: Vec<[f64; 2]>,
+    /// (u, v) every SCAN_STEP_MIRED over SCAN_MIRED, for the reference's first guess: made on
+    /// its first use, since a build script only needs the table.
+    scan: std::sync::OnceLock<Vec<[f64; 2]>>,
+}
+
+/// CIE 1960 (u, v) from XYZ: u = 4X / (X + 15Y + 3Z), v = 6Y / (X + 15Y + 3Z). `None` where the
+/// denominator is not positive.
+pub fn uv_from_xyz([x, y, z]: [f64; 3]) -> Option<[f64; 2]> {
+    let d = x + 15.0 * y + 3.0 * z;
+    (d > 0.0 && d.is_finite()).then(|| [4.0 * x / d, 6.0 * y / d])
+}
+
+/// XYZ with Y = 1 from CIE 1960 (u, v) (v > 0): the inverse of [`uv_from_xyz`].
+pub fn xyz_from_uv([u, v]: [f64; 2]) -> [f64; 3] {
+    // x = 3u / (2u − 8v + 4), y = 2v / (2u − 8v + 4); X = x / y, Z = (1 − x − y) / y.
+    let d = 2.0 * u - 8.0 * v + 4.0;
+    let (x, y) = (3.0 * u / d, 2.0 * v / d);
+    [x / y, 1.0, (1.0 - x - y) / y]
+}
+
+impl PlanckianLocus {
+    /// The locus with `observer` over `range_nm` at 1 nm (the grid of the crate's exact
+    /// integration). Errors: the range is not on the observer's 1 nm table.
+    pub fn new(observer: &Observer, range_nm: [f64; 2]) -> Result<PlanckianLocus, Error> {
+        let full = full_integration(observer, range_nm, 1.0)?;
+        let per_wavelength = full
+            .wavelengths_nm
+            .iter()
+            .map(|&nm| [nm.powi(-5), C2_NM_K * 1e-6 / nm])
+            .collect();
+        Ok(PlanckianLocus {
+            weights: full.xyz_weights,
+            per_wavelength,
+            scan: std::sync::OnceLock::new(),
+        })
+    }
+
+    /// XYZ of the blackbody at μ mired (μ ≥ 0), up to a constant factor: each wavelength's
+    /// radiance is μ λ⁻⁵ / (exp(c₂ μ / (10⁶ λ)) − 1), finite down to μ = 0 (T = ∞). Also its
+    /// derivative with respect to μ.
+    fn xyz_and_derivative(&self, mired: f64) -> ([f64; 3], [f64; 3]) {
+        let (mut xyz, mut dxyz) = ([0.0; 3], [0.0; 3]);
+        let [wx, wy, wz] = &self.weights;
+        for (i, &[l5, a]) in self.per_wavelength.iter().enumerate() {
+            // x = c₂ μ / (10⁶ λ); q = μ λ⁻⁵ / expm1(x) and dq/dμ = λ⁻⁵ (1 − x eˣ / expm1(x)) /
+            // expm1(x), both with finite limits at x = 0: λ⁻⁵ / (c₂ / (10⁶ λ)) and −λ⁻⁵ / 2.
+            let x = a * mired;
+            let (q, dq) = if x < 1e-6 {
+                (l5 / a, -0.5 * l5)
+            } else {
+                let em1 = x.exp_m1();
+                (l5 * mired / em1, l5 * (1.0 - x * (em1 + 1.0) / em1) / em1)
+            };
+            let w = [wx[i], wy[i], wz[i]];
+            for c in 0..3 {
+                xyz[c] += w[c] * q;
+                dxyz[c] += w[c] * dq;
+            }
+        }
+        (xyz, dxyz)
+    }
+
+    /// XYZ of the blackbody at μ mired (μ ≥ 0), scaled to Y = 1.
+    pub fn xyz(&self, mired: f64) -> [f64; 3] {
+        let (xyz, _) = self.xyz_and_derivative(mired);
+        xyz.map(|c| c / xyz[1])
+    }
+
+    /// CIE 1960 (u, v) of the blackbody at μ mired (μ ≥ 0).
+    pub fn uv(&self, mired: f64) -> [f64; 2] {
+        self.uv_and_tangent(mired).0
+    }
+
+    /// (u, v) at μ mired and its derivative d(u, v)/dμ.
+    pub fn uv_and_tangent(&self, mired: f64) -> ([f64; 2], [f64; 2]) {
+        let ([x, y, z], [dx, dy, dz]) = self.xyz_and_derivative(mired);
+        let d = x + 15.0 * y + 3.0 * z;
+        let dd = dx + 15.0 * dy + 3.0 * dz;
+        let uv = [4.0 * x / d, 6.0 * y / d];
+        let tangent = [
+            4.0 * (dx * d - x * dd) / (d * d),
+            6.0 * (dy * d - y * dd) / (d * d),
+        ];
+        (uv, tangent)
+    }
+
+    /// The point at a signed distance `duv` from the locus at μ mired, along the normal (the
+    /// tangent turned a quarter turn anticlockwise: positive is above, toward green).
+    pub fn offset(&self, mired: f64, duv: f64) -> [f64; 2] {
+        let ([u, v], [tu, tv]) = self.uv_and_tangent(mired);
+        let norm = tu.hypot(tv);
+        [u - duv * tv / norm, v + duv * tu / norm]
+    }
+
+    /// (p − L(μ)) · L'(μ): minus half the derivative of the squared distance from `p` to the
+    /// locus. Positive where the distance still falls as μ grows.
+    fn slope(&self, p: [f64; 2], mired: f64) -> f64 {
+        let ([u, v], [tu, tv]) = self.uv_and_tangent(mired);
+        (p[0] - u) * tu + (p[1] - v) * tv
+    }
+
+    /// The exact CCT and Duv of the chromaticity `uv`: the nearest point of the locus with μ in
+    /// 0-1500 mired (T from 667 K to ∞), by a scan every 0.25 mired, then the zero of the
+    /// distance's derivative (the foot of the perpendicular) by false position to the last bits
+    /// of f64. `None` if the nearest point is an end
+    /// of that span (the chromaticity lies beyond it) or `uv` is not finite.
+    pub fn cct_duv(&self, uv: [f64; 2]) -> Option<CctDuv> {
+        if !(uv[0].is_finite() && uv[1].is_finite()) {
+            return None;
+        }
+        let d2 = |q: &[f64; 2]| (uv[0] - q[0]).powi(2) + (uv[1] - q[1]).powi(2);
+        let scan = self.scan.get_or_init(|| {
+            let n = ((SCAN_MIRED[1] - SCAN_MIRED[0]) / SCAN_STEP_MIRED).round() as usize;
+            (0..=n)
+                .map(|i| self.uv(SCAN_MIRED[0] + i as f64 * SCAN_STEP_MIRED))
+                .collect()
+        });
+        let best = (0..scan.len()).min_by(|&a, &b| d2(&scan[a]).total_cmp(&d2(&scan[b])))?;
+        if best == 0 || best == scan.len() - 1 {
+            return None;
+        }
+        let at = |i: usize| SCAN_MIRED[0] + i as f64 * SCAN_STEP_MIRED;
+        // The distance's minimum lies within one scan step of the nearest scan point: the slope
+        // changes sign from + to − there.
+        let (mut lo, mut hi) = (at(best - 1), at(best + 1));
+        let (mut s_lo, mut s_hi) = (self.slope(uv, lo), self.slope(uv, hi));
+        if s_lo < 0.0 || s_hi > 0.0 {
+            return None;
+        }
+        // The Illinois variant of false position: superlinear, and the bracket always shrinks
+        // (an end kept twice has its slope halved); bisection where the secant leaves it.
+        let mut kept = 0i8;
+        for _ in 0..200 {
+            if hi - lo <= 4.0 * f64::EPSILON * hi.max(1.0) || s_lo == s_hi {
+                break;
+            }
+            let mut mid = (lo * s_hi - hi * s_lo) / (s_hi - s_lo);
+            if !(mid > lo && mid < hi) {
+                mid = 0.5 * (lo + hi);
+            }
+            let s = self.slope(uv, mid);
+            if s == 0.0 {
+                (lo, hi) = (mid, mid);
+                break;
+            }
+            if s > 0.0 {
+                (lo, s_lo) = (mid, s);
+                if kept == 1 {
+                    s_hi *= 0.5;
+                }
+                kept = 1;
+            } else {
+                (hi, s_hi) = (mid, s);
+                if kept == -1 {
+                    s_lo *= 0.5;
+                }
+                kept = -1;
+            }
+        }
+        let mired = 0.5 * (lo + hi);
+        let ([u, v], [tu, tv]) = self.uv_and_tangent(mired);
+        let duv = ((uv[1] - v) * tu - (uv[0] - u) * tv) / tu.hypot(tv);
+        Some(CctDuv {
+            kelvin: 1e6 / mired,
+            mired,
+            duv,
+        })
+    }
+
+    /// The nodes of the runtime's locus table over [`TABLE_MIRED`]: 16 segments equal in
+    /// log μ, each halved until the cubic Hermite interpolation between its ends (points and
+    /// tangents) stays within [`TABLE_TOLERANCE_UV`] of the locus and moves the foot of a
+    /// perpendicular by at most [`TABLE_TOLERANCE_MIRED`], at the quarters of the segment.
+    pub fn table(&self) -> Vec<LocusNode> {
+        let node = |mired: f64| {
+            let (uv, tangent) = self.uv_and_tangent(mired);
+            LocusNode { mired, uv, tangent }
+        };
+        let [lo, hi] = TABLE_MIRED;
+        let mut nodes: Vec<LocusNode> = (0..=16)
+            .map(|i| node(lo * (hi / lo).powf(i as f64 / 16.0)))
+            .collect();
+        let mut i = 0;
+        while i + 1 < nodes.len() {
+            let (a, b) = (nodes[i], nodes[i + 1]);
+            // The quarters: to leading order a cubic Hermite's error in position goes as
+            // t²(1 − t)², largest at the half, and in direction as t(1 − t)(1 − 2t), largest at
+            // 0.21 and 0.79, where it is 1.03 times its value at the quarters.
+            let too_far = [0.25, 0.5, 0.75].into_iter().any(|t| {
+                let mired = a.mired + t * (b.mired - a.mired);
+                let ([u, v], [tu, tv]) = self.uv_and_tangent(mired);
+                let p = hermite(&a, &b, t);
+                let [du, dv] = hermite_tangent(&a, &b, t);
+                let position = (p[0] - u).hypot(p[1] - v);
+                let speed = tu.hypot(tv);
+                let direction = (du * tv - dv * tu).abs() / (du.hypot(dv) * speed);
+                position > TABLE_TOLERANCE_UV
+                    || (position + TABLE_MAX_DUV * direction) / speed > TABLE_TOLERANCE_MIRED
+            });
+            if too_far {
+                nodes.insert(i + 1, node(0.5 * (a.mired + b.mired)));
+            } else {
+                i += 1;
+            }
+        }
+        nodes
+    }
+}
+
+/// The derivative d(u, v)/dμ of [`hermite`] at t.
+pub fn hermite_tangent(a: &LocusNode, b: &LocusNode, t: f64) -> [f64; 2] {
+    let h = b.mired - a.mired;
+    let t2 = t * t;
+    let (d00, d10, d01, d11) = (
+        6.0 * t2 - 6.0 * t,
+        3.0 * t2 - 4.0 * t + 1.0,
+        -6.0 * t2 + 6.0 * t,
+        3.0 * t2 - 2.0 * t,
+    );
+    [0, 1].map(|c| (d00 * a.uv[c] + d01 * b.uv[c]) / h + d10 * a.tangent[c] + d11 * b.tangent[c])
+}
+
+/// The cubic Hermite interpolant between two nodes at t in [0, 1] (t = 0 at `a`).
+pub fn hermite(a: &LocusNode, b: &LocusNode, t: f64) -> [f64; 2] {
+    let h = b.mired - a.mired;
+    let (t2, t3) = (t * t, t * t * t);
+    let (h00, h10, h01, h11) = (
+        2.0 * t3 - 3.0 * t2 + 1.0,
+        t3 - 2.0 * t2 + t,
+        -2.0 * t3 + 3.0 * t2,
+        t3 - t2,
+    );
+    [0, 1].map(|c| h00 * a.uv[c] + h10 * h * a.tangent[c] + h01 * b.uv[c] + h11 * h * b.tangent[c])
+}

@@ -1,0 +1,91 @@
+//! The scene's sensors beyond their sets (`tables::sensors`): each one's white reference for a
+//! dark and white calibration at run time and, where the scene gives a device's readings, the
+//! calibration fitted to them.
+
+use std::string::String;
+use std::vec::Vec;
+
+use super::layout::{self, Expr};
+use crate::base::error::Error;
+use crate::scenes::calibration::SensorTables;
+
+/// The module `sensors` for `sensors` (empty text if there are none), the names of its tables
+/// for `ALL_TABLES` (each with its path and the expression of its slice), and how many f32
+/// values it holds. `f32_literal` writes each value (the code generator's, which calls this
+/// one).
+#[allow(clippy::type_complexity)]
+pub(crate) fn sensors_rs(
+    sensors: &[SensorTables],
+    f32_literal: impl Fn(f64) -> Result<String, Error>,
+) -> Result<(String, Vec<(String, Expr)>, usize), Error> {
+    if sensors.is_empty() {
+        return Ok((String::new(), Vec::new(), 0));
+    }
+    let array = |v: &[f64]| -> Result<Expr, Error> {
+        v.iter()
+            .map(|&x| f32_literal(x).map(Expr::Atom))
+            .collect::<Result<Vec<_>, _>>()
+            .map(Expr::Array)
+    };
+    let mut o = layout::comment(
+        0,
+        "///",
+        "Each sensor's white reference, and the calibration fitted to a device's readings where the scene gives them (`calibration = \"readings.csv\"`).",
+        0,
+    );
+    o.push_str("pub mod sensors {\n");
+    let (mut all, mut floats) = (Vec::new(), 0);
+    for s in sensors {
+        let n = s.white.len();
+        let doc = std::format!(
+            "What the golden {} reads on a perfect white under the light its set was fitted for (illuminant E for radiances), at the luminance the folded sets show as the display's white: the `reference` of [`Calibration::from_dark_white`](crate::Calibration::from_dark_white). Scale it by the white tile's reflectance.",
+            s.name
+        );
+        o.push_str(&layout::comment(4, "///", &doc, 0));
+        let name = std::format!("{}_WHITE", s.name);
+        o.push_str(&layout::item(
+            4,
+            &std::format!("pub const {name}: [f32; {n}] ="),
+            &array(&s.white)?,
+        ));
+        o.push('\n');
+        all.push((
+            std::format!("sensors::{name}"),
+            Expr::atom(std::format!("sensors::{name}")).by_ref(),
+        ));
+        floats += n;
+        if let Some(fit) = &s.calibration {
+            let doc = std::format!(
+                "The device's calibration fitted at build time to its readings of known reflectances: `apply` turns its raw readings into the golden {}'s, for the set's weights. Root-mean-square residual of the fit per channel, in the readings' units: {}.",
+                s.name,
+                fit.rms_residual
+                    .iter()
+                    .map(|r| std::format!("{r:.3}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            );
+            o.push_str(&layout::comment(4, "///", &doc, 0));
+            let name = std::format!("{}_CALIBRATION", s.name);
+            let value = Expr::Struct(
+                "crate::Calibration".into(),
+                std::vec![
+                    ("dark".into(), array(&fit.dark)?),
+                    ("gain".into(), array(&fit.gain)?),
+                ],
+            );
+            o.push_str(&layout::item(
+                4,
+                &std::format!("pub const {name}: crate::Calibration<{n}> ="),
+                &value,
+            ));
+            o.push('\n');
+            for field in ["dark", "gain"] {
+                let path = std::format!("sensors::{name}.{field}");
+                all.push((path.clone(), Expr::atom(path).by_ref()));
+            }
+            floats += 2 * n;
+        }
+    }
+    o.push_str("}\n\n");
+    Ok((o, all, floats))
+}

@@ -1,0 +1,106 @@
+//! The Planckian locus, the exact CCT reference and the baked locus table.
+
+use spectral_quadrature_build as sqd;
+
+use sqd::planckian::{self, PlanckianLocus};
+use sqd::scene::Scene;
+
+/// The data files the derivation reads (the runtime crate's `data/`).
+const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");
+
+fn locus(observer: sqd::ObserverId) -> PlanckianLocus {
+    let settings = sqd::Settings::for_observer(observer, DATA_DIR).unwrap();
+    let d = sqd::derive(&settings).unwrap();
+    PlanckianLocus::new(&d.observer, d.settings.range_nm).unwrap()
+}
+
+fn tables(text: &str) -> String {
+    let scene = Scene::parse("scene.toml", text, std::path::Path::new(DATA_DIR)).unwrap();
+    let d = sqd::derive(&scene.settings).unwrap();
+    sqd::codegen::tables_rs(&d, &[], &scene.resolve(&d).unwrap()).unwrap()
+}
+
+/// Points placed at a known temperature and distance along the exact normal come back: the
+/// reference solves for the foot of the perpendicular to f64 rounding.
+#[test]
+fn the_reference_recovers_points_placed_off_the_locus() {
+    let l = locus(sqd::ObserverId::Cie1931_2deg);
+    for kelvin in [
+        1000.0, 1500.0, 2856.0, 4000.0, 6504.0, 10_000.0, 20_000.0, 100_000.0,
+    ] {
+        for duv in [-0.05, -0.02, 0.0, 0.001, 0.03, 0.05] {
+            let mired = 1e6 / kelvin;
+            let e = l.cct_duv(l.offset(mired, duv)).unwrap();
+            // The placement and the solution each round at the level of f64's ε (2.2e-16) on
+            // values near 0.3, over a locus speed of at least 2.3e-4 per mired: 1e-9 mired
+            // leaves room for both and for the curvature's second-order term.
+            assert!((e.mired - mired).abs() < 1e-9, "{kelvin} K, {duv}: {e:?}");
+            assert!((e.duv - duv).abs() < 1e-12, "{kelvin} K, {duv}: {e:?}");
+        }
+    }
+    // The locus's ends (μ = 0 and 1500 mired) are not answers: a point beyond them has none.
+    assert_eq!(l.cct_duv(l.uv(1600.0)), None);
+    assert_eq!(l.cct_duv([f64::NAN, 0.3]), None);
+    // μ = 0, T = ∞, has a finite chromaticity; the table stops at 10 mired.
+    let infinite = l.uv(0.0);
+    assert!(infinite.iter().all(|c| c.is_finite()));
+}
+
+/// The tangent the table bakes is the derivative of the locus: a central difference agrees.
+#[test]
+fn the_tangent_is_the_derivative() {
+    let l = locus(sqd::ObserverId::Cie1931_2deg);
+    for mired in [10.0, 50.0, 153.8, 350.0, 700.0, 1000.0] {
+        let (_, t) = l.uv_and_tangent(mired);
+        let h = 1e-3;
+        let (a, b) = (l.uv(mired - h), l.uv(mired + h));
+        for c in 0..2 {
+            let fd = (b[c] - a[c]) / (2.0 * h);
+            // A central difference errs by h²/6 · L‴ (below 1e-12 here) plus rounding
+            // (1e-16 / 1e-3): relative 1e-8 of the tangent is ample.
+            assert!(
+                (fd - t[c]).abs() <= 1e-8 * t[0].hypot(t[1]),
+                "{mired}: {fd} vs {}",
+                t[c]
+            );
+        }
+    }
+}
+
+/// The table: its ends, its tolerance at points the generator did not check, and the size the
+/// docs state; another observer gives another locus.
+#[test]
+fn the_table() {
+    let l = locus(sqd::ObserverId::Cie1931_2deg);
+    let nodes = l.table();
+    assert_eq!(
+        nodes.len(),
+        111,
+        "docs/colour-temperature-and-calibration.md states the size"
+    );
+    assert_eq!(nodes[0].mired, planckian::TABLE_MIRED[0]);
+    assert!((nodes[nodes.len() - 1].mired - planckian::TABLE_MIRED[1]).abs() < 1e-9);
+    assert!(nodes.windows(2).all(|w| w[0].mired < w[1].mired));
+    let ten = locus(sqd::ObserverId::Cie1964_10deg);
+    let (a, b) = (l.uv(153.8), ten.uv(153.8));
+    // D65's neighbourhood moves by 3.5e-4 in (u, v) from the 2° to the 10° observer.
+    assert!((a[0] - b[0]).hypot(a[1] - b[1]) > 1e-4, "{a:?} {b:?}");
+}
+
+/// `[extras] cct = true` bakes the locus; a scene without it does not; the default scene does.
+#[test]
+fn the_scene_decides() {
+    let plain = tables("sets = [\"TABLE2_ROW2\"]\ndisplays = [\"SRGB\"]\n");
+    assert!(!plain.contains("PLANCKIAN_LOCUS"));
+    let with = tables("sets = [\"TABLE2_ROW2\"]\ndisplays = [\"SRGB\"]\n[extras]\ncct = true\n");
+    assert!(with.contains("pub const PLANCKIAN_LOCUS: crate::PlanckianLocus<111> ="));
+    assert!(
+        with.contains("\"PLANCKIAN_LOCUS.chord\","),
+        "ALL_TABLES lists the table"
+    );
+    let d = sqd::derive(&sqd::Settings::new(DATA_DIR)).unwrap();
+    let default = Scene::default_scene(std::path::Path::new(DATA_DIR))
+        .resolve(&d)
+        .unwrap();
+    assert!(default.extras.cct);
+}

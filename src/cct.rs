@@ -1,0 +1,279 @@
+//! Correlated colour temperature (CCT) and Duv from XYZ, in f32, on a Planckian locus table
+//! baked for the scene's observer.
+//!
+//! The method: the chromaticity in CIE 1960 (u, v); a binary search over the table's nodes for
+//! the segment that holds the foot of the perpendicular from that point onto the locus (where
+//! the slope (p − L)·L′ changes sign); Newton's method on that segment's cubic Hermite
+//! interpolant (the nodes' points, tangents and chord) for the foot itself; the distance to it,
+//! signed. The table is dense enough that interpolating it moves the foot less than the f32
+//! rounding of (u, v) does, so the result is the exact CCT of the locus to about 10⁻⁴ mired, on
+//! the locus and off it alike, where the usual methods (McCamy's cubic, Robertson's isotherms,
+//! Ohno's triangular and parabolic solutions) trade accuracy for a smaller table.
+
+#![forbid(unsafe_code)]
+
+/// A correlated colour temperature and the chromaticity's distance from the Planckian locus.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Cct {
+    /// The temperature of the nearest blackbody in CIE 1960 (u, v), kelvin.
+    pub kelvin: f32,
+    /// The signed distance from the locus in CIE 1960 (u, v): positive above it (toward green),
+    /// negative below (toward magenta), as CIE 015 and ANSI C78.377 define Duv.
+    pub duv: f32,
+}
+
+/// The largest |Duv| for which [`PlanckianLocus::cct`] gives a temperature: 0.05, the limit
+/// CIE 015 sets on the concept. Farther from the locus a correlated colour temperature means
+/// nothing, and the function returns `None`.
+pub const MAX_DUV: f32 = 0.05;
+
+/// The stated accuracy of [`PlanckianLocus::cct`]'s temperature, in mired (μ = 10⁶ / T): for
+/// every XYZ whose CCT the table covers (1000-100 000 K for the baked tables) with
+/// |Duv| ≤ [`MAX_DUV`], the result's μ is within `CCT_MAX_ERROR_MIRED` of the exact CCT's (the
+/// nearest point of the locus computed in f64, `tests/cct.rs`; the largest error it measures
+/// is 3.8 × 10⁻⁴). In kelvin, ΔT ≤ T² · 10⁻⁶ · `CCT_MAX_ERROR_MIRED`: 0.0005 K at 1000 K,
+/// 0.02 K at 6500 K, 0.2 K at 20 000 K. Reciprocal temperature is the natural unit: the
+/// locus moves about as far in (u, v) per mired at every temperature, so the f32 rounding of
+/// (u, v), a few 10⁻⁸, is about the same error in mired everywhere.
+pub const CCT_MAX_ERROR_MIRED: f32 = 5e-4;
+
+/// The stated accuracy of [`PlanckianLocus::cct`]'s Duv, absolute, over the same inputs as
+/// [`CCT_MAX_ERROR_MIRED`] (the largest error `tests/cct.rs` measures is 7.3 × 10⁻⁸).
+pub const DUV_MAX_ERROR: f32 = 1e-7;
+
+/// The Planckian locus as a table of points and tangents in CIE 1960 (u, v), by reciprocal
+/// temperature: what [`cct`](Self::cct) interpolates. The build bakes one for the scene's
+/// observer when the scene asks for it (`[extras] cct = true`; the default scene does):
+/// [`tables::PLANCKIAN_LOCUS`](crate::tables).
+///
+/// The locus is Planck's law (c₂ = 1.4388 × 10⁻² m·K, as in CIE 015) integrated at 1 nm over
+/// the scene's range with its observer, the same integration the crate's exact colours use; CCT
+/// is defined with CIE 1931 2°, the default observer, and with another observer these are its
+/// own temperatures, consistent with the XYZ its sets give.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlanckianLocus<const K: usize> {
+    /// The nodes' reciprocal temperatures μ = 10⁶ / T in mired, ascending (T descending).
+    pub mired: [f32; K],
+    /// CIE 1960 (u, v) of the blackbody at each node.
+    pub uv: [[f32; 2]; K],
+    /// d(u, v)/dμ at each node, per mired.
+    pub tangent: [[f32; 2]; K],
+    /// `uv[i + 1] − uv[i]`, computed before rounding (the difference of the rounded points
+    /// would lose the direction of short segments), and `[0, 0]` at the last node.
+    pub chord: [[f32; 2]; K],
+    /// The unit tangent at each node in 1.14 fixed point (16 384 is 1): the binary search over
+    /// the nodes runs in integers, where an f32 operation is a library call of a hundred
+    /// instructions.
+    pub unit_tangent_q14: [[i16; 2]; K],
+    /// `L · T̂` at each node, the point in 16 fractional bits times the unit tangent above (30
+    /// fractional bits): a point P (16 fractional bits) lies on the hot side of the node's
+    /// isotemperature line where `P · T̂ − L · T̂ ≥ 0`.
+    pub along_q30: [i32; K],
+}
+
+/// At most how many Newton steps refine the foot of the perpendicular on a segment, from where
+/// the linear interpolation of the slope between its ends vanishes. Newton's method converges
+/// quadratically: two steps reach f32 rounding on every point `tests/cct.rs` tries (a dense
+/// sweep, and 200 000 random points once; 2000 in each run), and a third changes none of its
+/// largest errors by more than a tenth.
+const NEWTON_STEPS: usize = 2;
+
+/// A Newton step smaller than this (in t, the segment's parameter) ends the refinement: the
+/// next step would be about its square (times the segment's curvature term, of order 1), below
+/// 10⁻⁷ of a segment of at most 16 mired, 2 × 10⁻⁶ mired. Most points near the locus stop
+/// after one step.
+const NEWTON_DONE: f32 = 3e-4;
+
+/// CIE 1960 (u, v) from XYZ: u = 4X / (X + 15Y + 3Z), v = 6Y / (X + 15Y + 3Z), in f32.
+///
+/// `None` where a component is NaN or infinite, or the denominator is not positive (all zero,
+/// or negative components that outweigh the rest). Huge components (up to `f32::MAX`) and tiny
+/// ones (subnormals) are scaled by a power of two first, which changes nothing in (u, v) but
+/// keeps the denominator from overflowing or losing precision. Negative components are used as
+/// they are. Never panics.
+pub fn uv_from_xyz(xyz: [f32; 3]) -> Option<[f32; 2]> {
+    // The largest biased exponent among the three, from the bits (no float comparison, which is
+    // a library call on FPU-less cores): 255 is NaN or infinity.
+    let exponent = |v: f32| (v.to_bits() >> 23) & 0xff;
+    let e = exponent(xyz[0]).max(exponent(xyz[1])).max(exponent(xyz[2]));
+    if e == 0xff {
+        return None;
+    }
+    // 2⁻⁶⁴ above 2¹⁰⁰ (the sum of 19 such values stays finite), 2⁶⁴ below 2⁻⁶⁰ (subnormals
+    // become normal): exact scalings of all three.
+    let scale = if e > 127 + 100 {
+        f32::from_bits((127 - 64) << 23)
+    } else if e < 127 - 60 {
+        f32::from_bits((127 + 64) << 23)
+    } else {
+        1.0
+    };
+    let [x, y, z] = xyz.map(|c| c * scale);
+    let d = x + 15.0 * y + 3.0 * z;
+    if d <= 0.0 || d.is_nan() {
+        return None;
+    }
+    Some([4.0 * x / d, 6.0 * y / d])
+}
+
+impl<const K: usize> PlanckianLocus<K> {
+    /// The temperatures the table covers, lowest first: `[10⁶ / mired[K − 1], 10⁶ / mired[0]]`
+    /// (1000 K and 100 000 K for the baked tables).
+    pub fn kelvin_range(&self) -> [f32; 2] {
+        match (self.mired.first(), self.mired.last()) {
+            (Some(&hi), Some(&lo)) => [1e6 / lo, 1e6 / hi],
+            _ => [f32::NAN; 2],
+        }
+    }
+
+    /// The CCT and Duv of `xyz` (any scale: only the chromaticity counts), from
+    /// [`uv_from_xyz`] and [`cct_from_uv`](Self::cct_from_uv).
+    ///
+    /// `None` where (u, v) is not defined (a NaN or infinite component, a denominator
+    /// X + 15Y + 3Z that is not positive), where the nearest point of the locus lies beyond the
+    /// table's ends ([`kelvin_range`](Self::kelvin_range)), and where |Duv| > [`MAX_DUV`]. Never
+    /// panics, uses no f64.
+    ///
+    /// # Accuracy
+    /// Within [`CCT_MAX_ERROR_MIRED`] (in μ = 10⁶ / T) and [`DUV_MAX_ERROR`] of the exact CCT and Duv of
+    /// the same (f32) XYZ, for every XYZ whose exact CCT is in the table's range with
+    /// |Duv| ≤ [`MAX_DUV`]. Within that bound of the table's ends or of |Duv| = 0.05, the
+    /// answer may be `None` or a value just beyond them.
+    ///
+    /// ```
+    /// use spectral_quadrature::tables::PLANCKIAN_LOCUS;
+    /// // Illuminant A (2856 K on the CIE 1931 locus): X, Y, Z = 109.85, 100, 35.58.
+    /// let a = PLANCKIAN_LOCUS.cct([109.85, 100.0, 35.58]).unwrap();
+    /// assert!((a.kelvin - 2856.0).abs() < 2.0 && a.duv.abs() < 1e-4);
+    /// // Far from the locus (a saturated green) there is no colour temperature.
+    /// assert_eq!(PLANCKIAN_LOCUS.cct([0.3, 0.6, 0.1]), None);
+    /// ```
+    #[inline]
+    pub fn cct(&self, xyz: [f32; 3]) -> Option<Cct> {
+        self.cct_from_uv(uv_from_xyz(xyz)?)
+    }
+
+    /// The CCT and Duv of a chromaticity in CIE 1960 (u, v). `None` for a NaN or infinite
+    /// coordinate, where the nearest point of the locus lies beyond the table's ends, and where
+    /// |Duv| > [`MAX_DUV`]; accuracy as [`cct`](Self::cct). Never panics.
+    pub fn cct_from_uv(&self, uv: [f32; 2]) -> Option<Cct> {
+        if K < 2 {
+            return None;
+        }
+        // The point in 16 fractional bits; outside u < 0.6, v < 0.5 (NaN among it) nothing is
+        // within MAX_DUV of any locus (the CIE 1931 locus spans u 0.18-0.45, v 0.26-0.36), and
+        // inside it the products below stay within i32.
+        let (pu, pv) = (q16(uv[0])?, q16(uv[1])?);
+        if pu >= 39_322 || pv >= 32_768 {
+            return None;
+        }
+        // The side of node i's isotemperature line, in integers: the sign of (P − L_i) · T̂_i.
+        let side = |i: usize| {
+            let [a, b] = self.unit_tangent_q14[i];
+            pu * i32::from(a) + pv * i32::from(b) - self.along_q30[i]
+        };
+        // The segment whose ends the point lies between (the slope falls through zero where the
+        // distance is least), or an end segment when it lies beyond the table; the integer
+        // sides are exact to about 2 × 10⁻⁵ in (u, v), so the foot may lie a little outside
+        // the segment found, which the Newton steps below allow for.
+        let (mut lo, mut hi) = (0, K - 1);
+        if side(0) < 0 {
+            hi = 1;
+        } else if side(K - 1) >= 0 {
+            lo = K - 2;
+        }
+        while hi - lo > 1 {
+            let mid = (lo + hi) / 2;
+            if side(mid) >= 0 {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        let slope = |i: usize| {
+            (uv[0] - self.uv[i][0]) * self.tangent[i][0]
+                + (uv[1] - self.uv[i][1]) * self.tangent[i][1]
+        };
+        let (s_lo, s_hi) = (slope(lo), slope(hi));
+        // The segment's cubic in t ∈ [0, 1], relative to its first node:
+        // L(t) − L(0) = c1 t + c2 t² + c3 t³, from the end points and the tangents times h.
+        let h = self.mired[hi] - self.mired[lo];
+        let a = self.uv[lo];
+        let q = [uv[0] - a[0], uv[1] - a[1]];
+        let c = |k: usize| {
+            let d = self.chord[lo][k];
+            let (ma, mb) = (h * self.tangent[lo][k], h * self.tangent[hi][k]);
+            [ma, 3.0 * d - 2.0 * ma - mb, ma + mb - 2.0 * d]
+        };
+        let [cu, cv] = [c(0), c(1)];
+        // Start where the slope's linear interpolation vanishes.
+        let mut t = extended(s_lo / (s_lo - s_hi));
+        // Newton's method on f(t) = r(t)·L′(t), r = q − (L(t) − L(0)): the foot of the
+        // perpendicular. Each step leaves r moved to the new t to first order (r − Δt L′),
+        // which is what the distance needs: the neglected Δt² L″ / 2 is below f32 rounding
+        // once Δt is below NEWTON_DONE.
+        let mut r = [0.0f32; 2];
+        let mut d1 = [0.0f32; 2];
+        for _ in 0..NEWTON_STEPS {
+            let at = |c: [f32; 3]| ((c[2] * t + c[1]) * t + c[0]) * t;
+            r = [q[0] - at(cu), q[1] - at(cv)];
+            let slope = |c: [f32; 3]| (3.0 * c[2] * t + 2.0 * c[1]) * t + c[0];
+            d1 = [slope(cu), slope(cv)];
+            let d2 = [6.0 * cu[2] * t + 2.0 * cu[1], 6.0 * cv[2] * t + 2.0 * cv[1]];
+            let f = r[0] * d1[0] + r[1] * d1[1];
+            let df = r[0] * d2[0] + r[1] * d2[1] - (d1[0] * d1[0] + d1[1] * d1[1]);
+            let next = extended(t - f / df);
+            let dt = next - t;
+            r = [r[0] - dt * d1[0], r[1] - dt * d1[1]];
+            t = next;
+            if dt.abs() < NEWTON_DONE {
+                break;
+            }
+        }
+        // The distance, with the sign of the side: the tangent turned anticlockwise points up.
+        let distance = libm::sqrtf(r[0] * r[0] + r[1] * r[1]);
+        let duv = if r[1] * d1[0] - r[0] * d1[1] < 0.0 {
+            -distance
+        } else {
+            distance
+        };
+        // Beyond the table's ends (and NaN: a point no segment holds), nothing.
+        let beyond = (lo == 0 && t < 0.0) || (hi == K - 1 && t > 1.0);
+        if beyond || duv.is_nan() || duv.abs() > MAX_DUV {
+            return None;
+        }
+        Some(Cct {
+            kelvin: 1e6 / (self.mired[lo] + t * h),
+            duv,
+        })
+    }
+}
+
+/// `x` clamped to the segment and a tenth beyond either end (where a foot the integer search
+/// placed in the neighbouring segment may lie; the cubic extends smoothly there), and a NaN
+/// (0 / 0) to 0: `f32::max` returns the number where `f32::clamp` would return the NaN.
+#[allow(clippy::manual_clamp)]
+fn extended(x: f32) -> f32 {
+    x.max(-0.1).min(1.1)
+}
+
+/// `x` in 16 fractional bits, rounded, for 0 ≤ x < 1 (−0.0 too); `None` for negative numbers,
+/// 1 and more, infinities and NaN. From the bits, with integer operations only.
+fn q16(x: f32) -> Option<i32> {
+    let bits = x.to_bits();
+    if bits == 0x8000_0000 {
+        return Some(0);
+    }
+    // The sign bit set, or a biased exponent of 127 or more (x ≥ 1, ∞, NaN).
+    let exponent = bits >> 23;
+    if exponent >= 127 {
+        return None;
+    }
+    // x = m · 2^(e − 150) with the implicit bit (e > 0), so x · 2¹⁶ = m / 2^(134 − e).
+    let mantissa = (bits & 0x007f_ffff) | if exponent > 0 { 0x0080_0000 } else { 0 };
+    let shift = 134 - exponent;
+    if shift > 24 {
+        return Some(0);
+    }
+    Some(((mantissa + (1 << (shift - 1))) >> shift) as i32)
+}

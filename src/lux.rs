@@ -1,0 +1,48 @@
+//! Illuminance in lux from a set's luminance Y.
+
+#![forbid(unsafe_code)]
+
+/// Lux per unit of a set's Y: what turns the luminance a set gives into illuminance.
+///
+/// Two ways to know it: from the units of the samples (spectral irradiance in W·m⁻²·nm⁻¹
+/// through a set whose weights are for dλ in nm: [`SPECTRAL_IRRADIANCE`](Self::SPECTRAL_IRRADIANCE)),
+/// or from one reading of a known light ([`from_reading`](Self::from_reading)): a sensor's
+/// readings carry its own gain, so its set is calibrated once against a lamp whose illuminance
+/// a reference meter gives (lux meters are calibrated with CIE illuminant A).
+///
+/// ```
+/// use spectral_quadrature::LuxScale;
+/// // The set gave Y = 0.0125 for a lamp a meter reads at 500 lx...
+/// let scale = LuxScale::from_reading(0.0125, 500.0).unwrap();
+/// // ...so a reading with Y = 0.004 is 160 lx.
+/// assert!((scale.lux([0.0038, 0.004, 0.0031]) - 160.0).abs() < 1e-3);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LuxScale {
+    /// Illuminance in lux for Y = 1.
+    pub lux_per_y: f32,
+}
+
+impl LuxScale {
+    /// For samples of spectral irradiance in W·m⁻²·nm⁻¹ through a set whose weights are for dλ
+    /// in nm (every [`WavelengthSet`](crate::WavelengthSet) the scene bakes; not the folded sets,
+    /// which divide by [`UNIT_SPECTRUM_Y`](crate::tables::UNIT_SPECTRUM_Y)): Y is then
+    /// ∫ ȳ E dλ in W·m⁻², and K_m = 683.002 lm/W (CIE 015) turns it into lux.
+    pub const SPECTRAL_IRRADIANCE: LuxScale = LuxScale { lux_per_y: 683.002 };
+
+    /// From one reading of a known light: `y`, the Y the set gave for it, and `lux`, its
+    /// illuminance. `None` unless both are finite and positive (or if their ratio overflows).
+    pub fn from_reading(y: f32, lux: f32) -> Option<LuxScale> {
+        let lux_per_y = lux / y;
+        (y > 0.0 && lux > 0.0 && y.is_finite() && lux.is_finite() && lux_per_y.is_finite())
+            .then_some(LuxScale { lux_per_y })
+    }
+
+    /// The illuminance of `xyz`: [`lux_per_y`](Self::lux_per_y) · Y, in f32. IEEE arithmetic:
+    /// a negative Y (noise in the dark) gives negative lux (clamp with `.max(0.0)` to report
+    /// it), NaN and ±Inf propagate; never panics.
+    #[inline]
+    pub fn lux(&self, xyz: [f32; 3]) -> f32 {
+        self.lux_per_y * xyz[1]
+    }
+}
