@@ -88,6 +88,8 @@ impl Format for Error {
             Error::SingularPrimaries => write!(f, "SingularPrimaries"),
             Error::WhiteOutsideGamut => write!(f, "WhiteOutsideGamut"),
             Error::InvalidGamma => write!(f, "InvalidGamma"),
+            Error::IntegerRange => write!(f, "IntegerRange"),
+            Error::IntegerTransfer => write!(f, "IntegerTransfer"),
         }
     }
 }

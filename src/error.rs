@@ -44,6 +44,13 @@ pub enum Error {
     /// A `Gamma(γ)` transfer function given to [`Display::new`](crate::Display::new) has a γ
     /// that is not finite and positive.
     InvalidGamma,
+    /// [`IntegerSet::new`](crate::IntegerSet::new) got a weight that is not finite, a sample
+    /// unit that is not finite and positive, or weights too large for 32-bit sums of u16
+    /// counts.
+    IntegerRange,
+    /// [`IntegerSet::new`](crate::IntegerSet::new) got a display whose transfer function has no
+    /// integer encoder: a lookup table, or a γ that no baked display has.
+    IntegerTransfer,
 }
 
 impl fmt::Display for Error {
@@ -74,6 +81,12 @@ impl fmt::Display for Error {
                 f.write_str("the white point lies outside the primaries' triangle")
             }
             Error::InvalidGamma => f.write_str("gamma must be finite and positive"),
+            Error::IntegerRange => f.write_str(
+                "the weights or the sample unit have no fixed-point form for u16 counts",
+            ),
+            Error::IntegerTransfer => {
+                f.write_str("the transfer function has no integer encoder")
+            }
         }
     }
 }

@@ -472,6 +472,7 @@ pub fn tables_rs(
         }
         writeln!(o, "}}\n").ok();
     }
+    o.push_str(&super::fixed_point::integer_rs(scene)?);
     // Every table as a slice, so a program can link them all (examples/size_probe measures
     // what a scene costs when nothing is left unused).
     let chain = |root: &str, children: &[&str]| {

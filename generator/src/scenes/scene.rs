@@ -576,6 +576,10 @@ pub struct Resolved {
     pub extras: Extras,
     /// What the planner chose, as a sentence for the generated header, if it ran.
     pub planned: Option<String>,
+    /// The samples of white of the scene's own sets, by name, where they are not all 1: a
+    /// sensor set's readings of a reflectance of 1 under its light (or of a radiance of 1), at
+    /// the luminance of a spectrum of constant 1 (`Fitted::white_samples`).
+    pub white_samples: Vec<(String, Vec<f64>)>,
 }
 
 impl Scene {
@@ -610,6 +614,7 @@ impl Scene {
                 displays,
                 extras: self.extras,
                 planned: None,
+                white_samples: Vec::new(),
             });
         }
         let user = self.resolve_user(d)?;
@@ -641,7 +646,11 @@ impl Scene {
                 target.push(set);
             }
         }
+        let mut white_samples = Vec::new();
         for set in user.1 {
+            if set.white_samples.iter().any(|&w| w != 1.0) {
+                white_samples.push((set.name.clone(), set.white_samples.clone()));
+            }
             colour_sets.push(set.wavelength_set(d));
         }
         Ok(Resolved {
@@ -651,6 +660,7 @@ impl Scene {
             displays,
             extras: self.extras,
             planned,
+            white_samples,
         })
     }
 
