@@ -24,41 +24,68 @@ use crate::{Display, Error, FoldedSet, Samples, TransferFunction};
 pub const INTEGER_MAX_CODE_DIFFERENCE: u8 = 1;
 
 /// An integer encoder of one transfer function: its f32 thresholds (those of the f32 8-bit
-/// encoder) and the same thresholds on a 2³¹ scale, rounded up.
+/// encoder), the same thresholds on a 2³¹ scale rounded up, and an index into them.
 #[derive(Debug)]
 pub(crate) struct IntegerCurve {
-    /// `⌈θₖ · 2³¹⌉` for k = 1..=255 (θₖ ≤ 1); entry 0 is 0.
-    q31: [u32; 256],
+    /// `⌈θₖ · 2³¹⌉` for k = 1..=255 (θₖ ≤ 1); entry 0 is 0, entry 256 is `u32::MAX`, above
+    /// every key, so that a search needs no bounds test.
+    q31: [u32; 257],
+    /// Entry j: the number of thresholds at or below `j · 2¹⁹` on the 2³¹ scale, the code at
+    /// the start of the j-th stretch of 2⁻¹² in linear light. The sRGB thresholds lie at least
+    /// 3.0e-4 apart, more than a stretch, so from there one comparison finds the code; a power
+    /// law's first thresholds are closer and take a few more.
+    index: [u8; INDEX_LEN],
     /// The bits of θₖ as f32, the f32 encoder's own thresholds; entry 0 is 0.
     f32_bits: &'static [u32; 256],
 }
 
+/// Entries of [`IntegerCurve::index`]: one per 2¹⁹ on the 2³¹ scale.
+const INDEX_LEN: usize = 1 << 12;
+/// The shift from a key on the 2³¹ scale to its index entry.
+const INDEX_SHIFT: u32 = 31 - 12;
+
 impl IntegerCurve {
     const fn from_f32_thresholds(f32_bits: &'static [u32; 256]) -> IntegerCurve {
-        let mut q31 = [0u32; 256];
+        let mut q31 = [0u32; 257];
         let mut k = 1;
         while k < 256 {
             q31[k] = scaled_ceil(f32_bits[k], 31) as u32;
             k += 1;
         }
-        IntegerCurve { q31, f32_bits }
+        q31[256] = u32::MAX;
+        let mut index = [0u8; INDEX_LEN];
+        let mut code = 0;
+        let mut j = 0;
+        while j < INDEX_LEN {
+            let start = (j as u32) << INDEX_SHIFT;
+            while code < 255 && q31[code + 1] <= start {
+                code += 1;
+            }
+            index[j] = code as u8;
+            j += 1;
+        }
+        IntegerCurve {
+            q31,
+            index,
+            f32_bits,
+        }
     }
 
     /// The number of thresholds θₖ (k ≥ 1) with `⌈θₖ · 2³¹⌉ ≤ key`, which is the number with
-    /// θₖ ≤ key / 2³¹: a binary search of 8 steps.
+    /// θₖ ≤ key / 2³¹ (`key` < 2³¹), and the next threshold on the 2³¹ scale (`u32::MAX` after
+    /// the last): the code at the start of the key's stretch, then one step per threshold
+    /// inside the stretch.
     #[inline(always)]
-    fn count_q31(&self, key: u32) -> usize {
-        let t = &self.q31;
-        let mut k = 0usize;
-        let mut step = 128;
-        while step > 0 {
-            // k + step ≤ 255: the index is in range.
-            if t[(k + step) & 255] <= key {
-                k += step;
+    fn count_q31(&self, key: u32) -> (usize, u32) {
+        let mut code = self.index[(key >> INDEX_SHIFT) as usize & (INDEX_LEN - 1)];
+        loop {
+            // code ≤ 255, so the index is in range: the sentinel at 256 ends the search.
+            let next = self.q31[usize::from(code) + 1];
+            if next > key {
+                return (usize::from(code), next);
             }
-            step /= 2;
+            code = code.wrapping_add(1);
         }
-        k
     }
 
     /// `⌈θₖ · 2⁶³⌉` (θₖ ≤ 1, so at most 2⁶³).
@@ -127,7 +154,8 @@ static GAMMA: [IntegerCurve; crate::tables::GAMMA_ENCODERS.len()] = {
     const K: usize = crate::tables::GAMMA_ENCODERS.len();
     let mut curves = [const {
         IntegerCurve {
-            q31: [0; 256],
+            q31: [0; 257],
+            index: [0; INDEX_LEN],
             f32_bits: &SRGB_THRESHOLDS,
         }
     }; K];
@@ -200,17 +228,17 @@ const fn fixed_point(w: f32, q: f32, p: i32) -> Option<i64> {
     Some(if nw != nq { -v } else { v })
 }
 
-/// The fixed-point weights of `weights · q` at `p` fractional bits, split into their top bits
-/// (`V >> 16`, floor) and their low 16 bits, if `p` keeps every channel's coarse sum inside
-/// i32 with room for the margin `N · 65535`; `None` otherwise.
+/// The fixed-point weights of `weights · q` at `p` fractional bits, and their top bits
+/// (`V >> 16`, floor), if `p` keeps every channel's coarse sum inside i32 with room for the
+/// margin `N · 65535`; `None` otherwise. Then each `|V >> 16| < 2¹⁵` and each `|V| < 2³¹`.
 #[allow(clippy::type_complexity)]
 const fn split_at<const N: usize>(
     weights: &[[f32; N]; 3],
     q: f32,
     p: i32,
-) -> Option<([[i32; N]; 3], [[u16; N]; 3])> {
+) -> Option<([[i32; N]; 3], [[i32; N]; 3])> {
+    let mut full = [[0i32; N]; 3];
     let mut coarse = [[0i32; N]; 3];
-    let mut low = [[0u16; N]; 3];
     let margin = N as i64 * 65535;
     let mut c = 0;
     while c < 3 {
@@ -221,20 +249,62 @@ const fn split_at<const N: usize>(
                 return None;
             };
             let a = v >> 16;
-            if a > i32::MAX as i64 || a < i32::MIN as i64 {
-                return None;
-            }
-            coarse[c][i] = a as i32;
-            low[c][i] = (v & 0xffff) as u16;
             sum += (if a < 0 { -a } else { a }) * 65535;
             if sum > i32::MAX as i64 {
                 return None;
             }
+            // |a| · 65535 < 2³¹, so |a| < 2¹⁵ and |v| < 2³¹.
+            full[c][i] = v as i32;
+            coarse[c][i] = a as i32;
             i += 1;
         }
         c += 1;
     }
-    Some((coarse, low))
+    Some((full, coarse))
+}
+
+/// One sample into the coarse sums `acc` (three channels, then the samples' total).
+#[inline(always)]
+fn mac(acc: &mut [i32; 4], x: u16, w0: i32, w1: i32, w2: i32) {
+    let s = i32::from(x);
+    acc[0] = acc[0].wrapping_add(w0.wrapping_mul(s));
+    acc[1] = acc[1].wrapping_add(w1.wrapping_mul(s));
+    acc[2] = acc[2].wrapping_add(w2.wrapping_mul(s));
+    acc[3] = acc[3].wrapping_add(s);
+}
+
+/// [`mac`] over the samples four at a time; returns how many it took.
+#[inline(always)]
+fn mac_steps_of_4<const N: usize>(w: &[[i32; N]; 3], x: &[u16; N], acc: &mut [i32; 4]) -> usize {
+    let (x4, _) = x.as_chunks::<4>();
+    let (w0, w1, w2) = (
+        w[0].as_chunks::<4>().0,
+        w[1].as_chunks::<4>().0,
+        w[2].as_chunks::<4>().0,
+    );
+    for (((x, w0), w1), w2) in x4.iter().zip(w0).zip(w1).zip(w2) {
+        mac(acc, x[0], w0[0], w1[0], w2[0]);
+        mac(acc, x[1], w0[1], w1[1], w2[1]);
+        mac(acc, x[2], w0[2], w1[2], w2[2]);
+        mac(acc, x[3], w0[3], w1[3], w2[3]);
+    }
+    N / 4 * 4
+}
+
+/// [`mac`] over the samples two at a time; returns how many it took.
+#[inline(always)]
+fn mac_steps_of_2<const N: usize>(w: &[[i32; N]; 3], x: &[u16; N], acc: &mut [i32; 4]) -> usize {
+    let (x2, _) = x.as_chunks::<2>();
+    let (w0, w1, w2) = (
+        w[0].as_chunks::<2>().0,
+        w[1].as_chunks::<2>().0,
+        w[2].as_chunks::<2>().0,
+    );
+    for (((x, w0), w1), w2) in x2.iter().zip(w0).zip(w1).zip(w2) {
+        mac(acc, x[0], w0[0], w1[0], w2[0]);
+        mac(acc, x[1], w0[1], w1[1], w2[1]);
+    }
+    N / 2 * 2
 }
 
 /// The largest number of fractional bits [`IntegerSet::new`] gives a set: the coarse scale
@@ -277,28 +347,27 @@ const MAX_FRAC_BITS: i32 = 46;
 ///
 /// A 32-bit target without a 64-bit multiply (Armv6-M) cannot form F cheaply. It sums
 /// `Vᵢ >> 16` (the weights' top bits, floor) in 32 bits first. That coarse sum `h` is never
-/// above `F / 2^16` and at most `N · 65535` below it, since the dropped low halves and the
-/// counts are not negative. When no threshold lies between `h` and `h + N · 65535` (on that
-/// scale), the coarse code is the code of F; only otherwise does the channel add its low halves
-/// (a 48-bit sum) and compare F itself. So every target gives the same bytes. P is the largest
-/// (at most 46) for which each channel satisfies
-/// `Σᵢ |Vᵢ >> 16| · 65535 + N · 65535 ≤ i32::MAX`: then no coarse sum, nor the sum plus its
-/// margin, overflows for any u16 input. `new` checks it, at compile time for the baked sets.
+/// above `F / 2^16` and less than `Σᵢ xᵢ` below it, since the dropped low halves are below
+/// 2¹⁶ and the counts are not negative. When no threshold lies between `h` and `h + Σᵢ xᵢ`
+/// (on that scale), the coarse code is the code of F; only otherwise does the channel form F
+/// (a 64-bit sum) and compare it. The coarse code is one look-up in an index of the thresholds
+/// and a comparison or two. So every target gives the same bytes. P is the largest (at most
+/// 46) for which each channel satisfies `Σᵢ |Vᵢ >> 16| · 65535 + N · 65535 ≤ i32::MAX`: then no
+/// coarse sum, nor the sum plus `Σᵢ xᵢ`, overflows for any u16 input. `new` checks it, at
+/// compile time for the baked sets.
 #[derive(Debug, Clone, Copy)]
 pub struct IntegerSet<const N: usize> {
     wavelengths_nm: [f32; N],
-    /// `Vᵢ >> 16`, rows R, G, B.
+    /// `Vᵢ`, rows R, G, B.
+    weights: [[i32; N]; 3],
+    /// `Vᵢ >> 16` (below 2¹⁵ in magnitude; i32, which Armv6-M loads with an immediate offset).
     coarse: [[i32; N]; 3],
-    /// `Vᵢ & 0xffff`.
-    low: [[u16; N]; 3],
     /// P: `F / 2^P` is linear RGB.
     frac_bits: u32,
     /// `31 − (P − 16)`: a coarse sum shifted left by it is on the thresholds' 2³¹ scale.
     shift: u32,
     /// 1.0 on the coarse scale, `2^(P − 16)`.
     one: i32,
-    /// `N · 65535`: the coarse sum is at most this far below `F / 2^16`.
-    margin: i32,
     sample_unit: f32,
     samples: Samples,
     display: Display,
@@ -309,8 +378,7 @@ impl<const N: usize> PartialEq for IntegerSet<N> {
     fn eq(&self, other: &Self) -> bool {
         // The curve follows from the display; the other derived fields from the weights.
         self.wavelengths_nm == other.wavelengths_nm
-            && self.coarse == other.coarse
-            && self.low == other.low
+            && self.weights == other.weights
             && self.frac_bits == other.frac_bits
             && self.sample_unit.to_bits() == other.sample_unit.to_bits()
             && self.samples == other.samples
@@ -345,15 +413,20 @@ impl<const N: usize> IntegerSet<N> {
         // The largest P that fits; the coarse scale must also exceed the margin, so that the
         // coarse sum plus the margin stays below 2 · 1.0 and, shifted, inside u32.
         while p > 16 && (1i64 << (p - 16)) > margin {
-            if let Some((coarse, low)) = split_at(&folded.weights, sample_unit, p) {
+            // The encoder clamps the coarse sum below 1.0, to 1 − 2^(16−P): the last
+            // threshold must not lie above that (it does not for any γ above 0.01).
+            let last_below_clamp = curve.q31[255] <= (((1u32 << (p - 16)) - 1) << (47 - p));
+            if !last_below_clamp {
+                return Err(Error::IntegerTransfer);
+            }
+            if let Some((weights, coarse)) = split_at(&folded.weights, sample_unit, p) {
                 return Ok(IntegerSet {
                     wavelengths_nm: folded.wavelengths_nm,
+                    weights,
                     coarse,
-                    low,
                     frac_bits: p as u32,
                     shift: (47 - p) as u32,
                     one: 1 << (p - 16),
-                    margin: margin as i32,
                     sample_unit,
                     samples: folded.samples,
                     display: folded.display,
@@ -391,19 +464,10 @@ impl<const N: usize> IntegerSet<N> {
         self.frac_bits
     }
 
-    /// The fixed-point weights `Vᵢ = round(wᵢ · sample_unit · 2^P)`, rows R, G, B.
-    pub const fn weights(&self) -> [[i64; N]; 3] {
-        let mut w = [[0i64; N]; 3];
-        let mut c = 0;
-        while c < 3 {
-            let mut i = 0;
-            while i < N {
-                w[c][i] = ((self.coarse[c][i] as i64) << 16) + self.low[c][i] as i64;
-                i += 1;
-            }
-            c += 1;
-        }
-        w
+    /// The fixed-point weights `Vᵢ = round(wᵢ · sample_unit · 2^P)`, rows R, G, B (each
+    /// `|Vᵢ| < 2³¹`).
+    pub const fn weights(&self) -> [[i32; N]; 3] {
+        self.weights
     }
 
     /// The samples the f32 path takes for the same counts: `x as f32 · sample_unit` (f32; for
@@ -415,10 +479,9 @@ impl<const N: usize> IntegerSet<N> {
 
     /// Linear RGB in fixed point: `F = Σᵢ Vᵢ · xᵢ` per channel, exactly (i64); divided by
     /// 2^[`frac_bits`](Self::frac_bits) it is linear RGB (1.0 the display's white). Every u16
-    /// input is in range: `|F| < 2⁴⁷ · 65535 · N`.
+    /// input is in range: `|F| < 2³¹ · 65535 · N`.
     pub fn linear_fixed(&self, counts: &[u16; N]) -> [i64; 3] {
-        let coarse = self.coarse_sums(counts);
-        [0, 1, 2].map(|c| ((coarse[c] as i64) << 16) + self.low_sum(c, counts) as i64)
+        [0, 1, 2].map(|c| self.exact_sum(c, counts))
     }
 
     /// Counts → 8-bit display RGB, gamut mapped by clipping, with integer arithmetic only. Every
@@ -432,11 +495,11 @@ impl<const N: usize> IntegerSet<N> {
     /// every target.
     #[inline]
     pub fn encode_u8(&self, counts: &[u16; N]) -> [u8; 3] {
-        let h = self.coarse_sums(counts);
+        let (h, total) = self.coarse_sums(counts);
         [
-            self.encode_channel(0, h[0], counts),
-            self.encode_channel(1, h[1], counts),
-            self.encode_channel(2, h[2], counts),
+            self.encode_channel(0, h[0], total, counts),
+            self.encode_channel(1, h[1], total, counts),
+            self.encode_channel(2, h[2], total, counts),
         ]
     }
 
@@ -456,52 +519,54 @@ impl<const N: usize> IntegerSet<N> {
         Ok(())
     }
 
-    /// `Σᵢ (Vᵢ >> 16) · xᵢ` per channel, in i32: no overflow for any u16 input, by the bound
-    /// [`new`](Self::new) checked (wrapping operations only so that no overflow check is
-    /// compiled in).
+    /// `Σᵢ (Vᵢ >> 16) · xᵢ` per channel, in i32, and `Σᵢ xᵢ`: no overflow for any u16 input,
+    /// by the bound [`new`](Self::new) checked (wrapping operations only so that no overflow
+    /// check is compiled in). The samples go a few at a time, written out: at opt-level "s"
+    /// the compiler keeps loops rolled, and a Cortex-M0, with eight registers for a loop's
+    /// sums, pointers and counter, spills them. Four a step suits N = 4 (one step, no loop),
+    /// two a step larger N (fewer values live at once).
     #[inline(always)]
-    fn coarse_sums(&self, x: &[u16; N]) -> [i32; 3] {
+    fn coarse_sums(&self, x: &[u16; N]) -> ([i32; 3], i32) {
+        let mut acc = [0i32; 4];
+        let done = if N <= 4 {
+            mac_steps_of_4(&self.coarse, x, &mut acc)
+        } else {
+            mac_steps_of_2(&self.coarse, x, &mut acc)
+        };
         let [w0, w1, w2] = &self.coarse;
-        let (mut a, mut b, mut c) = (0i32, 0i32, 0i32);
-        for i in 0..N {
-            let s = i32::from(x[i]);
-            a = a.wrapping_add(w0[i].wrapping_mul(s));
-            b = b.wrapping_add(w1[i].wrapping_mul(s));
-            c = c.wrapping_add(w2[i].wrapping_mul(s));
+        for (i, &s) in x.iter().enumerate().skip(done) {
+            mac(&mut acc, s, w0[i], w1[i], w2[i]);
         }
-        [a, b, c]
+        ([acc[0], acc[1], acc[2]], acc[3])
     }
 
-    /// `Σᵢ (Vᵢ & 0xffff) · xᵢ` for channel `c`: at most N · (2¹⁶ − 1)², in u64.
-    #[inline(always)]
-    fn low_sum(&self, c: usize, x: &[u16; N]) -> u64 {
-        let w = &self.low[c % 3];
-        let mut sum = 0u64;
+    /// `F = Σᵢ Vᵢ · xᵢ` for channel `c`, in i64 (each term below 2⁴⁷).
+    #[inline]
+    fn exact_sum(&self, c: usize, x: &[u16; N]) -> i64 {
+        let w = &self.weights[c % 3];
+        let mut sum = 0i64;
         for i in 0..N {
-            sum += u64::from(u32::from(w[i]) * u32::from(x[i]));
+            sum += i64::from(w[i]) * i64::from(x[i]);
         }
         sum
     }
 
-    /// The code value of channel `c` from its coarse sum `h`.
+    /// The code value of channel `c` from its coarse sum `h` and `total = Σᵢ xᵢ`.
     #[inline(always)]
-    fn encode_channel(&self, c: usize, h: i32, x: &[u16; N]) -> u8 {
-        if h >= self.one {
-            // F / 2^P ≥ h / 2^(P−16) ≥ 1, above every threshold.
-            return 255;
-        }
-        // No overflow: new() bounded |h| + margin by i32::MAX.
-        let top = h + self.margin;
-        if top <= 0 {
-            // F / 2^16 < top ≤ 0: below every threshold.
-            return 0;
-        }
-        // 0 ≤ h < 2^(P−16) and 0 < top < 2^(P−15): both shifted onto the 2³¹ scale fit u32.
-        let key = if h > 0 { (h as u32) << self.shift } else { 0 };
-        let key_top = (top as u32) << self.shift;
-        let code = self.curve.count_q31(key);
-        // F / 2^16 < top: if the next threshold is above top, F is below it too.
-        if code == 255 || key_top < self.curve.q31[(code + 1) & 255] {
+    fn encode_channel(&self, c: usize, h: i32, total: i32, x: &[u16; N]) -> u8 {
+        // F / 2^16 = h + Σᵢ (Vᵢ mod 2¹⁶) · xᵢ / 2¹⁶, and the low halves are below 2¹⁶: F / 2^16
+        // is at least h and, unless every count is 0 (then F = h = 0), below h + Σᵢ xᵢ, `top`.
+        // No overflow: new() bounded |h| + N · 65535 by i32::MAX.
+        let top = h.wrapping_add(total);
+        // h clamped to 0..1.0: below 0 it has code 0 (the first threshold is above 0), from
+        // 1.0 − 2^(16−P) up code 255 (new() checked that the last threshold is not above it).
+        let key = (h.clamp(0, self.one - 1) as u32) << self.shift;
+        let (code, next) = self.curve.count_q31(key);
+        // If the next threshold is above top, F is below it too. For h < 1.0, top is below
+        // 2 · 1.0 and fits u32 on the 2³¹ scale; for h ≥ 1.0 the code is 255 and `next` is
+        // u32::MAX, above any shifted value (its lowest bit is 0).
+        let key_top = (top.max(0) as u32) << self.shift;
+        if key_top < next {
             return code as u8;
         }
         self.refine(c, h, x, code)
@@ -509,11 +574,17 @@ impl<const N: usize> IntegerSet<N> {
 
     /// The code value of channel `c` from the exact sum, for the few values whose coarse
     /// estimate has a threshold within its margin. `code` is the coarse code, at most the
-    /// exact one (the coarse sum is never above F / 2^16).
+    /// exact one (the coarse sum `h` is never above F / 2^16).
     #[cold]
     #[inline(never)]
     fn refine(&self, c: usize, h: i32, x: &[u16; N], code: usize) -> u8 {
-        let f = ((h as i64) << 16) + self.low_sum(c, x) as i64;
+        // F = h · 2¹⁶ + Σᵢ (Vᵢ mod 2¹⁶) · xᵢ: products of two u16, summed in u64 (an Armv6-M
+        // has no 32 × 32 → 64 multiply, but adds with carry).
+        let mut low = 0u64;
+        for (&v, &x) in self.weights[c % 3].iter().zip(x) {
+            low += u64::from((v as u32 & 0xffff) * u32::from(x));
+        }
+        let f = (i64::from(h) << 16) + low as i64;
         if f <= 0 {
             return 0;
         }
@@ -564,15 +635,17 @@ mod tests {
                     // Dark pixels too, where the thresholds are closest.
                     (state >> 48) as u16 >> (state % 7)
                 });
-                let h = set.coarse_sums(&x);
+                let (h, total) = set.coarse_sums(&x);
                 let got = set.encode_u8(&x);
                 for c in 0..3 {
                     assert_eq!(got[c], exact_code(set, c, &x), "{x:?} channel {c}");
                     if h[c] > 0 && h[c] < set.one {
                         let key = (h[c] as u32) << set.shift;
-                        let key_top = ((h[c] + set.margin) as u32) << set.shift;
-                        let code = set.curve.count_q31(key);
-                        if code < 255 && key_top >= set.curve.q31[code + 1] {
+                        let key_top = ((h[c] + total) as u32) << set.shift;
+                        let (code, next) = set.curve.count_q31(key);
+                        assert_eq!(code, (1..256).filter(|&k| set.curve.q31[k] <= key).count());
+                        assert_eq!(next, set.curve.q31[code + 1]);
+                        if code < 255 && key_top >= next {
                             refined += 1;
                             assert_eq!(got[c], set.refine(c, h[c], &x, code));
                         }
@@ -585,6 +658,31 @@ mod tests {
         for (refined, coarse_off) in [run(&KQ_C_8_SRGB), run(&KQ_C_8_MEYER_1987)] {
             assert!(refined > 0 && coarse_off > 0, "{refined} {coarse_off}");
             assert!(coarse_off <= refined);
+        }
+    }
+
+    /// The index gives the code at the start of each stretch, and from there the search finds
+    /// every threshold: every key at and next to each threshold, for each curve.
+    #[test]
+    fn the_index_finds_every_threshold() {
+        for curve in [&SRGB, &LINEAR].into_iter().chain(GAMMA.iter()) {
+            let full = |key: u32| (1..256).filter(|&k| curve.q31[k] <= key).count();
+            for k in 1..256 {
+                let t = curve.q31[k];
+                for key in [t.saturating_sub(1), t, t + 1] {
+                    if key < 1 << 31 {
+                        assert_eq!(curve.count_q31(key).0, full(key), "{key:#x}");
+                    }
+                }
+            }
+            for key in (0..1u32 << 31).step_by(65_537) {
+                assert_eq!(curve.count_q31(key).0, full(key), "{key:#x}");
+            }
+        }
+        // sRGB: one comparison from the index's code suffices everywhere.
+        for j in 0..INDEX_LEN - 1 {
+            let code = usize::from(SRGB.index[j]);
+            assert!(usize::from(SRGB.index[j + 1]) <= code + 1, "stretch {j}");
         }
     }
 

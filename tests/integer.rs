@@ -151,7 +151,8 @@ impl<const N: usize> Case<N> {
                 })
             })
         };
-        assert_eq!(self.set.weights(), fixed(p), "{}", self.name);
+        let weights = self.set.weights().map(|r| r.map(i64::from));
+        assert_eq!(weights, fixed(p), "{}", self.name);
         let margin = N as i64 * 65535;
         let bound_holds = |w: &[[i64; N]; 3]| {
             w.iter().all(|row| {
@@ -159,7 +160,7 @@ impl<const N: usize> Case<N> {
                     <= i64::from(i32::MAX)
             })
         };
-        assert!(bound_holds(&self.set.weights()), "{}", self.name);
+        assert!(bound_holds(&weights), "{}", self.name);
         // P + 1 would break the bound, unless P is already the largest the type allows.
         assert!(p == 46 || !bound_holds(&fixed(p + 1)), "{}", self.name);
         assert!(1i64 << (p - 16) > margin, "{}", self.name);
