@@ -231,3 +231,7 @@ struct YourLightAndSensorDoctests;
 #[cfg(doctest)]
 #[doc = include_str!("../docs/microcontrollers.md")]
 struct MicrocontrollersDoctests;
+
+#[cfg(doctest)]
+#[doc = include_str!("../docs/sensor-firmware.md")]
+struct SensorFirmwareDoctests;
