@@ -76,7 +76,13 @@ pub(crate) fn integer_rs(scene: &Resolved) -> Result<String, Error> {
                     + &layout::item(
                         4,
                         &std::format!("pub const {name}: IntegerSet<{}> =", set.len()),
-                        &Expr::atom(std::format!("baked(&folded::{name}, {unit_lit})")),
+                        &Expr::Call(
+                            "baked".into(),
+                            std::vec![
+                                Expr::atom(std::format!("folded::{name}")).by_ref(),
+                                Expr::atom(unit_lit.clone()),
+                            ],
+                        ),
                     )
                     + "\n",
             );
