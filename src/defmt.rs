@@ -137,6 +137,23 @@ impl<const N: usize> Format for crate::FoldedSet<N> {
     }
 }
 
+impl<const N: usize> Format for crate::IntegerSet<N> {
+    fn format(&self, f: Formatter<'_>) {
+        let w = self.weights();
+        write!(
+            f,
+            "IntegerSet {{ samples: {}, display: {=str}, sample_unit: {=f32}, frac_bits: {=u32}, weights: [{=[?]}, {=[?]}, {=[?]}] }}",
+            self.samples(),
+            self.display().name,
+            self.sample_unit(),
+            self.frac_bits(),
+            &w[0][..],
+            &w[1][..],
+            &w[2][..]
+        )
+    }
+}
+
 impl Format for crate::ChannelLuts {
     fn format(&self, f: Formatter<'_>) {
         write!(
