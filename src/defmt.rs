@@ -94,6 +94,8 @@ impl Format for Error {
                 channel,
                 problem.as_str()
             ),
+            Error::IntegerRange => write!(f, "IntegerRange"),
+            Error::IntegerTransfer => write!(f, "IntegerTransfer"),
         }
     }
 }
@@ -137,6 +139,23 @@ impl<const N: usize> Format for crate::FoldedSet<N> {
             &self.weights[0][..],
             &self.weights[1][..],
             &self.weights[2][..]
+        )
+    }
+}
+
+impl<const N: usize> Format for crate::IntegerSet<N> {
+    fn format(&self, f: Formatter<'_>) {
+        let w = self.weights();
+        write!(
+            f,
+            "IntegerSet {{ samples: {}, display: {=str}, sample_unit: {=f32}, frac_bits: {=u32}, weights: [{=[?]}, {=[?]}, {=[?]}] }}",
+            self.samples(),
+            self.display().name,
+            self.sample_unit(),
+            self.frac_bits(),
+            &w[0][..],
+            &w[1][..],
+            &w[2][..]
         )
     }
 }

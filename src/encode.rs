@@ -87,7 +87,7 @@ const fn ceil_f32_bits(t: f64) -> u32 {
 
 /// `THRESHOLDS[k]` (k = 1..=255): bits of the smallest f32 whose exact sRGB encoding rounds to
 /// k or more. Index 0 is unused (0).
-const THRESHOLDS: [u32; 256] = {
+pub(crate) const THRESHOLDS: [u32; 256] = {
     let mut t = [0u32; 256];
     let mut k = 1;
     while k < 256 {

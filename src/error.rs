@@ -52,6 +52,13 @@ pub enum Error {
         /// What is wrong with it.
         problem: crate::CalibrationProblem,
     },
+    /// [`IntegerSet::new`](crate::IntegerSet::new) got a weight that is not finite, a sample
+    /// unit that is not finite and positive, or weights too large for 32-bit sums of u16
+    /// counts.
+    IntegerRange,
+    /// [`IntegerSet::new`](crate::IntegerSet::new) got a display whose transfer function has no
+    /// integer encoder: a lookup table, or a γ that no baked display has.
+    IntegerTransfer,
 }
 
 impl fmt::Display for Error {
@@ -85,6 +92,10 @@ impl fmt::Display for Error {
             Error::Calibration { channel, problem } => {
                 write!(f, "calibration of channel {channel}: {}", problem.as_str())
             }
+            Error::IntegerRange => f.write_str(
+                "the weights or the sample unit have no fixed-point form for u16 counts",
+            ),
+            Error::IntegerTransfer => f.write_str("the transfer function has no integer encoder"),
         }
     }
 }

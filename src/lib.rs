@@ -89,6 +89,14 @@
 //! [`TransferFunction::decode`], [`Display::new`], [`delta_e2000`] and the other colour
 //! differences, [`f32_budget`]).
 //!
+//! **Integer counts** (`src/integer.rs`), for microcontrollers without an FPU:
+//! [`IntegerSet::encode_u8`] takes u16 counts, sums each channel's fixed-point weights times the
+//! counts in 32 bits (the weights' top bits), finds the code value among the transfer curve's
+//! thresholds on a 2³¹ scale (a binary search), and only where a threshold lies within the
+//! coarse sum's margin adds the weights' low bits (a 48-bit sum) and compares exactly.
+//! [`IntegerSet::encode_u8_batch`] calls it on each pixel. No f32 and no f64: the baked
+//! [`tables::integer`] sets are the folded sets in fixed point.
+//!
 //! ## Beyond a pixel
 //!
 //! For sensor firmware, from any set's XYZ: [`PlanckianLocus::cct`] on
@@ -121,6 +129,7 @@ extern crate std;
 // - pixel (the per-pixel path, on set, display and simd);
 // - planar (the planar path and the portable loops, on pixel and simd); batch (the interleaved
 //   path, on pixel, planar's portable loops and simd);
+// - integer (the integer path, on set and encode's thresholds);
 // - dynamic, paper, defmt and fast, on the types; upsample (RGB → node reflectances, on error).
 mod batch;
 mod calibration;
@@ -129,6 +138,7 @@ mod display;
 mod dynamic;
 mod encode;
 mod error;
+mod integer;
 mod lux;
 mod matrix;
 mod pixel;
@@ -155,6 +165,7 @@ pub use encode::{srgb8_from_linear, SRGB8_MAX_DELTA_E, SRGB8_MAX_STEP_ERROR};
 pub use error::Error;
 #[cfg(feature = "micromath")]
 pub use fast::ENCODE_FAST_MAX_ERROR;
+pub use integer::{IntegerSet, INTEGER_MAX_CODE_DIFFERENCE};
 pub use lux::LuxScale;
 pub use matrix::{ac1c2_from_xyz, xyz_from_ac1c2};
 pub use pixel::f32_budget;
@@ -265,3 +276,7 @@ struct MeasuredDataDoctests;
 #[cfg(doctest)]
 #[doc = include_str!("../docs/colour-temperature-and-calibration.md")]
 struct ColourTemperatureAndCalibrationDoctests;
+
+#[cfg(doctest)]
+#[doc = include_str!("../docs/sensor-firmware.md")]
+struct SensorFirmwareDoctests;

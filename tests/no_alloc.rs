@@ -417,3 +417,44 @@ fn colour_temperature_lux_and_calibration_do_not_allocate() {
         ));
     });
 }
+
+#[test]
+fn the_integer_path_does_not_allocate() {
+    use spectral_quadrature::{tables::integer, IntegerSet};
+    let counts: Vec<[u16; 6]> = (0..256u32)
+        .map(|p| {
+            std::array::from_fn(|i| {
+                p.wrapping_mul(2_654_435_761)
+                    .wrapping_add(i as u32 * 40_503) as u16
+            })
+        })
+        .collect();
+    let mut out = vec![[0u8; 3]; counts.len()];
+    let mut short = vec![[0u8; 3]; 3];
+    let mut results: [Result<(), Error>; 2] = [Ok(()); 2];
+    let mut made = Ok(integer::TABLE2_ROW1_SRGB);
+    let mut one = [0u8; 3];
+    let mut fixed = [0i64; 3];
+    assert_no_alloc("integer path", || {
+        for set in [
+            integer::TABLE2_ROW1_SRGB,
+            integer::TABLE2_ROW1_REC2020,
+            integer::TABLE2_ROW1_MEYER_1987,
+        ] {
+            results[0] = set.encode_u8_batch(black_box(&counts), &mut out);
+            one = set.encode_u8(black_box(&counts[7]));
+            fixed = set.linear_fixed(black_box(&counts[9]));
+        }
+        // The error path, and a set put in fixed point at run time.
+        results[1] = integer::TABLE2_ROW1_SRGB.encode_u8_batch(&counts, &mut short);
+        made = IntegerSet::new(black_box(&folded::TABLE2_ROW1_DISPLAY_P3), 1.0 / 65535.0);
+        black_box((&out, &one, &fixed, &results, &made));
+    });
+    assert_eq!(results[0], Ok(()));
+    assert!(matches!(results[1], Err(Error::LengthMismatch { .. })));
+    assert_eq!(
+        out[5],
+        integer::TABLE2_ROW1_MEYER_1987.encode_u8(&counts[5])
+    );
+    assert_eq!(made, Ok(integer::TABLE2_ROW1_DISPLAY_P3));
+}

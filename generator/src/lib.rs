@@ -70,6 +70,6 @@ pub use derivation::sets::WavelengthSet;
 pub use derivation::settings::Settings;
 pub use derivation::{display, evaluate, observer, opponent, planckian, quadrature, sets};
 pub use emit::generate::{generate, Output};
-pub use emit::{codegen, shader};
+pub use emit::{codegen, fixed_point, shader};
 pub use scenes::scene::SCENE_ENV;
 pub use scenes::{calibration, catalog, plan, scene, user};

@@ -484,6 +484,7 @@ pub fn tables_rs(
     let (sensors, sensor_tables, n) = super::sensors::sensors_rs(&scene.sensors, f32_literal)?;
     o.push_str(&sensors);
     floats += n;
+    o.push_str(&super::fixed_point::integer_rs(scene)?);
     // Every table as a slice, so a program can link them all (examples/size_probe measures
     // what a scene costs when nothing is left unused).
     let chain = |root: &str, children: &[&str]| {

@@ -48,6 +48,9 @@ pub(crate) enum Expr {
     Struct(String, Vec<(String, Expr)>),
     /// A root and its fields or method calls: `root.field.method()`, each child with its dot.
     Chain(String, Vec<String>),
+    /// `path(a, b, …)`: a function call, its arguments laid out as a tuple's (rustfmt's
+    /// `fn_call_width`), without a tuple's trailing comma after a single argument.
+    Call(String, Vec<Expr>),
 }
 
 impl Expr {
@@ -150,6 +153,15 @@ fn rewrite(expr: &Expr, shape: Shape) -> Option<String> {
         Expr::Tuple(items) => list(items, "(", ")", TUPLE_WIDTH, items.len() == 1, shape),
         Expr::Struct(path, fields) => struct_lit(path, fields, shape),
         Expr::Chain(root, children) => chain(root, children, shape),
+        Expr::Call(path, args) => list(
+            args,
+            "(",
+            ")",
+            TUPLE_WIDTH,
+            false,
+            shape.offset_left(width(path))?,
+        )
+        .map(|a| std::format!("{path}{a}")),
     }
 }
 
@@ -409,6 +421,7 @@ fn unformatted(e: &Expr) -> String {
             std::format!("{path} {{ {} }}", f.join(", "))
         }
         Expr::Chain(root, children) => std::format!("{root}{}", children.concat()),
+        Expr::Call(path, args) => std::format!("{path}({})", join(args)),
     }
 }
 

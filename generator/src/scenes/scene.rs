@@ -667,6 +667,10 @@ pub struct Resolved {
     pub warnings: Vec<ZeroedNegatives>,
     /// Each sensor's white reference and fitted calibration, baked in `tables::sensors`.
     pub sensors: Vec<SensorTables>,
+    /// The samples of white of the scene's own sets, by name, where they are not all 1: a
+    /// sensor set's readings of a reflectance of 1 under its light (or of a radiance of 1), at
+    /// the luminance of a spectrum of constant 1 (`Fitted::white_samples`).
+    pub white_samples: Vec<(String, Vec<f64>)>,
 }
 
 impl Scene {
@@ -705,6 +709,7 @@ impl Scene {
                 upsamplings,
                 warnings: Vec::new(),
                 sensors: Vec::new(),
+                white_samples: Vec::new(),
             });
         }
         let user = self.resolve_user(d)?;
@@ -740,7 +745,11 @@ impl Scene {
                 target.push(set);
             }
         }
+        let mut white_samples = Vec::new();
         for set in user.1 {
+            if set.white_samples.iter().any(|&w| w != 1.0) {
+                white_samples.push((set.name.clone(), set.white_samples.clone()));
+            }
             colour_sets.push(set.wavelength_set(d));
         }
         let upsamplings = self.upsamplings(d, &colour_sets, &displays, &user.0)?;
@@ -755,6 +764,7 @@ impl Scene {
             upsamplings,
             warnings,
             sensors,
+            white_samples,
         })
     }
 

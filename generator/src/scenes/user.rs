@@ -260,6 +260,10 @@ pub struct Fitted {
     pub expected_error: f64,
     /// The set as the report measures it, on radiances.
     pub eval: EvalSet,
+    /// The samples of white: a reflectance of 1 under the light (or a radiance of 1), at the
+    /// luminance of a spectrum of constant 1. Ones for wavelengths; for a sensor, each
+    /// channel's reading of it.
+    pub white_samples: Vec<f64>,
 }
 
 impl Fitted {
@@ -365,6 +369,7 @@ pub fn fixed_set(
         xyz_weights,
         expected_error,
         eval,
+        white_samples: std::vec![1.0; wavelengths_nm.len()],
     })
 }
 
@@ -412,6 +417,8 @@ pub fn sensor_set(
 ) -> Result<Fitted, Error> {
     let p = shared::problem_for(d, light)?;
     let rows = p.channel_rows(&sensor.channels);
+    // Each row is a channel's reading of a reflectance of 1 on the 1 nm grid, point by point.
+    let white_samples = rows.iter().map(|r| r.iter().sum()).collect();
     let (xyz_weights, expected_error) = p.solve_rows(&rows).ok_or_else(|| Error::InSet {
         name: name.into(),
         error: std::boxed::Box::new(Error::Numerical(
@@ -430,6 +437,7 @@ pub fn sensor_set(
         xyz_weights,
         expected_error,
         eval,
+        white_samples,
     })
 }
 
