@@ -562,14 +562,14 @@ fn locus_benches<W: Write, T: FnMut() -> u32>(b: &mut Bench<'_, W, T>) -> core::
     b.measure("PlanckianLocus::cct", ROUNDS * near.len(), &mut || {
         for _ in 0..ROUNDS {
             for (o, xyz) in sink.iter_mut().zip(near) {
-                *o = black_box(LOCUS.cct(black_box(*xyz))).map_or(0, |c| c.kelvin.to_bits());
+                *o = black_box(LOCUS.cct(*black_box(xyz))).map_or(0, |c| c.kelvin.to_bits());
             }
         }
     })?;
     b.measure("uv_from_xyz", ROUNDS * near.len(), &mut || {
         for _ in 0..ROUNDS {
             for (o, xyz) in sink.iter_mut().zip(near) {
-                *o = black_box(uv_from_xyz(black_box(*xyz))).map_or(0, |uv| uv[0].to_bits());
+                *o = black_box(uv_from_xyz(*black_box(xyz))).map_or(0, |uv| uv[0].to_bits());
             }
         }
     })?;
@@ -585,7 +585,7 @@ fn locus_benches<W: Write, T: FnMut() -> u32>(b: &mut Bench<'_, W, T>) -> core::
             for _ in 0..ROUNDS {
                 for (o, uv) in sink.iter_mut().zip(&uvs[..near.len()]) {
                     *o =
-                        black_box(LOCUS.cct_from_uv(black_box(*uv))).map_or(0, |c| c.duv.to_bits());
+                        black_box(LOCUS.cct_from_uv(*black_box(uv))).map_or(0, |c| c.duv.to_bits());
                 }
             }
         },
@@ -596,7 +596,7 @@ fn locus_benches<W: Write, T: FnMut() -> u32>(b: &mut Bench<'_, W, T>) -> core::
     b.measure("LuxScale::lux", ROUNDS * near.len(), &mut || {
         for _ in 0..ROUNDS {
             for (o, xyz) in sink.iter_mut().zip(near) {
-                *o = black_box(device.lux.lux(black_box(*xyz))).to_bits();
+                *o = black_box(device.lux.lux(*black_box(xyz))).to_bits();
             }
         }
     })?;
