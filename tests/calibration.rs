@@ -461,8 +461,8 @@ fn the_golden_device_without_noise_is_the_reports() {
 #[test]
 fn simulated_devices() {
     const DEVICES: usize = 200;
-    println!("| read noise | golden device | golden matrix alone | after dark and white | after the fitted correction |");
-    println!("|---|---|---|---|---|");
+    println!("| read noise | golden device | golden matrix alone | after dark and white | after the fitted correction | fitted against golden |");
+    println!("|---|---|---|---|---|---|");
     for (noise, seed) in [(2.0, 1), (10.0, 2), (50.0, 3)] {
         let rows = simulate(noise, DEVICES, seed);
         let cell = |r: &Row| {
@@ -473,14 +473,17 @@ fn simulated_devices() {
                 r.worst_patch
             )
         };
+        let golden = rows[0].mean();
+        let excess = rows[3].mean() / golden - 1.0;
         println!(
-            "| {noise} counts | {} | {} | {} | {} |",
+            "| {noise} counts | {} | {} | {} | {} | {:+.1} % ({} 10 %) |",
             cell(&rows[0]),
             cell(&rows[1]),
             cell(&rows[2]),
-            cell(&rows[3])
+            cell(&rows[3]),
+            100.0 * excess,
+            if excess <= 0.1 { "within" } else { "beyond" }
         );
-        let golden = rows[0].mean();
         assert!(
             rows[1].mean() > 3.0 * golden,
             "uncalibrated devices are far off"

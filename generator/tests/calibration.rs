@@ -64,6 +64,12 @@ fn a_sensor_bakes_its_white_and_a_calibration_its_fit() {
     let white = &plain.sensors[0].white;
     assert_eq!(white.len(), 8);
     assert!(white.iter().all(|w| *w > 0.0));
+    // One white reference: the sensor set's samples of white, which scale its integer form, are
+    // the same numbers as the calibration's reference.
+    assert_eq!(
+        plain.white_samples,
+        vec![("AS7341".to_string(), white.clone())]
+    );
     // The golden set reads its white as display white (Y = UNIT_SPECTRUM_Y): its weights are
     // exact on the light's white.
     let sensor = sqd::user::Sensor::read(

@@ -17,7 +17,8 @@ pub const FULL_SCALE: f64 = 65535.0;
 
 /// The sample one count stands for in `set`'s integer form: the largest of its white samples
 /// over [`FULL_SCALE`]. White is a reflectance (or a radiance) of 1 for a wavelength set, and a
-/// sensor's readings of it for a sensor set (`scene.white_samples`).
+/// sensor's readings of it for a sensor set (`scene.white_samples`: the golden device's readings
+/// of a perfect white, the same numbers as the sensor's `tables::sensors::<NAME>_WHITE`).
 pub fn sample_unit(set: &WavelengthSet, scene: &Resolved) -> f64 {
     let white = scene
         .white_samples

@@ -38,7 +38,7 @@ pub(crate) fn sensors_rs(
     for s in sensors {
         let n = s.white.len();
         let doc = std::format!(
-            "What the golden {} reads on a perfect white under the light its set was fitted for (illuminant E for radiances), at the luminance the folded sets show as the display's white: the `reference` of [`Calibration::from_dark_white`](crate::Calibration::from_dark_white). Scale it by the white tile's reflectance.",
+            "What the golden {0} reads on a perfect white under the light its set was fitted for (illuminant E for radiances), at the luminance the folded sets show as the display's white: the `reference` of [`Calibration::from_dark_white`](crate::Calibration::from_dark_white). Scale it by the white tile's reflectance. The same numbers are the set's samples of white: the integer forms `tables::integer::{0}_<DISPLAY>` take the largest of them as 65 535 counts.",
             s.name
         );
         o.push_str(&layout::comment(4, "///", &doc, 0));

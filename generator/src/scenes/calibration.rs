@@ -11,16 +11,15 @@
 //! device's matrix applies: the correction sits on top of it and the matrix stays the same.
 //!
 //! Units: the golden readings are those of the light scaled so that a perfect white has the
-//! luminance of a constant spectrum of 1 ([`Derivation::unit_spectrum_y`]), which the folded
+//! luminance of a constant spectrum of 1 ([`Derivation::unit_spectrum_y`](crate::Derivation::unit_spectrum_y)), which the folded
 //! sets show as the display's white. So a corrected white reads as display white.
 
 use std::string::{String, ToString};
 use std::vec::Vec;
 
-use super::user::Sensor;
-use crate::base::error::{DataError, Error};
-use crate::derivation::derive::Derivation;
-use crate::derivation::evaluate::{full_integration, Curve, Spectra};
+pub use super::user::{golden_readings, white_readings};
+use crate::base::error::DataError;
+use crate::derivation::evaluate::{Curve, Spectra};
 
 /// The reflectances a calibration's readings name when the scene gives none: the ColorChecker
 /// of the crate's data.
@@ -52,61 +51,6 @@ pub struct SensorTables {
     pub white: Vec<f64>,
     /// The calibration fitted to the scene's readings, if it gave any.
     pub calibration: Option<ChannelFit>,
-}
-
-/// The factor that scales `light` (a constant 1 if `None`) so that a perfect white under it has
-/// the luminance of a constant spectrum of 1 on the derivation's grid, with `light` integrated
-/// at 1 nm.
-fn light_scale(d: &Derivation, light: Option<&Curve>) -> Result<f64, Error> {
-    let full = full_integration(&d.observer, d.settings.range_nm, 1.0)?;
-    let y = full.xyz(|nm| light.map_or(1.0, |l| l.at(nm)))[1];
-    if !(y > 0.0 && y.is_finite()) {
-        return Err(Error::Settings("the light has no luminance".into()));
-    }
-    Ok(d.unit_spectrum_y / y)
-}
-
-/// What the golden device reads on each of `reflectances` under `light` (a constant 1 if
-/// `None`): `∫ S_k(λ) c L(λ) ρ(λ) dλ` at 1 nm over the derivation's range, with `c` the scale of
-/// this module's units. `result[j][k]`: reflectance j, channel k.
-pub fn golden_readings(
-    d: &Derivation,
-    sensor: &Sensor,
-    light: Option<&Curve>,
-    reflectances: &[Curve],
-) -> Result<Vec<Vec<f64>>, Error> {
-    let scale = light_scale(d, light)?;
-    let grid = full_integration(&d.observer, d.settings.range_nm, 1.0)?.wavelengths_nm;
-    let lit: Vec<f64> = grid
-        .iter()
-        .map(|&nm| scale * light.map_or(1.0, |l| l.at(nm)))
-        .collect();
-    Ok(reflectances
-        .iter()
-        .map(|r| {
-            sensor
-                .channels
-                .iter()
-                .map(|s| {
-                    grid.iter()
-                        .zip(&lit)
-                        .map(|(&nm, l)| s.at(nm) * l * r.at(nm))
-                        .sum()
-                })
-                .collect()
-        })
-        .collect())
-}
-
-/// What the golden device reads on a perfect white under `light` (a constant 1 if `None`): the
-/// reference of a dark and white calibration at run time.
-pub fn white_readings(
-    d: &Derivation,
-    sensor: &Sensor,
-    light: Option<&Curve>,
-) -> Result<Vec<f64>, Error> {
-    let white = Curve::constant("white", 1.0, d.settings.range_nm);
-    Ok(golden_readings(d, sensor, light, &[white])?.remove(0))
 }
 
 /// A device's readings of known reflectances: one row per reading, its first field naming a

@@ -23,7 +23,7 @@ use crate::base::files::read_error;
 use crate::base::table::{Negatives, ZeroedNegatives};
 use crate::derivation::derive::Derivation;
 use crate::derivation::display;
-use crate::derivation::evaluate::{self, Curve, EvalSet, Spectra};
+use crate::derivation::evaluate::{self, full_integration, Curve, EvalSet, Spectra};
 use crate::derivation::sets::WavelengthSet;
 use crate::shared;
 
@@ -261,8 +261,9 @@ pub struct Fitted {
     /// The set as the report measures it, on radiances.
     pub eval: EvalSet,
     /// The samples of white: a reflectance of 1 under the light (or a radiance of 1), at the
-    /// luminance of a spectrum of constant 1. Ones for wavelengths; for a sensor, each
-    /// channel's reading of it.
+    /// luminance of a spectrum of constant 1. Ones for wavelengths; for a sensor, the golden
+    /// device's reading of it in each channel, [`white_readings`] (the reference the scene's
+    /// `tables::sensors::<NAME>_WHITE` bakes, the same numbers).
     pub white_samples: Vec<f64>,
 }
 
@@ -417,8 +418,7 @@ pub fn sensor_set(
 ) -> Result<Fitted, Error> {
     let p = shared::problem_for(d, light)?;
     let rows = p.channel_rows(&sensor.channels);
-    // Each row is a channel's reading of a reflectance of 1 on the 1 nm grid, point by point.
-    let white_samples = rows.iter().map(|r| r.iter().sum()).collect();
+    let white_samples = white_readings(d, sensor, light)?;
     let (xyz_weights, expected_error) = p.solve_rows(&rows).ok_or_else(|| Error::InSet {
         name: name.into(),
         error: std::boxed::Box::new(Error::Numerical(
@@ -439,6 +439,65 @@ pub fn sensor_set(
         eval,
         white_samples,
     })
+}
+
+/// The factor that scales `light` (a constant 1 if `None`) so that a perfect white under it has
+/// the luminance of a constant spectrum of 1 on the derivation's grid, with `light` integrated
+/// at 1 nm.
+fn light_scale(d: &Derivation, light: Option<&Curve>) -> Result<f64, Error> {
+    let full = full_integration(&d.observer, d.settings.range_nm, 1.0)?;
+    let y = full.xyz(|nm| light.map_or(1.0, |l| l.at(nm)))[1];
+    if !(y > 0.0 && y.is_finite()) {
+        return Err(Error::Settings("the light has no luminance".into()));
+    }
+    Ok(d.unit_spectrum_y / y)
+}
+
+/// What the golden device (the sensor's channels exactly) reads on each of `reflectances` under
+/// `light` (a constant 1 if `None`): `∫ S_k(λ) c L(λ) ρ(λ) dλ` at 1 nm over the derivation's
+/// range, with `c` the factor that gives a perfect white under the light the luminance of a
+/// constant spectrum of 1 ([`Derivation::unit_spectrum_y`]), which the folded sets show as the
+/// display's white. `result[j][k]`: reflectance j, channel k.
+pub fn golden_readings(
+    d: &Derivation,
+    sensor: &Sensor,
+    light: Option<&Curve>,
+    reflectances: &[Curve],
+) -> Result<Vec<Vec<f64>>, Error> {
+    let scale = light_scale(d, light)?;
+    let grid = full_integration(&d.observer, d.settings.range_nm, 1.0)?.wavelengths_nm;
+    let lit: Vec<f64> = grid
+        .iter()
+        .map(|&nm| scale * light.map_or(1.0, |l| l.at(nm)))
+        .collect();
+    Ok(reflectances
+        .iter()
+        .map(|r| {
+            sensor
+                .channels
+                .iter()
+                .map(|s| {
+                    grid.iter()
+                        .zip(&lit)
+                        .map(|(&nm, l)| s.at(nm) * l * r.at(nm))
+                        .sum()
+                })
+                .collect()
+        })
+        .collect())
+}
+
+/// What the golden device reads on a perfect white under `light` (a constant 1 if `None`), in
+/// the units of [`golden_readings`]: a sensor set's samples of white
+/// ([`Fitted::white_samples`]), which set the scale of its integer form, and the reference of a
+/// dark and white calibration at run time (`tables::sensors::<NAME>_WHITE`).
+pub fn white_readings(
+    d: &Derivation,
+    sensor: &Sensor,
+    light: Option<&Curve>,
+) -> Result<Vec<f64>, Error> {
+    let white = Curve::constant("white", 1.0, d.settings.range_nm);
+    Ok(golden_readings(d, sensor, light, &[white])?.remove(0))
 }
 
 /// The plain least-squares matrix from `sensor`'s readings to XYZ, fitted on `training`
