@@ -176,7 +176,7 @@ pub use spectral_quadrature_math::{
 pub use transfer::{
     quantize_u16, quantize_u8, ChannelLuts, Rgb, TransferFunction, U16_MAX_STEP_ERROR,
 };
-pub use upsample::{Upsampling, UPSAMPLING_CODE_ONE};
+pub use upsample::{RoundTrip, Upsampling, UPSAMPLING_CODE_ONE};
 
 /// Internal, for the fuzz targets in `fuzz/` alone: caps the loops the batch and planar paths
 /// may take on this thread (`simd::forced`). Compiled only with `--cfg fuzzing`, which

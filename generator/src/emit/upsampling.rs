@@ -49,9 +49,9 @@ pub(crate) fn upsampling_rs(
         "RGB materials: each upsampling maps the display's linear RGB, white-balanced under the set's reference light, to the set's node reflectances in [0, 1] (see `docs/upsampling.md`). Named `<SET>_<DISPLAY>`.",
         0,
     ));
-    o.push_str("pub mod upsampling {\n    use crate::Upsampling;\n");
+    o.push_str("pub mod upsampling {\n    use crate::{RoundTrip, Upsampling};\n");
     for u in &scene.upsamplings {
-        let (spec, _) = scene
+        let (spec, matrices) = scene
             .displays
             .iter()
             .find(|(s, _)| s.name == u.display)
@@ -66,6 +66,36 @@ pub(crate) fn upsampling_rs(
             .map(|c| Expr::Array(c.iter().map(|v| Expr::atom(v.to_string())).collect()))
             .collect();
         bytes += 2 * n * rows.len();
+        let edge = u.edge_cells();
+        bytes += 4 * edge.len() + 4 * 3 * n + 4 * 9;
+        let rows_f32 = |m: &[Vec<f64>]| -> Result<Expr, Error> {
+            m.iter()
+                .map(|row| {
+                    row.iter()
+                        .map(|&x| f32_literal(x).map(Expr::Atom))
+                        .collect::<Result<Vec<_>, _>>()
+                        .map(Expr::Array)
+                })
+                .collect::<Result<Vec<_>, _>>()
+                .map(Expr::Array)
+        };
+        let to_xyz: Vec<Vec<f64>> = matrices.rgb_to_xyz.iter().map(|r| r.to_vec()).collect();
+        let round_trip = Expr::Call(
+            "Some".into(),
+            std::vec![Expr::Call(
+                "RoundTrip::new".into(),
+                std::vec![
+                    rows_f32(&u.encoding)?,
+                    rows_f32(&to_xyz)?,
+                    Expr::Array(
+                        edge.iter()
+                            .map(|w| Expr::atom(std::format!("0x{w:08x}")))
+                            .collect()
+                    )
+                    .by_ref(),
+                ],
+            )],
+        );
         let f32s = |v: &[f64]| -> Result<Expr, Error> {
             v.iter()
                 .map(|&x| f32_literal(x).map(Expr::Atom))
@@ -91,6 +121,7 @@ pub(crate) fn upsampling_rs(
                 ),
                 ("grid".into(), Expr::atom(u.grid.to_string())),
                 ("table".into(), Expr::Array(rows).by_ref()),
+                ("round_trip".into(), round_trip),
             ],
         );
         let doc = std::format!(

@@ -480,6 +480,30 @@ impl Baked {
         interpolate(self.grid, &self.values, rgb)
     }
 
+    /// One bit per cell, index `(r · (grid − 1) + g) · (grid − 1) + b`, bit `i % 32` of word
+    /// `i / 32`: set where a corner of the cell is not reachable. The runtime checks the round
+    /// trip only in those cells.
+    pub fn edge_cells(&self) -> Vec<u32> {
+        let g = self.grid;
+        let c = g - 1;
+        let mut words = std::vec![0u32; (c * c * c).div_ceil(32)];
+        for i in 0..c {
+            for j in 0..c {
+                for k in 0..c {
+                    let corner = |di: usize, dj: usize, dk: usize| {
+                        self.reachable[((i + di) * g + j + dj) * g + k + dk]
+                    };
+                    let all = (0..8).all(|m| corner(m >> 2, (m >> 1) & 1, m & 1));
+                    if !all {
+                        let idx = (i * c + j) * c + k;
+                        words[idx / 32] |= 1 << (idx % 32);
+                    }
+                }
+            }
+        }
+        words
+    }
+
     /// The share of grid points whose colour node values in [0, 1] reach.
     pub fn reachable_share(&self) -> f64 {
         self.reachable.iter().filter(|&&r| r).count() as f64 / self.reachable.len() as f64
