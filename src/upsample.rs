@@ -108,6 +108,16 @@ impl<const N: usize> Upsampling<N> {
         self.table
     }
 
+    /// The table as a shader reads it: the codes in table order, two to a `u32`, the first of
+    /// each pair in the low half (the last word padded with 0). Upload these words to the
+    /// storage buffer `<SET>_<DISPLAY>_CODES` that the shader function
+    /// `<set>_<display>_reflectance` reads (`tables::upsampling::<SET>_<DISPLAY>_WGSL`).
+    pub fn shader_words(&self) -> impl Iterator<Item = u32> + '_ {
+        let codes = self.table.iter().flatten();
+        let len = self.table.len() * N;
+        (0..len.div_ceil(2)).zip(ShaderPairs(codes)).map(|(_, w)| w)
+    }
+
     /// The node reflectances of a linear, white-balanced RGB colour, each in [0, 1].
     ///
     /// Each channel is clamped to [0, 1] first: a negative or NaN channel counts as 0, one
@@ -231,5 +241,17 @@ impl<const N: usize> Upsampling<N> {
             *o = self.reflectance(*p);
         }
         Ok(())
+    }
+}
+
+/// Pairs of codes as words, low half first; a lone last code is padded with 0.
+struct ShaderPairs<I>(I);
+
+impl<'a, I: Iterator<Item = &'a u16>> Iterator for ShaderPairs<I> {
+    type Item = u32;
+    fn next(&mut self) -> Option<u32> {
+        let lo = u32::from(*self.0.next()?);
+        let hi = self.0.next().map_or(0, |&v| u32::from(v));
+        Some(lo | (hi << 16))
     }
 }

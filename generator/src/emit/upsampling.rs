@@ -8,7 +8,7 @@ use super::layout::{self, Expr};
 use crate::base::error::Error;
 use crate::derivation::evaluate::builtin_lights;
 use crate::scenes::scene::Resolved;
-use crate::upsampling::TRAINING_FILES;
+use crate::upsampling::{Baked, TRAINING_FILES};
 
 /// The const name of the upsampling of `set` for `display`: `<SET>_<DISPLAY>`.
 pub fn const_name(set: &str, display: &str) -> String {
@@ -137,69 +137,67 @@ pub(crate) fn upsampling_rs(
             rt = u.max_round_trip_de00,
         );
         o.push_str(&layout::comment(4, "///", &doc, 0));
+        let name = const_name(&u.set, &u.display);
         o.push_str(&layout::item(
             4,
-            &std::format!(
-                "pub const {}: Upsampling<{n}> =",
-                const_name(&u.set, &u.display)
-            ),
+            &std::format!("pub const {name}: Upsampling<{n}> ="),
             &value,
         ));
+        for (lang, wgsl, decl) in [
+            (
+                "WGSL",
+                true,
+                std::format!("@group(G) @binding(B) var<storage, read> {name}_CODES: array<u32>;"),
+            ),
+            (
+                "GLSL",
+                false,
+                std::format!(
+                    "layout(std430, binding = B) readonly buffer {name}_Buffer {{ uint {name}_CODES[]; }};"
+                ),
+            ),
+        ] {
+            let doc = std::format!(
+                "[`{name}`]'s `{lower}_reflectance(rgb)` in {lang}: [`Upsampling::interpolate`]. The shader declares the table, `{decl}`{where_}, and the application fills it with [`Upsampling::shader_words`] (see `docs/shaders.md`).",
+                lower = name.to_ascii_lowercase(),
+                where_ = if wgsl { "" } else { " before the function (GLSL 4.30 or ES 3.10)" },
+            );
+            o.push_str(&layout::comment(4, "///", &doc, 0));
+            o.push_str(&std::format!(
+                "    pub const {name}_{lang}: &str = r#\"{}\"#;\n",
+                shader_snippet(u, wgsl)?
+            ));
+        }
         o.push('\n');
     }
     o.push_str("}\n\n");
     Ok((o, bytes))
 }
 
-/// The scene's upsamplings as shader source: per upsampling `<SET>_<DISPLAY>`, its codes packed
-/// two to a `u32` (`<SET>_<DISPLAY>_CODES`, low half first) and the function
-/// `<set>_<display>_reflectance(rgb)`, the runtime's `Upsampling::reflectance` with its f32
-/// operations in the same order. `wgsl`: WGSL, else GLSL; `float`: the language's literal of an
-/// f64 rounded to f32.
-pub(crate) fn shader_snippet(
-    scene: &Resolved,
-    wgsl: bool,
-    float: &dyn Fn(f64) -> Result<String, Error>,
-) -> Result<String, Error> {
+/// The shader source of one upsampling `<SET>_<DISPLAY>`: the function
+/// `<set>_<display>_reflectance(rgb)`, the runtime's `Upsampling::interpolate` with its f32
+/// operations in the same order, reading the table from `<SET>_<DISPLAY>_CODES`, a storage
+/// buffer of `u32` the shader declares and the application fills with
+/// `Upsampling::shader_words` (two codes to a word, low half first). `wgsl`: WGSL, else GLSL.
+pub(crate) fn shader_snippet(u: &Baked, wgsl: bool) -> Result<String, Error> {
+    // Rust's shortest round-trip form of the f32 ("8.0", "1.5259022e-5"): a float literal in
+    // WGSL and GLSL alike.
+    let float = |v: f64| -> Result<String, Error> { Ok(std::format!("{:?}", v as f32)) };
     let mut o = String::new();
-    for u in &scene.upsamplings {
+    {
         let name = const_name(&u.set, &u.display);
         let lower = name.to_ascii_lowercase();
         let n = u.wavelengths_nm.len();
         let g = u.grid;
-        let flat: Vec<u16> = u.codes.iter().flatten().copied().collect();
-        let words: Vec<String> = flat
-            .chunks(2)
-            .map(|pair| {
-                let lo = u32::from(pair[0]);
-                let hi = u32::from(pair.get(1).copied().unwrap_or(0));
-                std::format!("0x{:08x}u", lo | (hi << 16))
-            })
-            .collect();
-        let len = words.len();
-        let body = words
-            .chunks(8)
-            .map(|c| c.join(", "))
-            .collect::<Vec<_>>()
-            .join(",\n    ");
         let (uint, float_t, vec3) = if wgsl {
             ("u32", "f32", "vec3<f32>")
         } else {
             ("uint", "float", "vec3")
         };
         o.push_str(&std::format!(
-            "// {name}: linear RGB (white-balanced under {}) -> {n} node reflectances in [0, 1], a {g}x{g}x{g} grid of 16-bit codes, two to a word (Upsampling::reflectance).\n",
+            "// {name}: linear RGB (white-balanced under {}) -> {n} node reflectances in [0, 1] (Upsampling::interpolate): a {g}x{g}x{g} grid of 16-bit codes, two to a word, read from {name}_CODES.\n",
             u.light
         ));
-        if wgsl {
-            o.push_str(&std::format!(
-                "const {name}_CODES: array<u32, {len}> = array<u32, {len}>(\n    {body},\n);\n"
-            ));
-        } else {
-            o.push_str(&std::format!(
-                "const uint {name}_CODES[{len}] = uint[{len}](\n    {body}\n);\n"
-            ));
-        }
         let (zero, one) = (float(0.0)?, float(1.0)?);
         let cells = float((g - 1) as f64)?;
         // The runtime's scale, 1 / 65535 rounded to f32 by an f32 division.
