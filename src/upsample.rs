@@ -108,14 +108,25 @@ impl<const N: usize> Upsampling<N> {
         self.table
     }
 
-    /// The table as a shader reads it: the codes in table order, two to a `u32`, the first of
-    /// each pair in the low half (the last word padded with 0). Upload these words to the
-    /// storage buffer `<SET>_<DISPLAY>_CODES` that the shader function
-    /// `<set>_<display>_reflectance` reads (`tables::upsampling::<SET>_<DISPLAY>_WGSL`).
+    /// The words a shader reads: the codes in table order, two to a `u32`, the first of each
+    /// pair in the low half (the last word padded with 0); then, with a [`RoundTrip`], its
+    /// edge cells' words and, as f32 bits, its weights (row by row), RGB → XYZ (row by row)
+    /// and per-channel rounding. Upload them to the storage buffer `<SET>_<DISPLAY>_CODES`
+    /// that the shader functions `<set>_<display>_reflectance` and `_interpolate` read
+    /// (`tables::upsampling::<SET>_<DISPLAY>_WGSL`, `_GLSL`).
     pub fn shader_words(&self) -> impl Iterator<Item = u32> + '_ {
-        let codes = self.table.iter().flatten();
-        let len = self.table.len() * N;
-        (0..len.div_ceil(2)).zip(ShaderPairs(codes)).map(|(_, w)| w)
+        let codes = ShaderPairs(self.table.iter().flatten());
+        let rt = self.round_trip.as_ref();
+        let edge = rt.into_iter().flat_map(|rt| rt.edge_cells.iter().copied());
+        let floats = rt.into_iter().flat_map(|rt| {
+            rt.weights
+                .iter()
+                .flatten()
+                .chain(rt.rgb_to_xyz.iter().flatten())
+                .chain(rt.rounding.iter())
+                .map(|v| v.to_bits())
+        });
+        codes.chain(edge).chain(floats)
     }
 
     /// The node reflectances of a linear, white-balanced RGB colour, each in [0, 1].

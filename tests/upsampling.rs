@@ -556,3 +556,27 @@ fn round_trip_at_random_points() {
         },
     );
 }
+
+#[test]
+fn shader_words_hold_the_table_then_the_round_trip() {
+    let u = upsampling::KQ_C_4_SRGB;
+    let words: Vec<u32> = u.shader_words().collect();
+    let codes: Vec<u16> = u.table().iter().flatten().copied().collect();
+    let rt = u.round_trip.unwrap();
+    let n_codes = codes.len().div_ceil(2);
+    assert_eq!(words.len(), n_codes + rt.edge_cells.len() + 3 * 4 + 9 + 3);
+    for (k, w) in words[..n_codes].iter().enumerate() {
+        assert_eq!(*w & 0xffff, u32::from(codes[2 * k]));
+        assert_eq!(
+            *w >> 16,
+            u32::from(codes.get(2 * k + 1).copied().unwrap_or(0))
+        );
+    }
+    assert_eq!(
+        &words[n_codes..n_codes + rt.edge_cells.len()],
+        rt.edge_cells
+    );
+    let f = n_codes + rt.edge_cells.len();
+    assert_eq!(f32::from_bits(words[f + 5]), rt.weights[1][1]);
+    assert_eq!(f32::from_bits(words[f + 12 + 4]), rt.rgb_to_xyz[1][1]);
+}

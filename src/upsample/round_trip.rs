@@ -24,7 +24,7 @@ pub struct RoundTrip<const N: usize> {
     pub edge_cells: &'static [u32],
     /// Per channel, the largest residual the table's rounding alone can leave: half a code
     /// times the sum of the row's absolute weights.
-    rounding: [f32; 3],
+    pub(crate) rounding: [f32; 3],
 }
 
 /// Below this many times [`RoundTrip::rounding`] the residual is the table's rounding and the

@@ -158,7 +158,7 @@ pub(crate) fn upsampling_rs(
             ),
         ] {
             let doc = std::format!(
-                "[`{name}`]'s `{lower}_reflectance(rgb)` in {lang}: [`Upsampling::interpolate`]. The shader declares the table, `{decl}`{where_}, and the application fills it with [`Upsampling::shader_words`] (see `docs/shaders.md`).",
+                "[`{name}`]'s `{lower}_reflectance(rgb)` in {lang}: [`Upsampling::reflectance`] (and `{lower}_interpolate(rgb)`: [`Upsampling::interpolate`]). The shader declares the table, `{decl}`{where_}, and the application fills it with [`Upsampling::shader_words`] (see `docs/shaders.md`).",
                 lower = name.to_ascii_lowercase(),
                 where_ = if wgsl { "" } else { " before the function (GLSL 4.30 or ES 3.10)" },
             );
@@ -174,11 +174,13 @@ pub(crate) fn upsampling_rs(
     Ok((o, bytes))
 }
 
-/// The shader source of one upsampling `<SET>_<DISPLAY>`: the function
-/// `<set>_<display>_reflectance(rgb)`, the runtime's `Upsampling::interpolate` with its f32
-/// operations in the same order, reading the table from `<SET>_<DISPLAY>_CODES`, a storage
-/// buffer of `u32` the shader declares and the application fills with
-/// `Upsampling::shader_words` (two codes to a word, low half first). `wgsl`: WGSL, else GLSL.
+/// The shader source of one upsampling `<SET>_<DISPLAY>`: the functions
+/// `<set>_<display>_interpolate(rgb)` and `<set>_<display>_reflectance(rgb)`, the runtime's
+/// `Upsampling::interpolate` and `reflectance` with their f32 operations in the same order,
+/// reading the table (two codes to a word, low half first) and the round trip's data (the edge
+/// cells' bits, then the weights, RGB → XYZ and the rounding as f32 bits) from
+/// `<SET>_<DISPLAY>_CODES`, a storage buffer of `u32` the shader declares and the application
+/// fills with `Upsampling::shader_words`. `wgsl`: WGSL, else GLSL.
 pub(crate) fn shader_snippet(u: &Baked, wgsl: bool) -> Result<String, Error> {
     // Rust's shortest round-trip form of the f32 ("8.0", "1.5259022e-5"): a float literal in
     // WGSL and GLSL alike.
@@ -195,7 +197,7 @@ pub(crate) fn shader_snippet(u: &Baked, wgsl: bool) -> Result<String, Error> {
             ("uint", "float", "vec3")
         };
         o.push_str(&std::format!(
-            "// {name}: linear RGB (white-balanced under {}) -> {n} node reflectances in [0, 1] (Upsampling::interpolate): a {g}x{g}x{g} grid of 16-bit codes, two to a word, read from {name}_CODES.\n",
+            "// {name}: linear RGB (white-balanced under {}) -> {n} node reflectances in [0, 1] (Upsampling::interpolate): a {g}x{g}x{g} grid of 16-bit codes, two to a word, read from {name}_CODES from word 0.\n",
             u.light
         ));
         let (zero, one) = (float(0.0)?, float(1.0)?);
@@ -210,13 +212,13 @@ pub(crate) fn shader_snippet(u: &Baked, wgsl: bool) -> Result<String, Error> {
         let v = if wgsl { c3(&clamp) } else { c3(&clamp_glsl) };
         let (decl, uvec3, let_) = if wgsl {
             (
-                std::format!("fn {lower}_reflectance(rgb: vec3<f32>) -> array<f32, {n}> {{\n"),
+                std::format!("fn {lower}_interpolate(rgb: vec3<f32>) -> array<f32, {n}> {{\n"),
                 "vec3<u32>",
                 "let",
             )
         } else {
             (
-                std::format!("float[{n}] {lower}_reflectance(vec3 rgb) {{\n"),
+                std::format!("float[{n}] {lower}_interpolate(vec3 rgb) {{\n"),
                 "uvec3",
                 "",
             )
@@ -316,6 +318,40 @@ pub(crate) fn shader_snippet(u: &Baked, wgsl: bool) -> Result<String, Error> {
         o.push_str(&std::format!(
             "        nodes[k] = clamp(acc * {scale}, {zero}, {one});\n    }}\n    return nodes;\n}}\n\n"
         ));
+        // The round-trip correction: the runtime's `RoundTrip::correct` step for step, its
+        // constants (`src/upsample/round_trip.rs`) as the same f32 values.
+        let template = if wgsl {
+            include_str!("upsampling_round_trip.wgsl")
+        } else {
+            include_str!("upsampling_round_trip.glsl")
+        };
+        let codes = (g * g * g * n).div_ceil(2);
+        let edge_words = u.edge_cells().len();
+        let f = |x: f32| std::format!("{x:?}");
+        let d = 6.0f32 / 29.0;
+        let text = template
+            .replace("@NAME@", &name)
+            .replace("@lower@", &lower)
+            .replace("@N@", &n.to_string())
+            .replace("@NF@", &f(n as f32))
+            .replace("@E@", &codes.to_string())
+            .replace("@F@", &(codes + edge_words).to_string())
+            .replace("@XYZ@", &(3 * n).to_string())
+            .replace("@ROUND@", &(3 * n + 9).to_string())
+            .replace("@STEPS@", &(3 * n + 3).to_string())
+            .replace("@KEEP@", &f(1.5))
+            .replace("@FULL@", &f(3.0))
+            .replace("@MU@", &f(1.0e6))
+            .replace("@IMU@", &f(1.0 / 1.0e6))
+            .replace("@FREE@", &f(1.0e-6))
+            .replace("@D3@", &f(d * d * d))
+            .replace("@LIN@", &f(1.0 / (3.0 * d * d)))
+            .replace("@THIRD@", &f(1.0 / 3.0))
+            .replace("@CLAMP@", &v)
+            .replace("@CELLS@", &cells)
+            .replace("@G2@", &(g - 2).to_string())
+            .replace("@G1@", &(g - 1).to_string());
+        o.push_str(&text);
     }
     Ok(o)
 }
