@@ -1175,13 +1175,13 @@ fn upsampling_runs_on_vulkan_and_agrees_with_the_runtime() {
                     worst_interp = worst_interp.max(dq);
                     if is_corrected {
                         // The correction solves a small programme whose solution moves
-                        // continuously with its data: the shader's `pow` for the cube root
-                        // (a few ULP, against libm's `cbrtf`) moves CIELAB's differential by a
-                        // few parts in 10⁷, and the solution by that times the programme's
-                        // conditioning (at most 1.5e-6 measured on lavapipe); 1e-4 leaves a
-                        // factor of 60 for other compilers' rounding.
+                        // continuously with its data. The shader runs the runtime's steps (its
+                        // cube root included), but Vulkan lets a shader's division and square
+                        // root be off by 2.5 ULP, which moves the data by a few parts in 10⁷
+                        // and the solution by that times the programme's conditioning (at most
+                        // 9e-8 measured on lavapipe); 1e-5 leaves a factor of 100.
                         assert!(
-                            dr <= 1e-4,
+                            dr <= 1e-5,
                             "{lang:?} {} reflectance node {i} at {rgb:?}: {dev_r} vs {}",
                             u.name,
                             refl[i]

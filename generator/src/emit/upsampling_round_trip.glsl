@@ -85,8 +85,12 @@ float[@N@] @lower@_round_trip(vec3 pv, uint cell, float r_in[@N@]) {
         float slope;
         slope = @LIN@;
         if (tc > @D3@) {
+            // The runtime's f32 cube root: an estimate from the bits, three Newton steps.
             float q;
-            q = pow(tc, @THIRD@);
+            q = uintBitsToFloat(floatBitsToUint(tc) / 3u + 709958130u);
+            for (uint k = 0u; k < 3u; k++) {
+                q = (2.0 * q + tc / (q * q)) * @THIRD@;
+            }
             slope = 1.0 / (3.0 * q * q);
         }
         g[c] = slope / white;

@@ -70,7 +70,11 @@ fn @lower@_round_trip(pv: vec3<f32>, cell: u32, r_in: array<f32, @N@>) -> array<
         let tc = (m0 * p[0] + m1 * p[1] + m2 * p[2]) / white;
         var slope = @LIN@;
         if (tc > @D3@) {
-            let q = pow(tc, @THIRD@);
+            // The runtime's f32 cube root: an estimate from the bits, three Newton steps.
+            var q = bitcast<f32>(bitcast<u32>(tc) / 3u + 709958130u);
+            for (var k = 0u; k < 3u; k = k + 1u) {
+                q = (2.0 * q + tc / (q * q)) * @THIRD@;
+            }
             slope = 1.0 / (3.0 * q * q);
         }
         g[c] = slope / white;
