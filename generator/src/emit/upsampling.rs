@@ -143,35 +143,60 @@ pub(crate) fn upsampling_rs(
             &std::format!("pub const {name}: Upsampling<{n}> ="),
             &value,
         ));
-        for (lang, wgsl, decl) in [
+        o.push('\n');
+        for (lang, ext, decl, where_) in [
             (
                 "WGSL",
-                true,
+                "wgsl",
                 std::format!("@group(G) @binding(B) var<storage, read> {name}_CODES: array<u32>;"),
+                "",
             ),
             (
                 "GLSL",
-                false,
+                "glsl",
                 std::format!(
                     "layout(std430, binding = B) readonly buffer {name}_Buffer {{ uint {name}_CODES[]; }};"
                 ),
+                " before the functions (GLSL 4.30 or ES 3.10)",
             ),
         ] {
             let doc = std::format!(
                 "[`{name}`]'s `{lower}_reflectance(rgb)` in {lang}: [`Upsampling::reflectance`] (and `{lower}_interpolate(rgb)`: [`Upsampling::interpolate`]). The shader declares the table, `{decl}`{where_}, and the application fills it with [`Upsampling::shader_words`] (see `docs/shaders.md`).",
                 lower = name.to_ascii_lowercase(),
-                where_ = if wgsl { "" } else { " before the function (GLSL 4.30 or ES 3.10)" },
             );
             o.push_str(&layout::comment(4, "///", &doc, 0));
             o.push_str(&std::format!(
-                "    pub const {name}_{lang}: &str = r#\"{}\"#;\n",
-                shader_snippet(u, wgsl)?
+                "    pub const {name}_{lang}: &str =\n        include_str!(concat!(env!(\"OUT_DIR\"), \"/{}\"));\n",
+                shader_file(&u.set, &u.display, ext)
             ));
         }
-        o.push('\n');
     }
     o.push_str("}\n\n");
     Ok((o, bytes))
+}
+
+/// The file in `OUT_DIR` that holds the shader source of the upsampling of `set` for `display`
+/// in the language whose extension is `ext` (`wgsl`, `glsl`): `tables.rs` includes it.
+pub fn shader_file(set: &str, display: &str, ext: &str) -> String {
+    std::format!(
+        "upsampling_{}.{ext}",
+        const_name(set, display).to_ascii_lowercase()
+    )
+}
+
+/// The scene's upsamplings' shader files: name in `OUT_DIR` ([`shader_file`]) and text, WGSL
+/// then GLSL for each.
+pub(crate) fn shader_files(scene: &Resolved) -> Result<Vec<(String, String)>, Error> {
+    let mut files = Vec::new();
+    for u in &scene.upsamplings {
+        for (ext, wgsl) in [("wgsl", true), ("glsl", false)] {
+            files.push((
+                shader_file(&u.set, &u.display, ext),
+                shader_snippet(u, wgsl)?,
+            ));
+        }
+    }
+    Ok(files)
 }
 
 /// The shader source of one upsampling `<SET>_<DISPLAY>`: the functions
