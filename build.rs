@@ -23,11 +23,13 @@ fn main() {
         println!("cargo:warning=spectral-quadrature build: {warning}");
     }
     let dir = PathBuf::from(std::env::var_os("OUT_DIR").expect("cargo sets OUT_DIR"));
-    for (file, text) in [
+    let files = [
         ("tables.rs", &out.tables_rs),
         ("shaders.wgsl", &out.wgsl),
         ("shaders.glsl", &out.glsl),
-    ] {
+    ];
+    let more = out.files.iter().map(|(f, t)| (f.as_str(), t));
+    for (file, text) in files.into_iter().chain(more) {
         if let Err(e) = std::fs::write(dir.join(file), text) {
             fail(&format!("cannot write {file}: {e}"));
         }

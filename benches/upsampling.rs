@@ -6,6 +6,11 @@
 //! - `upsampling/batch_4096/<set>`: one `reflectance_batch` call over all 4096 pixels, with
 //!   `Throughput::Elements(4096)`: ns/pixel = time / 4096.
 //!
+//! - `upsampling/interpolate/<set>`: `interpolate` (the table alone), one pixel per iteration;
+//! - `upsampling/edge_unreachable/<set>`: `reflectance` on 4096 RGB triples that node values in
+//!   [0, 1] do not reach or that lie in a cell at the edge of what the set reaches (saturated
+//!   colours near the cube's faces), where the round-trip correction runs.
+//!
 //! Run with `cargo bench --bench upsampling`.
 
 use std::hint::black_box;
@@ -26,7 +31,43 @@ fn inputs() -> Vec<[f32; 3]> {
     (0..PIXELS).map(|_| [next(), next(), next()]).collect()
 }
 
+/// Saturated colours: one channel near 0, one near 1, the third anywhere.
+fn saturated() -> Vec<[f32; 3]> {
+    let mut state = 0x1234_5678_u32;
+    let mut next = move || {
+        state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        (state >> 8) as f32 / (1u32 << 24) as f32
+    };
+    (0..PIXELS)
+        .map(|i| {
+            let mut p = [next(), next(), next()];
+            p[i % 3] *= 0.1;
+            p[(i + 1) % 3] = 1.0 - 0.1 * p[(i + 1) % 3];
+            p
+        })
+        .collect()
+}
+
 fn bench_one<const N: usize>(c: &mut Criterion, name: &str, up: &Upsampling<N>, rgb: &[[f32; 3]]) {
+    let mut g = c.benchmark_group("upsampling/interpolate");
+    g.bench_function(name, |b| {
+        let mut i = 0;
+        b.iter(|| {
+            i = (i + 1) % PIXELS;
+            black_box(up.interpolate(black_box(rgb[i])))
+        })
+    });
+    g.finish();
+    let edge = saturated();
+    let mut g = c.benchmark_group("upsampling/edge_unreachable");
+    g.bench_function(name, |b| {
+        let mut i = 0;
+        b.iter(|| {
+            i = (i + 1) % PIXELS;
+            black_box(up.reflectance(black_box(edge[i])))
+        })
+    });
+    g.finish();
     let mut g = c.benchmark_group("upsampling/per_pixel");
     g.bench_function(name, |b| {
         let mut i = 0;

@@ -79,9 +79,12 @@
 //!
 //! **RGB materials** (`src/upsample.rs`): [`Upsampling::reflectance`] takes a linear RGB colour
 //! to a set's N node reflectances: each channel clamped to [0, 1] (NaN to 0), the cell of the
-//! baked grid and one of its six tetrahedra, then four table entries weighted and summed per node,
-//! in f32; [`Upsampling::reflectance_batch`] calls it on each pixel. The tables are in
-//! [`tables::upsampling`] for the sets and displays the scene names (see `docs/upsampling.md`).
+//! baked grid and one of its six tetrahedra, then four table entries weighted and summed per node
+//! ([`Upsampling::interpolate`]); in a cell at the edge of what the set reaches, where the colour's
+//! residual exceeds the table's rounding, the [`RoundTrip`] correction (`src/upsample/round_trip.rs`:
+//! a small active-set solve), all in f32; [`Upsampling::reflectance_batch`] calls it on each pixel.
+//! The tables are in [`tables::upsampling`] for the sets and displays the scene names (see
+//! `docs/upsampling.md`).
 //!
 //! The x86-64 loops are chosen at run time: the CPU's features are detected on the first call
 //! (`cpuid`, with the `cpufeatures` crate) and cached, in `src/simd/mod.rs`. None of this uses
@@ -176,7 +179,7 @@ pub use spectral_quadrature_math::{
 pub use transfer::{
     quantize_u16, quantize_u8, ChannelLuts, Rgb, TransferFunction, U16_MAX_STEP_ERROR,
 };
-pub use upsample::{Upsampling, UPSAMPLING_CODE_ONE};
+pub use upsample::{RoundTrip, Upsampling, UPSAMPLING_CODE_ONE};
 
 /// Internal, for the fuzz targets in `fuzz/` alone: caps the loops the batch and planar paths
 /// may take on this thread (`simd::forced`). Compiled only with `--cfg fuzzing`, which

@@ -5,6 +5,10 @@
 
 use crate::Error;
 
+mod round_trip;
+
+pub use round_trip::RoundTrip;
+
 /// The 16-bit code of a node value of 1 in an [`Upsampling`]'s table: value = code / 65535.
 pub const UPSAMPLING_CODE_ONE: u16 = u16::MAX;
 
@@ -23,11 +27,16 @@ pub const UPSAMPLING_CODE_ONE: u16 = u16::MAX;
 ///   (g, g, g) gives the same value at every node (a flat spectrum): the grey diagonal is an edge
 ///   of every tetrahedron it crosses, and the table holds greys exactly.
 /// - **Round trip**: the set's weights under the reference light take the output back to the
-///   input RGB wherever the tetrahedron's four corners are reachable (for the set's own
-///   figures, see `docs/upsampling.md`), up to the table's 16-bit rounding
-///   ([`max_round_trip_delta_e00`](Self::max_round_trip_delta_e00)).
+///   input RGB wherever node values in [0, 1] reach it: inside a cell whose corners are all
+///   reachable by the interpolation alone, up to the table's 16-bit rounding
+///   ([`max_round_trip_delta_e00`](Self::max_round_trip_delta_e00)); in a cell at the edge of
+///   what the set reaches by the [`RoundTrip`] correction. Where no node values in [0, 1] reach
+///   the colour, the output gives the nearest colour they reach, in CIELAB linearised at the
+///   requested colour.
 /// - **Continuous**: no node value changes by more than
-///   [`lipschitz`](Self::lipschitz)` · max(|Δr|, |Δg|, |Δb|)` between any two inputs.
+///   [`lipschitz`](Self::lipschitz)` · max(|Δr|, |Δg|, |Δb|)` between two inputs outside the
+///   edge cells; the correction is continuous too, with the larger constants
+///   `docs/upsampling.md` states per set (measured).
 ///
 /// For a set with a light folded in, the RGB is the surface's colour under that light and the
 /// node values feed the set directly. For a set for radiances, the RGB is the surface's colour
@@ -42,7 +51,8 @@ pub struct Upsampling<const N: usize> {
     pub light: &'static str,
     /// The set's wavelengths in nm: the order of the node values.
     pub wavelengths_nm: [f32; N],
-    /// A Lipschitz constant of [`reflectance`](Self::reflectance) from the max norm of the RGB
+    /// A Lipschitz constant of [`interpolate`](Self::interpolate) (and of
+    /// [`reflectance`](Self::reflectance) outside the edge cells) from the max norm of the RGB
     /// change to the largest change of a node value, computed from the table at build time.
     pub lipschitz: f32,
     /// The largest CIEDE2000 difference between a reachable grid point and the colour the set
@@ -55,6 +65,9 @@ pub struct Upsampling<const N: usize> {
     /// `grid³` entries, index `(r · grid + g) · grid + b`, codes of
     /// [`UPSAMPLING_CODE_ONE`]ths.
     pub(crate) table: &'static [[u16; N]],
+    /// The set's encoding, with which [`reflectance`](Self::reflectance) restores the round
+    /// trip in the cells at the edge of what the set reaches; `None`: the interpolation alone.
+    pub round_trip: Option<RoundTrip<N>>,
 }
 
 impl<const N: usize> Upsampling<N> {
@@ -81,6 +94,7 @@ impl<const N: usize> Upsampling<N> {
             reachable_share: f32::NAN,
             grid,
             table,
+            round_trip: None,
         })
     }
 
@@ -94,6 +108,27 @@ impl<const N: usize> Upsampling<N> {
         self.table
     }
 
+    /// The words a shader reads: the codes in table order, two to a `u32`, the first of each
+    /// pair in the low half (the last word padded with 0); then, with a [`RoundTrip`], its
+    /// edge cells' words and, as f32 bits, its weights (row by row), RGB → XYZ (row by row)
+    /// and per-channel rounding. Upload them to the storage buffer `<SET>_<DISPLAY>_CODES`
+    /// that the shader functions `<set>_<display>_reflectance` and `_interpolate` read
+    /// (`tables::upsampling::<SET>_<DISPLAY>_WGSL`, `_GLSL`).
+    pub fn shader_words(&self) -> impl Iterator<Item = u32> + '_ {
+        let codes = ShaderPairs(self.table.iter().flatten());
+        let rt = self.round_trip.as_ref();
+        let edge = rt.into_iter().flat_map(|rt| rt.edge_cells.iter().copied());
+        let floats = rt.into_iter().flat_map(|rt| {
+            rt.weights
+                .iter()
+                .flatten()
+                .chain(rt.rgb_to_xyz.iter().flatten())
+                .chain(rt.rounding.iter())
+                .map(|v| v.to_bits())
+        });
+        codes.chain(edge).chain(floats)
+    }
+
     /// The node reflectances of a linear, white-balanced RGB colour, each in [0, 1].
     ///
     /// Each channel is clamped to [0, 1] first: a negative or NaN channel counts as 0, one
@@ -101,23 +136,59 @@ impl<const N: usize> Upsampling<N> {
     /// (Reflectances do not exceed 1; scale HDR colours down before, and the result up after,
     /// if a renderer needs them.) Subnormal channels are used as they are.
     ///
-    /// Cost: three clamps and a cell lookup, three compares to pick the tetrahedron, then four
-    /// table entries weighted and summed: 4·N loads and multiply-adds. No f64, no allocation.
+    /// The table's interpolation ([`interpolate`](Self::interpolate)), then, in a cell at the
+    /// edge of what the set reaches and only where the colour's residual exceeds the table's
+    /// rounding, the [`RoundTrip`] correction: the node values move to the nearest (Euclidean)
+    /// ones in [0, 1] that the set encodes back to the colour, or, where none do, to those
+    /// that give the nearest colour they can reach in CIELAB linearised at the requested colour
+    /// (the display's white as reference white).
+    ///
+    /// Cost: the interpolation, and one bit test; in an edge cell, 3·N multiply-adds for the
+    /// residual, and where it is not the rounding, a small active-set solve (at most 3·N + 3
+    /// steps of a 3 × 3 system; `docs/upsampling.md` measures it). No f64, no allocation.
     #[inline]
     pub fn reflectance(&self, rgb: [f32; 3]) -> [f32; N] {
+        let (mut r, p, cell) = self.interpolate_at(rgb);
+        if let Some(rt) = &self.round_trip {
+            if rt.is_edge(cell) {
+                rt.correct(p, &mut r);
+            }
+        }
+        r
+    }
+
+    /// The table's tetrahedral interpolation alone: [`reflectance`](Self::reflectance) without
+    /// the correction in the edge cells. Bounded, white, black and greys as `reflectance`, with
+    /// the Lipschitz constant [`lipschitz`](Self::lipschitz); round trip exact (up to the
+    /// table's rounding) wherever the cell's corners are reachable.
+    ///
+    /// Cost: three clamps and a cell lookup, three compares to pick the tetrahedron, then four
+    /// table entries weighted and summed: 4·N loads and multiply-adds.
+    #[inline]
+    pub fn interpolate(&self, rgb: [f32; 3]) -> [f32; N] {
+        self.interpolate_at(rgb).0
+    }
+
+    /// The interpolation, the clamped colour and the index of its cell (as
+    /// [`RoundTrip::edge_cells`]).
+    #[inline]
+    fn interpolate_at(&self, rgb: [f32; 3]) -> ([f32; N], [f32; 3], usize) {
         let g = self.grid;
         let cells = (g - 1) as f32;
         let mut cell = [0usize; 3];
         let mut frac = [0.0f32; 3];
+        let mut p = [0.0f32; 3];
         for c in 0..3 {
             // NaN fails both comparisons and becomes 0.
             let v = if rgb[c] > 0.0 { rgb[c].min(1.0) } else { 0.0 };
+            p[c] = v;
             let x = v * cells;
             // x ≥ 0, so the cast truncates to the cell below; x = cells is the last cell's top.
             let i = (x as usize).min(g - 2);
             cell[c] = i;
             frac[c] = x - i as f32;
         }
+        let cell_index = (cell[0] * (g - 1) + cell[1]) * (g - 1) + cell[2];
         let strides = [g * g, g, 1];
         let [fr, fg, fb] = frac;
         // The Kuhn tetrahedron: the axes in decreasing order of the position in the cell.
@@ -152,16 +223,17 @@ impl<const N: usize> Upsampling<N> {
             self.table.get(i2),
             self.table.get(i3),
         ) else {
-            return [0.0; N];
+            return ([0.0; N], p, cell_index);
         };
         let scale = 1.0 / UPSAMPLING_CODE_ONE as f32;
-        core::array::from_fn(|n| {
+        let r = core::array::from_fn(|n| {
             let acc = w0 * f32::from(v0[n])
                 + w1 * f32::from(v1[n])
                 + w2 * f32::from(v2[n])
                 + w3 * f32::from(v3[n]);
             (acc * scale).clamp(0.0, 1.0)
-        })
+        });
+        (r, p, cell_index)
     }
 
     /// [`reflectance`](Self::reflectance) for every pixel: `out[p] = reflectance(rgb[p])`.
@@ -180,5 +252,17 @@ impl<const N: usize> Upsampling<N> {
             *o = self.reflectance(*p);
         }
         Ok(())
+    }
+}
+
+/// Pairs of codes as words, low half first; a lone last code is padded with 0.
+struct ShaderPairs<I>(I);
+
+impl<'a, I: Iterator<Item = &'a u16>> Iterator for ShaderPairs<I> {
+    type Item = u32;
+    fn next(&mut self) -> Option<u32> {
+        let lo = u32::from(*self.0.next()?);
+        let hi = self.0.next().map_or(0, |&v| u32::from(v));
+        Some(lo | (hi << 16))
     }
 }

@@ -458,3 +458,32 @@ fn the_integer_path_does_not_allocate() {
     );
     assert_eq!(made, Ok(integer::TABLE2_ROW1_DISPLAY_P3));
 }
+
+#[test]
+fn upsampling_does_not_allocate() {
+    use spectral_quadrature::tables::upsampling as up;
+    // Over the cube and saturated colours, where the round-trip correction runs.
+    let rgb: Vec<[f32; 3]> = (0..512)
+        .map(|i| {
+            let t = i as f32 / 512.0;
+            if i % 2 == 0 {
+                [t, (t * 7.3).fract(), (t * 3.1).fract()]
+            } else {
+                [0.05 * t, 1.0 - 0.05 * t, (t * 5.7).fract()]
+            }
+        })
+        .collect();
+    let mut out4 = vec![[0.0f32; 4]; rgb.len()];
+    let mut out6 = vec![[0.0f32; 6]; rgb.len()];
+    assert_no_alloc(
+        "Upsampling::reflectance / interpolate / reflectance_batch",
+        || {
+            for p in &rgb {
+                black_box(up::KQ_C_4_SRGB.reflectance(black_box(*p)));
+                black_box(up::KQ_C_6_SRGB.interpolate(black_box(*p)));
+            }
+            let _ = black_box(up::KQ_C_4_SRGB.reflectance_batch(black_box(&rgb), &mut out4));
+            let _ = black_box(up::KQ_F11_6_SRGB.reflectance_batch(black_box(&rgb), &mut out6));
+        },
+    );
+}

@@ -741,6 +741,18 @@ impl Gpu {
         pixels: usize,
         outs: usize,
     ) -> Vec<f32> {
+        self.run_with(source, input, &[], pixels, outs)
+    }
+
+    /// [`run`](Self::run) with read-only storage buffers of words at bindings 2, 3, ….
+    fn run_with(
+        &self,
+        source: wgpu::ShaderSource<'_>,
+        input: &[f32],
+        extra: &[&[u32]],
+        pixels: usize,
+        outs: usize,
+    ) -> Vec<f32> {
         use wgpu::util::DeviceExt;
         let d = &self.device;
         let module = d.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -774,19 +786,37 @@ impl Gpu {
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
+        let extra: Vec<wgpu::Buffer> = extra
+            .iter()
+            .map(|words| {
+                let bytes: Vec<u8> = words.iter().flat_map(|v| v.to_le_bytes()).collect();
+                d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: None,
+                    contents: &bytes,
+                    usage: wgpu::BufferUsages::STORAGE,
+                })
+            })
+            .collect();
+        let mut entries = vec![
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: samples.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: results.as_entire_binding(),
+            },
+        ];
+        for (i, b) in extra.iter().enumerate() {
+            entries.push(wgpu::BindGroupEntry {
+                binding: 2 + i as u32,
+                resource: b.as_entire_binding(),
+            });
+        }
         let bind = d.create_bind_group(&wgpu::BindGroupDescriptor {
             label: None,
             layout: &pipeline.get_bind_group_layout(0),
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: samples.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: results.as_entire_binding(),
-                },
-            ],
+            entries: &entries,
         });
         let mut encoder = d.create_command_encoder(&Default::default());
         {
@@ -927,32 +957,48 @@ fn wgsl_and_glsl_run_on_vulkan_and_agree_with_the_runtime() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// The upsamplings (`<set>_<display>_reflectance`): a kernel that calls every one validates.
+// The upsamplings (`<set>_<display>_reflectance`): each reads its table from a storage buffer
+// the kernel declares (binding 2 on), filled with `Upsampling::shader_words`.
 
 /// A kernel that writes, per invocation, every upsampling's node values of one RGB triple.
-fn upsampling_kernel(
-    lang: Language,
-    snippet: &str,
-    ups: &[(&str, usize)],
-    pixels: usize,
-) -> String {
-    let outs: usize = ups.iter().map(|(_, n)| n).sum();
+fn upsampling_kernel(lang: Language, ups: &[Up], pixels: usize) -> String {
+    let outs: usize = ups.iter().map(|u| 2 * u.n).sum();
+    let mut decls = String::new();
     let mut body = String::new();
     let mut k = 0;
-    for (j, (name, n)) in ups.iter().enumerate() {
+    for (j, u) in ups.iter().enumerate() {
+        let (name, n) = (u.name, u.n);
         let lower = name.to_ascii_lowercase();
-        body.push_str(&match lang {
-            Language::Wgsl => format!("    let r{j} = {lower}_reflectance(rgb);\n"),
-            Language::Glsl => format!("    float r{j}[{n}] = {lower}_reflectance(rgb);\n"),
-        });
-        for i in 0..*n {
-            body.push_str(&format!("    results[o + {}u] = r{j}[{i}];\n", k + i));
+        let binding = j + 2;
+        match lang {
+            Language::Wgsl => {
+                decls.push_str(&format!(
+                    "@group(0) @binding({binding}) var<storage, read> {name}_CODES: array<u32>;\n{}\n",
+                    u.wgsl
+                ));
+                body.push_str(&format!(
+                    "    let r{j} = {lower}_reflectance(rgb);\n    let q{j} = {lower}_interpolate(rgb);\n"
+                ));
+            }
+            Language::Glsl => {
+                decls.push_str(&format!(
+                    "layout(std430, set = 0, binding = {binding}) readonly buffer {name}_Buffer {{ uint {name}_CODES[]; }};\n{}\n",
+                    u.glsl
+                ));
+                body.push_str(&format!(
+                    "    float r{j}[{n}] = {lower}_reflectance(rgb);\n    float q{j}[{n}] = {lower}_interpolate(rgb);\n"
+                ));
+            }
         }
-        k += n;
+        for i in 0..n {
+            body.push_str(&format!("    results[o + {}u] = r{j}[{i}];\n", k + i));
+            body.push_str(&format!("    results[o + {}u] = q{j}[{i}];\n", k + n + i));
+        }
+        k += 2 * n;
     }
     match lang {
         Language::Wgsl => format!(
-            "{snippet}
+            "{decls}
 @group(0) @binding(0) var<storage, read> samples: array<f32>;
 @group(0) @binding(1) var<storage, read_write> results: array<f32>;
 
@@ -969,11 +1015,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {{
         ),
         Language::Glsl => format!(
             "#version 450
-{snippet}
 layout(local_size_x = 64) in;
 layout(std430, set = 0, binding = 0) readonly buffer Samples {{ float samples[]; }};
 layout(std430, set = 0, binding = 1) buffer Results {{ float results[]; }};
-
+{decls}
 void main() {{
     uint i = gl_GlobalInvocationID.x;
     if (i >= {pixels}u) {{
@@ -987,14 +1032,63 @@ void main() {{
     }
 }
 
-/// The default scene's upsamplings: name and N.
-fn upsamplings() -> Vec<(&'static str, usize)> {
-    use spectral_quadrature::tables::upsampling as up;
+/// One upsampling of the default scene: its name, N, shader texts, table words and its
+/// runtime `interpolate`.
+struct Up {
+    name: &'static str,
+    n: usize,
+    wgsl: &'static str,
+    glsl: &'static str,
+    words: Vec<u32>,
+    interpolate: Box<dyn Fn([f32; 3]) -> Vec<f32>>,
+    reflectance: Box<dyn Fn([f32; 3]) -> Vec<f32>>,
+}
+
+fn up<const N: usize>(
+    name: &'static str,
+    u: &'static spectral_quadrature::Upsampling<N>,
+    wgsl: &'static str,
+    glsl: &'static str,
+) -> Up {
+    Up {
+        name,
+        n: N,
+        wgsl,
+        glsl,
+        words: u.shader_words().collect(),
+        interpolate: Box::new(move |rgb| u.interpolate(rgb).to_vec()),
+        reflectance: Box::new(move |rgb| u.reflectance(rgb).to_vec()),
+    }
+}
+
+/// The default scene's upsamplings.
+fn upsamplings() -> Vec<Up> {
+    use spectral_quadrature::tables::upsampling as u;
     vec![
-        ("KQ_C_4_SRGB", up::KQ_C_4_SRGB.wavelengths_nm.len()),
-        ("KQ_C_6_SRGB", up::KQ_C_6_SRGB.wavelengths_nm.len()),
-        ("KQ_C_8_SRGB", up::KQ_C_8_SRGB.wavelengths_nm.len()),
-        ("KQ_F11_6_SRGB", up::KQ_F11_6_SRGB.wavelengths_nm.len()),
+        up(
+            "KQ_C_4_SRGB",
+            &u::KQ_C_4_SRGB,
+            u::KQ_C_4_SRGB_WGSL,
+            u::KQ_C_4_SRGB_GLSL,
+        ),
+        up(
+            "KQ_C_6_SRGB",
+            &u::KQ_C_6_SRGB,
+            u::KQ_C_6_SRGB_WGSL,
+            u::KQ_C_6_SRGB_GLSL,
+        ),
+        up(
+            "KQ_C_8_SRGB",
+            &u::KQ_C_8_SRGB,
+            u::KQ_C_8_SRGB_WGSL,
+            u::KQ_C_8_SRGB_GLSL,
+        ),
+        up(
+            "KQ_F11_6_SRGB",
+            &u::KQ_F11_6_SRGB,
+            u::KQ_F11_6_SRGB_WGSL,
+            u::KQ_F11_6_SRGB_GLSL,
+        ),
     ]
 }
 
@@ -1003,17 +1097,112 @@ fn upsampling_kernels_validate() {
     let ups = upsamplings();
     assert_eq!(
         ups.len(),
-        spectral_quadrature::tables::shaders::WGSL
-            .matches("_reflectance(rgb: vec3<f32>)")
-            .count(),
+        default_scene().1.upsamplings.len(),
         "add the scene's new upsamplings to upsamplings()"
     );
-    validate(
-        Language::Wgsl,
-        &upsampling_kernel(Language::Wgsl, shaders::WGSL, &ups, 64),
-    );
-    validate(
-        Language::Glsl,
-        &upsampling_kernel(Language::Glsl, shaders::GLSL, &ups, 64),
-    );
+    validate(Language::Wgsl, &upsampling_kernel(Language::Wgsl, &ups, 64));
+    validate(Language::Glsl, &upsampling_kernel(Language::Glsl, &ups, 64));
+}
+
+/// RGB triples over the cube, its faces, edges and corners, and out-of-range values.
+fn upsampling_samples(pixels: usize) -> Vec<f32> {
+    let mut v = Vec::with_capacity(3 * pixels);
+    let mut state = 0x9e37_79b9u32;
+    let specials = [0.0f32, 1.0, 0.5, 0.125, -0.25, 1.5];
+    for p in 0..pixels {
+        for c in 0..3 {
+            state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            let x = (state >> 8) as f32 / (1u32 << 24) as f32;
+            v.push(if p % 4 == 0 {
+                specials[(state as usize >> 3) % specials.len()]
+            } else if c == p % 3 && p % 5 == 0 {
+                x * 0.05
+            } else {
+                x
+            });
+        }
+    }
+    v
+}
+
+#[test]
+#[ignore = "needs a Vulkan driver (lavapipe on a machine without a GPU): .ci/run runs it with --ignored"]
+fn upsampling_runs_on_vulkan_and_agrees_with_the_runtime() {
+    const PIXELS: usize = 4096;
+    let ups = upsamplings();
+    let outs: usize = ups.iter().map(|u| 2 * u.n).sum();
+    let input = upsampling_samples(PIXELS);
+    let gpu = gpu();
+    let extra: Vec<&[u32]> = ups.iter().map(|u| u.words.as_slice()).collect();
+    for lang in [Language::Wgsl, Language::Glsl] {
+        let text = upsampling_kernel(lang, &ups, PIXELS);
+        let source = match lang {
+            Language::Wgsl => wgpu::ShaderSource::Wgsl(text.as_str().into()),
+            Language::Glsl => wgpu::ShaderSource::Glsl {
+                shader: text.as_str().into(),
+                stage: wgpu::naga::ShaderStage::Compute,
+                defines: &[],
+            },
+        };
+        let started = std::time::Instant::now();
+        let out = gpu.run_with(source, &input, &extra, PIXELS, outs);
+        let elapsed = started.elapsed();
+        let (mut worst_interp, mut worst_same, mut worst_corrected) = (0.0f32, 0.0f32, 0.0f32);
+        let mut corrected = 0usize;
+        for p in 0..PIXELS {
+            let rgb = [input[3 * p], input[3 * p + 1], input[3 * p + 2]];
+            let mut k = p * outs;
+            for u in &ups {
+                let interp = (u.interpolate)(rgb);
+                let refl = (u.reflectance)(rgb);
+                let is_corrected = interp != refl;
+                corrected += usize::from(is_corrected);
+                for i in 0..u.n {
+                    let (dev_r, dev_q) = (out[k + i], out[k + u.n + i]);
+                    let dq = (dev_q - interp[i]).abs();
+                    let dr = (dev_r - refl[i]).abs();
+                    // Four products of weights in [0, 1] and codes below 2¹⁶, summed, then
+                    // scaled: each rounding within 2⁻²⁴ of the sum's size (at most 65535), so a
+                    // fused or reordered sum differs by at most a few units of 2⁻²⁴ once
+                    // scaled to [0, 1]: 8 of them bound it.
+                    let interp_bound = 8.0 * f32::EPSILON;
+                    assert!(
+                        dq <= interp_bound,
+                        "{lang:?} {} interpolate node {i} at {rgb:?}: {dev_q} vs {}",
+                        u.name,
+                        interp[i]
+                    );
+                    worst_interp = worst_interp.max(dq);
+                    if is_corrected {
+                        // The correction solves a small programme whose solution moves
+                        // continuously with its data. The shader runs the runtime's steps (its
+                        // cube root included), but Vulkan lets a shader's division and square
+                        // root be off by 2.5 ULP, which moves the data by a few parts in 10⁷
+                        // and the solution by that times the programme's conditioning (at most
+                        // 9e-8 measured on lavapipe); 1e-5 leaves a factor of 100.
+                        assert!(
+                            dr <= 1e-5,
+                            "{lang:?} {} reflectance node {i} at {rgb:?}: {dev_r} vs {}",
+                            u.name,
+                            refl[i]
+                        );
+                        worst_corrected = worst_corrected.max(dr);
+                    } else {
+                        assert!(
+                            dr <= interp_bound,
+                            "{lang:?} {} reflectance node {i} at {rgb:?}: {dev_r} vs {}",
+                            u.name,
+                            refl[i]
+                        );
+                        worst_same = worst_same.max(dr);
+                    }
+                }
+                k += 2 * u.n;
+            }
+        }
+        println!(
+            "{lang:?}: {PIXELS} RGB triples, {} upsamplings (compile and run {elapsed:.2?}): largest difference from the runtime: interpolate {worst_interp:e}; reflectance {worst_same:e} where it is the interpolation, {worst_corrected:e} where the runtime corrects ({corrected} pixel-upsamplings)",
+            ups.len()
+        );
+    }
 }

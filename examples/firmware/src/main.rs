@@ -255,7 +255,62 @@ fn benches(
         })?;
         black_box((&lin, &de));
     }
+    #[cfg(feature = "upsampling-costs")]
+    {
+        use spectral_quadrature::tables::upsampling as up;
+        // RGB triples spread over the cube (an LCG), and saturated ones (one channel near 0, one
+        // near 1) near the cube's faces, where the cells at the edge of what KQ_C_4 and KQ_C_6
+        // reach lie and the round-trip correction runs.
+        let mut state = 0x2545_f491_u32;
+        let mut next = move || {
+            state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (state >> 8) as f32 / (1u32 << 24) as f32
+        };
+        let cube: [[f32; 3]; P] = core::array::from_fn(|_| [next(), next(), next()]);
+        let edge: [[f32; 3]; P] = core::array::from_fn(|i| {
+            let mut p = [next(), next(), next()];
+            p[i % 3] *= 0.1;
+            p[(i + 1) % 3] = 1.0 - 0.1 * p[(i + 1) % 3];
+            p
+        });
+        upsampling_costs(&mut measure, "KQ_C_4", &up::KQ_C_4_SRGB, &cube, &edge)?;
+        upsampling_costs(&mut measure, "KQ_C_6", &up::KQ_C_6_SRGB, &cube, &edge)?;
+        upsampling_costs(&mut measure, "KQ_C_8", &up::KQ_C_8_SRGB, &cube, &edge)?;
+    }
     black_box((&rgb, &rgb16, &acc));
+    Ok(())
+}
+
+/// The instructions per pixel of one upsampling: `interpolate` and `reflectance` over the
+/// cube, and `reflectance` over saturated colours.
+#[cfg(feature = "upsampling-costs")]
+fn upsampling_costs<const N: usize>(
+    measure: &mut dyn FnMut(&str, usize, &mut dyn FnMut()) -> core::fmt::Result,
+    name: &str,
+    u: &spectral_quadrature::Upsampling<N>,
+    cube: &[[f32; 3]],
+    edge: &[[f32; 3]],
+) -> core::fmt::Result {
+    let mut out = [[0.0f32; N]; 512];
+    let line = heapless_name::<48>("upsampling interpolate cube ", name);
+    measure(line.as_str(), cube.len(), &mut || {
+        for (o, p) in out.iter_mut().zip(cube) {
+            *o = black_box(u.interpolate(black_box(*p)));
+        }
+    })?;
+    let line = heapless_name::<48>("upsampling reflectance cube ", name);
+    measure(line.as_str(), cube.len(), &mut || {
+        for (o, p) in out.iter_mut().zip(cube) {
+            *o = black_box(u.reflectance(black_box(*p)));
+        }
+    })?;
+    let line = heapless_name::<48>("upsampling reflectance saturated ", name);
+    measure(line.as_str(), edge.len(), &mut || {
+        for (o, p) in out.iter_mut().zip(edge) {
+            *o = black_box(u.reflectance(black_box(*p)));
+        }
+    })?;
+    black_box(&out);
     Ok(())
 }
 

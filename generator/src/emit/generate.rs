@@ -25,6 +25,9 @@ pub struct Output {
     pub wgsl: String,
     /// The GLSL snippet, the same items.
     pub glsl: String,
+    /// More files for `OUT_DIR` that `tables.rs` includes: name and text (each upsampling's
+    /// WGSL and GLSL).
+    pub files: Vec<(String, String)>,
     /// Files and directories the output depends on (`cargo:rerun-if-changed`).
     pub rerun_if_changed: Vec<PathBuf>,
     /// What the build script should print as warnings (`cargo:warning`), one line each: the
@@ -118,10 +121,12 @@ pub fn generate(crate_dir: &Path, scene: Option<&OsStr>) -> Result<Output, Error
         .chain(&resolved.warnings)
         .map(ToString::to_string)
         .collect();
+    let files = super::upsampling::shader_files(&resolved)?;
     Ok(Output {
         tables_rs,
         wgsl,
         glsl,
+        files,
         rerun_if_changed: rerun,
         warnings,
     })

@@ -11,8 +11,10 @@
 //!   `FoldedSet::linear_rgb`, the products summed in the runtime's order;
 //! - `<display>_encode(rgb)`: the runtime's `Display::encode` with `GamutMapping::Clip`: clip to
 //!   0..=1, then the display's transfer function;
-//! - for each upsampling the scene asks for, `<set>_<display>_reflectance(rgb)`: the runtime's
-//!   `Upsampling::reflectance`, its table packed two codes to a word (`emit/upsampling.rs`).
+//!
+//! The upsamplings' functions are not here: each reads its table from a storage buffer the
+//! shader declares, and comes as its own text (`tables::upsampling::<SET>_<DISPLAY>_WGSL`,
+//! `emit/upsampling.rs`).
 //!
 //! Helpers start with `sq_`. Per-channel rule sets are left out: alone they give no colour.
 //! The WGSL text is complete module-scope code to prepend to a shader; the GLSL text has no
@@ -357,11 +359,6 @@ pub fn snippet(d: &Derivation, scene: &Resolved, lang: Language) -> Result<Strin
             o.push('\n');
         }
     }
-    o.push_str(&super::upsampling::shader_snippet(
-        scene,
-        lang == Language::Wgsl,
-        &|v| lang.float(v),
-    )?);
     // Some GLSL compilers refuse anything but ASCII, even in comments.
     if !o.is_ascii() {
         return Err(Error::NotAscii {

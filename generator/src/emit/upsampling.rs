@@ -8,7 +8,7 @@ use super::layout::{self, Expr};
 use crate::base::error::Error;
 use crate::derivation::evaluate::builtin_lights;
 use crate::scenes::scene::Resolved;
-use crate::upsampling::TRAINING_FILES;
+use crate::upsampling::{Baked, TRAINING_FILES};
 
 /// The const name of the upsampling of `set` for `display`: `<SET>_<DISPLAY>`.
 pub fn const_name(set: &str, display: &str) -> String {
@@ -49,9 +49,9 @@ pub(crate) fn upsampling_rs(
         "RGB materials: each upsampling maps the display's linear RGB, white-balanced under the set's reference light, to the set's node reflectances in [0, 1] (see `docs/upsampling.md`). Named `<SET>_<DISPLAY>`.",
         0,
     ));
-    o.push_str("pub mod upsampling {\n    use crate::Upsampling;\n");
+    o.push_str("pub mod upsampling {\n    use crate::{RoundTrip, Upsampling};\n");
     for u in &scene.upsamplings {
-        let (spec, _) = scene
+        let (spec, matrices) = scene
             .displays
             .iter()
             .find(|(s, _)| s.name == u.display)
@@ -66,6 +66,36 @@ pub(crate) fn upsampling_rs(
             .map(|c| Expr::Array(c.iter().map(|v| Expr::atom(v.to_string())).collect()))
             .collect();
         bytes += 2 * n * rows.len();
+        let edge = u.edge_cells();
+        bytes += 4 * edge.len() + 4 * 3 * n + 4 * 9;
+        let rows_f32 = |m: &[Vec<f64>]| -> Result<Expr, Error> {
+            m.iter()
+                .map(|row| {
+                    row.iter()
+                        .map(|&x| f32_literal(x).map(Expr::Atom))
+                        .collect::<Result<Vec<_>, _>>()
+                        .map(Expr::Array)
+                })
+                .collect::<Result<Vec<_>, _>>()
+                .map(Expr::Array)
+        };
+        let to_xyz: Vec<Vec<f64>> = matrices.rgb_to_xyz.iter().map(|r| r.to_vec()).collect();
+        let round_trip = Expr::Call(
+            "Some".into(),
+            std::vec![Expr::Call(
+                "RoundTrip::new".into(),
+                std::vec![
+                    rows_f32(&u.encoding)?,
+                    rows_f32(&to_xyz)?,
+                    Expr::Array(
+                        edge.iter()
+                            .map(|w| Expr::atom(std::format!("0x{w:08x}")))
+                            .collect()
+                    )
+                    .by_ref(),
+                ],
+            )],
+        );
         let f32s = |v: &[f64]| -> Result<Expr, Error> {
             v.iter()
                 .map(|&x| f32_literal(x).map(Expr::Atom))
@@ -91,6 +121,7 @@ pub(crate) fn upsampling_rs(
                 ),
                 ("grid".into(), Expr::atom(u.grid.to_string())),
                 ("table".into(), Expr::Array(rows).by_ref()),
+                ("round_trip".into(), round_trip),
             ],
         );
         let doc = std::format!(
@@ -106,69 +137,94 @@ pub(crate) fn upsampling_rs(
             rt = u.max_round_trip_de00,
         );
         o.push_str(&layout::comment(4, "///", &doc, 0));
+        let name = const_name(&u.set, &u.display);
         o.push_str(&layout::item(
             4,
-            &std::format!(
-                "pub const {}: Upsampling<{n}> =",
-                const_name(&u.set, &u.display)
-            ),
+            &std::format!("pub const {name}: Upsampling<{n}> ="),
             &value,
         ));
         o.push('\n');
+        for (lang, ext, decl, where_) in [
+            (
+                "WGSL",
+                "wgsl",
+                std::format!("@group(G) @binding(B) var<storage, read> {name}_CODES: array<u32>;"),
+                "",
+            ),
+            (
+                "GLSL",
+                "glsl",
+                std::format!(
+                    "layout(std430, binding = B) readonly buffer {name}_Buffer {{ uint {name}_CODES[]; }};"
+                ),
+                " before the functions (GLSL 4.30 or ES 3.10)",
+            ),
+        ] {
+            let doc = std::format!(
+                "[`{name}`]'s `{lower}_reflectance(rgb)` in {lang}: [`Upsampling::reflectance`] (and `{lower}_interpolate(rgb)`: [`Upsampling::interpolate`]). The shader declares the table, `{decl}`{where_}, and the application fills it with [`Upsampling::shader_words`] (see `docs/shaders.md`).",
+                lower = name.to_ascii_lowercase(),
+            );
+            o.push_str(&layout::comment(4, "///", &doc, 0));
+            o.push_str(&std::format!(
+                "    pub const {name}_{lang}: &str =\n        include_str!(concat!(env!(\"OUT_DIR\"), \"/{}\"));\n",
+                shader_file(&u.set, &u.display, ext)
+            ));
+        }
     }
     o.push_str("}\n\n");
     Ok((o, bytes))
 }
 
-/// The scene's upsamplings as shader source: per upsampling `<SET>_<DISPLAY>`, its codes packed
-/// two to a `u32` (`<SET>_<DISPLAY>_CODES`, low half first) and the function
-/// `<set>_<display>_reflectance(rgb)`, the runtime's `Upsampling::reflectance` with its f32
-/// operations in the same order. `wgsl`: WGSL, else GLSL; `float`: the language's literal of an
-/// f64 rounded to f32.
-pub(crate) fn shader_snippet(
-    scene: &Resolved,
-    wgsl: bool,
-    float: &dyn Fn(f64) -> Result<String, Error>,
-) -> Result<String, Error> {
-    let mut o = String::new();
+/// The file in `OUT_DIR` that holds the shader source of the upsampling of `set` for `display`
+/// in the language whose extension is `ext` (`wgsl`, `glsl`): `tables.rs` includes it.
+pub fn shader_file(set: &str, display: &str, ext: &str) -> String {
+    std::format!(
+        "upsampling_{}.{ext}",
+        const_name(set, display).to_ascii_lowercase()
+    )
+}
+
+/// The scene's upsamplings' shader files: name in `OUT_DIR` ([`shader_file`]) and text, WGSL
+/// then GLSL for each.
+pub(crate) fn shader_files(scene: &Resolved) -> Result<Vec<(String, String)>, Error> {
+    let mut files = Vec::new();
     for u in &scene.upsamplings {
+        for (ext, wgsl) in [("wgsl", true), ("glsl", false)] {
+            files.push((
+                shader_file(&u.set, &u.display, ext),
+                shader_snippet(u, wgsl)?,
+            ));
+        }
+    }
+    Ok(files)
+}
+
+/// The shader source of one upsampling `<SET>_<DISPLAY>`: the functions
+/// `<set>_<display>_interpolate(rgb)` and `<set>_<display>_reflectance(rgb)`, the runtime's
+/// `Upsampling::interpolate` and `reflectance` with their f32 operations in the same order,
+/// reading the table (two codes to a word, low half first) and the round trip's data (the edge
+/// cells' bits, then the weights, RGB → XYZ and the rounding as f32 bits) from
+/// `<SET>_<DISPLAY>_CODES`, a storage buffer of `u32` the shader declares and the application
+/// fills with `Upsampling::shader_words`. `wgsl`: WGSL, else GLSL.
+pub(crate) fn shader_snippet(u: &Baked, wgsl: bool) -> Result<String, Error> {
+    // Rust's shortest round-trip form of the f32 ("8.0", "1.5259022e-5"): a float literal in
+    // WGSL and GLSL alike.
+    let float = |v: f64| -> Result<String, Error> { Ok(std::format!("{:?}", v as f32)) };
+    let mut o = String::new();
+    {
         let name = const_name(&u.set, &u.display);
         let lower = name.to_ascii_lowercase();
         let n = u.wavelengths_nm.len();
         let g = u.grid;
-        let flat: Vec<u16> = u.codes.iter().flatten().copied().collect();
-        let words: Vec<String> = flat
-            .chunks(2)
-            .map(|pair| {
-                let lo = u32::from(pair[0]);
-                let hi = u32::from(pair.get(1).copied().unwrap_or(0));
-                std::format!("0x{:08x}u", lo | (hi << 16))
-            })
-            .collect();
-        let len = words.len();
-        let body = words
-            .chunks(8)
-            .map(|c| c.join(", "))
-            .collect::<Vec<_>>()
-            .join(",\n    ");
         let (uint, float_t, vec3) = if wgsl {
             ("u32", "f32", "vec3<f32>")
         } else {
             ("uint", "float", "vec3")
         };
         o.push_str(&std::format!(
-            "// {name}: linear RGB (white-balanced under {}) -> {n} node reflectances in [0, 1], a {g}x{g}x{g} grid of 16-bit codes, two to a word (Upsampling::reflectance).\n",
+            "// {name}: linear RGB (white-balanced under {}) -> {n} node reflectances in [0, 1] (Upsampling::interpolate): a {g}x{g}x{g} grid of 16-bit codes, two to a word, read from {name}_CODES from word 0.\n",
             u.light
         ));
-        if wgsl {
-            o.push_str(&std::format!(
-                "const {name}_CODES: array<u32, {len}> = array<u32, {len}>(\n    {body},\n);\n"
-            ));
-        } else {
-            o.push_str(&std::format!(
-                "const uint {name}_CODES[{len}] = uint[{len}](\n    {body}\n);\n"
-            ));
-        }
         let (zero, one) = (float(0.0)?, float(1.0)?);
         let cells = float((g - 1) as f64)?;
         // The runtime's scale, 1 / 65535 rounded to f32 by an f32 division.
@@ -181,13 +237,13 @@ pub(crate) fn shader_snippet(
         let v = if wgsl { c3(&clamp) } else { c3(&clamp_glsl) };
         let (decl, uvec3, let_) = if wgsl {
             (
-                std::format!("fn {lower}_reflectance(rgb: vec3<f32>) -> array<f32, {n}> {{\n"),
+                std::format!("fn {lower}_interpolate(rgb: vec3<f32>) -> array<f32, {n}> {{\n"),
                 "vec3<u32>",
                 "let",
             )
         } else {
             (
-                std::format!("float[{n}] {lower}_reflectance(vec3 rgb) {{\n"),
+                std::format!("float[{n}] {lower}_interpolate(vec3 rgb) {{\n"),
                 "uvec3",
                 "",
             )
@@ -287,6 +343,40 @@ pub(crate) fn shader_snippet(
         o.push_str(&std::format!(
             "        nodes[k] = clamp(acc * {scale}, {zero}, {one});\n    }}\n    return nodes;\n}}\n\n"
         ));
+        // The round-trip correction: the runtime's `RoundTrip::correct` step for step, its
+        // constants (`src/upsample/round_trip.rs`) as the same f32 values.
+        let template = if wgsl {
+            include_str!("upsampling_round_trip.wgsl")
+        } else {
+            include_str!("upsampling_round_trip.glsl")
+        };
+        let codes = (g * g * g * n).div_ceil(2);
+        let edge_words = u.edge_cells().len();
+        let f = |x: f32| std::format!("{x:?}");
+        let d = 6.0f32 / 29.0;
+        let text = template
+            .replace("@NAME@", &name)
+            .replace("@lower@", &lower)
+            .replace("@N@", &n.to_string())
+            .replace("@NF@", &f(n as f32))
+            .replace("@E@", &codes.to_string())
+            .replace("@F@", &(codes + edge_words).to_string())
+            .replace("@XYZ@", &(3 * n).to_string())
+            .replace("@ROUND@", &(3 * n + 9).to_string())
+            .replace("@STEPS@", &(3 * n + 3).to_string())
+            .replace("@KEEP@", &f(1.5))
+            .replace("@FULL@", &f(3.0))
+            .replace("@MU@", &f(1.0e6))
+            .replace("@IMU@", &f(1.0 / 1.0e6))
+            .replace("@FREE@", &f(1.0e-6))
+            .replace("@D3@", &f(d * d * d))
+            .replace("@LIN@", &f(1.0 / (3.0 * d * d)))
+            .replace("@THIRD@", &f(1.0 / 3.0))
+            .replace("@CLAMP@", &v)
+            .replace("@CELLS@", &cells)
+            .replace("@G2@", &(g - 2).to_string())
+            .replace("@G1@", &(g - 1).to_string());
+        o.push_str(&text);
     }
     Ok(o)
 }

@@ -159,6 +159,8 @@ impl UpsamplingRequest {
         let range = d.settings.range_nm;
         let training = upsampling::training(&d.settings.data_dir, range)?;
         let mut out = Vec::new();
+        // The training colours under each (light, display), computed once for all sets.
+        let mut training_rgb: Vec<(String, String, Vec<[f64; 3]>)> = Vec::new();
         for set in chosen_sets {
             let name = set.light.as_deref().unwrap_or(RADIANCE_REFERENCE_LIGHT);
             let light = match lights.iter().find(|l| l.name == name) {
@@ -170,19 +172,32 @@ impl UpsamplingRequest {
                 None => evaluate::builtin_illuminant(&d.settings.data_dir, name, range)?,
             };
             for (spec, m) in &chosen_displays {
-                let baked = upsampling::bake(
+                let in_set = |e: Error| Error::InSet {
+                    name: set.name.clone(),
+                    error: std::boxed::Box::new(e),
+                };
+                let known = training_rgb
+                    .iter()
+                    .position(|(l, s, _)| *l == light.name && *s == spec.name);
+                let k = match known {
+                    Some(k) => k,
+                    None => {
+                        let rgb = upsampling::exact_rgb(d, m, &light, &training).map_err(in_set)?;
+                        training_rgb.push((light.name.clone(), spec.name.clone(), rgb));
+                        training_rgb.len() - 1
+                    }
+                };
+                let baked = upsampling::bake_with(
                     d,
                     set,
                     (&spec.name, m),
                     &light,
                     set.light.is_some(),
                     &training,
+                    &training_rgb[k].2,
                     self.grid,
                 )
-                .map_err(|e| Error::InSet {
-                    name: set.name.clone(),
-                    error: std::boxed::Box::new(e),
-                })?;
+                .map_err(in_set)?;
                 out.push(baked);
             }
         }

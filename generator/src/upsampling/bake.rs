@@ -77,16 +77,24 @@ pub fn exact_rgb(
     reflectances: &[Curve],
 ) -> Result<Vec<[f64; 3]>, Error> {
     let full = evaluate::full_integration(&d.observer, d.settings.range_nm, 1.0)?;
-    let lw: Vec<f64> = full.wavelengths_nm.iter().map(|&nm| light.at(nm)).collect();
+    // The observer's weights times the light, per channel and wavelength, once; each curve is
+    // then read once per wavelength, in plain loops (the build runs this at opt-level 0).
+    let nms = &full.wavelengths_nm;
+    let wl: Vec<[f64; 3]> = (0..nms.len())
+        .map(|k| {
+            let l = light.at(nms[k]);
+            [0, 1, 2].map(|c| full.xyz_weights[c][k] * l)
+        })
+        .collect();
     let rgb_of = |r: &dyn Fn(f64) -> f64| -> [f64; 3] {
-        let xyz = [0, 1, 2].map(|c| {
-            full.xyz_weights[c]
-                .iter()
-                .zip(&full.wavelengths_nm)
-                .zip(&lw)
-                .map(|((w, &nm), l)| w * l * r(nm))
-                .sum::<f64>()
-        });
+        let mut xyz = [0.0f64; 3];
+        for (k, &nm) in nms.iter().enumerate() {
+            let v = r(nm);
+            let w = &wl[k];
+            xyz[0] += w[0] * v;
+            xyz[1] += w[1] * v;
+            xyz[2] += w[2] * v;
+        }
         [0, 1, 2].map(|c| (0..3).map(|k| display.xyz_to_rgb[c][k] * xyz[k]).sum())
     };
     let white = rgb_of(&|_| 1.0);
@@ -345,7 +353,32 @@ pub fn bake(
     training: &[Curve],
     grid: usize,
 ) -> Result<Baked, Error> {
+    let rgb = exact_rgb(d, display.1, light, training)?;
+    bake_with(d, set, display, light, folded, training, &rgb, grid)
+}
+
+/// [`bake`] with the training reflectances' [`exact_rgb`] under `light` for the display
+/// already computed (`training_rgb`, in the order of `training`): a scene that bakes several
+/// sets under one light computes it once.
+#[allow(clippy::too_many_arguments)]
+pub fn bake_with(
+    d: &Derivation,
+    set: &WavelengthSet,
+    display: (&str, &DisplayMatrices),
+    light: &Curve,
+    folded: bool,
+    training: &[Curve],
+    training_rgb: &[[f64; 3]],
+    grid: usize,
+) -> Result<Baked, Error> {
     let (display_name, m) = display;
+    if training_rgb.len() != training.len() {
+        return Err(Error::Numerical(std::format!(
+            "{} training colours for {} training reflectances",
+            training_rgb.len(),
+            training.len()
+        )));
+    }
     if !GRID_SIZES.contains(&grid) {
         return Err(Error::Settings(std::format!(
             "an upsampling grid has {} to {} points per axis, not {grid}",
@@ -355,12 +388,12 @@ pub fn bake(
     }
     let at_nodes: Vec<f64> = set.wavelengths_nm.iter().map(|&l| light.at(l)).collect();
     let w = encoding(d, set, m, (!folded).then_some(at_nodes.as_slice()))?;
-    let rgb = exact_rgb(d, m, light, training)?;
+    let rgb = training_rgb;
     let nodes: Vec<Vec<f64>> = training
         .iter()
         .map(|r| set.wavelengths_nm.iter().map(|&l| r.at(l)).collect())
         .collect();
-    let map = least_squares_map(&rgb, &nodes)?;
+    let map = least_squares_map(rgb, &nodes)?;
     let labs: Vec<[f64; 3]> = rgb.iter().map(|x| lab_of_rgb(m, *x)).collect();
     let n = set.len();
     let step = 1.0 / (grid - 1) as f64;
@@ -377,16 +410,8 @@ pub fn bake(
                     reachable.push(true);
                     continue;
                 }
-                let local = local_map(
-                    m,
-                    p,
-                    &rgb,
-                    &labs,
-                    &nodes,
-                    &map,
-                    LOCAL_BANDWIDTH,
-                    LOCAL_PRIOR,
-                )?;
+                let local =
+                    local_map(m, p, rgb, &labs, &nodes, &map, LOCAL_BANDWIDTH, LOCAL_PRIOR)?;
                 let (v, ok) = project(m, &w, &local, p)?;
                 values.push(v);
                 reachable.push(ok);
@@ -478,6 +503,30 @@ impl Baked {
     /// [0, 1]): the runtime's function without its rounding to 16 bits and f32.
     pub fn interpolate(&self, rgb: [f64; 3]) -> Vec<f64> {
         interpolate(self.grid, &self.values, rgb)
+    }
+
+    /// One bit per cell, index `(r · (grid − 1) + g) · (grid − 1) + b`, bit `i % 32` of word
+    /// `i / 32`: set where a corner of the cell is not reachable. The runtime checks the round
+    /// trip only in those cells.
+    pub fn edge_cells(&self) -> Vec<u32> {
+        let g = self.grid;
+        let c = g - 1;
+        let mut words = std::vec![0u32; (c * c * c).div_ceil(32)];
+        for i in 0..c {
+            for j in 0..c {
+                for k in 0..c {
+                    let corner = |di: usize, dj: usize, dk: usize| {
+                        self.reachable[((i + di) * g + j + dj) * g + k + dk]
+                    };
+                    let all = (0..8).all(|m| corner(m >> 2, (m >> 1) & 1, m & 1));
+                    if !all {
+                        let idx = (i * c + j) * c + k;
+                        words[idx / 32] |= 1 << (idx % 32);
+                    }
+                }
+            }
+        }
+        words
     }
 
     /// The share of grid points whose colour node values in [0, 1] reach.

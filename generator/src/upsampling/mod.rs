@@ -35,8 +35,9 @@ pub mod qp;
 mod training;
 
 pub use bake::{
-    bake, bounded_exact_linear_residual, encode, encoding, exact_rgb, grid_point, interpolate,
-    lab_of_rgb, least_squares_map, lipschitz, local_map, project, Baked, CODE_ONE, DEFAULT_GRID,
-    GRID_SIZES, LOCAL_BANDWIDTH, LOCAL_PRIOR, RADIANCE_REFERENCE_LIGHT, REACHABLE_DELTA_E00,
+    bake, bake_with, bounded_exact_linear_residual, encode, encoding, exact_rgb, grid_point,
+    interpolate, lab_of_rgb, least_squares_map, lipschitz, local_map, project, Baked, CODE_ONE,
+    DEFAULT_GRID, GRID_SIZES, LOCAL_BANDWIDTH, LOCAL_PRIOR, RADIANCE_REFERENCE_LIGHT,
+    REACHABLE_DELTA_E00,
 };
 pub use training::{parse_training, training, TRAINING_FILES};
