@@ -12,7 +12,7 @@
 
 use nalgebra::{Matrix3, Vector3};
 use spectral_quadrature_build as sqd;
-use sqd::evaluate::{self, lab_from_xyz, Curve};
+use sqd::evaluate::{lab_from_xyz, Curve};
 use sqd::Derivation;
 
 use crate::Error;
@@ -46,25 +46,9 @@ impl JakobHanika {
     /// For sRGB under D65 on the derivation's observer, every 1 nm.
     pub fn srgb(d: &Derivation) -> Result<JakobHanika, Error> {
         let (_, m) = d.display("SRGB")?;
-        let d65 = super::d65(d)?;
-        let full = evaluate::full_integration(&d.observer, d.settings.range_nm, 1.0)?;
-        let mut rgb_weights: [Vec<f64>; 3] = Default::default();
-        for (c, row) in rgb_weights.iter_mut().enumerate() {
-            *row = (0..full.len())
-                .map(|i| {
-                    (0..3)
-                        .map(|k| m.xyz_to_rgb[c][k] * full.xyz_weights[k][i])
-                        .sum::<f64>()
-                        * d65.at(full.wavelengths_nm[i])
-                })
-                .collect();
-            let white: f64 = row.iter().sum();
-            for v in row.iter_mut() {
-                *v /= white;
-            }
-        }
+        let (grid_nm, rgb_weights) = super::srgb_weights(d)?;
         Ok(JakobHanika {
-            grid_nm: full.wavelengths_nm,
+            grid_nm,
             rgb_weights,
             rgb_to_xyz: m.rgb_to_xyz,
         })

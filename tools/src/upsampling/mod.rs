@@ -33,6 +33,29 @@ pub fn srgb_under_d65(d: &Derivation, reflectances: &[Curve]) -> Result<Vec<[f64
     Ok(sqd::upsampling::exact_rgb(d, m, &d65, reflectances)?)
 }
 
+/// White-balanced sRGB under D65 of a unit spectrum at each 1 nm: the grid and rows R, G, B.
+pub(crate) fn srgb_weights(d: &Derivation) -> Result<(Vec<f64>, [Vec<f64>; 3]), Error> {
+    let (_, m) = d.display("SRGB")?;
+    let d65 = d65(d)?;
+    let full = evaluate::full_integration(&d.observer, d.settings.range_nm, 1.0)?;
+    let mut w: [Vec<f64>; 3] = Default::default();
+    for (c, row) in w.iter_mut().enumerate() {
+        *row = (0..full.len())
+            .map(|i| {
+                (0..3)
+                    .map(|k| m.xyz_to_rgb[c][k] * full.xyz_weights[k][i])
+                    .sum::<f64>()
+                    * d65.at(full.wavelengths_nm[i])
+            })
+            .collect();
+        let white: f64 = row.iter().sum();
+        for v in row.iter_mut() {
+            *v /= white;
+        }
+    }
+    Ok((full.wavelengths_nm, w))
+}
+
 /// CIE D65 from the crate's data.
 pub fn d65(d: &Derivation) -> Result<Curve, Error> {
     Ok(evaluate::builtin_illuminant(

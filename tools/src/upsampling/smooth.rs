@@ -14,34 +14,10 @@
 //!   secondary and primary that make up the rest.
 
 use spectral_quadrature_build as sqd;
-use sqd::evaluate;
 use sqd::upsampling::qp::nearest_in_box;
 use sqd::Derivation;
 
 use crate::Error;
-
-/// White-balanced sRGB under D65 of a unit spectrum at each 1 nm: the grid and rows R, G, B.
-fn srgb_weights(d: &Derivation) -> Result<(Vec<f64>, [Vec<f64>; 3]), Error> {
-    let (_, m) = d.display("SRGB")?;
-    let d65 = super::d65(d)?;
-    let full = evaluate::full_integration(&d.observer, d.settings.range_nm, 1.0)?;
-    let mut w: [Vec<f64>; 3] = Default::default();
-    for (c, row) in w.iter_mut().enumerate() {
-        *row = (0..full.len())
-            .map(|i| {
-                (0..3)
-                    .map(|k| m.xyz_to_rgb[c][k] * full.xyz_weights[k][i])
-                    .sum::<f64>()
-                    * d65.at(full.wavelengths_nm[i])
-            })
-            .collect();
-        let white: f64 = row.iter().sum();
-        for v in row.iter_mut() {
-            *v /= white;
-        }
-    }
-    Ok((full.wavelengths_nm, w))
-}
 
 /// How knot values make a spectrum.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -98,7 +74,7 @@ fn smoothest(
     targets: &[[f64; 3]],
     sum_to_one: bool,
 ) -> Result<Vec<Vec<f64>>, Error> {
-    let (grid, w) = srgb_weights(d)?;
+    let (grid, w) = super::srgb_weights(d)?;
     let k = knots.len();
     let s = targets.len();
     // The colour of knot j's basis function, per channel.
