@@ -349,9 +349,8 @@ fn default_scene_maps(d: &Derivation) -> Result<String, Error> {
     let mut o = String::new();
     writeln!(
         o,
-        "   The default scene's maps ({} colour sets on {} displays, as the build bakes them): the reference light (the set's folded light, else D65), the share of the grid whose colour node values in [0, 1] reach (the others get the nearest reachable colour), whether a linear map bounded and exact at once exists (residual as above), Lipschitz constant, round trip at the reachable grid points (ΔE00), table bytes.",
-        resolved.colour_sets.len(),
-        resolved.displays.len()
+        "   The default scene's maps ({} of them: its shared sets on every display, as the build bakes them): the reference light, the share of the grid whose colour node values in [0, 1] reach (the others get the nearest reachable colour), whether a linear map bounded and exact at once exists (residual as above), Lipschitz constant, round trip at the reachable grid points (ΔE00), table bytes.",
+        resolved.upsamplings.len()
     )
     .ok();
     writeln!(o).ok();
