@@ -28,7 +28,7 @@ fn header_constants() {
     assert_eq!(tables::STEP_NM, 5.0);
     assert_eq!(tables::MAX_ORDER, d.settings.max_order);
     // The observer, then what the default scene's shared sets (KQ_C_*, KQ_F11_6) were made from,
-    // then what their upsamplings add (the other training file).
+    // then what their upsamplings add (the other training file and the upsampling cache).
     let labels: Vec<&str> = tables::INPUTS.iter().map(|(l, _)| *l).collect();
     assert_eq!(
         labels,
@@ -38,7 +38,8 @@ fn header_constants() {
             "data/illuminant_C.csv",
             "data/shared_nodes.csv",
             "data/illuminant_F11.csv",
-            "data/reflectance_rawtoaces_190.csv"
+            "data/reflectance_rawtoaces_190.csv",
+            "data/upsampling_codes.csv"
         ]
     );
     assert_eq!(tables::INPUTS[0].1, d.observer.sha256);

@@ -73,7 +73,7 @@ fn the_default_tables_name_every_input_with_its_checksum() {
     let inputs = inputs(&out.tables_rs);
     let labels: Vec<&str> = inputs.iter().map(|(l, _)| l.as_str()).collect();
     // The default scene bakes KQ_C_4/6/8 and KQ_F11_6: their training set, lights and cache;
-    // then their upsamplings' other training file.
+    // then their upsamplings' other training file and the upsampling cache.
     assert_eq!(
         labels,
         [
@@ -83,6 +83,7 @@ fn the_default_tables_name_every_input_with_its_checksum() {
             "data/shared_nodes.csv",
             "data/illuminant_F11.csv",
             "data/reflectance_rawtoaces_190.csv",
+            "data/upsampling_codes.csv",
         ]
     );
     for (label, sha) in &inputs {

@@ -192,3 +192,196 @@ fn radiance_sets_reach_round_trip_and_linear_maps() {
         assert_eq!(worst, b17.max_round_trip_de00);
     }
 }
+
+// The upsampling cache (data/upsampling_codes.csv) cannot drift from the fit: every cached map is
+// fitted afresh here and must give the very same codes.
+
+const REGENERATE: &str = "regenerate with `cargo run --release -p spectral-quadrature-tools --bin tables -- --upsampling-cache > data/upsampling_codes.csv`";
+
+#[test]
+fn the_cache_equals_a_fresh_fit_of_every_default_map() {
+    let d = derive(&Settings::new(DATA_DIR)).unwrap();
+    let data = std::path::Path::new(DATA_DIR);
+    let cache = up::read_cache(data).expect("data/upsampling_codes.csv parses");
+    let scene = sqd::scene::Scene::default_scene(data);
+    let fitted = scene.resolve_fitting(&d).unwrap();
+    let fresh = fitted.upsampling_cache(&d).unwrap();
+    assert_eq!(
+        cache.len(),
+        fresh.len(),
+        "one entry per upsampling of the default scene; {REGENERATE}"
+    );
+    for (f, b) in fresh.iter().zip(&fitted.upsamplings) {
+        let what = format!("{} {}", f.set, f.display);
+        let e = cache
+            .iter()
+            .find(|e| e.set == f.set && e.display == f.display)
+            .unwrap_or_else(|| panic!("{what} is not in data/upsampling_codes.csv; {REGENERATE}"));
+        assert_eq!(
+            e.fingerprint, f.fingerprint,
+            "{what}: stale fingerprint; {REGENERATE}"
+        );
+        // Bit for bit: the codes, which points are reachable, and the two figures.
+        assert!(
+            e.codes == f.codes,
+            "{what}: the fit now gives other codes; {REGENERATE}"
+        );
+        assert_eq!(e.reachable, f.reachable, "{what}; {REGENERATE}");
+        assert_eq!(
+            e.lipschitz.to_bits(),
+            f.lipschitz.to_bits(),
+            "{what}; {REGENERATE}"
+        );
+        assert_eq!(
+            e.max_round_trip_de00.to_bits(),
+            f.max_round_trip_de00.to_bits(),
+            "{what}; {REGENERATE}"
+        );
+        assert!(b.fit.is_some(), "{what}: resolve_fitting fits");
+    }
+    // And the build's way, from the cache: the same tables, without the fit.
+    let cached = scene.resolve(&d).unwrap();
+    assert_eq!(cached.upsamplings.len(), fitted.upsamplings.len());
+    for (c, f) in cached.upsamplings.iter().zip(&fitted.upsamplings) {
+        assert!(
+            c.fit.is_none(),
+            "{} {}: taken from the cache",
+            c.set,
+            c.display
+        );
+        assert_eq!(
+            (&c.set, &c.display, &c.light),
+            (&f.set, &f.display, &f.light)
+        );
+        assert_eq!(c.codes, f.codes);
+        assert_eq!(c.reachable, f.reachable);
+        assert_eq!(c.encoding, f.encoding);
+        assert_eq!(c.wavelengths_nm, f.wavelengths_nm);
+        assert_eq!(c.edge_cells(), f.edge_cells());
+    }
+}
+
+#[test]
+fn a_changed_input_is_fitted_instead_of_taken_from_the_cache() {
+    // The fingerprint covers the grid, the display and the light: a scene that asks for a
+    // cached set on another grid, or whose inputs differ, gets a fit.
+    let d = derive(&Settings::new(DATA_DIR)).unwrap();
+    let data = std::path::Path::new(DATA_DIR);
+    let parse = |text: &str| sqd::scene::Scene::parse("s.toml", text, data).unwrap();
+    let same = parse("sets = [\"KQ_C_6\"]\ndisplays = [\"SRGB\"]\n[upsampling]\n");
+    let r = same.resolve(&d).unwrap();
+    assert!(
+        r.upsamplings[0].fit.is_none(),
+        "the default scene's map is cached"
+    );
+    let other_grid = parse("sets = [\"KQ_C_6\"]\ndisplays = [\"SRGB\"]\n[upsampling]\ngrid = 5\n");
+    let r = other_grid.resolve(&d).unwrap();
+    assert!(r.upsamplings[0].fit.is_some(), "another grid is fitted");
+    let radiance = parse("sets = [\"KQ_6\"]\ndisplays = [\"SRGB\"]\n[upsampling]\n");
+    assert!(radiance.resolve(&d).unwrap().upsamplings[0].fit.is_some());
+}
+
+#[test]
+fn a_malformed_cache_names_file_and_line() {
+    let header = "set,display,grid,fingerprint,lipschitz,max_round_trip_de00,reachable,codes";
+    let fp = "0".repeat(64);
+    let ok_reach = "f".repeat(2); // a 2³ grid: 8 points, two hex digits
+    let codes = "0000".repeat(8); // N = 1
+    let line = |grid: &str, fp: &str, lip: &str, reach: &str, codes: &str| {
+        format!("# c\n{header}\nKQ_C_4,SRGB,{grid},{fp},{lip},0.001,{reach},{codes}\n")
+    };
+    let good = line("2", &fp, "1.5", &ok_reach, &codes);
+    let parsed = up::parse_cache("data/upsampling_codes.csv", &good).unwrap();
+    assert_eq!(parsed[0].codes, vec![vec![0u16]; 8]);
+    assert_eq!(up::write_cache(&parsed).lines().last(), good.lines().last());
+    let bad = [
+        ("set,display\n".to_string(), 1, "expected the header"),
+        (format!("{header}\nKQ_C_4,SRGB,2\n"), 2, "expected 8 fields"),
+        (line("1", &fp, "1.5", &ok_reach, &codes), 3, "grid"),
+        (line("2", "abc", "1.5", &ok_reach, &codes), 3, "fingerprint"),
+        (line("2", &fp, "NaN", &ok_reach, &codes), 3, "lipschitz"),
+        (
+            line("2", &fp, "1.5", "f", &codes),
+            3,
+            "reachable has 1 hex digits",
+        ),
+        (
+            line("2", &fp, "1.5", "fg", &codes),
+            3,
+            "reachable: character 2",
+        ),
+        // A 3³ grid: 27 points in 7 digits, the last digit's top bit past the grid.
+        (
+            line("3", &fp, "1.5", "fffffff", &"0000".repeat(27)),
+            3,
+            "past the grid",
+        ),
+        (
+            line("2", &fp, "1.5", &ok_reach, "000"),
+            3,
+            "codes has 3 hex digits",
+        ),
+        (
+            line(
+                "2",
+                &fp,
+                "1.5",
+                &ok_reach,
+                &format!("{}000G", "0".repeat(28)),
+            ),
+            3,
+            "codes: character 32",
+        ),
+        (
+            format!("{good}{}", good.lines().last().unwrap()),
+            4,
+            "appears twice",
+        ),
+    ];
+    for (text, line, message) in bad {
+        let e = up::parse_cache("data/upsampling_codes.csv", &text).unwrap_err();
+        let shown = e.to_string();
+        assert!(
+            shown.starts_with(&format!("data/upsampling_codes.csv:{line}: "))
+                && shown.contains(message),
+            "{shown}"
+        );
+    }
+}
+
+#[test]
+fn a_corrupted_copy_of_the_cache_stops_the_build_with_its_file_and_line() {
+    // A copy of the crate's data with one code of the shipped cache made a non-digit: the
+    // generation fails naming the file and the line, instead of fitting or guessing.
+    let dir = std::env::temp_dir().join(format!("sq-upsampling-cache-{}", std::process::id()));
+    let data = dir.join("data");
+    std::fs::create_dir_all(&data).unwrap();
+    for entry in std::fs::read_dir(DATA_DIR).unwrap() {
+        let path = entry.unwrap().path();
+        std::fs::copy(&path, data.join(path.file_name().unwrap())).unwrap();
+    }
+    let text = std::fs::read_to_string(data.join("upsampling_codes.csv")).unwrap();
+    let (n, victim) = text
+        .lines()
+        .enumerate()
+        .find(|(_, l)| l.starts_with("KQ_C_6,SRGB,"))
+        .unwrap();
+    let broken = text.replacen(victim, &format!("{}z", &victim[..victim.len() - 1]), 1);
+    std::fs::write(data.join("upsampling_codes.csv"), broken).unwrap();
+    let e = sqd::generate(&dir, None).unwrap_err().to_string();
+    std::fs::remove_dir_all(&dir).ok();
+    assert!(
+        e.contains(&format!("data/upsampling_codes.csv:{}:", n + 1))
+            && e.contains("KQ_C_6 SRGB: codes: character")
+            && e.contains("not a lower-case hex digit"),
+        "{e}"
+    );
+}
+
+#[test]
+fn the_cache_file_round_trips() {
+    let text = std::fs::read_to_string(std::path::Path::new(DATA_DIR).join("upsampling_codes.csv"))
+        .unwrap();
+    let entries = up::parse_cache("data/upsampling_codes.csv", &text).unwrap();
+    assert_eq!(up::write_cache(&entries), text);
+}

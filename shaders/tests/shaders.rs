@@ -1061,7 +1061,7 @@ fn up<const N: usize>(
     }
 }
 
-/// The default scene's upsamplings.
+/// The default scene's upsamplings: its shared sets on every display.
 fn upsamplings() -> Vec<Up> {
     use spectral_quadrature::tables::upsampling as u;
     vec![
@@ -1072,10 +1072,46 @@ fn upsamplings() -> Vec<Up> {
             u::KQ_C_4_SRGB_GLSL,
         ),
         up(
+            "KQ_C_4_DISPLAY_P3",
+            &u::KQ_C_4_DISPLAY_P3,
+            u::KQ_C_4_DISPLAY_P3_WGSL,
+            u::KQ_C_4_DISPLAY_P3_GLSL,
+        ),
+        up(
+            "KQ_C_4_REC2020",
+            &u::KQ_C_4_REC2020,
+            u::KQ_C_4_REC2020_WGSL,
+            u::KQ_C_4_REC2020_GLSL,
+        ),
+        up(
+            "KQ_C_4_MEYER_1987",
+            &u::KQ_C_4_MEYER_1987,
+            u::KQ_C_4_MEYER_1987_WGSL,
+            u::KQ_C_4_MEYER_1987_GLSL,
+        ),
+        up(
             "KQ_C_6_SRGB",
             &u::KQ_C_6_SRGB,
             u::KQ_C_6_SRGB_WGSL,
             u::KQ_C_6_SRGB_GLSL,
+        ),
+        up(
+            "KQ_C_6_DISPLAY_P3",
+            &u::KQ_C_6_DISPLAY_P3,
+            u::KQ_C_6_DISPLAY_P3_WGSL,
+            u::KQ_C_6_DISPLAY_P3_GLSL,
+        ),
+        up(
+            "KQ_C_6_REC2020",
+            &u::KQ_C_6_REC2020,
+            u::KQ_C_6_REC2020_WGSL,
+            u::KQ_C_6_REC2020_GLSL,
+        ),
+        up(
+            "KQ_C_6_MEYER_1987",
+            &u::KQ_C_6_MEYER_1987,
+            u::KQ_C_6_MEYER_1987_WGSL,
+            u::KQ_C_6_MEYER_1987_GLSL,
         ),
         up(
             "KQ_C_8_SRGB",
@@ -1084,13 +1120,54 @@ fn upsamplings() -> Vec<Up> {
             u::KQ_C_8_SRGB_GLSL,
         ),
         up(
+            "KQ_C_8_DISPLAY_P3",
+            &u::KQ_C_8_DISPLAY_P3,
+            u::KQ_C_8_DISPLAY_P3_WGSL,
+            u::KQ_C_8_DISPLAY_P3_GLSL,
+        ),
+        up(
+            "KQ_C_8_REC2020",
+            &u::KQ_C_8_REC2020,
+            u::KQ_C_8_REC2020_WGSL,
+            u::KQ_C_8_REC2020_GLSL,
+        ),
+        up(
+            "KQ_C_8_MEYER_1987",
+            &u::KQ_C_8_MEYER_1987,
+            u::KQ_C_8_MEYER_1987_WGSL,
+            u::KQ_C_8_MEYER_1987_GLSL,
+        ),
+        up(
             "KQ_F11_6_SRGB",
             &u::KQ_F11_6_SRGB,
             u::KQ_F11_6_SRGB_WGSL,
             u::KQ_F11_6_SRGB_GLSL,
         ),
+        up(
+            "KQ_F11_6_DISPLAY_P3",
+            &u::KQ_F11_6_DISPLAY_P3,
+            u::KQ_F11_6_DISPLAY_P3_WGSL,
+            u::KQ_F11_6_DISPLAY_P3_GLSL,
+        ),
+        up(
+            "KQ_F11_6_REC2020",
+            &u::KQ_F11_6_REC2020,
+            u::KQ_F11_6_REC2020_WGSL,
+            u::KQ_F11_6_REC2020_GLSL,
+        ),
+        up(
+            "KQ_F11_6_MEYER_1987",
+            &u::KQ_F11_6_MEYER_1987,
+            u::KQ_F11_6_MEYER_1987_WGSL,
+            u::KQ_F11_6_MEYER_1987_GLSL,
+        ),
     ]
 }
+
+/// Upsamplings per kernel: each reads its own storage buffer, besides the samples and the
+/// results, and a device need allow no more than 8 storage buffers per shader stage (WebGPU's
+/// and wgpu's default limit).
+const UPSAMPLINGS_PER_KERNEL: usize = 6;
 
 #[test]
 fn upsampling_kernels_validate() {
@@ -1100,8 +1177,16 @@ fn upsampling_kernels_validate() {
         default_scene().1.upsamplings.len(),
         "add the scene's new upsamplings to upsamplings()"
     );
-    validate(Language::Wgsl, &upsampling_kernel(Language::Wgsl, &ups, 64));
-    validate(Language::Glsl, &upsampling_kernel(Language::Glsl, &ups, 64));
+    for group in ups.chunks(UPSAMPLINGS_PER_KERNEL) {
+        validate(
+            Language::Wgsl,
+            &upsampling_kernel(Language::Wgsl, group, 64),
+        );
+        validate(
+            Language::Glsl,
+            &upsampling_kernel(Language::Glsl, group, 64),
+        );
+    }
 }
 
 /// RGB triples over the cube, its faces, edges and corners, and out-of-range values.
@@ -1129,13 +1214,16 @@ fn upsampling_samples(pixels: usize) -> Vec<f32> {
 #[ignore = "needs a Vulkan driver (lavapipe on a machine without a GPU): .ci/run runs it with --ignored"]
 fn upsampling_runs_on_vulkan_and_agrees_with_the_runtime() {
     const PIXELS: usize = 4096;
-    let ups = upsamplings();
-    let outs: usize = ups.iter().map(|u| 2 * u.n).sum();
+    let all = upsamplings();
     let input = upsampling_samples(PIXELS);
     let gpu = gpu();
-    let extra: Vec<&[u32]> = ups.iter().map(|u| u.words.as_slice()).collect();
-    for lang in [Language::Wgsl, Language::Glsl] {
-        let text = upsampling_kernel(lang, &ups, PIXELS);
+    for (lang, ups) in [Language::Wgsl, Language::Glsl]
+        .into_iter()
+        .flat_map(|lang| all.chunks(UPSAMPLINGS_PER_KERNEL).map(move |g| (lang, g)))
+    {
+        let outs: usize = ups.iter().map(|u| 2 * u.n).sum();
+        let extra: Vec<&[u32]> = ups.iter().map(|u| u.words.as_slice()).collect();
+        let text = upsampling_kernel(lang, ups, PIXELS);
         let source = match lang {
             Language::Wgsl => wgpu::ShaderSource::Wgsl(text.as_str().into()),
             Language::Glsl => wgpu::ShaderSource::Glsl {
@@ -1152,10 +1240,29 @@ fn upsampling_runs_on_vulkan_and_agrees_with_the_runtime() {
         for p in 0..PIXELS {
             let rgb = [input[3 * p], input[3 * p + 1], input[3 * p + 2]];
             let mut k = p * outs;
-            for u in &ups {
+            for u in ups {
                 let interp = (u.interpolate)(rgb);
                 let refl = (u.reflectance)(rgb);
                 let is_corrected = interp != refl;
+                let sensitivity: Vec<f32> = if is_corrected {
+                    (0..3)
+                        .flat_map(|c| {
+                            let mut q = rgb;
+                            q[c] += 4.0 * f32::EPSILON * q[c].abs().max(f32::MIN_POSITIVE);
+                            let moved = (u.reflectance)(q);
+                            moved
+                                .into_iter()
+                                .zip(&refl)
+                                .map(|(a, b)| (a - b).abs())
+                                .enumerate()
+                        })
+                        .fold(vec![0.0f32; u.n], |mut m, (i, d)| {
+                            m[i] = m[i].max(d);
+                            m
+                        })
+                } else {
+                    Vec::new()
+                };
                 corrected += usize::from(is_corrected);
                 for i in 0..u.n {
                     let (dev_r, dev_q) = (out[k + i], out[k + u.n + i]);
@@ -1179,9 +1286,14 @@ fn upsampling_runs_on_vulkan_and_agrees_with_the_runtime() {
                         // cube root included), but Vulkan lets a shader's division and square
                         // root be off by 2.5 ULP, which moves the data by a few parts in 10⁷
                         // and the solution by that times the programme's conditioning (at most
-                        // 9e-8 measured on lavapipe); 1e-5 leaves a factor of 100.
+                        // 9e-8 measured on lavapipe for the sRGB maps); 1e-5 leaves a factor
+                        // of 100. Where the map is steeper (wide-gamut displays: Lipschitz up
+                        // to 1200 in the edge cells), the conditioning is worse: the bound
+                        // grows with the runtime's own change when the RGB moves by 4 ULP,
+                        // with the same factor of 100.
+                        let bound = 1e-5f32.max(100.0 * sensitivity[i]);
                         assert!(
-                            dr <= 1e-5,
+                            dr <= bound,
                             "{lang:?} {} reflectance node {i} at {rgb:?}: {dev_r} vs {}",
                             u.name,
                             refl[i]

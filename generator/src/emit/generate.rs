@@ -15,6 +15,7 @@ use crate::derivation::derive::{derive, Derivation};
 use crate::scenes::catalog;
 use crate::scenes::scene::{Resolved, Scene, SCENE_ENV};
 use crate::shared;
+use crate::upsampling;
 
 /// The generated sources and what Cargo must watch.
 #[derive(Debug, Clone, PartialEq)]
@@ -107,8 +108,8 @@ pub fn generate(crate_dir: &Path, scene: Option<&OsStr>) -> Result<Output, Error
         }
         match read_data(&data_dir, &label) {
             Ok(bytes) => inputs.push((label, sha256_hex(&bytes))),
-            // The node cache is optional: without it the build searched.
-            Err(_) if label == shared::CACHE_FILE => {}
+            // The caches are optional: without them the build searched and fitted.
+            Err(_) if label == shared::CACHE_FILE || label == upsampling::CACHE_FILE => {}
             Err(e) => return Err(e.into()),
         }
     }

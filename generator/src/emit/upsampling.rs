@@ -8,7 +8,7 @@ use super::layout::{self, Expr};
 use crate::base::error::Error;
 use crate::derivation::evaluate::builtin_lights;
 use crate::scenes::scene::Resolved;
-use crate::upsampling::{Baked, TRAINING_FILES};
+use crate::upsampling::{Baked, CACHE_FILE, TRAINING_FILES};
 
 /// The const name of the upsampling of `set` for `display`: `<SET>_<DISPLAY>`.
 pub fn const_name(set: &str, display: &str) -> String {
@@ -16,12 +16,14 @@ pub fn const_name(set: &str, display: &str) -> String {
 }
 
 /// The data files (labels `data/<file>`) the scene's upsamplings are made from: the training
-/// reflectances and each built-in reference light. Empty when there are none.
+/// reflectances, each built-in reference light, and the cache ([`CACHE_FILE`]). Empty when
+/// there are none.
 pub(crate) fn input_files(scene: &Resolved) -> Vec<String> {
     if scene.upsamplings.is_empty() {
         return Vec::new();
     }
     let mut files: Vec<String> = TRAINING_FILES.iter().map(|f| f.to_string()).collect();
+    files.push(CACHE_FILE.to_string());
     for u in &scene.upsamplings {
         let file = std::format!("data/illuminant_{}.csv", u.light);
         if builtin_lights().contains(&u.light.as_str()) && !files.contains(&file) {
@@ -165,10 +167,21 @@ pub(crate) fn upsampling_rs(
                 lower = name.to_ascii_lowercase(),
             );
             o.push_str(&layout::comment(4, "///", &doc, 0));
-            o.push_str(&std::format!(
-                "    pub const {name}_{lang}: &str =\n        include_str!(concat!(env!(\"OUT_DIR\"), \"/{}\"));\n",
-                shader_file(&u.set, &u.display, ext)
-            ));
+            // As rustfmt lays it out: the call on the next line where its argument fits in
+            // rustfmt's `fn_call_width` (60 columns), else that argument's own arguments one
+            // per line.
+            let file = shader_file(&u.set, &u.display, ext);
+            let arg = std::format!("concat!(env!(\"OUT_DIR\"), \"/{file}\")");
+            if arg.len() <= 60 {
+                let call = std::format!("include_str!({arg});");
+                o.push_str(&std::format!(
+                    "    pub const {name}_{lang}: &str =\n        {call}\n"
+                ));
+            } else {
+                o.push_str(&std::format!(
+                    "    pub const {name}_{lang}: &str = include_str!(concat!(\n        env!(\"OUT_DIR\"),\n        \"/{file}\"\n    ));\n"
+                ));
+            }
         }
     }
     o.push_str("}\n\n");

@@ -77,7 +77,7 @@ use crate::derivation::observer::ObserverId;
 use crate::derivation::sets::WavelengthSet;
 use crate::derivation::settings::Settings;
 use crate::shared;
-use crate::upsampling::Baked;
+use crate::upsampling::{Baked, CacheEntry};
 
 /// The environment variable naming the scene file.
 pub const SCENE_ENV: &str = "SPECTRAL_QUADRATURE_SCENE";
@@ -675,12 +675,42 @@ pub struct Resolved {
     pub white_samples: Vec<(String, Vec<f64>)>,
 }
 
+impl Resolved {
+    /// The cache entries ([`crate::upsampling::CACHE_FILE`]) of the scene's upsamplings: each
+    /// one's codes and figures, with the fingerprint of its inputs. For the default scene after
+    /// [`Scene::resolve_fitting`], the text of the cache is
+    /// [`write_cache`](crate::upsampling::write_cache) of these. The lights are looked up among
+    /// the built-in ones: for a set that folds in a scene's own light, this is an error.
+    pub fn upsampling_cache(&self, d: &Derivation) -> Result<Vec<CacheEntry>, Error> {
+        super::upsampling::cache_entries(
+            d,
+            &self.upsamplings,
+            &self.colour_sets,
+            &self.displays,
+            &[],
+        )
+    }
+}
+
 impl Scene {
     /// Resolves the set names (and the plan, if any) against `d`, which must have been derived
     /// with [`Scene::settings`]. The displays' matrices are the derivation's
     /// ([`crate::Derivation::displays`]), with the scene's transfer functions. Errors name the
     /// file, the line and the valid choices ([`Error::At`]).
+    ///
+    /// The upsamplings come from the cache ([`crate::upsampling::CACHE_FILE`]) where their
+    /// inputs match an entry; [`Scene::resolve_fitting`] fits every one instead.
     pub fn resolve(&self, d: &Derivation) -> Result<Resolved, Error> {
+        self.resolve_with(d, true)
+    }
+
+    /// [`Scene::resolve`] with every upsampling fitted afresh, the cache ignored: what the
+    /// cache's test compares it with, and what regenerates it.
+    pub fn resolve_fitting(&self, d: &Derivation) -> Result<Resolved, Error> {
+        self.resolve_with(d, false)
+    }
+
+    fn resolve_with(&self, d: &Derivation, cached: bool) -> Result<Resolved, Error> {
         let err = |line: usize| move |e: Error| e.at(&self.file, line as u64);
         let displays = self
             .displays
@@ -700,7 +730,7 @@ impl Scene {
             for name in DEFAULT_SHARED_SETS {
                 colour_sets.push(catalog::resolve(d, name).map_err(err(0))?);
             }
-            let upsamplings = self.upsamplings(d, &colour_sets, &displays, &[])?;
+            let upsamplings = self.upsamplings(d, &colour_sets, &displays, &[], cached)?;
             return Ok(Resolved {
                 file: self.file.clone(),
                 colour_sets,
@@ -754,7 +784,7 @@ impl Scene {
             }
             colour_sets.push(set.wavelength_set(d));
         }
-        let upsamplings = self.upsamplings(d, &colour_sets, &displays, &user.0)?;
+        let upsamplings = self.upsamplings(d, &colour_sets, &displays, &user.0, cached)?;
         let sensors = self.resolve_sensors(d, &user.0)?;
         Ok(Resolved {
             file: self.file.clone(),
@@ -777,9 +807,10 @@ impl Scene {
         sets: &[WavelengthSet],
         displays: &[(DisplaySpec, DisplayMatrices)],
         lights: &[UserLight],
+        cached: bool,
     ) -> Result<Vec<Baked>, Error> {
         match &self.upsampling {
-            Some(u) => u.resolve(&self.file, d, sets, displays, lights),
+            Some(u) => u.resolve(&self.file, d, sets, displays, lights, cached),
             None => Ok(Vec::new()),
         }
     }

@@ -2,7 +2,7 @@
 //! map baked ([`crate::upsampling`]), and on how fine a grid.
 //!
 //! ```toml
-//! [upsampling]              # optional; the default scene has it for its KQ sets and SRGB
+//! [upsampling]              # optional; the default scene has it for its KQ sets, every display
 //! sets = ["KQ_C_8"]         # default: every colour set of the scene (sensor sets excepted)
 //! displays = ["SRGB"]       # default: every display of the scene
 //! grid = 9                  # points per axis, 2..=65 (default 9)
@@ -18,9 +18,11 @@ use super::user::UserLight;
 use crate::base::error::{DataError, Error};
 use crate::derivation::derive::Derivation;
 use crate::derivation::display::{DisplayMatrices, DisplaySpec};
-use crate::derivation::evaluate;
+use crate::derivation::evaluate::{self, Curve};
 use crate::derivation::sets::WavelengthSet;
-use crate::upsampling::{self, Baked, DEFAULT_GRID, GRID_SIZES, RADIANCE_REFERENCE_LIGHT};
+use crate::upsampling::{
+    self, Baked, CacheEntry, FitInputs, DEFAULT_GRID, GRID_SIZES, RADIANCE_REFERENCE_LIGHT,
+};
 
 /// The `[upsampling]` table as written.
 #[derive(Deserialize)]
@@ -46,11 +48,15 @@ pub struct UpsamplingRequest {
 }
 
 impl UpsamplingRequest {
-    /// The default scene's: `sets` (its shared sets) for `SRGB`, on the default grid.
+    /// The default scene's: `sets` (its shared sets) on every display of the scene, on the
+    /// default grid. Table 2's rows are left out: their nearly coincident nodes (483.1 and
+    /// 490.8 nm, 631.4 and 632.3 nm in the first row) leave the runtime's round-trip correction
+    /// ill-conditioned in f32, so that between grid points it neither keeps to the nearest
+    /// reachable colour nor stays continuous (`docs/upsampling.md`).
     pub(crate) fn default_scene(sets: &[&str]) -> UpsamplingRequest {
         UpsamplingRequest {
             sets: Some(sets.iter().map(|s| (s.to_string(), 0)).collect()),
-            displays: Some(std::vec![("SRGB".to_string(), 0)]),
+            displays: None,
             grid: DEFAULT_GRID,
             line: 0,
         }
@@ -100,9 +106,12 @@ impl UpsamplingRequest {
     }
 
     /// Bakes the upsamplings the request names among the scene's resolved `sets` and
-    /// `displays`; `lights`: the scene's own lights, for sets that fold one in. Errors name
+    /// `displays`; `lights`: the scene's own lights, for sets that fold one in. With `cached`, a
+    /// map whose inputs' fingerprint matches an entry of the cache ([`upsampling::CACHE_FILE`])
+    /// is taken from it (without its [`Baked::fit`]); every other map is fitted. Errors name
     /// `file`, the line and the valid choices: a set or display the scene does not bake, a
-    /// sensor set (its samples are not wavelengths).
+    /// sensor set (its samples are not wavelengths); a malformed cache names its file and line.
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn resolve(
         &self,
         file: &str,
@@ -110,6 +119,7 @@ impl UpsamplingRequest {
         sets: &[WavelengthSet],
         displays: &[(DisplaySpec, DisplayMatrices)],
         lights: &[UserLight],
+        cached: bool,
     ) -> Result<Vec<Baked>, Error> {
         let at = |line: usize, message: String| {
             Error::Data(DataError {
@@ -157,24 +167,51 @@ impl UpsamplingRequest {
             return Ok(Vec::new());
         }
         let range = d.settings.range_nm;
-        let training = upsampling::training(&d.settings.data_dir, range)?;
+        let cache = if cached {
+            upsampling::read_cache(&d.settings.data_dir)?
+        } else {
+            Vec::new()
+        };
+        let inputs = if cache.is_empty() {
+            None
+        } else {
+            Some(FitInputs::new(d)?)
+        };
+        // Read only if some map is fitted.
+        let mut training: Option<Vec<Curve>> = None;
         let mut out = Vec::new();
         // The training colours under each (light, display), computed once for all sets.
         let mut training_rgb: Vec<(String, String, Vec<[f64; 3]>)> = Vec::new();
         for set in chosen_sets {
-            let name = set.light.as_deref().unwrap_or(RADIANCE_REFERENCE_LIGHT);
-            let light = match lights.iter().find(|l| l.name == name) {
-                Some(l) => {
-                    let mut c = l.curve.clone();
-                    c.name = name.to_string();
-                    c
-                }
-                None => evaluate::builtin_illuminant(&d.settings.data_dir, name, range)?,
-            };
+            let light = reference_light(d, set, lights)?;
+            let folded = set.light.is_some();
             for (spec, m) in &chosen_displays {
                 let in_set = |e: Error| Error::InSet {
                     name: set.name.clone(),
                     error: std::boxed::Box::new(e),
+                };
+                if let Some(inputs) = &inputs {
+                    let at_nodes: Vec<f64> =
+                        set.wavelengths_nm.iter().map(|&l| light.at(l)).collect();
+                    let w = upsampling::encoding(d, set, m, (!folded).then_some(&at_nodes[..]))
+                        .map_err(in_set)?;
+                    let fp =
+                        inputs.fingerprint(set, (&spec.name, m), &light, folded, &w, self.grid);
+                    let hit = cache.iter().find(|e| {
+                        e.set == set.name
+                            && e.display == spec.name
+                            && e.fingerprint == fp
+                            && e.grid == self.grid
+                            && e.codes.first().map(Vec::len) == Some(set.len())
+                    });
+                    if let Some(e) = hit {
+                        out.push(e.baked(set, &light.name, w));
+                        continue;
+                    }
+                }
+                let training: &[Curve] = match &mut training {
+                    Some(t) => t,
+                    slot => slot.insert(upsampling::training(&d.settings.data_dir, range)?),
                 };
                 let known = training_rgb
                     .iter()
@@ -182,7 +219,7 @@ impl UpsamplingRequest {
                 let k = match known {
                     Some(k) => k,
                     None => {
-                        let rgb = upsampling::exact_rgb(d, m, &light, &training).map_err(in_set)?;
+                        let rgb = upsampling::exact_rgb(d, m, &light, training).map_err(in_set)?;
                         training_rgb.push((light.name.clone(), spec.name.clone(), rgb));
                         training_rgb.len() - 1
                     }
@@ -192,8 +229,8 @@ impl UpsamplingRequest {
                     set,
                     (&spec.name, m),
                     &light,
-                    set.light.is_some(),
-                    &training,
+                    folded,
+                    training,
                     &training_rgb[k].2,
                     self.grid,
                 )
@@ -203,4 +240,58 @@ impl UpsamplingRequest {
         }
         Ok(out)
     }
+}
+
+/// The light `set` is upsampled under: its folded light (the scene's own by that name, else the
+/// built-in one), or [`RADIANCE_REFERENCE_LIGHT`] for a set for radiances.
+fn reference_light(
+    d: &Derivation,
+    set: &WavelengthSet,
+    lights: &[UserLight],
+) -> Result<Curve, Error> {
+    let name = set.light.as_deref().unwrap_or(RADIANCE_REFERENCE_LIGHT);
+    Ok(match lights.iter().find(|l| l.name == name) {
+        Some(l) => {
+            let mut c = l.curve.clone();
+            c.name = name.to_string();
+            c
+        }
+        None => evaluate::builtin_illuminant(&d.settings.data_dir, name, d.settings.range_nm)?,
+    })
+}
+
+/// The cache entries ([`upsampling::CACHE_FILE`]) of `upsamplings`, baked for the scene whose
+/// colour sets are `sets`, on `displays`, with the scene's own `lights`: each one's codes and
+/// figures with the fingerprint of its inputs. Errors if an upsampling's set or display is not
+/// among them.
+pub(crate) fn cache_entries(
+    d: &Derivation,
+    upsamplings: &[Baked],
+    sets: &[WavelengthSet],
+    displays: &[(DisplaySpec, DisplayMatrices)],
+    lights: &[UserLight],
+) -> Result<Vec<CacheEntry>, Error> {
+    let inputs = FitInputs::new(d)?;
+    upsamplings
+        .iter()
+        .map(|b| {
+            let set = sets.iter().find(|s| s.name == b.set).ok_or_else(|| {
+                Error::Settings(std::format!(
+                    "the upsampling's set {} is not the scene's",
+                    b.set
+                ))
+            })?;
+            let (spec, m) = displays
+                .iter()
+                .find(|(s, _)| s.name == b.display)
+                .ok_or_else(|| Error::UnknownDisplay {
+                    name: b.display.clone(),
+                    valid: displays.iter().map(|(s, _)| s.name.clone()).collect(),
+                })?;
+            let light = reference_light(d, set, lights)?;
+            let folded = set.light.is_some();
+            let fp = inputs.fingerprint(set, (&spec.name, m), &light, folded, &b.encoding, b.grid);
+            Ok(CacheEntry::new(b, fp))
+        })
+        .collect()
 }

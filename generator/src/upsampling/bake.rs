@@ -254,10 +254,9 @@ pub struct Baked {
     pub grid: usize,
     /// The encoding weights ([`encoding`]).
     pub encoding: [Vec<f64>; 3],
-    /// The least-squares map ([`least_squares_map`]), one row per node.
-    pub map: Vec<[f64; 3]>,
-    /// Node values at each grid point, index `(r · grid + g) · grid + b`, in [0, 1].
-    pub values: Vec<Vec<f64>>,
+    /// The fit behind the codes; `None` when they came from the cache
+    /// ([`CACHE_FILE`](super::CACHE_FILE)), which holds the codes and not the fit.
+    pub fit: Option<Fit>,
     /// Whether each grid point's colour is reachable by node values in [0, 1].
     pub reachable: Vec<bool>,
     /// The values as the runtime's 16-bit codes ([`CODE_ONE`] is 1).
@@ -267,6 +266,15 @@ pub struct Baked {
     /// The smallest Lipschitz constant of the interpolated codes: no node value changes by more
     /// than `lipschitz · max(|Δr|, |Δg|, |Δb|)`.
     pub lipschitz: f64,
+}
+
+/// What a fit computes besides the codes: the global map and the f64 node values the codes round.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Fit {
+    /// The least-squares map ([`least_squares_map`]), one row per node.
+    pub map: Vec<[f64; 3]>,
+    /// Node values at each grid point, index `(r · grid + g) · grid + b`, in [0, 1].
+    pub values: Vec<Vec<f64>>,
 }
 
 /// CIELAB of display RGB with the display's white as the reference white.
@@ -440,8 +448,7 @@ pub fn bake_with(
         wavelengths_nm: set.wavelengths_nm.clone(),
         grid,
         encoding: w,
-        map,
-        values,
+        fit: Some(Fit { map, values }),
         reachable,
         codes,
         max_round_trip_de00,
@@ -500,9 +507,11 @@ pub fn lipschitz(grid: usize, n: usize, codes: &[Vec<u16>]) -> f64 {
 
 impl Baked {
     /// The tetrahedral interpolation of the f64 node values at `rgb` (each channel clamped to
-    /// [0, 1]): the runtime's function without its rounding to 16 bits and f32.
-    pub fn interpolate(&self, rgb: [f64; 3]) -> Vec<f64> {
-        interpolate(self.grid, &self.values, rgb)
+    /// [0, 1]): the runtime's function without its rounding to 16 bits and f32. `None` for a
+    /// table from the cache, which holds only the codes.
+    pub fn interpolate(&self, rgb: [f64; 3]) -> Option<Vec<f64>> {
+        let fit = self.fit.as_ref()?;
+        Some(interpolate(self.grid, &fit.values, rgb))
     }
 
     /// One bit per cell, index `(r · (grid − 1) + g) · (grid − 1) + b`, bit `i % 32` of word

@@ -27,17 +27,25 @@
 //! figures the runtime states: the largest round-trip error at the grid points, the Lipschitz
 //! constant, the share of the grid that is reachable.
 //!
+//! The fit takes seconds at Cargo's default build-script opt-level, so the build takes the
+//! default scene's tables from a cache ([`CACHE_FILE`]) while their inputs' fingerprint
+//! ([`FitInputs::fingerprint`]) matches, and fits the rest.
+//!
 //! The files, each importing only those before it: `qp` (the box programme), `training` (the
-//! training reflectances), `bake` (encoding, map, projection, grid).
+//! training reflectances), `bake` (encoding, map, projection, grid), `cache` (the cache file).
 
 mod bake;
+mod cache;
 pub mod qp;
 mod training;
 
 pub use bake::{
     bake, bake_with, bounded_exact_linear_residual, encode, encoding, exact_rgb, grid_point,
-    interpolate, lab_of_rgb, least_squares_map, lipschitz, local_map, project, Baked, CODE_ONE,
-    DEFAULT_GRID, GRID_SIZES, LOCAL_BANDWIDTH, LOCAL_PRIOR, RADIANCE_REFERENCE_LIGHT,
+    interpolate, lab_of_rgb, least_squares_map, lipschitz, local_map, project, Baked, Fit,
+    CODE_ONE, DEFAULT_GRID, GRID_SIZES, LOCAL_BANDWIDTH, LOCAL_PRIOR, RADIANCE_REFERENCE_LIGHT,
     REACHABLE_DELTA_E00,
+};
+pub use cache::{
+    parse_cache, read_cache, write_cache, CacheEntry, FitInputs, CACHE_FILE, FIT_VERSION,
 };
 pub use training::{parse_training, training, TRAINING_FILES};

@@ -12,6 +12,7 @@
 //! cargo run --release -p spectral-quadrature-tools --bin tables          # side by side
 //! cargo run --release -p spectral-quadrature-tools --bin tables -- --csv # every rule as CSV
 //! cargo run --release -p spectral-quadrature-tools --bin tables -- --shared-cache > data/shared_nodes.csv
+//! cargo run --release -p spectral-quadrature-tools --bin tables -- --upsampling-cache > data/upsampling_codes.csv
 //! SPECTRAL_QUADRATURE_SCENE=examples/scenes/minimal.toml \
 //!   cargo run -p spectral-quadrature-tools --bin tables -- --rust         # what the scene bakes
 //! ```
@@ -33,15 +34,19 @@ struct Args {
     /// (data/shared_nodes.csv), which the build reuses instead of searching
     #[arg(long, conflicts_with = "csv")]
     shared_cache: bool,
+    /// Fit every upsampling of the default scene afresh and print the cache file
+    /// (data/upsampling_codes.csv), which the build reuses instead of fitting
+    #[arg(long, conflicts_with_all = ["csv", "shared_cache"])]
+    upsampling_cache: bool,
     /// Print the tables.rs the build bakes for the scene named by SPECTRAL_QUADRATURE_SCENE
     /// (relative to the runtime crate's root, or absolute), or the default scene
-    #[arg(long, group = "baked", conflicts_with_all = ["csv", "shared_cache"])]
+    #[arg(long, group = "baked", conflicts_with_all = ["csv", "shared_cache", "upsampling_cache"])]
     rust: bool,
     /// Print the WGSL snippet the build bakes for that scene
-    #[arg(long, group = "baked", conflicts_with_all = ["csv", "shared_cache"])]
+    #[arg(long, group = "baked", conflicts_with_all = ["csv", "shared_cache", "upsampling_cache"])]
     wgsl: bool,
     /// Print the GLSL snippet the build bakes for that scene
-    #[arg(long, group = "baked", conflicts_with_all = ["csv", "shared_cache"])]
+    #[arg(long, group = "baked", conflicts_with_all = ["csv", "shared_cache", "upsampling_cache"])]
     glsl: bool,
 }
 
@@ -54,6 +59,11 @@ fn main() {
         }
     } else if args.shared_cache {
         if let Err(e) = print_shared_cache() {
+            eprintln!("error: {e}");
+            std::process::exit(2);
+        }
+    } else if args.upsampling_cache {
+        if let Err(e) = print_upsampling_cache() {
             eprintln!("error: {e}");
             std::process::exit(2);
         }
@@ -118,6 +128,17 @@ fn print_shared_cache() -> Result<(), sqd::Error> {
         })
         .collect::<Result<Vec<_>, _>>()?;
     print!("{}", sqd::shared::write_cache(&entries));
+    Ok(())
+}
+
+/// Fits every upsampling of the default scene afresh and prints the cache file.
+fn print_upsampling_cache() -> Result<(), sqd::Error> {
+    let settings = tools::settings();
+    let d = sqd::derive(&settings)?;
+    let scene = sqd::scene::Scene::default_scene(&settings.data_dir);
+    let resolved = scene.resolve_fitting(&d)?;
+    let entries = resolved.upsampling_cache(&d)?;
+    print!("{}", sqd::upsampling::write_cache(&entries));
     Ok(())
 }
 

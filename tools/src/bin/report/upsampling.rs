@@ -86,8 +86,12 @@ fn runtime_values(b: &Baked, rgb: &[[f64; 3]]) -> Vec<Vec<f64>> {
         4 => run::<4>(b, rgb),
         6 => run::<6>(b, rgb),
         8 => run::<8>(b, rgb),
-        // The section compares 4, 6 and 8 only; anything else is the f64 interpolation.
-        _ => rgb.iter().map(|p| b.interpolate(*p)).collect(),
+        // The section compares 4, 6 and 8 only; anything else is the f64 interpolation (a fresh
+        // bake has its fit).
+        _ => rgb
+            .iter()
+            .map(|p| b.interpolate(*p).expect("a fresh bake has its fit"))
+            .collect(),
     }
 }
 
@@ -164,10 +168,10 @@ pub fn section(i: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
             )?;
             let idx: Vec<usize> = (0..judged.len()).filter(|&k| folds[k] == fold).collect();
             let pts: Vec<[f64; 3]> = idx.iter().map(|&k| rgb[k]).collect();
+            let map = &b.fit.as_ref().expect("a fresh bake has its fit").map;
             for (&k, v) in idx.iter().zip(runtime_values(&b, &pts)) {
                 crate_values[k] = v;
-                lsq_values[k] = b
-                    .map
+                lsq_values[k] = map
                     .iter()
                     .map(|m| m[0] * rgb[k][0] + m[1] * rgb[k][1] + m[2] * rgb[k][2])
                     .collect();
@@ -310,6 +314,8 @@ pub fn section(i: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
     .ok();
     writeln!(o, "|---|---|---|---|---|---|").ok();
     o.push_str(&props);
+    writeln!(o).ok();
+    o.push_str(&default_scene_maps(d)?);
 
     let mut csv = String::from("method,n,light,mean_de00,p95_de00,reflectances\n");
     for c in &cells {
@@ -331,6 +337,47 @@ pub fn section(i: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
     })?;
     let svg = plot(out, &cells)?;
     Ok((o, vec![csv_path, svg]))
+}
+
+/// The table of the default scene's maps (every colour set on every display, as the build bakes
+/// them): the reference light, the share of the grid node values in [0, 1] reach, whether a
+/// linear map bounded and exact at once exists, the Lipschitz constant, the round trip at the
+/// reachable grid points and the table's bytes.
+fn default_scene_maps(d: &Derivation) -> Result<String, Error> {
+    let scene = sqd::scene::Scene::default_scene(&d.settings.data_dir);
+    let resolved = scene.resolve(d)?;
+    let mut o = String::new();
+    writeln!(
+        o,
+        "   The default scene's maps ({} of them: its shared sets on every display, as the build bakes them): the reference light, the share of the grid whose colour node values in [0, 1] reach (the others get the nearest reachable colour), whether a linear map bounded and exact at once exists (residual as above), Lipschitz constant, round trip at the reachable grid points (ΔE00), table bytes.",
+        resolved.upsamplings.len()
+    )
+    .ok();
+    writeln!(o).ok();
+    writeln!(
+        o,
+        "| set | display | light | reachable | bounded exact linear map | Lipschitz | round trip | bytes |"
+    )
+    .ok();
+    writeln!(o, "|---|---|---|---|---|---|---|---|").ok();
+    for b in &resolved.upsamplings {
+        let residual = up::bounded_exact_linear_residual(&b.encoding)?;
+        writeln!(
+            o,
+            "| `{}` | {} | {} | {:.1} % | {} (residual {:.1e}) | {:.2} | {:.4} | {} |",
+            b.set,
+            b.display,
+            b.light,
+            100.0 * b.reachable_share(),
+            if residual < 1e-6 { "yes" } else { "no" },
+            residual,
+            b.lipschitz,
+            b.max_round_trip_de00,
+            2 * b.wavelengths_nm.len() * b.codes.len()
+        )
+        .ok();
+    }
+    Ok(o)
 }
 
 fn plot(out: &Path, cells: &[Cell]) -> Result<PathBuf, Error> {
