@@ -1072,7 +1072,8 @@ mod tests {
                 one >> 12,
                 one >> 12 | 1,
             ]);
-            for _ in 0..100_000 {
+            // Miri runs about a million times slower: fewer there.
+            for _ in 0..if cfg!(miri) { 300 } else { 100_000 } {
                 state ^= state << 13;
                 state ^= state >> 7;
                 state ^= state << 17;
@@ -1200,7 +1201,7 @@ mod tests {
             inputs.push([v; N]);
         }
         let mut state = 0x9e37_79b9_7f4a_7c15u64 ^ N as u64;
-        for _ in 0..2_000 {
+        for _ in 0..if cfg!(miri) { 10 } else { 2_000 } {
             inputs.push(core::array::from_fn(|_| {
                 state ^= state << 13;
                 state ^= state >> 7;
