@@ -9,6 +9,14 @@ use spectral_quadrature_build::{generate, SCENE_ENV};
 fn main() {
     println!("cargo:rerun-if-changed=build.rs");
     println!("cargo:rerun-if-env-changed={SCENE_ENV}");
+    // Armv7E-M (Cortex-M4, M4F, M7) has the DSP extension's dual 16-bit multiply-accumulate,
+    // which the integer path uses through inline assembly; rustc sets no target feature for
+    // it on these targets, so the target's name decides.
+    println!("cargo::rustc-check-cfg=cfg(arm_dsp)");
+    let target = std::env::var("TARGET").unwrap_or_default();
+    if target.starts_with("thumbv7em-") {
+        println!("cargo::rustc-cfg=arm_dsp");
+    }
     let crate_dir = PathBuf::from(
         std::env::var_os("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR"),
     );

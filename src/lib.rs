@@ -94,11 +94,12 @@
 //!
 //! **Integer counts** (`src/integer.rs`), for microcontrollers without an FPU:
 //! [`IntegerSet::encode_u8`] takes u16 counts, sums each channel's fixed-point weights times the
-//! counts in 32 bits (the weights' top bits), finds the code value among the transfer curve's
-//! thresholds on a 2³¹ scale (a binary search), and only where a threshold lies within the
-//! coarse sum's margin adds the weights' low bits (a 48-bit sum) and compares exactly.
-//! [`IntegerSet::encode_u8_batch`] calls it on each pixel. No f32 and no f64: the baked
-//! [`tables::integer`] sets are the folded sets in fixed point.
+//! counts in 32 bits (the weights' top bits; on Armv7E-M two samples an instruction, with the
+//! DSP extension's `SMLAD`), settles most codes with one look-up in a table of limits on the
+//! transfer curve's thresholds (an entry per 2⁻¹² of linear light) and one comparison, and only
+//! where a threshold lies within the coarse sum's margin forms the exact sum and compares it.
+//! [`IntegerSet::encode_u8_batch`] runs the same steps in one loop over the pixels. No f32 and
+//! no f64: the baked [`tables::integer`] sets are the folded sets in fixed point.
 //!
 //! ## Beyond a pixel
 //!
@@ -114,9 +115,11 @@
 #![no_std]
 #![cfg_attr(docsrs, feature(doc_cfg))]
 #![deny(missing_docs)]
-// Unsafe code is in the x86-64 vector loops alone (`simd`, and the table lookup they share in
-// `encode`): every other module forbids it, and on other targets the whole crate does.
-#![cfg_attr(not(target_arch = "x86_64"), forbid(unsafe_code))]
+// Unsafe code is in the x86-64 vector loops (`simd`, and the table lookup they share in
+// `encode`) and in the integer path's inline assembly on Armv7E-M (`integer`, cfg `arm_dsp`,
+// set by the build script): every other module forbids it, and on other targets the whole
+// crate does.
+#![cfg_attr(not(any(target_arch = "x86_64", arm_dsp)), forbid(unsafe_code))]
 #![deny(unsafe_op_in_unsafe_fn)]
 #![deny(clippy::undocumented_unsafe_blocks)]
 

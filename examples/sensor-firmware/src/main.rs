@@ -24,7 +24,7 @@ use core::hint::black_box;
 
 use spectral_quadrature::tables::{self, folded, integer, sensors, PLANCKIAN_LOCUS as LOCUS};
 use spectral_quadrature::{
-    uv_from_xyz, Calibration, Cct, CountCalibration, GamutMapping, IntegerSet, LuxScale,
+    uv_from_xyz, Calibration, Cct, CountCalibration, FoldedSet, GamutMapping, IntegerSet, LuxScale,
 };
 
 #[allow(dead_code)]
@@ -41,6 +41,38 @@ use simulated::{
 /// would be read through a pointer instead).
 static SENSOR: IntegerSet<CHANNELS> = integer::AS7341_SRGB;
 static SET4: IntegerSet<4> = integer::TABLE2_ROW2_SRGB;
+/// Sets of the sensor's first 5 and 6 channels: on Armv7E-M the integer path sums the samples
+/// in pairs, two pairs a step, so these reach its last lone pair and a last unpaired sample,
+/// beside N = 4 and 8 (whole steps).
+static SET5: IntegerSet<5> = first_channels();
+static SET6: IntegerSet<6> = first_channels();
+
+/// The sensor's set on its first M channels, in fixed point (at compile time).
+const fn first_channels<const M: usize>() -> IntegerSet<M> {
+    let all = folded::AS7341_SRGB;
+    let mut wavelengths_nm = [0.0; M];
+    let mut weights = [[0.0; M]; 3];
+    let mut i = 0;
+    while i < M {
+        wavelengths_nm[i] = all.wavelengths_nm[i];
+        let mut c = 0;
+        while c < 3 {
+            weights[c][i] = all.weights[c][i];
+            c += 1;
+        }
+        i += 1;
+    }
+    let folded = FoldedSet {
+        wavelengths_nm,
+        weights,
+        samples: all.samples,
+        display: all.display,
+    };
+    match IntegerSet::new(&folded, SAMPLE_UNIT) {
+        Ok(set) => set,
+        Err(_) => panic!("the sensor's first channels have no fixed-point form"),
+    }
+}
 
 /// The illuminance on the chart, as a reference meter beside the white tile reads it: the one
 /// reading of a known light that calibrates lux.
@@ -237,17 +269,41 @@ fn results(out: &mut impl Write) -> core::fmt::Result {
         // Every magnitude: a count shifted right by 0 to 15 bits.
         ((state >> 48) as u16) >> (state % 16)
     };
-    let (mut sum4, mut sum8) = (Fnv::new(), Fnv::new());
-    for _ in 0..PIXELS {
-        let x4: [u16; 4] = core::array::from_fn(|_| next());
-        sum4.add(&SET4.encode_u8(&x4));
-        let x8: [u16; CHANNELS] = core::array::from_fn(|_| next());
-        sum8.add(&SENSOR.encode_u8(&x8));
+    let mut sums = [const { Fnv::new() }; 4];
+    // The batch encoder on the same pixels, a chunk at a time: the same bytes.
+    let mut batch_sums = [const { Fnv::new() }; 2];
+    const CHUNK: usize = 16;
+    for _ in 0..PIXELS / CHUNK {
+        let mut x4 = [[0u16; 4]; CHUNK];
+        let mut x8 = [[0u16; CHANNELS]; CHUNK];
+        for (x4, x8) in x4.iter_mut().zip(&mut x8) {
+            *x4 = core::array::from_fn(|_| next());
+            sums[0].add(&SET4.encode_u8(x4));
+            *x8 = core::array::from_fn(|_| next());
+            sums[3].add(&SENSOR.encode_u8(x8));
+            let x5: [u16; 5] = core::array::from_fn(|_| next());
+            sums[1].add(&SET5.encode_u8(&x5));
+            let x6: [u16; 6] = core::array::from_fn(|_| next());
+            sums[2].add(&SET6.encode_u8(&x6));
+        }
+        let mut rgb = [[0u8; 3]; CHUNK];
+        let ok = SET4.encode_u8_batch(&x4, &mut rgb).is_ok();
+        rgb.iter().for_each(|p| batch_sums[0].add(p));
+        let ok = ok && SENSOR.encode_u8_batch(&x8, &mut rgb).is_ok();
+        rgb.iter().for_each(|p| batch_sums[1].add(p));
+        if !ok {
+            return writeln!(out, "res checksum: a batch failed");
+        }
     }
+    let [s4, s5, s6, s8] = sums.map(|s| s.0);
     writeln!(
         out,
-        "res checksum {PIXELS} pixels N=4 {:016x} N=8 {:016x}",
-        sum4.0, sum8.0
+        "res checksum {PIXELS} pixels N=4 {s4:016x} N=5 {s5:016x} N=6 {s6:016x} N=8 {s8:016x}"
+    )?;
+    writeln!(
+        out,
+        "res checksum batch N=4 {:016x} N=8 {:016x}",
+        batch_sums[0].0, batch_sums[1].0
     )?;
     locus_results(out)?;
     calibration_results(out)
@@ -260,7 +316,7 @@ const PIXELS: usize = 50_000;
 struct Fnv(u64);
 
 impl Fnv {
-    fn new() -> Fnv {
+    const fn new() -> Fnv {
         Fnv(0xcbf2_9ce4_8422_2325)
     }
 
