@@ -1081,3 +1081,96 @@ fn shader_words_hold_the_table_then_the_round_trip() {
     assert_eq!(f32::from_bits(words[f + 5]), rt.weights[1][1]);
     assert_eq!(f32::from_bits(words[f + 12 + 4]), rt.rgb_to_xyz[1][1]);
 }
+
+/// The largest change of a node value between neighbouring f32 inputs that
+/// `jumps_between_neighbouring_f32_inputs` measures, rounded up: the correction's f32 solve is
+/// not continuous at that scale (`docs/upsampling.md`). A map not named has no edge cells or
+/// jumps below 1e-4.
+fn stated_f32_jump(name: &str) -> f32 {
+    match name {
+        "KQ_C_6_REC2020" => 2.5e-4,
+        "KQ_C_8_DISPLAY_P3" => 3.0e-4,
+        "KQ_C_8_REC2020" => 6.1e-3,
+        "KQ_F11_6_REC2020" => 1.5e-3,
+        _ => 1.0e-4,
+    }
+}
+
+/// Lines in steps of 1/1048576 of a cell on which the jumps of `stated_f32_jump` were found.
+const JUMPS_FOUND: [(&str, [f64; 3], [f64; 3]); 4] = [
+    ("KQ_C_8_REC2020", [0.4375, 0.046875, 1.0], [0.0, 0.0, -1.0]),
+    ("KQ_C_6_REC2020", [0.359375, 0.0, 0.953125], [0.0, 1.0, 0.0]),
+    ("KQ_C_8_DISPLAY_P3", [0.40625, 1.0, 1.0], [0.0, 0.0, -1.0]),
+    (
+        "KQ_F11_6_REC2020",
+        [0.90092003, 0.2552185, 0.5],
+        [1.0, 0.0, 0.0],
+    ),
+];
+
+#[test]
+#[ignore = "a measurement: about 8 s of CPU in the dev profile"]
+fn jumps_between_neighbouring_f32_inputs() {
+    each(|u, f| {
+        if f.baked.edge_cells().iter().all(|w| *w == 0) {
+            return;
+        }
+        let change = |p: [f32; 3], q: [f32; 3]| {
+            let (a, b) = (u.reflectance(p), u.reflectance(q));
+            a.iter()
+                .zip(&b)
+                .map(|(x, y)| (x - y).abs())
+                .fold(0.0f32, f32::max)
+        };
+        let mut worst = (0.0f32, [0.0f32; 3]);
+        // 512 f32 neighbours along each axis through the steepest points the scans find.
+        let mut points: Vec<[f32; 3]> = edge_scan(u, f.baked, 5, 32, 64)
+            .iter()
+            .map(|s| refine(u, *s, 6).1)
+            .collect();
+        points.push(face_scan(u, f.baked, 5, 2048.0, 32).1);
+        points.push(face_scan(u, f.baked, 5, 65536.0, 32).1);
+        for p in points {
+            for axis in 0..3 {
+                let mut q = p;
+                q[axis] = f32::from_bits(q[axis].to_bits().saturating_sub(256));
+                for _ in 0..512 {
+                    let mut next = q;
+                    next[axis] = f32::from_bits(q[axis].to_bits() + 1);
+                    if next[axis] > 1.0 {
+                        break;
+                    }
+                    let c = change(q, next);
+                    if c > worst.0 {
+                        worst = (c, next);
+                    }
+                    q = next;
+                }
+            }
+        }
+        // And 20 000 steps of 1/1048576 of a cell along the lines where the largest were found.
+        let h = 1.0 / (1_048_576.0 * (f.baked.grid - 1) as f64);
+        for (_, start, dir) in JUMPS_FOUND.iter().filter(|j| j.0 == f.name) {
+            for k in -2000..18000 {
+                let (p, q) = (
+                    along(*start, *dir, k as f64 * h),
+                    along(*start, *dir, (k + 1) as f64 * h),
+                );
+                let c = change(p, q);
+                if c > worst.0 {
+                    worst = (c, q);
+                }
+            }
+        }
+        println!(
+            "{}: largest change between neighbouring f32 inputs {:.1e} near {:?}",
+            f.name, worst.0, worst.1
+        );
+        assert!(
+            worst.0 <= stated_f32_jump(f.name),
+            "{}: {:?}",
+            f.name,
+            worst
+        );
+    });
+}
