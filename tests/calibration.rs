@@ -3,7 +3,7 @@
 //! reflectances under C) read through the golden device's matrix: alone, after a dark and white
 //! calibration, and after the correction fitted at build time.
 //!
-//! `cargo test --release --test calibration -- --nocapture` prints the table of
+//! `cargo test --release --test integration -- calibration:: --nocapture` prints the table of
 //! docs/colour-temperature-and-calibration.md.
 
 use spectral_quadrature_build as sqd;
@@ -512,7 +512,7 @@ fn the_example_device_readings() {
     let mut text = String::from(
         "# One simulated AS7341 (gains 1 ± 10 %, dark offsets of 100-1500 counts, read noise of 10\n\
          # counts) reading the ColorChecker under illuminant C, in 16-bit counts. Written by\n\
-         # UPDATE_EXAMPLES=1 cargo test --test calibration the_example_device_readings\n",
+         # UPDATE_EXAMPLES=1 cargo test --test integration calibration::the_example_device_readings\n",
     );
     text.push_str(&std::format!("patch,{}\n", channels.join(",")));
     for (name, counts) in b.names.iter().zip(&frame) {
@@ -528,7 +528,7 @@ fn the_example_device_readings() {
     let shipped = std::fs::read_to_string(&path).unwrap();
     assert_eq!(
         shipped, text,
-        "run UPDATE_EXAMPLES=1 cargo test --test calibration to rewrite it"
+        "run UPDATE_EXAMPLES=1 cargo test --test integration calibration:: to rewrite it"
     );
     // What the build does with it.
     let names: Vec<String> = channels.iter().map(|c| c.to_string()).collect();
