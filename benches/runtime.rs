@@ -1032,8 +1032,10 @@ fn median_ns(id: &str) -> Option<f64> {
     if !RAN.lock().unwrap().iter().any(|r| r == id) {
         return None;
     }
+    // Where criterion writes: the workspace's target directory (cargo runs a bench in its
+    // package's directory, benches/).
     let dir = std::env::var_os("CARGO_TARGET_DIR").map_or_else(
-        || std::path::PathBuf::from("target"),
+        || std::path::PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../target")),
         std::path::PathBuf::from,
     );
     let path = dir

@@ -5,7 +5,7 @@
 //! another frame of the ColorChecker and on reflectances no fit sees (the CIE test colour
 //! samples and 190 measured reflectances).
 //!
-//! `cargo test --release --test calibration -- --nocapture` prints the tables of
+//! `cargo test --release --test integration -- calibration:: --nocapture` prints the tables of
 //! docs/colour-temperature-and-calibration.md.
 
 use spectral_quadrature_build as sqd;
@@ -753,7 +753,7 @@ fn the_example_device_readings() {
     let mut text = String::from(
         "# One simulated AS7341 (gains 1 ± 10 %, dark offsets of 100-1500 counts, read noise of 10\n\
          # counts) reading the ColorChecker under illuminant C, in 16-bit counts. Written by\n\
-         # UPDATE_EXAMPLES=1 cargo test --test calibration the_example_device_readings\n",
+         # UPDATE_EXAMPLES=1 cargo test --test integration calibration::the_example_device_readings\n",
     );
     text.push_str(&std::format!("patch,{}\n", channels.join(",")));
     for (name, counts) in b.colorchecker.names.iter().zip(&frame) {
@@ -769,7 +769,7 @@ fn the_example_device_readings() {
     let shipped = std::fs::read_to_string(&path).unwrap();
     assert_eq!(
         shipped, text,
-        "run UPDATE_EXAMPLES=1 cargo test --test calibration to rewrite it"
+        "run UPDATE_EXAMPLES=1 cargo test --test integration calibration:: to rewrite it"
     );
     // What the build does with it.
     let names: Vec<String> = channels.iter().map(|c| c.to_string()).collect();

@@ -3,7 +3,7 @@
 //! `spectral_quadrature_build::planckian` (a scan, then false position on the distance's
 //! derivative), for the same f32 XYZ the runtime gets.
 //!
-//! `cargo test --release --test cct -- --nocapture` prints the accuracy tables of
+//! `cargo test --release --test integration -- cct:: --nocapture` prints the accuracy tables of
 //! docs/colour-temperature-and-calibration.md.
 
 use spectral_quadrature_build as sqd;

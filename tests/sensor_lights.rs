@@ -2,7 +2,7 @@
 //! calibrated against one reading of illuminant A (as lux meters are), and CCT and Duv from the
 //! set's XYZ, for every CIE illuminant and LED light in data/, against the exact values.
 //!
-//! `cargo test --release --test sensor_lights -- --nocapture` prints the table of
+//! `cargo test --release --test integration -- sensor_lights:: --nocapture` prints the table of
 //! docs/colour-temperature-and-calibration.md.
 
 use spectral_quadrature_build as sqd;

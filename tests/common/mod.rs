@@ -1,7 +1,8 @@
 //! Helpers shared by the integration tests: a module each test file includes with `mod common;`,
 //! not a test target of its own.
 
-// Each test file is its own crate and uses only part of this module.
+// Each test file includes its own copy (tests/main.rs loads each file by #[path]) and uses only
+// part of it.
 #![allow(dead_code)]
 
 use std::fmt::Debug;

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """A second reference for the crate's CCT and Duv: colour-science's Ohno (2013) on the same
 locus (the crate's CIE 1931 2° table at 1 nm over 380-770 nm, c2 = 1.4388e-2 m·K) for every
-light in data/, beside the exact values `cargo test --release --test cct -- --nocapture`
+light in data/, beside the exact values `cargo test --release --test integration -- cct:: --nocapture`
 prints (docs/colour-temperature-and-calibration.md compares them).
 
 Usage: python3 tools/scripts/cct_colour_science.py   (needs `pip install colour-science`)
