@@ -33,6 +33,52 @@ pub(crate) fn read_data_text(data_dir: &Path, label: &str) -> Result<String, Dat
     std::fs::read_to_string(&path).map_err(|e| read_error(label, &path, &e))
 }
 
+/// The text of a cache file under `data_dir` that may be absent: `None` when there is no such
+/// file; an error naming the label and the path when it cannot be read.
+pub(crate) fn read_optional_text(
+    data_dir: &Path,
+    label: &str,
+) -> Result<Option<String>, DataError> {
+    let path = data_path(data_dir, label);
+    match std::fs::read_to_string(&path) {
+        Ok(t) => Ok(Some(t)),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+        Err(e) => Err(read_error(label, &path, &e)),
+    }
+}
+
+/// The rows of a cache file's `text` below its header, each with its line number (from 1) and
+/// trimmed; blank lines and `#` comments are skipped. An error names `file` and the line when the
+/// first other line is not `header`.
+pub(crate) fn cache_rows<'a>(
+    file: &str,
+    text: &'a str,
+    header: &str,
+) -> Result<Vec<(u64, &'a str)>, DataError> {
+    let mut rows = Vec::new();
+    let mut seen_header = false;
+    for (i, raw) in text.lines().enumerate() {
+        let line = i as u64 + 1;
+        let l = raw.trim();
+        if l.is_empty() || l.starts_with('#') {
+            continue;
+        }
+        if !seen_header {
+            if l != header {
+                return Err(DataError {
+                    file: file.into(),
+                    line,
+                    message: std::format!("expected the header {header}, found {l:?}"),
+                });
+            }
+            seen_header = true;
+            continue;
+        }
+        rows.push((line, l));
+    }
+    Ok(rows)
+}
+
 /// The error of a data file that could not be read: it names the label and the path.
 pub(crate) fn read_error(label: &str, path: &Path, e: &std::io::Error) -> DataError {
     DataError {

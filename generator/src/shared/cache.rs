@@ -9,7 +9,7 @@ use std::vec::Vec;
 use super::model::{problem, Shared, EMPIRICAL_WEIGHT, LENGTH_NM, NUGGET, TRAINING_FILE};
 use super::search::{optimize, MAX_MOVE, RANDOM_STARTS};
 use crate::base::error::{DataError, Error};
-use crate::base::files::{data_path, read_data, read_error, sha256_hex};
+use crate::base::files::{cache_rows, read_data, read_optional_text, sha256_hex};
 use crate::derivation::derive::Derivation;
 
 /// The shared sets' node cache, a file in the data directory: the nodes
@@ -82,13 +82,10 @@ pub fn fingerprint(d: &Derivation, light: Option<&str>) -> Result<String, Error>
 /// Reads [`CACHE_FILE`] from `data_dir`: no file is an empty cache; a malformed one is an error
 /// naming the file and line.
 pub fn read_cache(data_dir: &std::path::Path) -> Result<Vec<CacheEntry>, DataError> {
-    let path = data_path(data_dir, CACHE_FILE);
-    let text = match std::fs::read_to_string(&path) {
-        Ok(t) => t,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
-        Err(e) => return Err(read_error(CACHE_FILE, &path, &e)),
-    };
-    parse_cache(CACHE_FILE, &text)
+    match read_optional_text(data_dir, CACHE_FILE)? {
+        Some(text) => parse_cache(CACHE_FILE, &text),
+        None => Ok(Vec::new()),
+    }
 }
 
 /// Parses the text of a node cache (see [`CACHE_FILE`]); `file` labels errors.
@@ -99,25 +96,7 @@ pub fn parse_cache(file: &str, text: &str) -> Result<Vec<CacheEntry>, DataError>
         message,
     };
     let mut out: Vec<CacheEntry> = Vec::new();
-    let mut header = false;
-    for (i, raw) in text.lines().enumerate() {
-        let line = i as u64 + 1;
-        let l = raw.trim();
-        if l.is_empty() || l.starts_with('#') {
-            continue;
-        }
-        if !header {
-            if l != "name,fingerprint,wavelengths_nm" {
-                return Err(err(
-                    line,
-                    std::format!(
-                        "expected the header name,fingerprint,wavelengths_nm, found {l:?}"
-                    ),
-                ));
-            }
-            header = true;
-            continue;
-        }
+    for (line, l) in cache_rows(file, text, "name,fingerprint,wavelengths_nm")? {
         let fields: Vec<&str> = l.split(',').collect();
         let [name, fingerprint, nodes] = fields[..] else {
             return Err(err(
