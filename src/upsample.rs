@@ -145,7 +145,8 @@ impl<const N: usize> Upsampling<N> {
     ///
     /// Cost: the interpolation, and one bit test; in an edge cell, 3·N multiply-adds for the
     /// residual, and where it is not the rounding, a small active-set solve (at most 3·N + 3
-    /// steps of a 3 × 3 system; `docs/upsampling.md` measures it). No f64, no allocation.
+    /// steps, each a few Gram-Schmidt factorisations of at most three columns;
+    /// `docs/upsampling.md` measures it). No f64, no allocation.
     #[inline]
     pub fn reflectance(&self, rgb: [f32; 3]) -> [f32; N] {
         let (mut r, p, cell) = self.interpolate_at(rgb);

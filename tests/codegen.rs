@@ -28,7 +28,8 @@ fn header_constants() {
     assert_eq!(tables::STEP_NM, 5.0);
     assert_eq!(tables::MAX_ORDER, d.settings.max_order);
     // The observer, then what the default scene's shared sets (KQ_C_*, KQ_F11_6) were made from,
-    // then what their upsamplings add (the other training file and the upsampling cache).
+    // then what the upsamplings add (the other training file, the upsampling cache, and D65, the
+    // reference light of Table 2's rows, sets for radiances).
     let labels: Vec<&str> = tables::INPUTS.iter().map(|(l, _)| *l).collect();
     assert_eq!(
         labels,
@@ -39,7 +40,8 @@ fn header_constants() {
             "data/shared_nodes.csv",
             "data/illuminant_F11.csv",
             "data/reflectance_rawtoaces_190.csv",
-            "data/upsampling_codes.csv"
+            "data/upsampling_codes.csv",
+            "data/illuminant_D65.csv"
         ]
     );
     assert_eq!(tables::INPUTS[0].1, d.observer.sha256);

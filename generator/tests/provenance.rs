@@ -73,7 +73,8 @@ fn the_default_tables_name_every_input_with_its_checksum() {
     let inputs = inputs(&out.tables_rs);
     let labels: Vec<&str> = inputs.iter().map(|(l, _)| l.as_str()).collect();
     // The default scene bakes KQ_C_4/6/8 and KQ_F11_6: their training set, lights and cache;
-    // then their upsamplings' other training file and the upsampling cache.
+    // then the upsamplings' other training file, the upsampling cache, and D65, the reference
+    // light of Table 2's rows (sets for radiances).
     assert_eq!(
         labels,
         [
@@ -84,6 +85,7 @@ fn the_default_tables_name_every_input_with_its_checksum() {
             "data/illuminant_F11.csv",
             "data/reflectance_rawtoaces_190.csv",
             "data/upsampling_codes.csv",
+            "data/illuminant_D65.csv",
         ]
     );
     for (label, sha) in &inputs {

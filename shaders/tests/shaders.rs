@@ -1061,7 +1061,7 @@ fn up<const N: usize>(
     }
 }
 
-/// The default scene's upsamplings: its shared sets on every display.
+/// The default scene's upsamplings: its shared sets and Table 2's rows on every display.
 fn upsamplings() -> Vec<Up> {
     use spectral_quadrature::tables::upsampling as u;
     vec![
@@ -1160,6 +1160,54 @@ fn upsamplings() -> Vec<Up> {
             &u::KQ_F11_6_MEYER_1987,
             u::KQ_F11_6_MEYER_1987_WGSL,
             u::KQ_F11_6_MEYER_1987_GLSL,
+        ),
+        up(
+            "TABLE2_ROW1_SRGB",
+            &u::TABLE2_ROW1_SRGB,
+            u::TABLE2_ROW1_SRGB_WGSL,
+            u::TABLE2_ROW1_SRGB_GLSL,
+        ),
+        up(
+            "TABLE2_ROW1_DISPLAY_P3",
+            &u::TABLE2_ROW1_DISPLAY_P3,
+            u::TABLE2_ROW1_DISPLAY_P3_WGSL,
+            u::TABLE2_ROW1_DISPLAY_P3_GLSL,
+        ),
+        up(
+            "TABLE2_ROW1_REC2020",
+            &u::TABLE2_ROW1_REC2020,
+            u::TABLE2_ROW1_REC2020_WGSL,
+            u::TABLE2_ROW1_REC2020_GLSL,
+        ),
+        up(
+            "TABLE2_ROW1_MEYER_1987",
+            &u::TABLE2_ROW1_MEYER_1987,
+            u::TABLE2_ROW1_MEYER_1987_WGSL,
+            u::TABLE2_ROW1_MEYER_1987_GLSL,
+        ),
+        up(
+            "TABLE2_ROW2_SRGB",
+            &u::TABLE2_ROW2_SRGB,
+            u::TABLE2_ROW2_SRGB_WGSL,
+            u::TABLE2_ROW2_SRGB_GLSL,
+        ),
+        up(
+            "TABLE2_ROW2_DISPLAY_P3",
+            &u::TABLE2_ROW2_DISPLAY_P3,
+            u::TABLE2_ROW2_DISPLAY_P3_WGSL,
+            u::TABLE2_ROW2_DISPLAY_P3_GLSL,
+        ),
+        up(
+            "TABLE2_ROW2_REC2020",
+            &u::TABLE2_ROW2_REC2020,
+            u::TABLE2_ROW2_REC2020_WGSL,
+            u::TABLE2_ROW2_REC2020_GLSL,
+        ),
+        up(
+            "TABLE2_ROW2_MEYER_1987",
+            &u::TABLE2_ROW2_MEYER_1987,
+            u::TABLE2_ROW2_MEYER_1987_WGSL,
+            u::TABLE2_ROW2_MEYER_1987_GLSL,
         ),
     ]
 }

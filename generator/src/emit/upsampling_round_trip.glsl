@@ -3,49 +3,6 @@ float @lower@_f(uint i) {
     return uintBitsToFloat(@NAME@_CODES[@F@u + i]);
 }
 
-// Cholesky solve of a symmetric positive definite 3 x 3 system; w = 0 where a pivot is not positive and finite.
-vec4 @lower@_solve3(float m[3][3], float b[3]) {
-    float l[3][3];
-    for (uint i = 0u; i < 3u; i++) {
-        for (uint k = 0u; k <= i; k++) {
-            float s;
-            s = m[i][k];
-            for (uint q = 0u; q < k; q++) {
-                s = s - l[i][q] * l[k][q];
-            }
-            if (i == k) {
-                if (!(s > 0.0 && s <= 3.4028235e38)) {
-                    return vec4(0.0);
-                }
-                l[i][i] = sqrt(s);
-            } else {
-                l[i][k] = s / l[k][k];
-            }
-        }
-    }
-    float y[3];
-    for (uint i = 0u; i < 3u; i++) {
-        float s;
-        s = b[i];
-        for (uint q = 0u; q < i; q++) {
-            s = s - l[i][q] * y[q];
-        }
-        y[i] = s / l[i][i];
-    }
-    float x[3];
-    for (uint ii = 0u; ii < 3u; ii++) {
-        uint i;
-        i = 2u - ii;
-        float s;
-        s = y[i];
-        for (uint q = i + 1u; q < 3u; q++) {
-            s = s - l[q][i] * x[q];
-        }
-        x[i] = s / l[i][i];
-    }
-    return vec4(x[0], x[1], x[2], 1.0);
-}
-
 float[@N@] @lower@_round_trip(vec3 pv, uint cell, float r_in[@N@]) {
     float r[@N@];
     r = r_in;
@@ -106,14 +63,12 @@ float[@N@] @lower@_round_trip(vec3 pv, uint cell, float r_in[@N@]) {
             j[rr][c] = d[rr][0] * @lower@_f(@XYZ@u + c) + d[rr][1] * @lower@_f(@XYZ@u + 3u + c) + d[rr][2] * @lower@_f(@XYZ@u + 6u + c);
         }
     }
-    float a[3 * @N@];
     float size;
     size = 0.0;
     for (uint rr = 0u; rr < 3u; rr++) {
         for (uint i = 0u; i < @N@u; i++) {
             float av;
             av = j[rr][0] * @lower@_f(i) + j[rr][1] * @lower@_f(@N@u + i) + j[rr][2] * @lower@_f(2u * @N@u + i);
-            a[rr * @N@u + i] = av;
             size = size + av * av;
         }
     }
@@ -121,6 +76,19 @@ float[@N@] @lower@_round_trip(vec3 pv, uint cell, float r_in[@N@]) {
     scale = sqrt(@NF@ / size);
     if (!(scale > 0.0 && scale <= 3.4028235e38)) {
         return r;
+    }
+    // The scaled differential s J, and each node's column of A = s J W.
+    float sj[3][3];
+    for (uint rr = 0u; rr < 3u; rr++) {
+        for (uint c = 0u; c < 3u; c++) {
+            sj[rr][c] = j[rr][c] * scale;
+        }
+    }
+    float a[3 * @N@];
+    for (uint rr = 0u; rr < 3u; rr++) {
+        for (uint i = 0u; i < @N@u; i++) {
+            a[rr * @N@u + i] = sj[rr][0] * @lower@_f(i) + sj[rr][1] * @lower@_f(@N@u + i) + sj[rr][2] * @lower@_f(2u * @N@u + i);
+        }
     }
     float e[3];
     for (uint k = 0u; k < 3u; k++) {
@@ -131,110 +99,196 @@ float[@N@] @lower@_round_trip(vec3 pv, uint cell, float r_in[@N@]) {
         }
         e[k] = ev;
     }
-    float t[3];
-    for (uint c = 0u; c < 3u; c++) {
-        t[c] = scale * (j[c][0] * e[0] + j[c][1] * e[1] + j[c][2] * e[2]);
-    }
-    for (uint rr = 0u; rr < 3u; rr++) {
-        for (uint i = 0u; i < @N@u; i++) {
-            a[rr * @N@u + i] = a[rr * @N@u + i] * scale;
-        }
-    }
-    // The active-set method on the box: z = x - r, held[i] 0 (free), -1 (at 0) or 1 (at 1).
+    // The active-set method on the box: z = x - r, held[i] 0 (free), -1 (at 0) or 1 (at 1);
+    // refused[i] 1 where a trial release moved i outward at once since z last moved.
     float z[@N@];
     int held[@N@];
+    uint refused[@N@];
     for (uint i = 0u; i < @N@u; i++) {
         z[i] = 0.0;
         held[i] = 0;
+        refused[i] = 0u;
     }
+    int trial;
+    trial = -1;
     for (uint it = 0u; it < @STEPS@u; it++) {
-        float b[3];
-        b = t;
-        uint freed[3];
-        freed = uint[3](0u, 0u, 0u);
+        float dv[3];
+        dv = e;
         uint n_free;
         n_free = 0u;
         for (uint i = 0u; i < @N@u; i++) {
             if (held[i] != 0) {
                 for (uint c = 0u; c < 3u; c++) {
-                    b[c] = b[c] - a[c * @N@u + i] * z[i];
+                    dv[c] = dv[c] - @lower@_f(c * @N@u + i) * z[i];
                 }
             } else {
-                if (n_free < 3u) {
-                    freed[n_free] = i;
-                }
                 n_free = n_free + 1u;
             }
+        }
+        float t[3];
+        for (uint c = 0u; c < 3u; c++) {
+            t[c] = sj[c][0] * dv[0] + sj[c][1] * dv[1] + sj[c][2] * dv[2];
+        }
+        // The free values' weights: an orthonormal basis q[0..m] of the channels' rows on the
+        // free values, gq[l][c] the coefficient of q[l] in channel c (Gram-Schmidt, largest
+        // remaining row first, twice).
+        float v[3 * @N@];
+        float q[3 * @N@];
+        for (uint c = 0u; c < 3u; c++) {
+            for (uint i = 0u; i < @N@u; i++) {
+                q[c * @N@u + i] = 0.0;
+                if (held[i] == 0) {
+                    v[c * @N@u + i] = @lower@_f(c * @N@u + i);
+                } else {
+                    v[c * @N@u + i] = 0.0;
+                }
+            }
+        }
+        float gq[3][3];
+        gq = float[3][3](float[3](0.0, 0.0, 0.0), float[3](0.0, 0.0, 0.0), float[3](0.0, 0.0, 0.0));
+        uint done[3];
+        done = uint[3](0u, 0u, 0u);
+        uint m;
+        m = 0u;
+        uint max_rank;
+        max_rank = min(n_free, 3u);
+        while (m < max_rank) {
+            int pick;
+            pick = -1;
+            float largest;
+            largest = 0.0;
+            for (uint c = 0u; c < 3u; c++) {
+                if (done[c] != 0u) {
+                    continue;
+                }
+                float n2;
+                n2 = 0.0;
+                for (uint i = 0u; i < @N@u; i++) {
+                    n2 = n2 + v[c * @N@u + i] * v[c * @N@u + i];
+                }
+                if (!(n2 <= 3.4028235e38)) {
+                    return r;
+                }
+                if (n2 > largest) {
+                    largest = n2;
+                    pick = int(c);
+                }
+            }
+            if (pick < 0) {
+                break;
+            }
+            uint c;
+            c = uint(pick);
+            done[c] = 1u;
+            for (uint sweep = 0u; sweep < 2u; sweep++) {
+                for (uint k = 0u; k < m; k++) {
+                    float dot_;
+                    dot_ = 0.0;
+                    for (uint i = 0u; i < @N@u; i++) {
+                        dot_ = dot_ + q[k * @N@u + i] * v[c * @N@u + i];
+                    }
+                    gq[k][c] = gq[k][c] + dot_;
+                    for (uint i = 0u; i < @N@u; i++) {
+                        v[c * @N@u + i] = v[c * @N@u + i] - dot_ * q[k * @N@u + i];
+                    }
+                }
+            }
+            float n2;
+            n2 = 0.0;
+            for (uint i = 0u; i < @N@u; i++) {
+                n2 = n2 + v[c * @N@u + i] * v[c * @N@u + i];
+            }
+            if (!(n2 > 0.0)) {
+                break;
+            }
+            float norm;
+            norm = sqrt(n2);
+            for (uint i = 0u; i < @N@u; i++) {
+                q[m * @N@u + i] = v[c * @N@u + i] / norm;
+            }
+            gq[m][c] = norm;
+            for (uint c2 = 0u; c2 < 3u; c2++) {
+                if (done[c2] != 0u) {
+                    continue;
+                }
+                for (uint sweep = 0u; sweep < 2u; sweep++) {
+                    float dot_;
+                    dot_ = 0.0;
+                    for (uint i = 0u; i < @N@u; i++) {
+                        dot_ = dot_ + q[m * @N@u + i] * v[c2 * @N@u + i];
+                    }
+                    gq[m][c2] = gq[m][c2] + dot_;
+                    for (uint i = 0u; i < @N@u; i++) {
+                        v[c2 * @N@u + i] = v[c2 * @N@u + i] - dot_ * q[m * @N@u + i];
+                    }
+                }
+            }
+            m = m + 1u;
+        }
+        // C = s J G: the metric's change per unit of each basis vector.
+        float cm[3][3];
+        cm = float[3][3](float[3](0.0, 0.0, 0.0), float[3](0.0, 0.0, 0.0), float[3](0.0, 0.0, 0.0));
+        for (uint c = 0u; c < 3u; c++) {
+            for (uint l = 0u; l < m; l++) {
+                cm[c][l] = sj[c][0] * gq[l][0] + sj[c][1] * gq[l][1] + sj[c][2] * gq[l][2];
+            }
+        }
+        // u minimising |u|^2 + MU |C u - t|^2: [C; I / sqrt(MU)] = Q R by Gram-Schmidt twice.
+        float qb[18];
+        float rb[3][3];
+        rb = float[3][3](float[3](0.0, 0.0, 0.0), float[3](0.0, 0.0, 0.0), float[3](0.0, 0.0, 0.0));
+        for (uint l = 0u; l < m; l++) {
+            float w6[6];
+            w6 = float[6](cm[0][l], cm[1][l], cm[2][l], 0.0, 0.0, 0.0);
+            w6[3u + l] = @ISQMU@;
+            for (uint sweep = 0u; sweep < 2u; sweep++) {
+                for (uint k = 0u; k < l; k++) {
+                    float dot_;
+                    dot_ = 0.0;
+                    for (uint i = 0u; i < 6u; i++) {
+                        dot_ = dot_ + qb[k * 6u + i] * w6[i];
+                    }
+                    rb[k][l] = rb[k][l] + dot_;
+                    for (uint i = 0u; i < 6u; i++) {
+                        w6[i] = w6[i] - dot_ * qb[k * 6u + i];
+                    }
+                }
+            }
+            float n2;
+            n2 = 0.0;
+            for (uint i = 0u; i < 6u; i++) {
+                n2 = n2 + w6[i] * w6[i];
+            }
+            float norm;
+            norm = sqrt(n2);
+            if (!(norm > 0.0 && norm <= 3.4028235e38)) {
+                return r;
+            }
+            rb[l][l] = norm;
+            for (uint i = 0u; i < 6u; i++) {
+                qb[l * 6u + i] = w6[i] / norm;
+            }
+        }
+        float u[3];
+        u = float[3](0.0, 0.0, 0.0);
+        for (uint ll = 0u; ll < m; ll++) {
+            uint l;
+            l = m - 1u - ll;
+            float s;
+            s = qb[l * 6u] * t[0] + qb[l * 6u + 1u] * t[1] + qb[l * 6u + 2u] * t[2];
+            for (uint k = l + 1u; k < m; k++) {
+                s = s - rb[l][k] * u[k];
+            }
+            u[l] = s / rb[l][l];
         }
         float goal[@N@];
         for (uint i = 0u; i < @N@u; i++) {
             goal[i] = 0.0;
         }
-        float y[3];
-        if (n_free >= 3u) {
-            float m[3][3];
-            m = float[3][3](float[3](0.0, 0.0, 0.0), float[3](0.0, 0.0, 0.0), float[3](0.0, 0.0, 0.0));
+        for (uint l = 0u; l < m; l++) {
             for (uint i = 0u; i < @N@u; i++) {
-                if (held[i] == 0) {
-                    for (uint c = 0u; c < 3u; c++) {
-                        for (uint k = 0u; k < 3u; k++) {
-                            m[c][k] = m[c][k] + a[c * @N@u + i] * a[k * @N@u + i];
-                        }
-                    }
-                }
+                goal[i] = goal[i] + u[l] * q[l * @N@u + i];
             }
-            for (uint c = 0u; c < 3u; c++) {
-                m[c][c] = m[c][c] + @IMU@;
-            }
-            vec4 sol;
-            sol = @lower@_solve3(m, b);
-            if (sol.w == 0.0) {
-                return r;
-            }
-            y = float[3](sol.x, sol.y, sol.z);
-            for (uint i = 0u; i < @N@u; i++) {
-                if (held[i] == 0) {
-                    goal[i] = a[0 * @N@u + i] * y[0] + a[1 * @N@u + i] * y[1] + a[2 * @N@u + i] * y[2];
-                }
-            }
-        } else {
-            float m[3][3];
-            m = float[3][3](float[3](0.0, 0.0, 0.0), float[3](0.0, 0.0, 0.0), float[3](0.0, 0.0, 0.0));
-            float rhs[3];
-            rhs = float[3](0.0, 0.0, 0.0);
-            for (uint pp = 0u; pp < 3u; pp++) {
-                if (pp >= n_free) {
-                    m[pp][pp] = 1.0;
-                } else {
-                    uint ip;
-                    ip = freed[pp];
-                    rhs[pp] = a[0 * @N@u + ip] * b[0] + a[1 * @N@u + ip] * b[1] + a[2 * @N@u + ip] * b[2];
-                    for (uint q = 0u; q < n_free; q++) {
-                        uint iq;
-                        iq = freed[q];
-                        m[pp][q] = a[0 * @N@u + ip] * a[0 * @N@u + iq] + a[1 * @N@u + ip] * a[1 * @N@u + iq] + a[2 * @N@u + ip] * a[2 * @N@u + iq];
-                    }
-                    m[pp][pp] = m[pp][pp] + @IMU@;
-                }
-            }
-            vec4 sol;
-            sol = @lower@_solve3(m, rhs);
-            if (sol.w == 0.0) {
-                return r;
-            }
-            float zf[3];
-            zf = float[3](sol.x, sol.y, sol.z);
-            float res[3];
-            res = b;
-            for (uint pp = 0u; pp < n_free; pp++) {
-                uint ip;
-                ip = freed[pp];
-                goal[ip] = zf[pp];
-                for (uint c = 0u; c < 3u; c++) {
-                    res[c] = res[c] - a[c * @N@u + ip] * zf[pp];
-                }
-            }
-            y = float[3](@MU@ * res[0], @MU@ * res[1], @MU@ * res[2]);
         }
         float stepv;
         stepv = 1.0;
@@ -277,6 +331,11 @@ float[@N@] @lower@_round_trip(vec3 pv, uint cell, float r_in[@N@]) {
                 z[i] = z[i] + stepv * (goal[i] - z[i]);
             }
         }
+        if (stepv > 0.0) {
+            for (uint i = 0u; i < @N@u; i++) {
+                refused[i] = 0u;
+            }
+        }
         if (blocking >= 0) {
             uint bi;
             bi = uint(blocking);
@@ -286,24 +345,94 @@ float[@N@] @lower@_round_trip(vec3 pv, uint cell, float r_in[@N@]) {
             } else {
                 z[bi] = 1.0 - r[bi];
             }
+            if (stepv == 0.0 && trial == blocking) {
+                refused[bi] = 1u;
+            }
+            trial = -1;
             continue;
         }
+        // The multiplier y = MU (t - C u): Q_C R_C^-T u in C's range (C = Q_C R_C by
+        // Gram-Schmidt twice), plus MU times the target's part outside it.
+        float qc[3][3];
+        qc = float[3][3](float[3](0.0, 0.0, 0.0), float[3](0.0, 0.0, 0.0), float[3](0.0, 0.0, 0.0));
+        float rc[3][3];
+        rc = float[3][3](float[3](0.0, 0.0, 0.0), float[3](0.0, 0.0, 0.0), float[3](0.0, 0.0, 0.0));
+        for (uint l = 0u; l < m; l++) {
+            float w3[3];
+            w3 = float[3](cm[0][l], cm[1][l], cm[2][l]);
+            for (uint sweep = 0u; sweep < 2u; sweep++) {
+                for (uint k = 0u; k < l; k++) {
+                    float dot_;
+                    dot_ = qc[k][0] * w3[0] + qc[k][1] * w3[1] + qc[k][2] * w3[2];
+                    rc[k][l] = rc[k][l] + dot_;
+                    for (uint i = 0u; i < 3u; i++) {
+                        w3[i] = w3[i] - dot_ * qc[k][i];
+                    }
+                }
+            }
+            float norm;
+            norm = sqrt(w3[0] * w3[0] + w3[1] * w3[1] + w3[2] * w3[2]);
+            if (!(norm > 0.0 && norm <= 3.4028235e38)) {
+                return r;
+            }
+            rc[l][l] = norm;
+            for (uint i = 0u; i < 3u; i++) {
+                qc[l][i] = w3[i] / norm;
+            }
+        }
+        float sv[3];
+        sv = float[3](0.0, 0.0, 0.0);
+        for (uint l = 0u; l < m; l++) {
+            float acc;
+            acc = u[l];
+            for (uint k = 0u; k < l; k++) {
+                acc = acc - rc[k][l] * sv[k];
+            }
+            sv[l] = acc / rc[l][l];
+        }
+        float y[3];
+        y = float[3](0.0, 0.0, 0.0);
+        float outside[3];
+        outside = t;
+        for (uint l = 0u; l < m; l++) {
+            float along;
+            along = qc[l][0] * t[0] + qc[l][1] * t[1] + qc[l][2] * t[2];
+            for (uint i = 0u; i < 3u; i++) {
+                y[i] = y[i] + sv[l] * qc[l][i];
+                outside[i] = outside[i] - along * qc[l][i];
+            }
+        }
+        if (m < 3u) {
+            for (uint i = 0u; i < 3u; i++) {
+                y[i] = y[i] + @MU@ * outside[i];
+            }
+        }
+        // Release the held value whose multiplier pulls outward most, or one within
+        // RELEASE_TRIAL of its terms' size on trial; or stop.
         float worst;
-        worst = @FREE@;
+        worst = -3.4028235e38;
         int release;
         release = -1;
         for (uint i = 0u; i < @N@u; i++) {
-            if (held[i] == 0) {
+            if (held[i] == 0 || refused[i] != 0u) {
                 continue;
             }
+            float a0;
+            a0 = a[i] * y[0];
+            float a1;
+            a1 = a[@N@u + i] * y[1];
+            float a2;
+            a2 = a[2u * @N@u + i] * y[2];
             float gi;
-            gi = z[i] - (a[0 * @N@u + i] * y[0] + a[1 * @N@u + i] * y[1] + a[2 * @N@u + i] * y[2]);
+            gi = z[i] - (a0 + a1 + a2);
             float pull;
             pull = gi;
             if (held[i] < 0) {
                 pull = -gi;
             }
-            if (pull > worst) {
+            float sz;
+            sz = abs(z[i]) + abs(a0) + abs(a1) + abs(a2);
+            if (pull > -@TRIAL@ * sz && pull > worst) {
                 worst = pull;
                 release = int(i);
             }
@@ -312,6 +441,7 @@ float[@N@] @lower@_round_trip(vec3 pv, uint cell, float r_in[@N@]) {
             break;
         }
         held[uint(release)] = 0;
+        trial = release;
     }
     for (uint i = 0u; i < @N@u; i++) {
         float x;

@@ -86,6 +86,17 @@ pub const SCENE_ENV: &str = "SPECTRAL_QUADRATURE_SCENE";
 /// illuminant C folded in at 4, 6 and 8 wavelengths (Table 2's light), and with F11 at 6.
 pub const DEFAULT_SHARED_SETS: [&str; 4] = ["KQ_C_4", "KQ_C_6", "KQ_C_8", "KQ_F11_6"];
 
+/// The colour sets the default scene upsamples, on every display it bakes: the shared sets and
+/// Table 2's rows.
+const DEFAULT_UPSAMPLED_SETS: [&str; 6] = [
+    "KQ_C_4",
+    "KQ_C_6",
+    "KQ_C_8",
+    "KQ_F11_6",
+    "TABLE2_ROW1",
+    "TABLE2_ROW2",
+];
+
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawScene {
@@ -325,7 +336,7 @@ impl Scene {
             user: UserInputs::default(),
             negatives: Negatives::Refuse,
             is_default: true,
-            upsampling: Some(UpsamplingRequest::default_scene(&DEFAULT_SHARED_SETS)),
+            upsampling: Some(UpsamplingRequest::default_scene(&DEFAULT_UPSAMPLED_SETS)),
         }
     }
 

@@ -48,11 +48,8 @@ pub struct UpsamplingRequest {
 }
 
 impl UpsamplingRequest {
-    /// The default scene's: `sets` (its shared sets) on every display of the scene, on the
-    /// default grid. Table 2's rows are left out: their nearly coincident nodes (483.1 and
-    /// 490.8 nm, 631.4 and 632.3 nm in the first row) leave the runtime's round-trip correction
-    /// ill-conditioned in f32, so that between grid points it neither keeps to the nearest
-    /// reachable colour nor stays continuous (`docs/upsampling.md`).
+    /// The default scene's: `sets` (its shared sets and Table 2's rows) on every display of
+    /// the scene, on the default grid.
     pub(crate) fn default_scene(sets: &[&str]) -> UpsamplingRequest {
         UpsamplingRequest {
             sets: Some(sets.iter().map(|s| (s.to_string(), 0)).collect()),
