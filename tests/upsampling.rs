@@ -47,13 +47,12 @@ struct Fresh {
 /// const name.
 macro_rules! maps {
     ($($name:ident),* $(,)?) => {
-        [$((stringify!($name), &(upsampling::$name, folded::$name) as &dyn Dyn)),*]
+        [$((stringify!($name), &(upsampling::$name, folded::$name) as &(dyn Dyn + Sync))),*]
     };
 }
 
-/// Calls `f` with each baked upsampling of the default scene (with its folded set) and its fresh
-/// bake.
-fn each(f: impl Fn(&dyn Dyn, &Fresh)) {
+/// Each baked upsampling of the default scene (with its folded set) and its fresh bake.
+fn all_maps() -> Vec<(&'static (dyn Dyn + Sync), Fresh)> {
     let all = maps![
         KQ_C_4_SRGB,
         KQ_C_4_DISPLAY_P3,
@@ -86,42 +85,72 @@ fn each(f: impl Fn(&dyn Dyn, &Fresh)) {
         r.upsamplings.len(),
         "every upsampling of the default scene is tested"
     );
-    for (name, u) in all {
-        let baked = r
-            .upsamplings
-            .iter()
-            .find(|b| format!("{}_{}", b.set, b.display) == name)
-            .unwrap_or_else(|| panic!("{name} is not among the default scene's upsamplings"));
-        let matrices = &r
-            .displays
-            .iter()
-            .find(|(s, _)| s.name == baked.display)
-            .unwrap()
-            .1;
-        let set = r.colour_sets.iter().find(|s| s.name == baked.set).unwrap();
-        let light_at_nodes = set.light.is_none().then(|| {
-            let light = sqd::evaluate::builtin_illuminant(
-                std::path::Path::new(DATA_DIR),
-                &baked.light,
-                d.settings.range_nm,
-            )
-            .unwrap();
-            baked
-                .wavelengths_nm
+    all.into_iter()
+        .map(|(name, u)| {
+            let baked = r
+                .upsamplings
                 .iter()
-                .map(|&nm| light.at(nm))
-                .collect()
-        });
-        f(
-            u,
-            &Fresh {
-                name,
-                baked,
-                matrices,
-                light_at_nodes,
-            },
-        );
+                .find(|b| format!("{}_{}", b.set, b.display) == name)
+                .unwrap_or_else(|| panic!("{name} is not among the default scene's upsamplings"));
+            let matrices = &r
+                .displays
+                .iter()
+                .find(|(s, _)| s.name == baked.display)
+                .unwrap()
+                .1;
+            let set = r.colour_sets.iter().find(|s| s.name == baked.set).unwrap();
+            let light_at_nodes = set.light.is_none().then(|| {
+                let light = sqd::evaluate::builtin_illuminant(
+                    std::path::Path::new(DATA_DIR),
+                    &baked.light,
+                    d.settings.range_nm,
+                )
+                .unwrap();
+                baked
+                    .wavelengths_nm
+                    .iter()
+                    .map(|&nm| light.at(nm))
+                    .collect()
+            });
+            (
+                u,
+                Fresh {
+                    name,
+                    baked,
+                    matrices,
+                    light_at_nodes,
+                },
+            )
+        })
+        .collect()
+}
+
+/// Calls `f` with each baked upsampling of the default scene (with its folded set) and its fresh
+/// bake, in order.
+fn each(f: impl Fn(&dyn Dyn, &Fresh)) {
+    for (u, fresh) in all_maps() {
+        f(u, &fresh);
     }
+}
+
+/// As `each`, with the maps shared among as many threads as the machine has cores: for the scans
+/// that take seconds per map, which would otherwise run alone on one core at the end of the test
+/// binary (this file's tests come last). A panic in any thread fails the test with its message.
+fn each_in_parallel(f: impl Fn(&dyn Dyn, &Fresh) + Sync) {
+    let maps = all_maps();
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    std::thread::scope(|s| {
+        for _ in 0..threads.min(maps.len()) {
+            s.spawn(|| {
+                while let Some((u, fresh)) =
+                    maps.get(next.fetch_add(1, std::sync::atomic::Ordering::Relaxed))
+                {
+                    f(*u, fresh);
+                }
+            });
+        }
+    });
 }
 
 /// An upsampling and its folded set, whatever N.
@@ -1022,7 +1051,7 @@ fn assert_within(name: &str, stated: f64, slope: f64, length: f64, at: [f32; 3])
 /// `jumps_between_neighbouring_f32_inputs` measures the changes between neighbouring f32 inputs.
 #[test]
 fn lipschitz_in_the_edge_cells() {
-    each(|u, f| {
+    each_in_parallel(|u, f| {
         let edge_cells: u32 = f.baked.edge_cells().iter().map(|w| w.count_ones()).sum();
         if edge_cells == 0 {
             return;
@@ -1077,7 +1106,7 @@ fn lipschitz_in_the_edge_cells() {
 #[test]
 #[ignore = "exhaustive: about three minutes of CPU in the dev profile"]
 fn lipschitz_in_the_edge_cells_exhaustive() {
-    each(|u, f| {
+    each_in_parallel(|u, f| {
         let (coarse, p, dir) = edge_lipschitz(u, f.baked, 256.0);
         let (fine, q, fine_dir) = edge_lipschitz(u, f.baked, 2048.0);
         let edge_cells: u32 = f.baked.edge_cells().iter().map(|w| w.count_ones()).sum();
@@ -1206,7 +1235,7 @@ const JUMPS_FOUND: [(&str, [f64; 3], [f64; 3]); 8] = [
 #[test]
 #[ignore = "a measurement: about 35 s of CPU in the dev profile"]
 fn jumps_between_neighbouring_f32_inputs() {
-    each(|u, f| {
+    each_in_parallel(|u, f| {
         if f.baked.edge_cells().iter().all(|w| *w == 0) {
             return;
         }

@@ -151,16 +151,17 @@ pub fn shared_sets_sized(
     sizes: impl IntoIterator<Item = usize>,
 ) -> Result<Vec<EvalSet>, Error> {
     let problem = shared::problem_for(d, light)?;
-    sizes
-        .into_iter()
-        .map(|n| {
-            let set = problem.shared(n)?;
-            Ok(match light {
-                Some(l) => set.eval_set(&std::format!("KQ_{}_{n}", l.name), "KQ folded"),
-                None => set.eval_set(&std::format!("KQ_{n}"), "KQ radiance"),
-            })
+    let sizes: Vec<usize> = sizes.into_iter().collect();
+    // One fit per size, about half a second each: on every core.
+    crate::par_map(&sizes, |&n| {
+        let set = problem.shared(n)?;
+        Ok(match light {
+            Some(l) => set.eval_set(&std::format!("KQ_{}_{n}", l.name), "KQ folded"),
+            None => set.eval_set(&std::format!("KQ_{n}"), "KQ radiance"),
         })
-        .collect()
+    })
+    .into_iter()
+    .collect()
 }
 
 /// Every combination of per-channel Gauss rules of orders up to `max_order`, in the three

@@ -29,6 +29,42 @@ pub const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");
 /// resolves a relative `SPECTRAL_QUADRATURE_SCENE`.
 pub const CRATE_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
 
+/// `items.iter().map(f).collect()`, with the items shared among as many threads as the machine
+/// has cores (each thread takes the next item when it is done with one, so uneven items balance),
+/// and the results in the items' order. A panic in `f` is resumed on the calling thread.
+pub fn par_map<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    let threads = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .min(items.len());
+    if threads <= 1 {
+        return items.iter().map(f).collect();
+    }
+    let next = AtomicUsize::new(0);
+    let mut done: Vec<(usize, R)> = std::thread::scope(|s| {
+        let handles: Vec<_> = (0..threads)
+            .map(|_| {
+                s.spawn(|| {
+                    let mut mine = Vec::new();
+                    loop {
+                        let i = next.fetch_add(1, Ordering::Relaxed);
+                        let Some(item) = items.get(i) else {
+                            return mine;
+                        };
+                        mine.push((i, f(item)));
+                    }
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .flat_map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)))
+            .collect()
+    });
+    done.sort_by_key(|d| d.0);
+    done.into_iter().map(|d| d.1).collect()
+}
+
 /// The paper's settings on the workspace's data ([`DATA_DIR`]).
 pub fn settings() -> spectral_quadrature_build::Settings {
     spectral_quadrature_build::Settings::new(DATA_DIR)

@@ -1231,20 +1231,7 @@ pub fn summary(
                 .collect(),
         }
     };
-    let threads = std::thread::available_parallelism()
-        .map_or(1, |n| n.get())
-        .clamp(1, sets.len().max(1));
-    let chunk = sets.len().div_ceil(threads).max(1);
-    let rows: Vec<SetSummary> = std::thread::scope(|scope| {
-        let handles: Vec<_> = sets
-            .chunks(chunk)
-            .map(|part| scope.spawn(|| part.iter().map(one).collect::<Vec<_>>()))
-            .collect();
-        handles
-            .into_iter()
-            .flat_map(|h| h.join().expect("the summary does not panic"))
-            .collect()
-    });
+    let rows: Vec<SetSummary> = crate::par_map(sets, one);
     Ok(Summary {
         f_lamps: lamp_lines(&f),
         led_lamps: lamp_lines(&leds),

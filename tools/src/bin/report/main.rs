@@ -431,28 +431,9 @@ fn load_inputs(args: &Args, range: [f64; 2]) -> Result<Inputs, Error> {
     })
 }
 
-/// Errors of many sets, on both cores.
+/// Errors of many sets, on every core.
 fn par_errors(reference: &Reference, sets: &[EvalSet], stimuli: &[Stimulus]) -> Vec<Errors> {
-    let threads = std::thread::available_parallelism()
-        .map_or(1, |n| n.get())
-        .max(1);
-    let chunk = sets.len().div_ceil(threads).max(1);
-    std::thread::scope(|s| {
-        let handles: Vec<_> = sets
-            .chunks(chunk)
-            .map(|part| {
-                s.spawn(move || {
-                    part.iter()
-                        .map(|set| reference.errors(set, stimuli))
-                        .collect::<Vec<_>>()
-                })
-            })
-            .collect();
-        handles
-            .into_iter()
-            .flat_map(|h| h.join().expect("error computation does not panic"))
-            .collect()
-    })
+    tools::par_map(sets, |set| reference.errors(set, stimuli))
 }
 
 // ---------------------------------------------------------------------------------------------
