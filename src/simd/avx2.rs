@@ -47,7 +47,13 @@ fn load(a: &[f32; LANES]) -> __m256 {
 #[inline]
 #[target_feature(enable = "avx2")]
 fn prefetch<T>(p: *const T) {
-    _mm_prefetch::<_MM_HINT_T0>(p.cast());
+    // `_mm_prefetch` is a safe function from Rust 1.91 and unsafe before it (the crate's
+    // rust-version is 1.89): the block is needed there and redundant here.
+    // SAFETY: a prefetch reads nothing and faults on no address.
+    #[allow(unused_unsafe)]
+    unsafe {
+        _mm_prefetch::<_MM_HINT_T0>(p.cast());
+    }
 }
 
 /// `weights · samples` for eight pixels (one per lane), channel c as `start[c]` plus the

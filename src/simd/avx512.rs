@@ -445,10 +445,17 @@ const FAR: usize = 128;
 #[target_feature(enable = "avx512f,avx512bw,avx512vbmi")]
 fn prefetch<const N: usize>(planes: &[&[[f32; LANES]]; N], j: usize, near: bool) {
     for p in planes {
-        if near {
-            _mm_prefetch::<_MM_HINT_T0>(p.as_ptr().wrapping_add(j + NEAR).cast());
+        // `_mm_prefetch` is a safe function from Rust 1.91 and unsafe before it (the crate's
+        // rust-version is 1.89): the block is needed there and redundant here.
+        // SAFETY: a prefetch reads nothing and faults on no address (`wrapping_add` forms the
+        // address without the in-bounds requirement of `add`).
+        #[allow(unused_unsafe)]
+        unsafe {
+            if near {
+                _mm_prefetch::<_MM_HINT_T0>(p.as_ptr().wrapping_add(j + NEAR).cast());
+            }
+            _mm_prefetch::<_MM_HINT_T1>(p.as_ptr().wrapping_add(j + FAR).cast());
         }
-        _mm_prefetch::<_MM_HINT_T1>(p.as_ptr().wrapping_add(j + FAR).cast());
     }
 }
 
