@@ -10,7 +10,8 @@ use plotters::prelude::*;
 use crate::sqd::evaluate::{self, Curve, EvalSet};
 use crate::sqd::{shared, Derivation};
 use crate::tools::budget::{self, Entry, LIGHTS, METHODS};
-use crate::{plot_err, time_set, write, Error};
+use crate::tools::csv_table::Table;
+use crate::{plot_err, time_set, Error};
 
 /// Text, and the files written (budget.csv, budget.svg). `spaces` and `radiance`: the rule
 /// combinations and the shared sets for radiances the report has built for sections 2-4.
@@ -92,7 +93,7 @@ pub fn section(
     )
     .ok();
     let mut csv =
-        String::from("light,n,method,set,wavelengths_nm,mean_de76,max_de76,mean_de00,max_de00\n");
+        Table::new("light,n,method,set,wavelengths_nm,mean_de76,max_de76,mean_de00,max_de00");
     for ((light, csv_light), (table, intervals)) in names.iter().zip(&tables) {
         writeln!(o, "\n   under {light}:").ok();
         let mut header = format!("   {:>3}", "N");
@@ -144,35 +145,34 @@ pub fn section(
             csv_row(&mut csv, csv_light, e.set.len(), e);
         }
     }
-    let mut files = vec![write(out, "budget.csv", &csv)?];
+    let mut files = vec![csv.write(out, "budget.csv")?];
     files.push(plot(out, &tables)?);
     Ok((o, files))
 }
 
-fn csv_row(csv: &mut String, light: &str, n: usize, e: &Entry) {
+fn csv_row(csv: &mut Table, light: &str, n: usize, e: &Entry) {
     let w: Vec<String> = e
         .set
         .wavelengths_nm
         .iter()
         .map(|l| format!("{l:.1}"))
         .collect();
-    writeln!(
-        csv,
-        "{light},{n},{},{},{},{:.4},{:.4},{:.4},{:.4}",
-        e.method,
-        e.set.name,
+    csv.row([
+        light.to_string(),
+        n.to_string(),
+        e.method.to_string(),
+        e.set.name.clone(),
         w.join(" "),
-        e.errors.mean_de76(),
-        e.errors.max_de76(),
-        e.errors.mean_de00(),
-        e.errors.max_de00()
-    )
-    .ok();
+        format!("{:.4}", e.errors.mean_de76()),
+        format!("{:.4}", e.errors.max_de76()),
+        format!("{:.4}", e.errors.mean_de00()),
+        format!("{:.4}", e.errors.max_de00()),
+    ]);
 }
 
-use crate::tools::budget::Comparison as Table;
+use crate::tools::budget::Comparison;
 
-fn plot(out: &Path, tables: &[Table]) -> Result<PathBuf, Error> {
+fn plot(out: &Path, tables: &[Comparison]) -> Result<PathBuf, Error> {
     const FLOOR: f64 = 0.01;
     let path = out.join("budget.svg");
     let root = SVGBackend::new(&path, (1100, 800)).into_drawing_area();

@@ -39,6 +39,7 @@ use plotters::prelude::*;
 use spectral_quadrature::{tables, FoldedSet, GamutMapping, WavelengthSet};
 use sqd::evaluate::{self, Curve, Errors, EvalSet, Reference, Spectra, Stimulus};
 use sqd::Derivation;
+use tools::csv_table::Table;
 
 /// Error against run time for Meyer's wavelength sets and their alternatives.
 #[derive(Parser)]
@@ -274,13 +275,12 @@ fn run(args: &Args) -> Result<(), Error> {
     progress.next();
     let out = &args.out;
     let mut files = Vec::new();
-    let section4_csv = section4_csv(&rows);
-    files.push(write(out, "error_vs_time.csv", &section4_csv)?);
-    files.push(write(out, "table2.csv", &table2_csv(&table2))?);
+    files.push(section4_csv(&rows).write(out, "error_vs_time.csv")?);
+    files.push(table2_csv(&table2).write(out, "table2.csv")?);
     let fig6 = fig6_data(&spaces, &space_errors);
-    files.push(write(out, "fig6.csv", &fig6_csv(&fig6))?);
+    files.push(fig6_csv(&fig6).write(out, "fig6.csv")?);
     let fig7 = fig7_data(&spaces[0].1, &space_errors[0]);
-    files.push(write(out, "fig7.csv", &fig7_csv(&fig7))?);
+    files.push(fig7_csv(&fig7).write(out, "fig7.csv")?);
     files.push(plot_fig6(out, &fig6)?);
     files.push(plot_fig7(out, &fig7)?);
     files.push(plot_error_vs_time(out, &rows)?);
@@ -346,7 +346,7 @@ fn run(args: &Args) -> Result<(), Error> {
     files.extend(upsampling_files);
 
     if args.csv {
-        print!("{section4_csv}");
+        section4_csv(&rows).print()?;
     } else {
         let mut rest = String::new();
         print_sections_2_to_4(&mut rest, fig_stimuli, &fig6, &fig7, &rows);
@@ -532,22 +532,19 @@ fn table2_name(const_name: &str) -> String {
     const_name.to_lowercase().replace('_', " ")
 }
 
-fn table2_csv(rows: &[Table2Row]) -> String {
-    let mut s = String::from("row,wavelengths_nm,mean_de76,paper_mean_de76,difference\n");
+fn table2_csv(rows: &[Table2Row]) -> Table {
+    let mut t = Table::new("row,wavelengths_nm,mean_de76,paper_mean_de76,difference");
     for r in rows {
         let w: Vec<String> = r.wavelengths.iter().map(|l| format!("{l:.1}")).collect();
-        writeln!(
-            s,
-            "{},{},{:.4},{},{:+.4}",
-            r.name,
+        t.row([
+            r.name.clone(),
             w.join(" "),
-            r.mean_de76,
-            r.paper,
-            r.mean_de76 - r.paper
-        )
-        .ok();
+            format!("{:.4}", r.mean_de76),
+            r.paper.to_string(),
+            format!("{:+.4}", r.mean_de76 - r.paper),
+        ]);
     }
-    s
+    t
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -581,12 +578,17 @@ fn fig6_data(spaces: &[(&str, Vec<EvalSet>)], errors: &[Vec<Errors>]) -> Fig6 {
     Fig6 { points }
 }
 
-fn fig6_csv(f: &Fig6) -> String {
-    let mut s = String::from("space,total_wavelengths,combinations,mean_de76\n");
+fn fig6_csv(f: &Fig6) -> Table {
+    let mut t = Table::new("space,total_wavelengths,combinations,mean_de76");
     for (space, total, n, e) in &f.points {
-        writeln!(s, "{space},{total},{n},{e:.4}").ok();
+        t.row([
+            space.clone(),
+            total.to_string(),
+            n.to_string(),
+            format!("{e:.4}"),
+        ]);
     }
-    s
+    t
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -634,45 +636,40 @@ fn fig7_data(sets: &[EvalSet], errors: &[Errors]) -> Fig7 {
     }
 }
 
-fn fig7_csv(f: &Fig7) -> String {
-    let mut s =
-        String::from("a_fraction_from,c1_fraction_from,orientation,combinations,mean_de76\n");
+fn fig7_csv(f: &Fig7) -> Table {
+    let mut t = Table::new("a_fraction_from,c1_fraction_from,orientation,combinations,mean_de76");
     for (i, j, up, n, e) in &f.cells {
-        writeln!(
-            s,
-            "{:.3},{:.3},{},{n},{e:.4}",
-            *i as f64 / K as f64,
-            *j as f64 / K as f64,
-            if *up { "up" } else { "down" }
-        )
-        .ok();
+        t.row([
+            format!("{:.3}", *i as f64 / K as f64),
+            format!("{:.3}", *j as f64 / K as f64),
+            (if *up { "up" } else { "down" }).to_string(),
+            n.to_string(),
+            format!("{e:.4}"),
+        ]);
     }
-    s
+    t
 }
 
 // ---------------------------------------------------------------------------------------------
 // Section 4 and the text report.
 
-fn section4_csv(rows: &[Row]) -> String {
-    let mut s = String::from(
-        "set,distinct_wavelengths,mean_de76,max_de76,mean_de00,max_de00,ns_per_pixel,judged_on\n",
+fn section4_csv(rows: &[Row]) -> Table {
+    let mut t = Table::new(
+        "set,distinct_wavelengths,mean_de76,max_de76,mean_de00,max_de00,ns_per_pixel,judged_on",
     );
     for r in rows {
-        writeln!(
-            s,
-            "{},{},{:.4},{:.4},{:.4},{:.4},{:.2},{}",
-            r.set.name,
-            r.samples,
-            r.errors.mean_de76(),
-            r.errors.max_de76(),
-            r.errors.mean_de00(),
-            r.errors.max_de00(),
-            r.ns_per_pixel,
-            r.judged_on.as_deref().unwrap_or("all stimuli")
-        )
-        .ok();
+        t.row([
+            r.set.name.clone(),
+            r.samples.to_string(),
+            format!("{:.4}", r.errors.mean_de76()),
+            format!("{:.4}", r.errors.max_de76()),
+            format!("{:.4}", r.errors.mean_de00()),
+            format!("{:.4}", r.errors.max_de00()),
+            format!("{:.2}", r.ns_per_pixel),
+            r.judged_on.clone().unwrap_or_else(|| "all stimuli".into()),
+        ]);
     }
-    s
+    t
 }
 
 /// The report's header and section 1 (Table 2): printed as soon as they are known.

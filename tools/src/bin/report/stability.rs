@@ -10,12 +10,13 @@ use spectral_quadrature::tables;
 use crate::sqd::{derive, Settings, Status};
 use crate::tools::sensitivity::{shifts, standard_variants};
 use crate::tools::stability;
+use crate::tools::csv_table::Table;
 use crate::Error;
 
 const CHANNELS: [&str; 3] = ["A", "C1", "C2"];
 
 /// The sensitivity table: node shifts against the baseline for each variant, orders 1-8.
-pub fn sensitivity(o: &mut String, csv: &mut String) -> Result<(), Error> {
+fn sensitivity(o: &mut String) -> Result<Table, Error> {
     let rows = shifts(&crate::tools::settings(), &standard_variants(), 8)?;
     writeln!(o, "   6c. sensitivity: how far each rule moves (largest node shift in nm; '-' where either is undefined)").ok();
     writeln!(
@@ -26,7 +27,7 @@ pub fn sensitivity(o: &mut String, csv: &mut String) -> Result<(), Error> {
         (1..=8).map(|n| format!("{n:>8}")).collect::<String>()
     )
     .ok();
-    csv.push_str("variant,channel,order,baseline_status,variant_status,max_node_shift_nm,max_weight_change\n");
+    let mut csv = Table::new("variant,channel,order,baseline_status,variant_status,max_node_shift_nm,max_weight_change");
     for v in standard_variants() {
         for (c, ch) in CHANNELS.iter().enumerate() {
             let cells: String = rows
@@ -49,27 +50,24 @@ pub fn sensitivity(o: &mut String, csv: &mut String) -> Result<(), Error> {
         }
     }
     for r in &rows {
-        writeln!(
-            csv,
-            "{},{},{},{},{},{},{}",
-            r.variant,
-            CHANNELS[r.channel],
-            r.order,
-            r.baseline.as_str(),
-            r.changed.as_str(),
+        csv.row([
+            r.variant.to_string(),
+            CHANNELS[r.channel].to_string(),
+            r.order.to_string(),
+            r.baseline.as_str().to_string(),
+            r.changed.as_str().to_string(),
             r.max_node_shift_nm
                 .map_or(String::new(), |v| format!("{v:.4}")),
             r.max_weight_change
-                .map_or(String::new(), |v| format!("{v:.3e}"))
-        )
-        .ok();
+                .map_or(String::new(), |v| format!("{v:.3e}")),
+        ]);
     }
     writeln!(
         o,
         "   (d>o: defined in the baseline, outside in the variant; c = complex)\n"
     )
     .ok();
-    Ok(())
+    Ok(csv)
 }
 
 fn short(status: &str) -> &'static str {
@@ -107,27 +105,24 @@ fn margins(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(), E
         }
     )
     .ok();
-    let mut csv = String::from("channel,order,status,norm_ratio,norm_margin,max_imaginary_nm,range_margin_nm,min_gap_nm,clear\n");
+    let mut csv = Table::new("channel,order,status,norm_ratio,norm_margin,max_imaginary_nm,range_margin_nm,min_gap_nm,clear");
     let opt = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v:.6e}"));
     for (c, rows) in m.iter().enumerate() {
         for r in rows {
-            writeln!(
-                csv,
-                "{},{},{},{:.6e},{:.6e},{:.6e},{},{},{}",
-                CHANNELS[c],
-                r.order,
-                r.status.as_str(),
-                r.norm_ratio,
-                r.norm_margin,
-                r.max_imaginary_nm,
+            csv.row([
+                CHANNELS[c].to_string(),
+                r.order.to_string(),
+                r.status.as_str().to_string(),
+                format!("{:.6e}", r.norm_ratio),
+                format!("{:.6e}", r.norm_margin),
+                format!("{:.6e}", r.max_imaginary_nm),
                 opt(r.range_margin_nm),
                 opt(r.min_gap_nm),
-                r.clear
-            )
-            .ok();
+                r.clear.to_string(),
+            ]);
         }
     }
-    files.push(crate::write(out, "margins.csv", &csv)?);
+    files.push(csv.write(out, "margins.csv")?);
     // Plot: the norm margin of each order (log), one line per channel.
     let path = out.join("margins.svg");
     {
@@ -213,26 +208,23 @@ fn breakdown(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(),
         }
     }
     writeln!(o, "   (chosen: Stieltjes in the scaled variable, balanced Jacobi matrix, Golub-Welsch/Christoffel weights)\n").ok();
-    let mut csv = String::from("method,channel,order,reference_status,method_status,node_error_nm,weight_error,moment_residual\n");
+    let mut csv = Table::new("method,channel,order,reference_status,method_status,node_error_nm,weight_error,moment_residual");
     let opt = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v:.3e}"));
     for mc in &cmp.methods {
         for e in &mc.errors {
-            writeln!(
-                csv,
-                "{},{},{},{},{},{},{},{}",
-                mc.method.name(),
-                CHANNELS[mc.channel],
-                e.order,
-                e.reference.as_str(),
-                e.alternative.as_str(),
+            csv.row([
+                mc.method.name().to_string(),
+                CHANNELS[mc.channel].to_string(),
+                e.order.to_string(),
+                e.reference.as_str().to_string(),
+                e.alternative.as_str().to_string(),
                 opt(e.node_error_nm),
                 opt(e.weight_error),
-                opt(e.alternative_residual)
-            )
-            .ok();
+                opt(e.alternative_residual),
+            ]);
         }
     }
-    files.push(crate::write(out, "breakdown.csv", &csv)?);
+    files.push(csv.write(out, "breakdown.csv")?);
     // Plot: each method's moment residual (how far its rule is from integrating x^k exactly,
     // k < 2n), worst channel, against the order; it applies to every method alike.
     let path = out.join("breakdown.svg");
@@ -392,9 +384,8 @@ fn spiky(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(), Err
         "   (a line between nodes is invisible to plain sampling: ΔE00 about 100 for most lines)\n"
     )
     .ok();
-    let mut csv = String::from(
-        "set,distinct_wavelengths,group,method,mean_de00,median_de00,max_de00,mean_de76\n",
-    );
+    let mut csv =
+        Table::new("set,distinct_wavelengths,group,method,mean_de00,median_de00,max_de00,mean_de76");
     for s in &sum.sets {
         for (group, scores) in [
             ("f_series", &s.f_series),
@@ -403,22 +394,20 @@ fn spiky(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(), Err
         ] {
             for m in Method::ALL {
                 let sc = scores.get(m);
-                writeln!(
-                    csv,
-                    "{},{},{group},{},{:.4},{:.4},{:.4},{:.4}",
-                    s.name,
-                    s.wavelengths,
-                    m.as_str(),
-                    sc.mean_de00,
-                    sc.median_de00,
-                    sc.max_de00,
-                    sc.mean_de76
-                )
-                .ok();
+                csv.row([
+                    s.name.clone(),
+                    s.wavelengths.to_string(),
+                    group.to_string(),
+                    m.as_str().to_string(),
+                    format!("{:.4}", sc.mean_de00),
+                    format!("{:.4}", sc.median_de00),
+                    format!("{:.4}", sc.max_de00),
+                    format!("{:.4}", sc.mean_de76),
+                ]);
             }
         }
     }
-    files.push(crate::write(out, "spiky.csv", &csv)?);
+    files.push(csv.write(out, "spiky.csv")?);
     // Plot: mean ΔE00 on the F-series per set, one marker per method.
     let path = out.join("prefilter.svg");
     {
@@ -545,9 +534,7 @@ pub fn section(out: &Path) -> Result<(String, Vec<PathBuf>), Error> {
     writeln!(o, "6. Stability").ok();
     margins(&mut o, out, &mut files)?;
     breakdown(&mut o, out, &mut files)?;
-    let mut csv = String::new();
-    sensitivity(&mut o, &mut csv)?;
-    files.push(crate::write(out, "sensitivity.csv", &csv)?);
+    files.push(sensitivity(&mut o)?.write(out, "sensitivity.csv")?);
     spiky(&mut o, out, &mut files)?;
     extremes(&mut o)?;
     Ok((o, files))

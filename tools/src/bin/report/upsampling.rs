@@ -24,6 +24,7 @@ use tools::upsampling::{
     smooth::{MallettYuksel, Smits},
     srgb_under_d65,
 };
+use tools::csv_table::Table;
 use tools::Error;
 
 /// The lights the report relights under unless `--illuminants` names others.
@@ -317,24 +318,19 @@ pub fn section(i: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
     writeln!(o).ok();
     o.push_str(&default_scene_maps(d)?);
 
-    let mut csv = String::from("method,n,light,mean_de00,p95_de00,reflectances\n");
+    let mut csv = Table::new("method,n,light,mean_de00,p95_de00,reflectances");
     for c in &cells {
         let (m, p) = mean_p95(&c.de);
-        writeln!(
-            csv,
-            "{},{},{},{m:.6},{p:.6},{}",
-            METHODS[c.method],
-            c.n,
-            c.light,
-            c.de.len()
-        )
-        .ok();
+        csv.row([
+            METHODS[c.method].to_string(),
+            c.n.to_string(),
+            c.light.clone(),
+            format!("{m:.6}"),
+            format!("{p:.6}"),
+            c.de.len().to_string(),
+        ]);
     }
-    let csv_path = out.join("upsampling.csv");
-    std::fs::write(&csv_path, csv).map_err(|source| Error::Write {
-        path: csv_path.clone(),
-        source,
-    })?;
+    let csv_path = csv.write(out, "upsampling.csv")?;
     let svg = plot(out, &cells)?;
     Ok((o, vec![csv_path, svg]))
 }
