@@ -21,9 +21,9 @@ use spectral_quadrature_build as sqd;
 use spectral_quadrature_tools as tools;
 
 use clap::Parser;
-use tools::csv_table::Table;
 use spectral_quadrature::paper::{self, Entry};
 use spectral_quadrature::{tables, Channel, GaussRule, RuleStatus, WavelengthSet};
+use tools::csv_table::Table;
 
 /// Prints the crate's derived tables beside the paper's.
 #[derive(Parser)]
@@ -167,7 +167,11 @@ fn print_csv() -> Result<(), tools::Error> {
                     ]));
                 }
             } else {
-                t.row(head.iter().cloned().chain([String::new(), String::new(), String::new()]));
+                t.row(
+                    head.iter()
+                        .cloned()
+                        .chain([String::new(), String::new(), String::new()]),
+                );
             }
         }
     }
@@ -189,7 +193,11 @@ fn print_csv() -> Result<(), tools::Error> {
                         ]));
                     }
                 } else {
-                    t.row(head.iter().cloned().chain([String::new(), String::new(), String::new()]));
+                    t.row(head.iter().cloned().chain([
+                        String::new(),
+                        String::new(),
+                        String::new(),
+                    ]));
                 }
             }
         }

@@ -13,7 +13,8 @@ use crate::tools::budget::{self, Entry, LIGHTS, METHODS};
 use crate::tools::csv_table::Table;
 use crate::{plot_err, time_set, Error};
 
-/// Text, and the files written (budget.csv, budget.svg). `spaces` and `radiance`: the rule
+/// Text, and the files written (budget.csv, budget.svg). `shared_sizes`: the sizes of the
+/// shared sets folded for each light (every budget, or fewer for `--quick`). `spaces` and `radiance`: the rule
 /// combinations and the shared sets for radiances the report has built for sections 2-4.
 /// `user`: the lights of `--illuminants`, with the shared sets folded for each and the
 /// stimuli they are judged on (the user's reflectances, `surfaces_from`, under that light);
@@ -29,11 +30,15 @@ pub fn section(
     surfaces_from: &str,
     out: &Path,
     runs: usize,
+    shared_sizes: &[usize],
 ) -> Result<(String, Vec<PathBuf>), Error> {
     let others = budget::other_sets(d, spaces);
     let folded = LIGHTS
         .iter()
-        .map(|l| budget::shared_sets(d, Some(l)))
+        .map(|l| {
+            let curve = evaluate::builtin_illuminant(&d.settings.data_dir, l, d.settings.range_nm)?;
+            budget::shared_sets_sized(d, Some(&curve), shared_sizes.iter().copied())
+        })
         .collect::<Result<Vec<_>, Error>>()?;
     let mut tables = Vec::new();
     // (heading, the light's name for the CSV)

@@ -69,9 +69,16 @@ struct Args {
     /// Folder for the CSV files and SVG plots.
     #[arg(long, value_name = "DIR", default_value = "target/report")]
     out: PathBuf,
-    /// Print only section 4 (error against run time) as CSV on standard output.
-    #[arg(long)]
+    /// Run section 4 (error against run time) alone and print it as CSV on standard output,
+    /// nothing else: no other section runs and no file is written (the same CSV as
+    /// error_vs_time.csv).
+    #[arg(long, conflicts_with_all = ["out", "trials", "seed", "quick"])]
     csv: bool,
+    /// A quick run that checks the output, not the figures: every section and every file, on
+    /// reduced work (orders up to 4, one timing run, 2 trials per random sampler, shared sets
+    /// at 4 and 8 wavelengths only in sections 4 and 5). Its numbers are not the report's.
+    #[arg(long, conflicts_with_all = ["runs", "max_order", "trials"])]
+    quick: bool,
     /// Timing runs per set; the median is reported.
     #[arg(long, default_value_t = 7, value_parser = clap::value_parser!(u32).range(1..=101))]
     runs: u32,
@@ -112,23 +119,61 @@ const STEPS: [&str; 10] = [
     "section 8: RGB materials under another light (fitting and relighting)",
 ];
 
-/// Progress on standard error, one line per step of [`STEPS`].
+/// The steps of `--csv`: section 4 alone.
+const CSV_STEPS: [&str; 3] = [
+    "deriving the rules (CIE 1931 2°, 380-770 nm, 5 nm)",
+    "reading spectra",
+    "section 4: error against run time (every per-channel order combination, timing every set)",
+];
+
+/// Progress on standard error, one line per step of [`STEPS`] (or [`CSV_STEPS`]).
 struct Progress {
+    steps: &'static [&'static str],
     step: usize,
     start: Instant,
 }
 
 impl Progress {
-    /// Announces the next step of [`STEPS`].
+    /// Announces the next step.
     fn next(&mut self) {
-        let what = STEPS.get(self.step).copied().unwrap_or("finishing");
-        self.step = (self.step + 1).min(STEPS.len());
+        let what = self.steps.get(self.step).copied().unwrap_or("finishing");
+        self.step = (self.step + 1).min(self.steps.len());
         eprintln!(
             "[{}/{}] {what} ({:.1} s)",
             self.step,
-            STEPS.len(),
+            self.steps.len(),
             self.start.elapsed().as_secs_f64()
         );
+    }
+}
+
+/// How much work each section does: the options', or `--quick`'s.
+struct Work {
+    runs: usize,
+    max_order: usize,
+    trials: Option<usize>,
+    /// The sizes of the shared sets in sections 4 and 5 (for radiances, and folded for each
+    /// light).
+    shared_sizes: Vec<usize>,
+}
+
+impl Work {
+    fn of(args: &Args) -> Work {
+        if args.quick {
+            Work {
+                runs: 1,
+                max_order: 4,
+                trials: Some(2),
+                shared_sizes: vec![4, 8],
+            }
+        } else {
+            Work {
+                runs: args.runs as usize,
+                max_order: args.max_order as usize,
+                trials: args.trials.map(|t| t as usize),
+                shared_sizes: tools::budget::BUDGETS.collect(),
+            }
+        }
     }
 }
 
@@ -145,7 +190,9 @@ struct Row {
 }
 
 fn run(args: &Args) -> Result<(), Error> {
+    let work = Work::of(args);
     let mut progress = Progress {
+        steps: if args.csv { &CSV_STEPS } else { &STEPS },
         step: 0,
         start: Instant::now(),
     };
@@ -158,6 +205,21 @@ fn run(args: &Args) -> Result<(), Error> {
     progress.next();
     let inputs = load_inputs(args, range)?;
     let stimuli = inputs.stimuli.clone();
+    // The scene is read with the spectra, so that a mistake in it stops the report at once.
+    let scene_extras = match &args.scene {
+        Some(path) => user::scene_extras(
+            &d,
+            path,
+            &inputs.surfaces,
+            &inputs.surfaces_from,
+            &inputs.user_lights,
+            &args
+                .illuminants
+                .as_ref()
+                .map_or(String::new(), |p| p.display().to_string()),
+        )?,
+        None => Vec::new(),
+    };
     let reference = Reference::new(reference_set.clone(), &stimuli);
     let (cc_under_c, cc_reference) = {
         let cc = Spectra::builtin(
@@ -170,24 +232,26 @@ fn run(args: &Args) -> Result<(), Error> {
         let r = Reference::new(reference_set.clone(), &st);
         (st, r)
     };
-    std::fs::create_dir_all(&args.out).map_err(|source| Error::Write {
-        path: args.out.clone(),
-        source,
-    })?;
+    if !args.csv {
+        std::fs::create_dir_all(&args.out).map_err(|source| Error::Write {
+            path: args.out.clone(),
+            source,
+        })?;
+    }
 
-    progress.next();
-    let table2 = table2_rows(&d, &cc_under_c, &cc_reference);
     // The first table goes out at once; the rest follows when it is measured.
     let mut text = String::new();
+    let mut table2 = Vec::new();
     if !args.csv {
+        progress.next();
+        table2 = table2_rows(&d, &cc_under_c, &cc_reference);
         print_intro_and_table2(&mut text, &stimuli, &table2);
         print!("{text}");
         std::io::stdout().flush().ok();
     }
 
     progress.next();
-    let max = args.max_order as usize;
-    let spaces = tools::budget::rule_spaces(&d, max)?;
+    let spaces = tools::budget::rule_spaces(&d, work.max_order)?;
     // Figs. 6 and 7 reproduce the paper's setup (ColorChecker under C) unless spectra are given.
     let user_spectra =
         args.reflectances.is_some() || args.illuminants.is_some() || args.emission.is_some();
@@ -196,12 +260,17 @@ fn run(args: &Args) -> Result<(), Error> {
     } else {
         (&cc_under_c, &cc_reference)
     };
-    let space_errors: Vec<Vec<Errors>> = spaces
-        .iter()
-        .map(|(_, sets)| par_errors(fig_reference, sets, fig_stimuli))
-        .collect();
+    let space_errors: Vec<Vec<Errors>> = if args.csv {
+        Vec::new()
+    } else {
+        let e = spaces
+            .iter()
+            .map(|(_, sets)| par_errors(fig_reference, sets, fig_stimuli))
+            .collect();
+        progress.next();
+        e
+    };
 
-    progress.next();
     let mut sets: Vec<EvalSet> = spaces[0].1.clone();
     for set in &d.table2 {
         sets.push(EvalSet {
@@ -216,7 +285,7 @@ fn run(args: &Args) -> Result<(), Error> {
     }
     // The shared sets for radiances (the lights here are many; section 5 folds each one in),
     // method (a) for comparison, and sampling every 10 and 20 nm with linear interpolation.
-    let radiance = tools::budget::shared_sets(&d, None)?;
+    let radiance = tools::budget::shared_sets_sized(&d, None, work.shared_sizes.clone())?;
     sets.extend(radiance.iter().cloned());
     for n in tools::budget::BUDGETS {
         if let Ok(a) = sqd::shared::interpolatory_a(&d, n, &format!("INTERP_A_{n}")) {
@@ -236,7 +305,7 @@ fn run(args: &Args) -> Result<(), Error> {
         if (k + 1) % total.div_ceil(4).max(1) == 0 || k + 1 == total {
             eprintln!("      timed {}/{total} sets", k + 1);
         }
-        let ns_per_pixel = time_set(&set, &stimuli, args.runs as usize)?;
+        let ns_per_pixel = time_set(&set, &stimuli, work.runs)?;
         rows.push(Row {
             samples: set.len(),
             set,
@@ -245,24 +314,28 @@ fn run(args: &Args) -> Result<(), Error> {
             judged_on: None,
         });
     }
-    // The user's: shared sets folded for each light of --illuminants, and a scene's sets.
-    let folded_user = user::folded_for_lights(&d, &inputs.user_lights, &inputs.surfaces)?;
+    // The user's: shared sets folded for each light of --illuminants, and a scene's sets. A
+    // set already measured (a scene naming a light of --illuminants, or a set of the
+    // report's own) is measured once; a set judged on exactly the report's stimuli (the only
+    // light's folded sets) is labelled as judged on all of them, as the report's own are.
+    let folded_user = user::folded_for_lights(
+        &d,
+        &inputs.user_lights,
+        &inputs.surfaces,
+        &work.shared_sizes,
+    )?;
     let mut extras = user::light_extras(&folded_user, &inputs.surfaces_from);
-    if let Some(path) = &args.scene {
-        extras.extend(user::scene_extras(
-            &d,
-            path,
-            &inputs.surfaces,
-            &inputs.surfaces_from,
-        )?);
-    }
+    extras.extend(scene_extras);
     for x in extras {
+        if rows.iter().any(|r| r.set.name == x.set.name) {
+            continue;
+        }
         let (own, judged_on) = match x.judged_on {
-            Some((s, what)) => (s, Some(what)),
-            None => (stimuli.clone(), None),
+            Some((s, what)) if !same_stimuli(&s, &stimuli, range) => (s, Some(what)),
+            _ => (stimuli.clone(), None),
         };
         let errors = Reference::new(reference_set.clone(), &own).errors(&x.set, &own);
-        let ns_per_pixel = time_set(&x.timing, &own, args.runs as usize)?;
+        let ns_per_pixel = time_set(&x.timing, &own, work.runs)?;
         rows.push(Row {
             set: x.set,
             samples: x.samples,
@@ -270,6 +343,17 @@ fn run(args: &Args) -> Result<(), Error> {
             ns_per_pixel,
             judged_on,
         });
+    }
+
+    if args.csv {
+        section4_csv(&rows).print()?;
+        eprintln!(
+            "done in {:.1} s: {} stimuli, {} sets timed (section 4 only, --csv)",
+            progress.start.elapsed().as_secs_f64(),
+            stimuli.len(),
+            rows.len()
+        );
+        return Ok(());
     }
 
     progress.next();
@@ -297,7 +381,8 @@ fn run(args: &Args) -> Result<(), Error> {
             .map(|_| inputs.surfaces.as_slice()),
         &inputs.surfaces_from,
         out,
-        args.runs as usize,
+        work.runs,
+        &work.shared_sizes,
     )?;
     files.extend(budget_files);
 
@@ -320,9 +405,9 @@ fn run(args: &Args) -> Result<(), Error> {
             lights: &inputs.lights,
             users_lights: !inputs.user_lights.is_empty(),
             table2_row2: &table2_row2,
-            trials: args.trials.map(|t| t as usize),
+            trials: work.trials,
             seed: args.seed,
-            runs: args.runs as usize,
+            runs: work.runs,
         },
         out,
     )?;
@@ -345,23 +430,19 @@ fn run(args: &Args) -> Result<(), Error> {
     )?;
     files.extend(upsampling_files);
 
-    if args.csv {
-        section4_csv(&rows).print()?;
-    } else {
-        let mut rest = String::new();
-        print_sections_2_to_4(&mut rest, fig_stimuli, &fig6, &fig7, &rows);
-        rest.push('\n');
-        rest.push_str(&budget_text);
-        rest.push('\n');
-        rest.push_str(&stability_text);
-        rest.push('\n');
-        rest.push_str(&random_text);
-        rest.push('\n');
-        rest.push_str(&upsampling_text);
-        print!("{rest}");
-        text.push_str(&rest);
-        files.push(write(out, "report.txt", &text)?);
-    }
+    let mut rest = String::new();
+    print_sections_2_to_4(&mut rest, fig_stimuli, &fig6, &fig7, &rows);
+    rest.push('\n');
+    rest.push_str(&budget_text);
+    rest.push('\n');
+    rest.push_str(&stability_text);
+    rest.push('\n');
+    rest.push_str(&random_text);
+    rest.push('\n');
+    rest.push_str(&upsampling_text);
+    print!("{rest}");
+    text.push_str(&rest);
+    files.push(write(out, "report.txt", &text)?);
     std::io::stdout().flush().ok();
     eprintln!(
         "done in {:.1} s: {} stimuli, {} sets timed. Files in {}:",
@@ -429,6 +510,16 @@ fn load_inputs(args: &Args, range: [f64; 2]) -> Result<Inputs, Error> {
         user_lights,
         lights,
     })
+}
+
+/// Whether `a` and `b` are the same stimuli: the same names, and the same radiance at every nm
+/// of `range`.
+fn same_stimuli(a: &[Stimulus], b: &[Stimulus], range: [f64; 2]) -> bool {
+    let (lo, hi) = (range[0].ceil() as i64, range[1].floor() as i64);
+    a.len() == b.len()
+        && a.iter().zip(b).all(|(x, y)| {
+            x.name == y.name && (lo..=hi).all(|nm| x.radiance(nm as f64) == y.radiance(nm as f64))
+        })
 }
 
 /// Errors of many sets, on every core.

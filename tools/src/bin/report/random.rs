@@ -14,10 +14,10 @@ use spectral_quadrature::{tables, GamutMapping};
 use crate::sqd::evaluate::{self, Curve, EvalSet, Reference, Spectra, Stimulus};
 use crate::sqd::Derivation;
 use crate::tools::budget;
+use crate::tools::csv_table::Table;
 use crate::tools::random_wavelengths::{
     pixel_rng, reach, run_trials, Cells, Config, Reach, Sampler, SensorRgb, Summary, Target, Trials,
 };
-use crate::tools::csv_table::Table;
 use crate::{plot_err, time_set, Error};
 
 /// The samples per pixel measured: one pixel of the last is read after each.

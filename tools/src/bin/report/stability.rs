@@ -8,9 +8,9 @@ use plotters::prelude::*;
 use spectral_quadrature::tables;
 
 use crate::sqd::{derive, Settings, Status};
+use crate::tools::csv_table::Table;
 use crate::tools::sensitivity::{shifts, standard_variants};
 use crate::tools::stability;
-use crate::tools::csv_table::Table;
 use crate::Error;
 
 const CHANNELS: [&str; 3] = ["A", "C1", "C2"];
@@ -27,7 +27,9 @@ fn sensitivity(o: &mut String) -> Result<Table, Error> {
         (1..=8).map(|n| format!("{n:>8}")).collect::<String>()
     )
     .ok();
-    let mut csv = Table::new("variant,channel,order,baseline_status,variant_status,max_node_shift_nm,max_weight_change");
+    let mut csv = Table::new(
+        "variant,channel,order,baseline_status,variant_status,max_node_shift_nm,max_weight_change",
+    );
     for v in standard_variants() {
         for (c, ch) in CHANNELS.iter().enumerate() {
             let cells: String = rows
@@ -384,8 +386,9 @@ fn spiky(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(), Err
         "   (a line between nodes is invisible to plain sampling: ΔE00 about 100 for most lines)\n"
     )
     .ok();
-    let mut csv =
-        Table::new("set,distinct_wavelengths,group,method,mean_de00,median_de00,max_de00,mean_de76");
+    let mut csv = Table::new(
+        "set,distinct_wavelengths,group,method,mean_de00,median_de00,max_de00,mean_de76",
+    );
     for s in &sum.sets {
         for (group, scores) in [
             ("f_series", &s.f_series),

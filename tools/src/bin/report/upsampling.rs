@@ -18,13 +18,13 @@ use spectral_quadrature_tools as tools;
 use sqd::evaluate::{self, Curve, EvalSet, Spectra};
 use sqd::upsampling::{self as up, Baked};
 use sqd::Derivation;
+use tools::csv_table::Table;
 use tools::upsampling::{
     jakob_hanika::JakobHanika,
     mean_p95, relit_de00,
     smooth::{MallettYuksel, Smits},
     srgb_under_d65,
 };
-use tools::csv_table::Table;
 use tools::Error;
 
 /// The lights the report relights under unless `--illuminants` names others.
