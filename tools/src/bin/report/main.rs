@@ -5,7 +5,8 @@
 //! cargo run --release -p spectral-quadrature-tools --bin report
 //! cargo run --release -p spectral-quadrature-tools --bin report -- --reflectances my.csv --illuminants lamps.csv
 //! cargo run --release -p spectral-quadrature-tools --bin report -- --emission leds.csv --out target/leds
-//! cargo run --release -p spectral-quadrature-tools --bin report -- --csv > error_vs_time.csv
+//! cargo run --release -p spectral-quadrature-tools --bin report -- --csv > error_vs_time.csv   # section 4 alone
+//! cargo run -p spectral-quadrature-tools --bin report -- --quick --out target/quick   # every file, less work
 //! cargo run --release -p spectral-quadrature-tools --bin report -- --trials 256 --seed 7
 //! ```
 //!
