@@ -7,11 +7,12 @@ use std::path::{Path, PathBuf};
 
 use plotters::prelude::*;
 
+use crate::plot::plot_err;
 use crate::sqd::evaluate::{self, Curve, EvalSet};
 use crate::sqd::{shared, Derivation};
 use crate::tools::budget::{self, Entry, LIGHTS, METHODS};
 use crate::tools::csv_table::Table;
-use crate::{plot_err, time_set, Error};
+use crate::{time_set, Error};
 
 /// Text, and the files written (budget.csv, budget.svg). `shared_sizes`: the sizes of the
 /// shared sets folded for each light (every budget, or fewer for `--quick`). `spaces` and `radiance`: the rule
@@ -180,9 +181,13 @@ use crate::tools::budget::Comparison;
 fn plot(out: &Path, tables: &[Comparison]) -> Result<PathBuf, Error> {
     const FLOOR: f64 = 0.01;
     let path = out.join("budget.svg");
-    let root = SVGBackend::new(&path, (1100, 800)).into_drawing_area();
+    // One legend for the four panels, below them: inside each it covered the lines.
+    const COLUMNS: usize = 4;
+    let legend_h = crate::plot::legend_height(METHODS.len(), COLUMNS);
+    let root = SVGBackend::new(&path, (1100, 800 + legend_h)).into_drawing_area();
     root.fill(&WHITE).map_err(plot_err)?;
-    let panels = root.split_evenly((2, 2));
+    let (top, below) = root.split_vertically(800);
+    let panels = top.split_evenly((2, 2));
     let colours = [
         RGBColor(230, 120, 120),
         RGBColor(120, 120, 230),
@@ -210,6 +215,7 @@ fn plot(out: &Path, tables: &[Comparison]) -> Result<PathBuf, Error> {
         chart
             .configure_mesh()
             .x_desc("N")
+            .x_label_formatter(&crate::plot::whole)
             .y_desc("mean ΔE00 (log)")
             .draw()
             .map_err(plot_err)?;
@@ -225,25 +231,22 @@ fn plot(out: &Path, tables: &[Comparison]) -> Result<PathBuf, Error> {
             let width = if *m == "KQ folded" { 3 } else { 1 };
             chart
                 .draw_series(LineSeries::new(pts.clone(), colour.stroke_width(width)))
-                .map_err(plot_err)?
-                .label(*m)
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2))
-                });
+                .map_err(plot_err)?;
             chart
                 .draw_series(pts.iter().map(|p| Circle::new(*p, 2, colour.filled())))
                 .map_err(plot_err)?;
         }
-        chart
-            .configure_series_labels()
-            .border_style(BLACK)
-            .background_style(WHITE.mix(0.8))
-            .label_font(("sans-serif", 11))
-            .draw()
-            .map_err(plot_err)?;
     }
+    let entries: Vec<(String, RGBColor)> = METHODS
+        .iter()
+        .zip(colours)
+        .map(|(m, c)| (m.to_string(), c))
+        .collect();
+    crate::plot::legend(&below, &entries, COLUMNS)?;
     root.present().map_err(plot_err)?;
     drop(panels);
+    drop(top);
+    drop(below);
     drop(root);
     Ok(path)
 }

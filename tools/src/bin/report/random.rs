@@ -11,6 +11,7 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use spectral_quadrature::{tables, GamutMapping};
 
+use crate::plot::plot_err;
 use crate::sqd::evaluate::{self, Curve, EvalSet, Reference, Spectra, Stimulus};
 use crate::sqd::Derivation;
 use crate::tools::budget;
@@ -18,7 +19,7 @@ use crate::tools::csv_table::Table;
 use crate::tools::random_wavelengths::{
     pixel_rng, reach, run_trials, Cells, Config, Reach, Sampler, SensorRgb, Summary, Target, Trials,
 };
-use crate::{plot_err, time_set, Error};
+use crate::{time_set, Error};
 
 /// The samples per pixel measured: one pixel of the last is read after each.
 pub const SPP: [usize; 6] = [1, 4, 16, 64, 256, 1024];
@@ -704,6 +705,7 @@ fn plot(
         chart
             .configure_mesh()
             .x_desc("samples per pixel (log)")
+            .x_label_formatter(&crate::plot::whole)
             .y_desc("ΔE00 (log)")
             .draw()
             .map_err(plot_err)?;

@@ -129,7 +129,7 @@ fn margins(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(), E
     let path = out.join("margins.svg");
     {
         let root = SVGBackend::new(&path, (720, 460)).into_drawing_area();
-        root.fill(&WHITE).map_err(crate::plot_err)?;
+        root.fill(&WHITE).map_err(crate::plot::plot_err)?;
         let ymax = m
             .iter()
             .flatten()
@@ -144,13 +144,15 @@ fn margins(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(), E
             .x_label_area_size(40)
             .y_label_area_size(60)
             .build_cartesian_2d(0.5f64..16.5, (0.5f64..ymax * 3.0).log_scale())
-            .map_err(crate::plot_err)?;
+            .map_err(crate::plot::plot_err)?;
         chart
             .configure_mesh()
             .x_desc("order")
+            .x_label_formatter(&crate::plot::whole)
             .y_desc("norm margin (log; 1 = undefined)")
+            .y_label_formatter(&crate::plot::power_of_ten)
             .draw()
-            .map_err(crate::plot_err)?;
+            .map_err(crate::plot::plot_err)?;
         for (c, colour) in [(0usize, BLACK), (1, RED), (2, BLUE)] {
             let pts: Vec<(f64, f64)> = m[c]
                 .iter()
@@ -158,7 +160,7 @@ fn margins(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(), E
                 .collect();
             chart
                 .draw_series(LineSeries::new(pts.clone(), colour.stroke_width(2)))
-                .map_err(crate::plot_err)?
+                .map_err(crate::plot::plot_err)?
                 .label(CHANNELS[c])
                 .legend(move |(x, y)| {
                     PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
@@ -173,21 +175,21 @@ fn margins(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(), E
                         Circle::new(p, 4, colour.stroke_width(1))
                     }
                 }))
-                .map_err(crate::plot_err)?;
+                .map_err(crate::plot::plot_err)?;
         }
         chart
             .draw_series(LineSeries::new(
                 vec![(0.5, 1.0), (16.5, 1.0)],
                 BLACK.mix(0.4),
             ))
-            .map_err(crate::plot_err)?;
+            .map_err(crate::plot::plot_err)?;
         chart
             .configure_series_labels()
             .border_style(BLACK)
             .background_style(WHITE.mix(0.8))
             .draw()
-            .map_err(crate::plot_err)?;
-        root.present().map_err(crate::plot_err)?;
+            .map_err(crate::plot::plot_err)?;
+        root.present().map_err(crate::plot::plot_err)?;
     }
     files.push(path);
     Ok(())
@@ -231,10 +233,14 @@ fn breakdown(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(),
     // k < 2n), worst channel, against the order; it applies to every method alike.
     let path = out.join("breakdown.svg");
     {
-        let root = SVGBackend::new(&path, (760, 480)).into_drawing_area();
-        root.fill(&WHITE).map_err(crate::plot_err)?;
+        // The legend below the chart: inside, it covered the lines of the higher orders.
+        const COLUMNS: usize = 3;
+        let legend_h = crate::plot::legend_height(stability::Method::ALL.len(), COLUMNS);
+        let root = SVGBackend::new(&path, (760, 480 + legend_h)).into_drawing_area();
+        root.fill(&WHITE).map_err(crate::plot::plot_err)?;
+        let (top, below) = root.split_vertically(480);
         const FLOOR: f64 = 1e-13;
-        let mut chart = ChartBuilder::on(&root)
+        let mut chart = ChartBuilder::on(&top)
             .caption(
                 "Moment residual of each method's rules (worst channel)",
                 ("sans-serif", 18),
@@ -243,14 +249,15 @@ fn breakdown(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(),
             .x_label_area_size(40)
             .y_label_area_size(60)
             .build_cartesian_2d(0.5f64..30.5, (FLOOR..1e3).log_scale())
-            .map_err(crate::plot_err)?;
+            .map_err(crate::plot::plot_err)?;
         chart
             .configure_mesh()
             .x_desc("order")
+            .x_label_formatter(&crate::plot::whole)
             .y_desc("moment residual (log; failed rules drawn at 100)")
-            .y_label_formatter(&|v| format!("{v:.0e}"))
+            .y_label_formatter(&crate::plot::power_of_ten)
             .draw()
-            .map_err(crate::plot_err)?;
+            .map_err(crate::plot::plot_err)?;
         let colours = [BLACK, RED, MAGENTA, GREEN, BLUE, CYAN];
         for (method, colour) in stability::Method::ALL.iter().zip(colours) {
             let pts: Vec<(f64, f64)> = (1..=30)
@@ -270,19 +277,15 @@ fn breakdown(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(),
                 .collect();
             chart
                 .draw_series(LineSeries::new(pts, colour.stroke_width(2)))
-                .map_err(crate::plot_err)?
-                .label(method.name())
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
-                });
+                .map_err(crate::plot::plot_err)?;
         }
-        chart
-            .configure_series_labels()
-            .border_style(BLACK)
-            .background_style(WHITE.mix(0.8))
-            .draw()
-            .map_err(crate::plot_err)?;
-        root.present().map_err(crate::plot_err)?;
+        let entries: Vec<(String, RGBColor)> = stability::Method::ALL
+            .iter()
+            .zip(colours)
+            .map(|(m, c)| (m.name().to_string(), c))
+            .collect();
+        crate::plot::legend(&below, &entries, COLUMNS)?;
+        root.present().map_err(crate::plot::plot_err)?;
     }
     files.push(path);
     Ok(())
@@ -415,7 +418,7 @@ fn spiky(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(), Err
     let path = out.join("prefilter.svg");
     {
         let root = SVGBackend::new(&path, (820, 480)).into_drawing_area();
-        root.fill(&WHITE).map_err(crate::plot_err)?;
+        root.fill(&WHITE).map_err(crate::plot::plot_err)?;
         let ymax = sum
             .sets
             .iter()
@@ -436,7 +439,7 @@ fn spiky(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(), Err
             .x_label_area_size(70)
             .y_label_area_size(50)
             .build_cartesian_2d(-0.5f64..n as f64 - 0.5, (0.01f64..ymax * 2.0).log_scale())
-            .map_err(crate::plot_err)?;
+            .map_err(crate::plot::plot_err)?;
         let names: Vec<String> = sum.sets.iter().map(|s| s.name.clone()).collect();
         chart
             .configure_mesh()
@@ -453,7 +456,7 @@ fn spiky(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(), Err
             .y_desc("mean ΔE00 (log)")
             .y_label_formatter(&|v| format!("{v}"))
             .draw()
-            .map_err(crate::plot_err)?;
+            .map_err(crate::plot::plot_err)?;
         let colours = [BLACK, MAGENTA, RED, BLUE, GREEN, CYAN];
         for (k, (m, colour)) in methods.iter().zip(colours).enumerate() {
             let dx = (k as f64 - 2.5) * 0.1;
@@ -465,7 +468,7 @@ fn spiky(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(), Err
                 .collect();
             chart
                 .draw_series(pts.iter().map(|p| Circle::new(*p, 4, colour.filled())))
-                .map_err(crate::plot_err)?
+                .map_err(crate::plot::plot_err)?
                 .label(m.as_str())
                 .legend(move |(x, y)| Circle::new((x, y), 4, colour.filled()));
         }
@@ -474,8 +477,8 @@ fn spiky(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(), Err
             .border_style(BLACK)
             .background_style(WHITE.mix(0.8))
             .draw()
-            .map_err(crate::plot_err)?;
-        root.present().map_err(crate::plot_err)?;
+            .map_err(crate::plot::plot_err)?;
+        root.present().map_err(crate::plot::plot_err)?;
     }
     files.push(path);
     Ok(())
