@@ -4,6 +4,7 @@
 //! paper's).
 //!
 //! - [`budget`]: every method at each wavelength budget (report section 5).
+//! - [`csv_table`]: every CSV the programs write, through the `csv` crate's writer.
 //! - [`prefilter`]: spiky lamps, band-averaged and exact-line pre-filtering (section 6d).
 //! - [`stability`]: unstable alternatives to the crate's quadrature (section 6b).
 //! - [`sensitivity`]: how rules move with the grid, the range and the observer (section 6c).
@@ -15,6 +16,7 @@
 use std::path::PathBuf;
 
 pub mod budget;
+pub mod csv_table;
 pub mod prefilter;
 pub mod random_wavelengths;
 pub mod sensitivity;

@@ -205,3 +205,341 @@ fn uniform_sets_integrate_a_constant_like_the_reference() {
         }
     }
 }
+
+// ---------------------------------------------------------------------------------------------
+// The report program: its files, `--csv`, and the user's lights and scenes.
+
+/// The `report` program, as Cargo built it for these tests (in the dev profile: `--quick`
+/// keeps each run to a few seconds of CPU).
+const REPORT: &str = env!("CARGO_BIN_EXE_report");
+
+/// Every CSV file the report writes. Each goes out through `csv_table::Table::write`, and every
+/// section runs in every run but `--csv`'s (a `--quick` run too, on less work), so a `--quick`
+/// run writes them all: the test below parses every CSV it finds, and checks that these are
+/// the ones found, so a file added to the report is parsed at once and one that goes missing
+/// fails here.
+const REPORT_CSV: [&str; 12] = [
+    "breakdown.csv",
+    "budget.csv",
+    "error_vs_time.csv",
+    "fig6.csv",
+    "fig7.csv",
+    "margins.csv",
+    "random_vs_fixed.csv",
+    "random_wavelengths.csv",
+    "sensitivity.csv",
+    "spiky.csv",
+    "table2.csv",
+    "upsampling.csv",
+];
+
+/// A scratch directory for one test (removed when dropped).
+struct Scratch(std::path::PathBuf);
+
+impl Scratch {
+    fn new(tag: &str) -> Scratch {
+        let dir = std::env::temp_dir().join(format!("sq-report-{tag}-{}", std::process::id()));
+        std::fs::remove_dir_all(&dir).ok();
+        std::fs::create_dir_all(&dir).unwrap();
+        Scratch(dir)
+    }
+
+    fn path(&self, name: &str) -> std::path::PathBuf {
+        self.0.join(name)
+    }
+
+    fn write(&self, name: &str, text: &str) -> String {
+        std::fs::write(self.path(name), text).unwrap();
+        self.path(name).display().to_string()
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        std::fs::remove_dir_all(&self.0).ok();
+    }
+}
+
+/// Runs the report with `args` in `cwd`: (exit code, standard output, standard error).
+fn report(args: &[&str], cwd: &std::path::Path) -> (Option<i32>, String, String) {
+    let out = std::process::Command::new(REPORT)
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("the report runs");
+    (
+        out.status.code(),
+        String::from_utf8(out.stdout).unwrap(),
+        String::from_utf8(out.stderr).unwrap(),
+    )
+}
+
+/// A CSV text read strictly: a header, then rows of exactly its number of fields.
+fn strict_csv(label: &str, text: &str) -> (Vec<String>, Vec<Vec<String>>) {
+    let mut r = csv::ReaderBuilder::new()
+        .flexible(false)
+        .has_headers(true)
+        .from_reader(text.as_bytes());
+    let header: Vec<String> = r
+        .headers()
+        .unwrap_or_else(|e| panic!("{label}: {e}"))
+        .iter()
+        .map(String::from)
+        .collect();
+    let rows: Vec<Vec<String>> = r
+        .records()
+        .map(|rec| {
+            let rec = rec.unwrap_or_else(|e| panic!("{label}: {e}"));
+            rec.iter().map(String::from).collect()
+        })
+        .collect();
+    assert!(!rows.is_empty(), "{label}: no rows");
+    (header, rows)
+}
+
+/// The files a finished report lists on standard error, after `Files in <dir>:`.
+fn listed_files(stderr: &str) -> Vec<std::path::PathBuf> {
+    stderr
+        .lines()
+        .skip_while(|l| !l.contains("Files in"))
+        .skip(1)
+        .map(|l| std::path::PathBuf::from(l.trim()))
+        .collect()
+}
+
+/// Checks a finished report's folder: the files listed are the folder's, none is empty, every
+/// CSV parses strictly (and they are [`REPORT_CSV`]), every SVG is complete. Returns the CSVs
+/// by name.
+fn check_files(
+    out: &std::path::Path,
+    stderr: &str,
+) -> std::collections::BTreeMap<String, (Vec<String>, Vec<Vec<String>>)> {
+    let mut listed: Vec<String> = listed_files(stderr)
+        .iter()
+        .map(|p| {
+            assert_eq!(p.parent(), Some(out), "{}", p.display());
+            p.file_name().unwrap().to_string_lossy().into_owned()
+        })
+        .collect();
+    listed.sort();
+    let mut found: Vec<String> = std::fs::read_dir(out)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    found.sort();
+    assert_eq!(listed, found, "the files listed are the files written");
+    let mut csvs = std::collections::BTreeMap::new();
+    for name in &found {
+        let text = std::fs::read_to_string(out.join(name)).unwrap();
+        assert!(!text.trim().is_empty(), "{name} is empty");
+        if name.ends_with(".csv") {
+            csvs.insert(name.clone(), strict_csv(name, &text));
+        } else if name.ends_with(".svg") {
+            assert!(text.trim_end().ends_with("</svg>"), "{name} is cut short");
+        }
+    }
+    assert_eq!(
+        csvs.keys().map(String::as_str).collect::<Vec<_>>(),
+        REPORT_CSV,
+        "the report's CSV files"
+    );
+    csvs
+}
+
+/// The second column of the crate's data file `file`, renamed `name` (a light of the user's).
+fn light_column(file: &str, name: &str) -> String {
+    let text = std::fs::read_to_string(std::path::Path::new(DATA_DIR).join(file)).unwrap();
+    let mut out = csv::Writer::from_writer(Vec::new());
+    out.write_record(["wavelength_nm", name]).unwrap();
+    for line in text.lines().skip(1) {
+        let f: Vec<&str> = line.split(',').collect();
+        out.write_record([f[0], f[1]]).unwrap();
+    }
+    String::from_utf8(out.into_inner().unwrap()).unwrap()
+}
+
+#[test]
+fn every_csv_the_report_writes_parses_strictly_with_a_light_named_with_a_comma() {
+    // --quick: every section and file through the same code on less work (about 4 s of CPU
+    // in the dev profile, where the full report takes about 34 s). A light whose name has a
+    // comma and a quote reaches the CSVs of sections 4, 5, 7 and 8; upsampling.csv's method
+    // names have commas of their own.
+    let dir = Scratch::new("files");
+    let name = "LED, \"warm\"";
+    let lights = dir.write("lights.csv", &light_column("illuminant_LED_B3.csv", name));
+    let out = dir.path("out");
+    let (code, stdout, stderr) = report(
+        &[
+            "--quick",
+            "--illuminants",
+            &lights,
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &dir.0,
+    );
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(stdout.contains("8. RGB materials"), "{stdout}");
+    let csvs = check_files(&out, &stderr);
+    let (header, rows) = &csvs["random_wavelengths.csv"];
+    let judged = header.iter().position(|h| h == "judged_on").unwrap();
+    assert!(rows.iter().any(|r| r[judged] == format!("under {name}")));
+    let (header, rows) = &csvs["upsampling.csv"];
+    assert_eq!(header.len(), 6);
+    assert!(rows
+        .iter()
+        .any(|r| r[0] == "Jakob-Hanika 2019 (pbrt-v4, Mitsuba 3)" && r[2] == name));
+    let (_, rows) = &csvs["error_vs_time.csv"];
+    assert!(rows.iter().any(|r| r[0] == format!("KQ_{name}_8")));
+}
+
+#[test]
+fn csv_prints_section_4_alone_and_writes_nothing() {
+    let dir = Scratch::new("csv");
+    let (code, stdout, stderr) = report(&["--csv", "--max-order", "2", "--runs", "1"], &dir.0);
+    assert_eq!(code, Some(0), "{stderr}");
+    let (header, rows) = strict_csv("stdout", &stdout);
+    assert_eq!(
+        header.join(","),
+        "set,distinct_wavelengths,mean_de76,max_de76,mean_de00,max_de00,ns_per_pixel,judged_on"
+    );
+    assert!(rows.iter().any(|r| r[0] == "table2 row2"));
+    assert!(!stderr.contains("section 5"), "{stderr}");
+    assert_eq!(
+        std::fs::read_dir(&dir.0).unwrap().count(),
+        0,
+        "--csv wrote files"
+    );
+    // --out with --csv would be ignored: refused.
+    let (code, _, stderr) = report(&["--csv", "--out", "x"], &dir.0);
+    assert_eq!(code, Some(2), "{stderr}");
+}
+
+/// The first ten surfaces of the ColorChecker, a light `WARM_LED`, and a scene naming it.
+fn warm_led_inputs(dir: &Scratch, scene_sets: &str) -> [String; 3] {
+    let cc = std::fs::read_to_string(
+        std::path::Path::new(DATA_DIR).join("reflectance_colorchecker_ohta.csv"),
+    )
+    .unwrap();
+    let ten: String = cc
+        .lines()
+        .map(|l| l.split(',').take(11).collect::<Vec<_>>().join(",") + "\n")
+        .collect();
+    let surfaces = dir.write("ten.csv", &ten);
+    let light = dir.write(
+        "warm.csv",
+        &light_column("illuminant_LED_B3.csv", "WARM_LED"),
+    );
+    let scene = dir.write(
+        "scene.toml",
+        &format!(
+            "sets = [{scene_sets}]\ndisplays = [\"SRGB\"]\n[lights]\nWARM_LED = \"warm.csv\"\n"
+        ),
+    );
+    [surfaces, light, scene]
+}
+
+#[test]
+fn a_light_in_the_scene_and_in_illuminants_is_measured_once_and_judged_on_all_stimuli() {
+    let dir = Scratch::new("twice");
+    let [surfaces, light, scene] = warm_led_inputs(&dir, "\"KQ_WARM_LED_8\"");
+    let out = dir.path("out");
+    let (code, _, stderr) = report(
+        &[
+            "--quick",
+            "--reflectances",
+            &surfaces,
+            "--illuminants",
+            &light,
+            "--scene",
+            &scene,
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &dir.0,
+    );
+    assert_eq!(code, Some(0), "{stderr}");
+    let csvs = check_files(&out, &stderr);
+    let (_, rows) = &csvs["error_vs_time.csv"];
+    let warm: Vec<&Vec<String>> = rows.iter().filter(|r| r[0] == "KQ_WARM_LED_8").collect();
+    assert_eq!(warm.len(), 1, "{warm:?}");
+    // The ten surfaces under WARM_LED are every stimulus: every row says so alike.
+    let judged: std::collections::BTreeSet<&str> = rows.iter().map(|r| r[7].as_str()).collect();
+    assert_eq!(judged, ["all stimuli"].into(), "{judged:?}");
+}
+
+#[test]
+fn a_misspelt_light_in_a_scene_set_names_the_scenes_lights_once() {
+    let dir = Scratch::new("misspelt");
+    let [surfaces, light, scene] = warm_led_inputs(&dir, "\"KQ_WARMLED_6\"");
+    let (code, stdout, stderr) = report(
+        &[
+            "--quick",
+            "--reflectances",
+            &surfaces,
+            "--illuminants",
+            &light,
+            "--scene",
+            &scene,
+            "--out",
+            dir.path("out").to_str().unwrap(),
+        ],
+        &dir.0,
+    );
+    assert_eq!(code, Some(2), "{stderr}");
+    assert!(stdout.is_empty(), "{stdout}");
+    assert_eq!(stderr.matches("KQ_WARMLED_6").count(), 1, "{stderr}");
+    let error = stderr
+        .lines()
+        .find(|l| l.starts_with("report: error:"))
+        .unwrap();
+    assert!(
+        error.contains(&format!("{scene}:1: KQ_WARMLED_6:")),
+        "{error}"
+    );
+    assert!(
+        error.contains("LED_B3") && error.contains("[lights] (WARM_LED)"),
+        "{error}"
+    );
+    // It stops before measuring anything.
+    assert!(!stderr.contains("section 4"), "{stderr}");
+}
+
+#[test]
+fn the_scenes_light_differing_from_the_illuminants_of_that_name_is_an_error() {
+    let dir = Scratch::new("differ");
+    let [surfaces, _, scene] = warm_led_inputs(&dir, "\"KQ_WARM_LED_8\"");
+    let other = dir.write("other.csv", &light_column("illuminant_F11.csv", "WARM_LED"));
+    let (code, _, stderr) = report(
+        &[
+            "--quick",
+            "--reflectances",
+            &surfaces,
+            "--illuminants",
+            &other,
+            "--scene",
+            &scene,
+        ],
+        &dir.0,
+    );
+    assert_eq!(code, Some(2), "{stderr}");
+    assert!(
+        stderr.contains(&format!("{scene}:4: the scene's light WARM_LED"))
+            && stderr.contains(&other),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn the_csv_writer_quotes_what_needs_it_and_refuses_short_rows() {
+    use spectral_quadrature_tools::csv_table::Table;
+    let mut t = Table::new("a,b");
+    t.row(["x, y", "say \"hi\""]);
+    assert_eq!(
+        t.into_string().unwrap(),
+        "a,b\n\"x, y\",\"say \"\"hi\"\"\"\n"
+    );
+    let mut t = Table::new("a,b");
+    t.row(["only one"]);
+    assert!(t.into_string().is_err());
+}

@@ -23,6 +23,7 @@ use spectral_quadrature_tools as tools;
 use clap::Parser;
 use spectral_quadrature::paper::{self, Entry};
 use spectral_quadrature::{tables, Channel, GaussRule, RuleStatus, WavelengthSet};
+use tools::csv_table::Table;
 
 /// Prints the crate's derived tables beside the paper's.
 #[derive(Parser)]
@@ -68,7 +69,10 @@ fn main() {
             std::process::exit(2);
         }
     } else if args.csv {
-        print_csv();
+        if let Err(e) = print_csv() {
+            eprintln!("error: {e}");
+            std::process::exit(2);
+        }
     } else {
         print_side_by_side();
     }
@@ -142,47 +146,63 @@ fn print_upsampling_cache() -> Result<(), sqd::Error> {
     Ok(())
 }
 
-fn print_csv() {
-    println!("observer,channel,order,status,index,wavelength_nm,weight");
-    // The baked observer's rules are the crate's f32 consts; the others are derived in f64.
+/// Every rule as CSV on standard output: the baked observer's (the crate's f32 consts), then
+/// the other observers' (derived in f64).
+fn print_csv() -> Result<(), tools::Error> {
+    let mut t = Table::new("observer,channel,order,status,index,wavelength_nm,weight");
     for rules in tables::RULES {
         for rule in rules {
-            let head = format!(
-                "{},{},{},{}",
-                tables::OBSERVER,
-                rule.channel.name(),
-                rule.order,
-                rule.status.as_str()
-            );
+            let head = [
+                tables::OBSERVER.to_string(),
+                rule.channel.name().to_string(),
+                rule.order.to_string(),
+                rule.status.as_str().to_string(),
+            ];
             if rule.status == RuleStatus::Defined {
                 for (i, (l, w)) in rule.wavelengths_nm.iter().zip(rule.weights).enumerate() {
-                    println!("{head},{i},{l},{w}");
+                    t.row(head.iter().cloned().chain([
+                        i.to_string(),
+                        l.to_string(),
+                        w.to_string(),
+                    ]));
                 }
             } else {
-                println!("{head},,,");
+                t.row(
+                    head.iter()
+                        .cloned()
+                        .chain([String::new(), String::new(), String::new()]),
+                );
             }
         }
     }
     for d in other_observers() {
         for (c, rules) in d.rules.iter().enumerate() {
             for rule in rules {
-                let head = format!(
-                    "{},{},{},{}",
-                    d.settings.observer.name(),
-                    Channel::ALL[c].name(),
-                    rule.order,
-                    rule.status.as_str()
-                );
+                let head = [
+                    d.settings.observer.name().to_string(),
+                    Channel::ALL[c].name().to_string(),
+                    rule.order.to_string(),
+                    rule.status.as_str().to_string(),
+                ];
                 if rule.is_defined() {
                     for (i, (l, w)) in rule.nodes_nm.iter().zip(&rule.weights).enumerate() {
-                        println!("{head},{i},{l},{w}");
+                        t.row(head.iter().cloned().chain([
+                            i.to_string(),
+                            l.to_string(),
+                            w.to_string(),
+                        ]));
                     }
                 } else {
-                    println!("{head},,,");
+                    t.row(head.iter().cloned().chain([
+                        String::new(),
+                        String::new(),
+                        String::new(),
+                    ]));
                 }
             }
         }
     }
+    t.print()
 }
 
 fn print_other_observers() {

@@ -7,12 +7,15 @@ use std::path::{Path, PathBuf};
 
 use plotters::prelude::*;
 
+use crate::plot::plot_err;
 use crate::sqd::evaluate::{self, Curve, EvalSet};
 use crate::sqd::{shared, Derivation};
 use crate::tools::budget::{self, Entry, LIGHTS, METHODS};
-use crate::{plot_err, time_set, write, Error};
+use crate::tools::csv_table::Table;
+use crate::{time_set, Error};
 
-/// Text, and the files written (budget.csv, budget.svg). `spaces` and `radiance`: the rule
+/// Text, and the files written (budget.csv, budget.svg). `shared_sizes`: the sizes of the
+/// shared sets folded for each light (every budget, or fewer for `--quick`). `spaces` and `radiance`: the rule
 /// combinations and the shared sets for radiances the report has built for sections 2-4.
 /// `user`: the lights of `--illuminants`, with the shared sets folded for each and the
 /// stimuli they are judged on (the user's reflectances, `surfaces_from`, under that light);
@@ -28,11 +31,15 @@ pub fn section(
     surfaces_from: &str,
     out: &Path,
     runs: usize,
+    shared_sizes: &[usize],
 ) -> Result<(String, Vec<PathBuf>), Error> {
     let others = budget::other_sets(d, spaces);
     let folded = LIGHTS
         .iter()
-        .map(|l| budget::shared_sets(d, Some(l)))
+        .map(|l| {
+            let curve = evaluate::builtin_illuminant(&d.settings.data_dir, l, d.settings.range_nm)?;
+            budget::shared_sets_sized(d, Some(&curve), shared_sizes.iter().copied())
+        })
         .collect::<Result<Vec<_>, Error>>()?;
     let mut tables = Vec::new();
     // (heading, the light's name for the CSV)
@@ -92,7 +99,7 @@ pub fn section(
     )
     .ok();
     let mut csv =
-        String::from("light,n,method,set,wavelengths_nm,mean_de76,max_de76,mean_de00,max_de00\n");
+        Table::new("light,n,method,set,wavelengths_nm,mean_de76,max_de76,mean_de00,max_de00");
     for ((light, csv_light), (table, intervals)) in names.iter().zip(&tables) {
         writeln!(o, "\n   under {light}:").ok();
         let mut header = format!("   {:>3}", "N");
@@ -144,40 +151,43 @@ pub fn section(
             csv_row(&mut csv, csv_light, e.set.len(), e);
         }
     }
-    let mut files = vec![write(out, "budget.csv", &csv)?];
+    let mut files = vec![csv.write(out, "budget.csv")?];
     files.push(plot(out, &tables)?);
     Ok((o, files))
 }
 
-fn csv_row(csv: &mut String, light: &str, n: usize, e: &Entry) {
+fn csv_row(csv: &mut Table, light: &str, n: usize, e: &Entry) {
     let w: Vec<String> = e
         .set
         .wavelengths_nm
         .iter()
         .map(|l| format!("{l:.1}"))
         .collect();
-    writeln!(
-        csv,
-        "{light},{n},{},{},{},{:.4},{:.4},{:.4},{:.4}",
-        e.method,
-        e.set.name,
+    csv.row([
+        light.to_string(),
+        n.to_string(),
+        e.method.to_string(),
+        e.set.name.clone(),
         w.join(" "),
-        e.errors.mean_de76(),
-        e.errors.max_de76(),
-        e.errors.mean_de00(),
-        e.errors.max_de00()
-    )
-    .ok();
+        format!("{:.4}", e.errors.mean_de76()),
+        format!("{:.4}", e.errors.max_de76()),
+        format!("{:.4}", e.errors.mean_de00()),
+        format!("{:.4}", e.errors.max_de00()),
+    ]);
 }
 
-use crate::tools::budget::Comparison as Table;
+use crate::tools::budget::Comparison;
 
-fn plot(out: &Path, tables: &[Table]) -> Result<PathBuf, Error> {
+fn plot(out: &Path, tables: &[Comparison]) -> Result<PathBuf, Error> {
     const FLOOR: f64 = 0.01;
     let path = out.join("budget.svg");
-    let root = SVGBackend::new(&path, (1100, 800)).into_drawing_area();
+    // One legend for the four panels, below them: inside each it covered the lines.
+    const COLUMNS: usize = 4;
+    let legend_h = crate::plot::legend_height(METHODS.len(), COLUMNS);
+    let root = SVGBackend::new(&path, (1100, 800 + legend_h)).into_drawing_area();
     root.fill(&WHITE).map_err(plot_err)?;
-    let panels = root.split_evenly((2, 2));
+    let (top, below) = root.split_vertically(800);
+    let panels = top.split_evenly((2, 2));
     let colours = [
         RGBColor(230, 120, 120),
         RGBColor(120, 120, 230),
@@ -205,6 +215,7 @@ fn plot(out: &Path, tables: &[Table]) -> Result<PathBuf, Error> {
         chart
             .configure_mesh()
             .x_desc("N")
+            .x_label_formatter(&crate::plot::whole)
             .y_desc("mean ΔE00 (log)")
             .draw()
             .map_err(plot_err)?;
@@ -220,25 +231,22 @@ fn plot(out: &Path, tables: &[Table]) -> Result<PathBuf, Error> {
             let width = if *m == "KQ folded" { 3 } else { 1 };
             chart
                 .draw_series(LineSeries::new(pts.clone(), colour.stroke_width(width)))
-                .map_err(plot_err)?
-                .label(*m)
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2))
-                });
+                .map_err(plot_err)?;
             chart
                 .draw_series(pts.iter().map(|p| Circle::new(*p, 2, colour.filled())))
                 .map_err(plot_err)?;
         }
-        chart
-            .configure_series_labels()
-            .border_style(BLACK)
-            .background_style(WHITE.mix(0.8))
-            .label_font(("sans-serif", 11))
-            .draw()
-            .map_err(plot_err)?;
     }
+    let entries: Vec<(String, RGBColor)> = METHODS
+        .iter()
+        .zip(colours)
+        .map(|(m, c)| (m.to_string(), c))
+        .collect();
+    crate::plot::legend(&below, &entries, COLUMNS)?;
     root.present().map_err(plot_err)?;
     drop(panels);
+    drop(top);
+    drop(below);
     drop(root);
     Ok(path)
 }

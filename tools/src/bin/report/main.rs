@@ -5,7 +5,8 @@
 //! cargo run --release -p spectral-quadrature-tools --bin report
 //! cargo run --release -p spectral-quadrature-tools --bin report -- --reflectances my.csv --illuminants lamps.csv
 //! cargo run --release -p spectral-quadrature-tools --bin report -- --emission leds.csv --out target/leds
-//! cargo run --release -p spectral-quadrature-tools --bin report -- --csv > error_vs_time.csv
+//! cargo run --release -p spectral-quadrature-tools --bin report -- --csv > error_vs_time.csv   # section 4 alone
+//! cargo run -p spectral-quadrature-tools --bin report -- --quick --out target/quick   # every file, less work
 //! cargo run --release -p spectral-quadrature-tools --bin report -- --trials 256 --seed 7
 //! ```
 //!
@@ -21,6 +22,7 @@
 //! is an error naming its line and column, unless `--clamp-negatives` reads it as 0 too.
 
 mod budget;
+mod plot;
 mod random;
 use spectral_quadrature_build as sqd;
 use spectral_quadrature_tools as tools;
@@ -35,10 +37,10 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use clap::Parser;
-use plotters::prelude::*;
-use spectral_quadrature::{tables, FoldedSet, GamutMapping, WavelengthSet};
+use spectral_quadrature::{tables, FoldedSet, WavelengthSet};
 use sqd::evaluate::{self, Curve, Errors, EvalSet, Reference, Spectra, Stimulus};
 use sqd::Derivation;
+use tools::csv_table::Table;
 
 /// Error against run time for Meyer's wavelength sets and their alternatives.
 #[derive(Parser)]
@@ -68,9 +70,16 @@ struct Args {
     /// Folder for the CSV files and SVG plots.
     #[arg(long, value_name = "DIR", default_value = "target/report")]
     out: PathBuf,
-    /// Print only section 4 (error against run time) as CSV on standard output.
-    #[arg(long)]
+    /// Run section 4 (error against run time) alone and print it as CSV on standard output,
+    /// nothing else: no other section runs and no file is written (the same CSV as
+    /// error_vs_time.csv).
+    #[arg(long, conflicts_with_all = ["out", "trials", "seed", "quick"])]
     csv: bool,
+    /// A quick run that checks the output, not the figures: every section and every file, on
+    /// reduced work (orders up to 4, one timing run, 2 trials per random sampler, shared sets
+    /// at 4 and 8 wavelengths only in sections 4 and 5). Its numbers are not the report's.
+    #[arg(long, conflicts_with_all = ["runs", "max_order", "trials"])]
+    quick: bool,
     /// Timing runs per set; the median is reported.
     #[arg(long, default_value_t = 7, value_parser = clap::value_parser!(u32).range(1..=101))]
     runs: u32,
@@ -111,23 +120,61 @@ const STEPS: [&str; 10] = [
     "section 8: RGB materials under another light (fitting and relighting)",
 ];
 
-/// Progress on standard error, one line per step of [`STEPS`].
+/// The steps of `--csv`: section 4 alone.
+const CSV_STEPS: [&str; 3] = [
+    "deriving the rules (CIE 1931 2°, 380-770 nm, 5 nm)",
+    "reading spectra",
+    "section 4: error against run time (every per-channel order combination, timing every set)",
+];
+
+/// Progress on standard error, one line per step of [`STEPS`] (or [`CSV_STEPS`]).
 struct Progress {
+    steps: &'static [&'static str],
     step: usize,
     start: Instant,
 }
 
 impl Progress {
-    /// Announces the next step of [`STEPS`].
+    /// Announces the next step.
     fn next(&mut self) {
-        let what = STEPS.get(self.step).copied().unwrap_or("finishing");
-        self.step = (self.step + 1).min(STEPS.len());
+        let what = self.steps.get(self.step).copied().unwrap_or("finishing");
+        self.step = (self.step + 1).min(self.steps.len());
         eprintln!(
             "[{}/{}] {what} ({:.1} s)",
             self.step,
-            STEPS.len(),
+            self.steps.len(),
             self.start.elapsed().as_secs_f64()
         );
+    }
+}
+
+/// How much work each section does: the options', or `--quick`'s.
+struct Work {
+    runs: usize,
+    max_order: usize,
+    trials: Option<usize>,
+    /// The sizes of the shared sets in sections 4 and 5 (for radiances, and folded for each
+    /// light).
+    shared_sizes: Vec<usize>,
+}
+
+impl Work {
+    fn of(args: &Args) -> Work {
+        if args.quick {
+            Work {
+                runs: 1,
+                max_order: 4,
+                trials: Some(2),
+                shared_sizes: vec![4, 8],
+            }
+        } else {
+            Work {
+                runs: args.runs as usize,
+                max_order: args.max_order as usize,
+                trials: args.trials.map(|t| t as usize),
+                shared_sizes: tools::budget::BUDGETS.collect(),
+            }
+        }
     }
 }
 
@@ -144,7 +191,9 @@ struct Row {
 }
 
 fn run(args: &Args) -> Result<(), Error> {
+    let work = Work::of(args);
     let mut progress = Progress {
+        steps: if args.csv { &CSV_STEPS } else { &STEPS },
         step: 0,
         start: Instant::now(),
     };
@@ -157,6 +206,21 @@ fn run(args: &Args) -> Result<(), Error> {
     progress.next();
     let inputs = load_inputs(args, range)?;
     let stimuli = inputs.stimuli.clone();
+    // The scene is read with the spectra, so that a mistake in it stops the report at once.
+    let scene_extras = match &args.scene {
+        Some(path) => user::scene_extras(
+            &d,
+            path,
+            &inputs.surfaces,
+            &inputs.surfaces_from,
+            &inputs.user_lights,
+            &args
+                .illuminants
+                .as_ref()
+                .map_or(String::new(), |p| p.display().to_string()),
+        )?,
+        None => Vec::new(),
+    };
     let reference = Reference::new(reference_set.clone(), &stimuli);
     let (cc_under_c, cc_reference) = {
         let cc = Spectra::builtin(
@@ -169,24 +233,26 @@ fn run(args: &Args) -> Result<(), Error> {
         let r = Reference::new(reference_set.clone(), &st);
         (st, r)
     };
-    std::fs::create_dir_all(&args.out).map_err(|source| Error::Write {
-        path: args.out.clone(),
-        source,
-    })?;
+    if !args.csv {
+        std::fs::create_dir_all(&args.out).map_err(|source| Error::Write {
+            path: args.out.clone(),
+            source,
+        })?;
+    }
 
-    progress.next();
-    let table2 = table2_rows(&d, &cc_under_c, &cc_reference);
     // The first table goes out at once; the rest follows when it is measured.
     let mut text = String::new();
+    let mut table2 = Vec::new();
     if !args.csv {
+        progress.next();
+        table2 = table2_rows(&d, &cc_under_c, &cc_reference);
         print_intro_and_table2(&mut text, &stimuli, &table2);
         print!("{text}");
         std::io::stdout().flush().ok();
     }
 
     progress.next();
-    let max = args.max_order as usize;
-    let spaces = tools::budget::rule_spaces(&d, max)?;
+    let spaces = tools::budget::rule_spaces(&d, work.max_order)?;
     // Figs. 6 and 7 reproduce the paper's setup (ColorChecker under C) unless spectra are given.
     let user_spectra =
         args.reflectances.is_some() || args.illuminants.is_some() || args.emission.is_some();
@@ -195,12 +261,17 @@ fn run(args: &Args) -> Result<(), Error> {
     } else {
         (&cc_under_c, &cc_reference)
     };
-    let space_errors: Vec<Vec<Errors>> = spaces
-        .iter()
-        .map(|(_, sets)| par_errors(fig_reference, sets, fig_stimuli))
-        .collect();
+    let space_errors: Vec<Vec<Errors>> = if args.csv {
+        Vec::new()
+    } else {
+        let e = spaces
+            .iter()
+            .map(|(_, sets)| par_errors(fig_reference, sets, fig_stimuli))
+            .collect();
+        progress.next();
+        e
+    };
 
-    progress.next();
     let mut sets: Vec<EvalSet> = spaces[0].1.clone();
     for set in &d.table2 {
         sets.push(EvalSet {
@@ -215,7 +286,7 @@ fn run(args: &Args) -> Result<(), Error> {
     }
     // The shared sets for radiances (the lights here are many; section 5 folds each one in),
     // method (a) for comparison, and sampling every 10 and 20 nm with linear interpolation.
-    let radiance = tools::budget::shared_sets(&d, None)?;
+    let radiance = tools::budget::shared_sets_sized(&d, None, work.shared_sizes.clone())?;
     sets.extend(radiance.iter().cloned());
     for n in tools::budget::BUDGETS {
         if let Ok(a) = sqd::shared::interpolatory_a(&d, n, &format!("INTERP_A_{n}")) {
@@ -235,7 +306,7 @@ fn run(args: &Args) -> Result<(), Error> {
         if (k + 1) % total.div_ceil(4).max(1) == 0 || k + 1 == total {
             eprintln!("      timed {}/{total} sets", k + 1);
         }
-        let ns_per_pixel = time_set(&set, &stimuli, args.runs as usize)?;
+        let ns_per_pixel = time_set(&set, &stimuli, work.runs)?;
         rows.push(Row {
             samples: set.len(),
             set,
@@ -244,24 +315,28 @@ fn run(args: &Args) -> Result<(), Error> {
             judged_on: None,
         });
     }
-    // The user's: shared sets folded for each light of --illuminants, and a scene's sets.
-    let folded_user = user::folded_for_lights(&d, &inputs.user_lights, &inputs.surfaces)?;
+    // The user's: shared sets folded for each light of --illuminants, and a scene's sets. A
+    // set already measured (a scene naming a light of --illuminants, or a set of the
+    // report's own) is measured once; a set judged on exactly the report's stimuli (the only
+    // light's folded sets) is labelled as judged on all of them, as the report's own are.
+    let folded_user = user::folded_for_lights(
+        &d,
+        &inputs.user_lights,
+        &inputs.surfaces,
+        &work.shared_sizes,
+    )?;
     let mut extras = user::light_extras(&folded_user, &inputs.surfaces_from);
-    if let Some(path) = &args.scene {
-        extras.extend(user::scene_extras(
-            &d,
-            path,
-            &inputs.surfaces,
-            &inputs.surfaces_from,
-        )?);
-    }
+    extras.extend(scene_extras);
     for x in extras {
+        if rows.iter().any(|r| r.set.name == x.set.name) {
+            continue;
+        }
         let (own, judged_on) = match x.judged_on {
-            Some((s, what)) => (s, Some(what)),
-            None => (stimuli.clone(), None),
+            Some((s, what)) if !same_stimuli(&s, &stimuli, range) => (s, Some(what)),
+            _ => (stimuli.clone(), None),
         };
         let errors = Reference::new(reference_set.clone(), &own).errors(&x.set, &own);
-        let ns_per_pixel = time_set(&x.timing, &own, args.runs as usize)?;
+        let ns_per_pixel = time_set(&x.timing, &own, work.runs)?;
         rows.push(Row {
             set: x.set,
             samples: x.samples,
@@ -271,20 +346,30 @@ fn run(args: &Args) -> Result<(), Error> {
         });
     }
 
+    if args.csv {
+        section4_csv(&rows).print()?;
+        eprintln!(
+            "done in {:.1} s: {} stimuli, {} sets timed (section 4 only, --csv)",
+            progress.start.elapsed().as_secs_f64(),
+            stimuli.len(),
+            rows.len()
+        );
+        return Ok(());
+    }
+
     progress.next();
     let out = &args.out;
     let mut files = Vec::new();
-    let section4_csv = section4_csv(&rows);
-    files.push(write(out, "error_vs_time.csv", &section4_csv)?);
-    files.push(write(out, "table2.csv", &table2_csv(&table2))?);
+    files.push(section4_csv(&rows).write(out, "error_vs_time.csv")?);
+    files.push(table2_csv(&table2).write(out, "table2.csv")?);
     let fig6 = fig6_data(&spaces, &space_errors);
-    files.push(write(out, "fig6.csv", &fig6_csv(&fig6))?);
+    files.push(fig6_csv(&fig6).write(out, "fig6.csv")?);
     let fig7 = fig7_data(&spaces[0].1, &space_errors[0]);
-    files.push(write(out, "fig7.csv", &fig7_csv(&fig7))?);
-    files.push(plot_fig6(out, &fig6)?);
-    files.push(plot_fig7(out, &fig7)?);
-    files.push(plot_error_vs_time(out, &rows)?);
-    files.push(draw_swatches(out, &d, &cc_under_c, &rows)?);
+    files.push(fig7_csv(&fig7).write(out, "fig7.csv")?);
+    files.push(plot::fig6(out, &fig6)?);
+    files.push(plot::fig7(out, &fig7)?);
+    files.push(plot::error_vs_time(out, &rows)?);
+    files.push(plot::swatches(out, &cc_under_c, &rows)?);
 
     progress.next();
     let (budget_text, budget_files) = budget::section(
@@ -297,7 +382,8 @@ fn run(args: &Args) -> Result<(), Error> {
             .map(|_| inputs.surfaces.as_slice()),
         &inputs.surfaces_from,
         out,
-        args.runs as usize,
+        work.runs,
+        &work.shared_sizes,
     )?;
     files.extend(budget_files);
 
@@ -320,9 +406,9 @@ fn run(args: &Args) -> Result<(), Error> {
             lights: &inputs.lights,
             users_lights: !inputs.user_lights.is_empty(),
             table2_row2: &table2_row2,
-            trials: args.trials.map(|t| t as usize),
+            trials: work.trials,
             seed: args.seed,
-            runs: args.runs as usize,
+            runs: work.runs,
         },
         out,
     )?;
@@ -345,23 +431,19 @@ fn run(args: &Args) -> Result<(), Error> {
     )?;
     files.extend(upsampling_files);
 
-    if args.csv {
-        print!("{section4_csv}");
-    } else {
-        let mut rest = String::new();
-        print_sections_2_to_4(&mut rest, fig_stimuli, &fig6, &fig7, &rows);
-        rest.push('\n');
-        rest.push_str(&budget_text);
-        rest.push('\n');
-        rest.push_str(&stability_text);
-        rest.push('\n');
-        rest.push_str(&random_text);
-        rest.push('\n');
-        rest.push_str(&upsampling_text);
-        print!("{rest}");
-        text.push_str(&rest);
-        files.push(write(out, "report.txt", &text)?);
-    }
+    let mut rest = String::new();
+    print_sections_2_to_4(&mut rest, fig_stimuli, &fig6, &fig7, &rows);
+    rest.push('\n');
+    rest.push_str(&budget_text);
+    rest.push('\n');
+    rest.push_str(&stability_text);
+    rest.push('\n');
+    rest.push_str(&random_text);
+    rest.push('\n');
+    rest.push_str(&upsampling_text);
+    print!("{rest}");
+    text.push_str(&rest);
+    files.push(write(out, "report.txt", &text)?);
     std::io::stdout().flush().ok();
     eprintln!(
         "done in {:.1} s: {} stimuli, {} sets timed. Files in {}:",
@@ -429,6 +511,16 @@ fn load_inputs(args: &Args, range: [f64; 2]) -> Result<Inputs, Error> {
         user_lights,
         lights,
     })
+}
+
+/// Whether `a` and `b` are the same stimuli: the same names, and the same radiance at every nm
+/// of `range`.
+fn same_stimuli(a: &[Stimulus], b: &[Stimulus], range: [f64; 2]) -> bool {
+    let (lo, hi) = (range[0].ceil() as i64, range[1].floor() as i64);
+    a.len() == b.len()
+        && a.iter().zip(b).all(|(x, y)| {
+            x.name == y.name && (lo..=hi).all(|nm| x.radiance(nm as f64) == y.radiance(nm as f64))
+        })
 }
 
 /// Errors of many sets, on every core.
@@ -532,22 +624,19 @@ fn table2_name(const_name: &str) -> String {
     const_name.to_lowercase().replace('_', " ")
 }
 
-fn table2_csv(rows: &[Table2Row]) -> String {
-    let mut s = String::from("row,wavelengths_nm,mean_de76,paper_mean_de76,difference\n");
+fn table2_csv(rows: &[Table2Row]) -> Table {
+    let mut t = Table::new("row,wavelengths_nm,mean_de76,paper_mean_de76,difference");
     for r in rows {
         let w: Vec<String> = r.wavelengths.iter().map(|l| format!("{l:.1}")).collect();
-        writeln!(
-            s,
-            "{},{},{:.4},{},{:+.4}",
-            r.name,
+        t.row([
+            r.name.clone(),
             w.join(" "),
-            r.mean_de76,
-            r.paper,
-            r.mean_de76 - r.paper
-        )
-        .ok();
+            format!("{:.4}", r.mean_de76),
+            r.paper.to_string(),
+            format!("{:+.4}", r.mean_de76 - r.paper),
+        ]);
     }
-    s
+    t
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -581,12 +670,17 @@ fn fig6_data(spaces: &[(&str, Vec<EvalSet>)], errors: &[Vec<Errors>]) -> Fig6 {
     Fig6 { points }
 }
 
-fn fig6_csv(f: &Fig6) -> String {
-    let mut s = String::from("space,total_wavelengths,combinations,mean_de76\n");
+fn fig6_csv(f: &Fig6) -> Table {
+    let mut t = Table::new("space,total_wavelengths,combinations,mean_de76");
     for (space, total, n, e) in &f.points {
-        writeln!(s, "{space},{total},{n},{e:.4}").ok();
+        t.row([
+            space.clone(),
+            total.to_string(),
+            n.to_string(),
+            format!("{e:.4}"),
+        ]);
     }
-    s
+    t
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -634,45 +728,40 @@ fn fig7_data(sets: &[EvalSet], errors: &[Errors]) -> Fig7 {
     }
 }
 
-fn fig7_csv(f: &Fig7) -> String {
-    let mut s =
-        String::from("a_fraction_from,c1_fraction_from,orientation,combinations,mean_de76\n");
+fn fig7_csv(f: &Fig7) -> Table {
+    let mut t = Table::new("a_fraction_from,c1_fraction_from,orientation,combinations,mean_de76");
     for (i, j, up, n, e) in &f.cells {
-        writeln!(
-            s,
-            "{:.3},{:.3},{},{n},{e:.4}",
-            *i as f64 / K as f64,
-            *j as f64 / K as f64,
-            if *up { "up" } else { "down" }
-        )
-        .ok();
+        t.row([
+            format!("{:.3}", *i as f64 / K as f64),
+            format!("{:.3}", *j as f64 / K as f64),
+            (if *up { "up" } else { "down" }).to_string(),
+            n.to_string(),
+            format!("{e:.4}"),
+        ]);
     }
-    s
+    t
 }
 
 // ---------------------------------------------------------------------------------------------
 // Section 4 and the text report.
 
-fn section4_csv(rows: &[Row]) -> String {
-    let mut s = String::from(
-        "set,distinct_wavelengths,mean_de76,max_de76,mean_de00,max_de00,ns_per_pixel,judged_on\n",
+fn section4_csv(rows: &[Row]) -> Table {
+    let mut t = Table::new(
+        "set,distinct_wavelengths,mean_de76,max_de76,mean_de00,max_de00,ns_per_pixel,judged_on",
     );
     for r in rows {
-        writeln!(
-            s,
-            "{},{},{:.4},{:.4},{:.4},{:.4},{:.2},{}",
-            r.set.name,
-            r.samples,
-            r.errors.mean_de76(),
-            r.errors.max_de76(),
-            r.errors.mean_de00(),
-            r.errors.max_de00(),
-            r.ns_per_pixel,
-            r.judged_on.as_deref().unwrap_or("all stimuli")
-        )
-        .ok();
+        t.row([
+            r.set.name.clone(),
+            r.samples.to_string(),
+            format!("{:.4}", r.errors.mean_de76()),
+            format!("{:.4}", r.errors.max_de76()),
+            format!("{:.4}", r.errors.mean_de00()),
+            format!("{:.4}", r.errors.max_de00()),
+            format!("{:.2}", r.ns_per_pixel),
+            r.judged_on.clone().unwrap_or_else(|| "all stimuli".into()),
+        ]);
     }
-    s
+    t
 }
 
 /// The report's header and section 1 (Table 2): printed as soon as they are known.
@@ -870,318 +959,5 @@ fn write(dir: &Path, name: &str, text: &str) -> Result<PathBuf, Error> {
         path: path.clone(),
         source,
     })?;
-    Ok(path)
-}
-
-// ---------------------------------------------------------------------------------------------
-// Plots (SVG).
-
-fn plot_err<E: std::fmt::Debug>(e: E) -> Error {
-    Error::Plot(format!("{e:?}"))
-}
-
-fn plot_fig6(out: &Path, f: &Fig6) -> Result<PathBuf, Error> {
-    let path = out.join("fig6.svg");
-    let root = SVGBackend::new(&path, (720, 480)).into_drawing_area();
-    root.fill(&WHITE).map_err(plot_err)?;
-    let max_t = f.points.iter().map(|p| p.1).max().unwrap_or(3).min(24) as f64;
-    let max_e = f
-        .points
-        .iter()
-        .filter(|p| p.1 as f64 <= max_t)
-        .map(|p| p.3)
-        .fold(0.0, f64::max);
-    let mut chart = ChartBuilder::on(&root)
-        .caption(
-            "Fig. 6: mean ΔE*ab against total wavelengths",
-            ("sans-serif", 20),
-        )
-        .margin(12)
-        .x_label_area_size(40)
-        .y_label_area_size(55)
-        .build_cartesian_2d(2.5f64..max_t + 0.5, (0.01f64..max_e * 1.2).log_scale())
-        .map_err(plot_err)?;
-    chart
-        .configure_mesh()
-        .x_desc("total number of wavelengths (n_A + n_C1 + n_C2)")
-        .y_desc("mean ΔE*ab (log)")
-        .draw()
-        .map_err(plot_err)?;
-    for (space, colour) in [("AC1C2", RED), ("XYZ", BLUE), ("SML", GREEN)] {
-        let pts: Vec<(f64, f64)> = f
-            .points
-            .iter()
-            .filter(|p| p.0 == space && p.1 as f64 <= max_t && p.3 > 0.0)
-            .map(|p| (p.1 as f64, p.3))
-            .collect();
-        chart
-            .draw_series(LineSeries::new(pts.clone(), colour.stroke_width(2)))
-            .map_err(plot_err)?
-            .label(space)
-            .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
-            });
-        chart
-            .draw_series(pts.iter().map(|p| Circle::new(*p, 3, colour.filled())))
-            .map_err(plot_err)?;
-    }
-    chart
-        .configure_series_labels()
-        .border_style(BLACK)
-        .background_style(WHITE.mix(0.8))
-        .draw()
-        .map_err(plot_err)?;
-    root.present().map_err(plot_err)?;
-    drop(chart);
-    drop(root);
-    Ok(path)
-}
-
-fn heat(t: f64) -> RGBColor {
-    // Blue (low) → yellow → red (high).
-    let t = t.clamp(0.0, 1.0);
-    let (r, g, b) = if t < 0.5 {
-        let u = t * 2.0;
-        (u, u, 1.0 - u)
-    } else {
-        let u = (t - 0.5) * 2.0;
-        (1.0, 1.0 - u, 0.0)
-    };
-    RGBColor((r * 255.0) as u8, (g * 255.0) as u8, (b * 255.0) as u8)
-}
-
-fn plot_fig7(out: &Path, f: &Fig7) -> Result<PathBuf, Error> {
-    let path = out.join("fig7.svg");
-    let (w, h) = (640i32, 600i32);
-    let root = SVGBackend::new(&path, (w as u32, h as u32)).into_drawing_area();
-    root.fill(&WHITE).map_err(plot_err)?;
-    root.draw(&Text::new(
-        "Fig. 7: mean ΔE*ab by wavelength allocation (log colour scale)",
-        (20, 12),
-        ("sans-serif", 18),
-    ))
-    .map_err(plot_err)?;
-    // Corners: A at the top, C1 bottom left, C2 bottom right.
-    let side = 520.0;
-    let top = (w as f64 / 2.0, 70.0);
-    let left = (top.0 - side / 2.0, top.1 + side * 3f64.sqrt() / 2.0);
-    let right = (top.0 + side / 2.0, left.1);
-    let point = |fa: f64, fc1: f64| {
-        let fc2 = 1.0 - fa - fc1;
-        (
-            (fa * top.0 + fc1 * left.0 + fc2 * right.0) as i32,
-            (fa * top.1 + fc1 * left.1 + fc2 * right.1) as i32,
-        )
-    };
-    let (lo, hi) = f.cells.iter().fold((f64::MAX, f64::MIN), |(lo, hi), c| {
-        (lo.min(c.4), hi.max(c.4))
-    });
-    let k = K as f64;
-    for (i, j, up, n, e) in &f.cells {
-        let (a, b) = (*i as f64 / k, *j as f64 / k);
-        let corners = if *up {
-            [point(a, b), point(a + 1.0 / k, b), point(a, b + 1.0 / k)]
-        } else {
-            [
-                point(a + 1.0 / k, b),
-                point(a + 1.0 / k, b + 1.0 / k),
-                point(a, b + 1.0 / k),
-            ]
-        };
-        let t = if hi > lo {
-            (e.ln() - lo.ln()) / (hi.ln() - lo.ln())
-        } else {
-            0.5
-        };
-        root.draw(&Polygon::new(corners.to_vec(), heat(t).filled()))
-            .map_err(plot_err)?;
-        root.draw(&PathElement::new(
-            vec![corners[0], corners[1], corners[2], corners[0]],
-            BLACK.mix(0.4),
-        ))
-        .map_err(plot_err)?;
-        let cx = (corners[0].0 + corners[1].0 + corners[2].0) / 3;
-        let cy = (corners[0].1 + corners[1].1 + corners[2].1) / 3;
-        let label = if *n > 0 {
-            format!("{e:.2}")
-        } else {
-            String::new()
-        };
-        root.draw(&Text::new(label, (cx - 12, cy - 5), ("sans-serif", 10)))
-            .map_err(plot_err)?;
-    }
-    let lab = |s: &str, p: (f64, f64), dx: i32, dy: i32| {
-        Text::new(
-            s.to_string(),
-            (p.0 as i32 + dx, p.1 as i32 + dy),
-            ("sans-serif", 16),
-        )
-    };
-    root.draw(&lab("all A", top, -18, -24)).map_err(plot_err)?;
-    root.draw(&lab("all C1", left, -30, 8)).map_err(plot_err)?;
-    root.draw(&lab("all C2", right, -10, 8)).map_err(plot_err)?;
-    root.draw(&Text::new(
-        format!("blue {lo:.2} … red {hi:.2} ΔE*ab"),
-        (20, h - 24),
-        ("sans-serif", 14),
-    ))
-    .map_err(plot_err)?;
-    root.present().map_err(plot_err)?;
-    drop(root);
-    Ok(path)
-}
-
-fn plot_error_vs_time(out: &Path, rows: &[Row]) -> Result<PathBuf, Error> {
-    let path = out.join("error_vs_time.svg");
-    let root = SVGBackend::new(&path, (800, 540)).into_drawing_area();
-    root.fill(&WHITE).map_err(plot_err)?;
-    let tmin = rows
-        .iter()
-        .map(|r| r.ns_per_pixel)
-        .fold(f64::MAX, f64::min)
-        .max(0.01);
-    let tmax = rows.iter().map(|r| r.ns_per_pixel).fold(0.0, f64::max);
-    // The reference has zero error: plot errors with a floor so the log axis can show it.
-    const FLOOR: f64 = 1e-3;
-    let emax = rows
-        .iter()
-        .map(|r| r.errors.mean_de00())
-        .fold(0.0, f64::max);
-    let mut chart = ChartBuilder::on(&root)
-        .caption(
-            "Error against run time (mean ΔE00, runtime f32 path)",
-            ("sans-serif", 20),
-        )
-        .margin(12)
-        .x_label_area_size(40)
-        .y_label_area_size(60)
-        .build_cartesian_2d(
-            (tmin * 0.7..tmax * 1.5).log_scale(),
-            (FLOOR * 0.7..emax * 1.5).log_scale(),
-        )
-        .map_err(plot_err)?;
-    chart
-        .configure_mesh()
-        .x_desc("ns per pixel (median, log)")
-        .y_desc("mean ΔE00 (log; 0 drawn at 0.001)")
-        .draw()
-        .map_err(plot_err)?;
-    for (family, colour, size) in [
-        ("AC1C2", RGBColor(230, 120, 120), 2),
-        ("XYZ", RGBColor(150, 150, 230), 2),
-        ("uniform", BLUE, 4),
-        ("interp A", RGBColor(200, 140, 40), 4),
-        ("KQ radiance", RGBColor(150, 60, 170), 5),
-        ("interval", RGBColor(60, 160, 60), 5),
-        ("Table 2", RED, 6),
-        ("full", BLACK, 5),
-    ] {
-        let pts: Vec<(f64, f64)> = rows
-            .iter()
-            .filter(|r| r.set.family == family)
-            .map(|r| (r.ns_per_pixel, r.errors.mean_de00().max(FLOOR)))
-            .collect();
-        let label = match family {
-            "AC1C2" => "per-channel Gauss combinations",
-            "XYZ" => "Gauss combinations in XYZ",
-            "uniform" => "uniform sets",
-            "interp A" => "A's nodes, interpolatory C1, C2",
-            "KQ radiance" => "shared sets (kernel quadrature)",
-            "interval" => "every 10 / 20 nm, linear interpolation",
-            "Table 2" => "Table 2 sets",
-            _ => "full integration (5 nm, 1 nm)",
-        };
-        chart
-            .draw_series(pts.iter().map(|p| Circle::new(*p, size, colour.filled())))
-            .map_err(plot_err)?
-            .label(label)
-            .legend(move |(x, y)| Circle::new((x, y), 4, colour.filled()));
-    }
-    chart
-        .configure_series_labels()
-        .border_style(BLACK)
-        .background_style(WHITE.mix(0.8))
-        .draw()
-        .map_err(plot_err)?;
-    root.present().map_err(plot_err)?;
-    drop(chart);
-    drop(root);
-    Ok(path)
-}
-
-fn draw_swatches(
-    out: &Path,
-    d: &Derivation,
-    cc_under_c: &[Stimulus],
-    rows: &[Row],
-) -> Result<PathBuf, Error> {
-    let path = out.join("swatches.svg");
-    let chosen: Vec<&Row> = [
-        "table2 row1",
-        "table2 row2",
-        "uniform 4",
-        "uniform 8",
-        "uniform 16",
-        "full 5 nm",
-    ]
-    .iter()
-    .filter_map(|n| rows.iter().find(|r| r.set.name == *n))
-    .collect();
-    let reference = rows
-        .iter()
-        .find(|r| r.set.name == "full 1 nm")
-        .ok_or_else(|| Error::Plot("the swatches' reference set is missing".into()))?;
-    let cell = 36i32;
-    let (cols, rows_n) = (6i32, 4i32);
-    let panel_w = cols * cell + 20;
-    let width = (panel_w * chosen.len() as i32 + 20) as u32;
-    let height = (rows_n * cell + 70) as u32;
-    let root = SVGBackend::new(&path, (width, height)).into_drawing_area();
-    root.fill(&WHITE).map_err(plot_err)?;
-    root.draw(&Text::new(
-        "ColorChecker under C: exact colour (upper left of each patch) beside each set's (lower right), sRGB",
-        (10, 8),
-        ("sans-serif", 13),
-    ))
-    .map_err(plot_err)?;
-    let srgb = tables::displays::SRGB;
-    let colour = |set: &EvalSet, s: &Stimulus| {
-        let xyz = set.xyz(|l| s.radiance(l));
-        let white = set.xyz(|l| s.white(l, 1.0));
-        let rgb = srgb.linear_from_xyz(xyz.map(|v| (v / white[1]) as f32));
-        let px = srgb.encode_u8(rgb, GamutMapping::Clip);
-        RGBColor(px[0], px[1], px[2])
-    };
-    let _ = d;
-    for (p, row) in chosen.iter().enumerate() {
-        let x0 = 10 + p as i32 * panel_w;
-        root.draw(&Text::new(
-            row.set.name.clone(),
-            (x0, 28),
-            ("sans-serif", 12),
-        ))
-        .map_err(plot_err)?;
-        for (k, s) in cc_under_c.iter().enumerate().take(24) {
-            let (cx, cy) = (x0 + (k as i32 % cols) * cell, 46 + (k as i32 / cols) * cell);
-            let exact = colour(&reference.set, s);
-            let approx = colour(&row.set, s);
-            root.draw(&Polygon::new(
-                vec![(cx, cy), (cx + cell - 2, cy), (cx, cy + cell - 2)],
-                exact.filled(),
-            ))
-            .map_err(plot_err)?;
-            root.draw(&Polygon::new(
-                vec![
-                    (cx + cell - 2, cy),
-                    (cx + cell - 2, cy + cell - 2),
-                    (cx, cy + cell - 2),
-                ],
-                approx.filled(),
-            ))
-            .map_err(plot_err)?;
-        }
-    }
-    root.present().map_err(plot_err)?;
-    drop(root);
     Ok(path)
 }

@@ -11,13 +11,15 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use spectral_quadrature::{tables, GamutMapping};
 
+use crate::plot::plot_err;
 use crate::sqd::evaluate::{self, Curve, EvalSet, Reference, Spectra, Stimulus};
 use crate::sqd::Derivation;
 use crate::tools::budget;
+use crate::tools::csv_table::Table;
 use crate::tools::random_wavelengths::{
     pixel_rng, reach, run_trials, Cells, Config, Reach, Sampler, SensorRgb, Summary, Target, Trials,
 };
-use crate::{plot_err, time_set, write, Error};
+use crate::{time_set, Error};
 
 /// The samples per pixel measured: one pixel of the last is read after each.
 pub const SPP: [usize; 6] = [1, 4, 16, 64, 256, 1024];
@@ -257,16 +259,8 @@ pub fn section(x: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
     let mut o = String::new();
     let mut files = Vec::new();
     text(&mut o, x, &groups, &randoms, &summaries, &fixed, span);
-    files.push(write(
-        out,
-        "random_wavelengths.csv",
-        &summary_csv(&groups, &randoms, &summaries),
-    )?);
-    files.push(write(
-        out,
-        "random_vs_fixed.csv",
-        &reach_csv(&groups, &randoms, &summaries, &fixed),
-    )?);
+    files.push(summary_csv(&groups, &randoms, &summaries).write(out, "random_wavelengths.csv")?);
+    files.push(reach_csv(&groups, &randoms, &summaries, &fixed).write(out, "random_vs_fixed.csv")?);
     files.push(plot(out, &groups, &randoms, &summaries, &fixed)?);
     if !x.lights.is_empty() {
         files.push(picture(out, x, &fixed)?);
@@ -535,32 +529,29 @@ fn summary_csv(
     groups: &[(Group, Vec<usize>)],
     randoms: &[Random],
     summaries: &[Vec<Vec<Summary>>],
-) -> String {
-    let mut s = String::from("sampler,wavelengths_per_sample,spp,judged_on,stimuli,trials,mean_de00,standard_error_de00,sd_trials_de00,p90_pixel_de00,mean_de76,ns_per_sample\n");
+) -> Table {
+    let mut t = Table::new("sampler,wavelengths_per_sample,spp,judged_on,stimuli,trials,mean_de00,standard_error_de00,sd_trials_de00,p90_pixel_de00,mean_de76,ns_per_sample");
     for (r, per_group) in randoms.iter().zip(summaries) {
         for ((g, which), sums) in groups.iter().zip(per_group) {
             for x in sums {
-                writeln!(
-                    s,
-                    "{},{},{},{},{},{},{:.4},{:.4},{:.4},{:.4},{:.4},{:.2}",
-                    r.config.sampler.name(),
-                    r.config.wavelengths,
-                    x.spp,
+                t.row([
+                    r.config.sampler.name().to_string(),
+                    r.config.wavelengths.to_string(),
+                    x.spp.to_string(),
                     g.label(),
-                    which.len(),
-                    x.trials,
-                    x.mean_de00,
-                    x.standard_error,
-                    x.sd_trials,
-                    x.p90_pixel,
-                    x.mean_de76,
-                    r.ns_per_sample
-                )
-                .ok();
+                    which.len().to_string(),
+                    x.trials.to_string(),
+                    format!("{:.4}", x.mean_de00),
+                    format!("{:.4}", x.standard_error),
+                    format!("{:.4}", x.sd_trials),
+                    format!("{:.4}", x.p90_pixel),
+                    format!("{:.4}", x.mean_de76),
+                    format!("{:.2}", r.ns_per_sample),
+                ]);
             }
         }
     }
-    s
+    t
 }
 
 fn reach_csv(
@@ -568,8 +559,8 @@ fn reach_csv(
     randoms: &[Random],
     summaries: &[Vec<Vec<Summary>>],
     fixed: &[Fixed],
-) -> String {
-    let mut s = String::from("fixed_set,wavelengths,judged_on,mean_de00,mean_de76,ns_per_pixel,light_search_s,sampler,wavelengths_per_sample,spp_to_reach,how,ns_per_sample\n");
+) -> Table {
+    let mut t = Table::new("fixed_set,wavelengths,judged_on,mean_de00,mean_de76,ns_per_pixel,light_search_s,sampler,wavelengths_per_sample,spp_to_reach,how,ns_per_sample");
     for f in fixed {
         let g = groups.iter().position(|(g, _)| *g == f.group).unwrap_or(0);
         for (r, per_group) in randoms.iter().zip(summaries) {
@@ -579,25 +570,23 @@ fn reach_csv(
                 Reach::Beyond(v) => (v, "extrapolated"),
                 Reach::Never => (f64::NAN, "never"),
             };
-            writeln!(
-                s,
-                "{},{},{},{:.4},{:.4},{:.2},{},{},{},{:.1},{how},{:.2}",
-                f.set.name,
-                f.set.len(),
+            t.row([
+                f.set.name.clone(),
+                f.set.len().to_string(),
                 f.group.label(),
-                f.mean_de00,
-                f.mean_de76,
-                f.ns_per_pixel,
+                format!("{:.4}", f.mean_de00),
+                format!("{:.4}", f.mean_de76),
+                format!("{:.2}", f.ns_per_pixel),
                 f.search_s.map_or(String::new(), |t| format!("{t:.3}")),
-                r.config.sampler.name(),
-                r.config.wavelengths,
-                spp,
-                r.ns_per_sample
-            )
-            .ok();
+                r.config.sampler.name().to_string(),
+                r.config.wavelengths.to_string(),
+                format!("{spp:.1}"),
+                how.to_string(),
+                format!("{:.2}", r.ns_per_sample),
+            ]);
         }
     }
-    s
+    t
 }
 
 /// Median ns per sample of the f32 colour path of a random sampler: the sample's wavelengths
@@ -716,6 +705,7 @@ fn plot(
         chart
             .configure_mesh()
             .x_desc("samples per pixel (log)")
+            .x_label_formatter(&crate::plot::whole)
             .y_desc("ΔE00 (log)")
             .draw()
             .map_err(plot_err)?;

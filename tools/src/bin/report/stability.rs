@@ -8,6 +8,7 @@ use plotters::prelude::*;
 use spectral_quadrature::tables;
 
 use crate::sqd::{derive, Settings, Status};
+use crate::tools::csv_table::Table;
 use crate::tools::sensitivity::{shifts, standard_variants};
 use crate::tools::stability;
 use crate::Error;
@@ -15,7 +16,7 @@ use crate::Error;
 const CHANNELS: [&str; 3] = ["A", "C1", "C2"];
 
 /// The sensitivity table: node shifts against the baseline for each variant, orders 1-8.
-pub fn sensitivity(o: &mut String, csv: &mut String) -> Result<(), Error> {
+fn sensitivity(o: &mut String) -> Result<Table, Error> {
     let rows = shifts(&crate::tools::settings(), &standard_variants(), 8)?;
     writeln!(o, "   6c. sensitivity: how far each rule moves (largest node shift in nm; '-' where either is undefined)").ok();
     writeln!(
@@ -26,7 +27,9 @@ pub fn sensitivity(o: &mut String, csv: &mut String) -> Result<(), Error> {
         (1..=8).map(|n| format!("{n:>8}")).collect::<String>()
     )
     .ok();
-    csv.push_str("variant,channel,order,baseline_status,variant_status,max_node_shift_nm,max_weight_change\n");
+    let mut csv = Table::new(
+        "variant,channel,order,baseline_status,variant_status,max_node_shift_nm,max_weight_change",
+    );
     for v in standard_variants() {
         for (c, ch) in CHANNELS.iter().enumerate() {
             let cells: String = rows
@@ -49,27 +52,24 @@ pub fn sensitivity(o: &mut String, csv: &mut String) -> Result<(), Error> {
         }
     }
     for r in &rows {
-        writeln!(
-            csv,
-            "{},{},{},{},{},{},{}",
-            r.variant,
-            CHANNELS[r.channel],
-            r.order,
-            r.baseline.as_str(),
-            r.changed.as_str(),
+        csv.row([
+            r.variant.to_string(),
+            CHANNELS[r.channel].to_string(),
+            r.order.to_string(),
+            r.baseline.as_str().to_string(),
+            r.changed.as_str().to_string(),
             r.max_node_shift_nm
                 .map_or(String::new(), |v| format!("{v:.4}")),
             r.max_weight_change
-                .map_or(String::new(), |v| format!("{v:.3e}"))
-        )
-        .ok();
+                .map_or(String::new(), |v| format!("{v:.3e}")),
+        ]);
     }
     writeln!(
         o,
         "   (d>o: defined in the baseline, outside in the variant; c = complex)\n"
     )
     .ok();
-    Ok(())
+    Ok(csv)
 }
 
 fn short(status: &str) -> &'static str {
@@ -107,32 +107,29 @@ fn margins(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(), E
         }
     )
     .ok();
-    let mut csv = String::from("channel,order,status,norm_ratio,norm_margin,max_imaginary_nm,range_margin_nm,min_gap_nm,clear\n");
+    let mut csv = Table::new("channel,order,status,norm_ratio,norm_margin,max_imaginary_nm,range_margin_nm,min_gap_nm,clear");
     let opt = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v:.6e}"));
     for (c, rows) in m.iter().enumerate() {
         for r in rows {
-            writeln!(
-                csv,
-                "{},{},{},{:.6e},{:.6e},{:.6e},{},{},{}",
-                CHANNELS[c],
-                r.order,
-                r.status.as_str(),
-                r.norm_ratio,
-                r.norm_margin,
-                r.max_imaginary_nm,
+            csv.row([
+                CHANNELS[c].to_string(),
+                r.order.to_string(),
+                r.status.as_str().to_string(),
+                format!("{:.6e}", r.norm_ratio),
+                format!("{:.6e}", r.norm_margin),
+                format!("{:.6e}", r.max_imaginary_nm),
                 opt(r.range_margin_nm),
                 opt(r.min_gap_nm),
-                r.clear
-            )
-            .ok();
+                r.clear.to_string(),
+            ]);
         }
     }
-    files.push(crate::write(out, "margins.csv", &csv)?);
+    files.push(csv.write(out, "margins.csv")?);
     // Plot: the norm margin of each order (log), one line per channel.
     let path = out.join("margins.svg");
     {
         let root = SVGBackend::new(&path, (720, 460)).into_drawing_area();
-        root.fill(&WHITE).map_err(crate::plot_err)?;
+        root.fill(&WHITE).map_err(crate::plot::plot_err)?;
         let ymax = m
             .iter()
             .flatten()
@@ -147,13 +144,15 @@ fn margins(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(), E
             .x_label_area_size(40)
             .y_label_area_size(60)
             .build_cartesian_2d(0.5f64..16.5, (0.5f64..ymax * 3.0).log_scale())
-            .map_err(crate::plot_err)?;
+            .map_err(crate::plot::plot_err)?;
         chart
             .configure_mesh()
             .x_desc("order")
+            .x_label_formatter(&crate::plot::whole)
             .y_desc("norm margin (log; 1 = undefined)")
+            .y_label_formatter(&crate::plot::power_of_ten)
             .draw()
-            .map_err(crate::plot_err)?;
+            .map_err(crate::plot::plot_err)?;
         for (c, colour) in [(0usize, BLACK), (1, RED), (2, BLUE)] {
             let pts: Vec<(f64, f64)> = m[c]
                 .iter()
@@ -161,7 +160,7 @@ fn margins(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(), E
                 .collect();
             chart
                 .draw_series(LineSeries::new(pts.clone(), colour.stroke_width(2)))
-                .map_err(crate::plot_err)?
+                .map_err(crate::plot::plot_err)?
                 .label(CHANNELS[c])
                 .legend(move |(x, y)| {
                     PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
@@ -176,21 +175,21 @@ fn margins(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(), E
                         Circle::new(p, 4, colour.stroke_width(1))
                     }
                 }))
-                .map_err(crate::plot_err)?;
+                .map_err(crate::plot::plot_err)?;
         }
         chart
             .draw_series(LineSeries::new(
                 vec![(0.5, 1.0), (16.5, 1.0)],
                 BLACK.mix(0.4),
             ))
-            .map_err(crate::plot_err)?;
+            .map_err(crate::plot::plot_err)?;
         chart
             .configure_series_labels()
             .border_style(BLACK)
             .background_style(WHITE.mix(0.8))
             .draw()
-            .map_err(crate::plot_err)?;
-        root.present().map_err(crate::plot_err)?;
+            .map_err(crate::plot::plot_err)?;
+        root.present().map_err(crate::plot::plot_err)?;
     }
     files.push(path);
     Ok(())
@@ -213,34 +212,35 @@ fn breakdown(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(),
         }
     }
     writeln!(o, "   (chosen: Stieltjes in the scaled variable, balanced Jacobi matrix, Golub-Welsch/Christoffel weights)\n").ok();
-    let mut csv = String::from("method,channel,order,reference_status,method_status,node_error_nm,weight_error,moment_residual\n");
+    let mut csv = Table::new("method,channel,order,reference_status,method_status,node_error_nm,weight_error,moment_residual");
     let opt = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v:.3e}"));
     for mc in &cmp.methods {
         for e in &mc.errors {
-            writeln!(
-                csv,
-                "{},{},{},{},{},{},{},{}",
-                mc.method.name(),
-                CHANNELS[mc.channel],
-                e.order,
-                e.reference.as_str(),
-                e.alternative.as_str(),
+            csv.row([
+                mc.method.name().to_string(),
+                CHANNELS[mc.channel].to_string(),
+                e.order.to_string(),
+                e.reference.as_str().to_string(),
+                e.alternative.as_str().to_string(),
                 opt(e.node_error_nm),
                 opt(e.weight_error),
-                opt(e.alternative_residual)
-            )
-            .ok();
+                opt(e.alternative_residual),
+            ]);
         }
     }
-    files.push(crate::write(out, "breakdown.csv", &csv)?);
+    files.push(csv.write(out, "breakdown.csv")?);
     // Plot: each method's moment residual (how far its rule is from integrating x^k exactly,
     // k < 2n), worst channel, against the order; it applies to every method alike.
     let path = out.join("breakdown.svg");
     {
-        let root = SVGBackend::new(&path, (760, 480)).into_drawing_area();
-        root.fill(&WHITE).map_err(crate::plot_err)?;
+        // The legend below the chart: inside, it covered the lines of the higher orders.
+        const COLUMNS: usize = 3;
+        let legend_h = crate::plot::legend_height(stability::Method::ALL.len(), COLUMNS);
+        let root = SVGBackend::new(&path, (760, 480 + legend_h)).into_drawing_area();
+        root.fill(&WHITE).map_err(crate::plot::plot_err)?;
+        let (top, below) = root.split_vertically(480);
         const FLOOR: f64 = 1e-13;
-        let mut chart = ChartBuilder::on(&root)
+        let mut chart = ChartBuilder::on(&top)
             .caption(
                 "Moment residual of each method's rules (worst channel)",
                 ("sans-serif", 18),
@@ -249,14 +249,15 @@ fn breakdown(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(),
             .x_label_area_size(40)
             .y_label_area_size(60)
             .build_cartesian_2d(0.5f64..30.5, (FLOOR..1e3).log_scale())
-            .map_err(crate::plot_err)?;
+            .map_err(crate::plot::plot_err)?;
         chart
             .configure_mesh()
             .x_desc("order")
+            .x_label_formatter(&crate::plot::whole)
             .y_desc("moment residual (log; failed rules drawn at 100)")
-            .y_label_formatter(&|v| format!("{v:.0e}"))
+            .y_label_formatter(&crate::plot::power_of_ten)
             .draw()
-            .map_err(crate::plot_err)?;
+            .map_err(crate::plot::plot_err)?;
         let colours = [BLACK, RED, MAGENTA, GREEN, BLUE, CYAN];
         for (method, colour) in stability::Method::ALL.iter().zip(colours) {
             let pts: Vec<(f64, f64)> = (1..=30)
@@ -276,19 +277,15 @@ fn breakdown(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(),
                 .collect();
             chart
                 .draw_series(LineSeries::new(pts, colour.stroke_width(2)))
-                .map_err(crate::plot_err)?
-                .label(method.name())
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
-                });
+                .map_err(crate::plot::plot_err)?;
         }
-        chart
-            .configure_series_labels()
-            .border_style(BLACK)
-            .background_style(WHITE.mix(0.8))
-            .draw()
-            .map_err(crate::plot_err)?;
-        root.present().map_err(crate::plot_err)?;
+        let entries: Vec<(String, RGBColor)> = stability::Method::ALL
+            .iter()
+            .zip(colours)
+            .map(|(m, c)| (m.name().to_string(), c))
+            .collect();
+        crate::plot::legend(&below, &entries, COLUMNS)?;
+        root.present().map_err(crate::plot::plot_err)?;
     }
     files.push(path);
     Ok(())
@@ -392,8 +389,8 @@ fn spiky(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(), Err
         "   (a line between nodes is invisible to plain sampling: ΔE00 about 100 for most lines)\n"
     )
     .ok();
-    let mut csv = String::from(
-        "set,distinct_wavelengths,group,method,mean_de00,median_de00,max_de00,mean_de76\n",
+    let mut csv = Table::new(
+        "set,distinct_wavelengths,group,method,mean_de00,median_de00,max_de00,mean_de76",
     );
     for s in &sum.sets {
         for (group, scores) in [
@@ -403,27 +400,25 @@ fn spiky(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(), Err
         ] {
             for m in Method::ALL {
                 let sc = scores.get(m);
-                writeln!(
-                    csv,
-                    "{},{},{group},{},{:.4},{:.4},{:.4},{:.4}",
-                    s.name,
-                    s.wavelengths,
-                    m.as_str(),
-                    sc.mean_de00,
-                    sc.median_de00,
-                    sc.max_de00,
-                    sc.mean_de76
-                )
-                .ok();
+                csv.row([
+                    s.name.clone(),
+                    s.wavelengths.to_string(),
+                    group.to_string(),
+                    m.as_str().to_string(),
+                    format!("{:.4}", sc.mean_de00),
+                    format!("{:.4}", sc.median_de00),
+                    format!("{:.4}", sc.max_de00),
+                    format!("{:.4}", sc.mean_de76),
+                ]);
             }
         }
     }
-    files.push(crate::write(out, "spiky.csv", &csv)?);
+    files.push(csv.write(out, "spiky.csv")?);
     // Plot: mean ΔE00 on the F-series per set, one marker per method.
     let path = out.join("prefilter.svg");
     {
         let root = SVGBackend::new(&path, (820, 480)).into_drawing_area();
-        root.fill(&WHITE).map_err(crate::plot_err)?;
+        root.fill(&WHITE).map_err(crate::plot::plot_err)?;
         let ymax = sum
             .sets
             .iter()
@@ -444,7 +439,7 @@ fn spiky(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(), Err
             .x_label_area_size(70)
             .y_label_area_size(50)
             .build_cartesian_2d(-0.5f64..n as f64 - 0.5, (0.01f64..ymax * 2.0).log_scale())
-            .map_err(crate::plot_err)?;
+            .map_err(crate::plot::plot_err)?;
         let names: Vec<String> = sum.sets.iter().map(|s| s.name.clone()).collect();
         chart
             .configure_mesh()
@@ -461,7 +456,7 @@ fn spiky(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(), Err
             .y_desc("mean ΔE00 (log)")
             .y_label_formatter(&|v| format!("{v}"))
             .draw()
-            .map_err(crate::plot_err)?;
+            .map_err(crate::plot::plot_err)?;
         let colours = [BLACK, MAGENTA, RED, BLUE, GREEN, CYAN];
         for (k, (m, colour)) in methods.iter().zip(colours).enumerate() {
             let dx = (k as f64 - 2.5) * 0.1;
@@ -473,7 +468,7 @@ fn spiky(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(), Err
                 .collect();
             chart
                 .draw_series(pts.iter().map(|p| Circle::new(*p, 4, colour.filled())))
-                .map_err(crate::plot_err)?
+                .map_err(crate::plot::plot_err)?
                 .label(m.as_str())
                 .legend(move |(x, y)| Circle::new((x, y), 4, colour.filled()));
         }
@@ -482,8 +477,8 @@ fn spiky(o: &mut String, out: &Path, files: &mut Vec<PathBuf>) -> Result<(), Err
             .border_style(BLACK)
             .background_style(WHITE.mix(0.8))
             .draw()
-            .map_err(crate::plot_err)?;
-        root.present().map_err(crate::plot_err)?;
+            .map_err(crate::plot::plot_err)?;
+        root.present().map_err(crate::plot::plot_err)?;
     }
     files.push(path);
     Ok(())
@@ -545,9 +540,7 @@ pub fn section(out: &Path) -> Result<(String, Vec<PathBuf>), Error> {
     writeln!(o, "6. Stability").ok();
     margins(&mut o, out, &mut files)?;
     breakdown(&mut o, out, &mut files)?;
-    let mut csv = String::new();
-    sensitivity(&mut o, &mut csv)?;
-    files.push(crate::write(out, "sensitivity.csv", &csv)?);
+    files.push(sensitivity(&mut o)?.write(out, "sensitivity.csv")?);
     spiky(&mut o, out, &mut files)?;
     extremes(&mut o)?;
     Ok((o, files))

@@ -11,6 +11,7 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+use crate::plot::{self, plot_err};
 use plotters::prelude::*;
 use spectral_quadrature::Upsampling;
 use spectral_quadrature_build as sqd;
@@ -18,6 +19,7 @@ use spectral_quadrature_tools as tools;
 use sqd::evaluate::{self, Curve, EvalSet, Spectra};
 use sqd::upsampling::{self as up, Baked};
 use sqd::Derivation;
+use tools::csv_table::Table;
 use tools::upsampling::{
     jakob_hanika::JakobHanika,
     mean_p95, relit_de00,
@@ -317,24 +319,19 @@ pub fn section(i: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
     writeln!(o).ok();
     o.push_str(&default_scene_maps(d)?);
 
-    let mut csv = String::from("method,n,light,mean_de00,p95_de00,reflectances\n");
+    let mut csv = Table::new("method,n,light,mean_de00,p95_de00,reflectances");
     for c in &cells {
         let (m, p) = mean_p95(&c.de);
-        writeln!(
-            csv,
-            "{},{},{},{m:.6},{p:.6},{}",
-            METHODS[c.method],
-            c.n,
-            c.light,
-            c.de.len()
-        )
-        .ok();
+        csv.row([
+            METHODS[c.method].to_string(),
+            c.n.to_string(),
+            c.light.clone(),
+            format!("{m:.6}"),
+            format!("{p:.6}"),
+            c.de.len().to_string(),
+        ]);
     }
-    let csv_path = out.join("upsampling.csv");
-    std::fs::write(&csv_path, csv).map_err(|source| Error::Write {
-        path: csv_path.clone(),
-        source,
-    })?;
+    let csv_path = csv.write(out, "upsampling.csv")?;
     let svg = plot(out, &cells)?;
     Ok((o, vec![csv_path, svg]))
 }
@@ -382,38 +379,6 @@ fn default_scene_maps(d: &Derivation) -> Result<String, Error> {
 
 fn plot(out: &Path, cells: &[Cell]) -> Result<PathBuf, Error> {
     let path = out.join("upsampling.svg");
-    let err = |e: &dyn std::fmt::Debug| Error::Plot(std::format!("{e:?}"));
-    let root = SVGBackend::new(&path, (760, 480)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| err(&e))?;
-    let mean = |method: usize, n: usize| {
-        let de: Vec<f64> = cells
-            .iter()
-            .filter(|c| c.method == method && c.n == n)
-            .flat_map(|c| c.de.iter().copied())
-            .collect();
-        mean_p95(&de).0
-    };
-    let top = (0..METHODS.len())
-        .flat_map(|m| SIZES.map(|n| mean(m, n)))
-        .fold(0.0f64, f64::max)
-        * 1.15;
-    let mut chart = ChartBuilder::on(&root)
-        .caption(
-            "RGB materials relit: mean ΔE00 at the nodes of KQ_N",
-            ("sans-serif", 20),
-        )
-        .margin(12)
-        .x_label_area_size(40)
-        .y_label_area_size(50)
-        .build_cartesian_2d(3.5f64..8.5, 0.0..top)
-        .map_err(|e| err(&e))?;
-    chart
-        .configure_mesh()
-        .x_desc("wavelengths (N)")
-        .y_desc("mean ΔE00")
-        .x_labels(6)
-        .draw()
-        .map_err(|e| err(&e))?;
     let colours = [
         BLACK,
         RGBColor(200, 40, 40),
@@ -422,26 +387,62 @@ fn plot(out: &Path, cells: &[Cell]) -> Result<PathBuf, Error> {
         RGBColor(40, 150, 60),
         RGBColor(170, 110, 30),
     ];
-    for (m, name) in METHODS.iter().enumerate() {
-        let c = colours[m];
+    // The legend below the chart: the six names are long, and inside the plotting area they
+    // covered the lines.
+    const COLUMNS: usize = 2;
+    let legend_h = plot::legend_height(METHODS.len(), COLUMNS);
+    let root = SVGBackend::new(&path, (760, 480 + legend_h)).into_drawing_area();
+    root.fill(&WHITE).map_err(plot_err)?;
+    let (top, below) = root.split_vertically(480);
+    let mean = |method: usize, n: usize| {
+        let de: Vec<f64> = cells
+            .iter()
+            .filter(|c| c.method == method && c.n == n)
+            .flat_map(|c| c.de.iter().copied())
+            .collect();
+        mean_p95(&de).0
+    };
+    let ymax = (0..METHODS.len())
+        .flat_map(|m| SIZES.map(|n| mean(m, n)))
+        .fold(0.0f64, f64::max)
+        * 1.15;
+    let mut chart = ChartBuilder::on(&top)
+        .caption(
+            "RGB materials relit: mean ΔE00 at the nodes of KQ_N",
+            ("sans-serif", 20),
+        )
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(50)
+        .build_cartesian_2d(3.5f64..8.5, 0.0..ymax)
+        .map_err(plot_err)?;
+    chart
+        .configure_mesh()
+        .x_desc("wavelengths (N)")
+        .y_desc("mean ΔE00")
+        .x_labels(SIZES.len() + 2)
+        .x_label_formatter(&plot::whole)
+        .draw()
+        .map_err(plot_err)?;
+    for (m, c) in colours.iter().enumerate() {
         let pts: Vec<(f64, f64)> = SIZES.iter().map(|&n| (n as f64, mean(m, n))).collect();
         chart
             .draw_series(LineSeries::new(pts.clone(), c.stroke_width(2)))
-            .map_err(|e| err(&e))?
-            .label(*name)
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], c.stroke_width(2)));
+            .map_err(plot_err)?;
         chart
             .draw_series(pts.iter().map(|p| Circle::new(*p, 4, c.filled())))
-            .map_err(|e| err(&e))?;
+            .map_err(plot_err)?;
     }
-    chart
-        .configure_series_labels()
-        .border_style(BLACK)
-        .background_style(WHITE.mix(0.85))
-        .draw()
-        .map_err(|e| err(&e))?;
-    root.present().map_err(|e| err(&e))?;
+    let entries: Vec<(String, RGBColor)> = METHODS
+        .iter()
+        .zip(colours)
+        .map(|(m, c)| (m.to_string(), c))
+        .collect();
+    plot::legend(&below, &entries, COLUMNS)?;
+    root.present().map_err(plot_err)?;
     drop(chart);
+    drop(top);
+    drop(below);
     drop(root);
     Ok(path)
 }

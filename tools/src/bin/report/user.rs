@@ -26,17 +26,18 @@ pub struct Extra {
     pub timing: EvalSet,
 }
 
-/// The shared sets at every budget folded for each of `lights` (the user's), with the
+/// The shared sets of each size of `sizes` folded for each of `lights` (the user's), with the
 /// stimuli they are judged on: `surfaces` under that light.
 pub fn folded_for_lights(
     d: &Derivation,
     lights: &[Curve],
     surfaces: &[Curve],
+    sizes: &[usize],
 ) -> Result<Vec<Folded>, Error> {
     lights
         .iter()
         .map(|l| {
-            let sets = budget::shared_sets_for(d, Some(l))?;
+            let sets = budget::shared_sets_sized(d, Some(l), sizes.iter().copied())?;
             let stimuli = evaluate::surfaces_under_lights(surfaces, std::slice::from_ref(l));
             Ok((l.clone(), sets, stimuli))
         })
@@ -58,15 +59,30 @@ pub fn light_extras(folded: &[Folded], surfaces_from: &str) -> Vec<Extra> {
         .collect()
 }
 
+/// Whether two curves are the same light: equal at every nm of `range` (to 1e-9 of the larger).
+fn same_curve(a: &Curve, b: &Curve, range: [f64; 2]) -> bool {
+    let (lo, hi) = (range[0].ceil() as i64, range[1].floor() as i64);
+    (lo..=hi).all(|nm| {
+        let (x, y) = (a.at(nm as f64), b.at(nm as f64));
+        (x - y).abs() <= 1e-9 * x.abs().max(y.abs())
+    })
+}
+
 /// The sets of the scene at `path` (read with the report's derivation, whose settings the
 /// scene must keep), each with what it is judged on. Sensor sets come with the plain
 /// least-squares fit beside them (trained on the CIE test colour samples under the sensor's
 /// light, or C for a sensor fitted for radiances).
+///
+/// A light of the scene's `[lights]` may also be one of `--illuminants` (`illuminants`, read
+/// from `illuminants_from`): the same spectrum under the same name is one light, whose sets
+/// section 4 measures once; a different spectrum under the same name is an error.
 pub fn scene_extras(
     d: &Derivation,
     path: &Path,
     surfaces: &[Curve],
     surfaces_from: &str,
+    illuminants: &[Curve],
+    illuminants_from: &str,
 ) -> Result<Vec<Extra>, Error> {
     let label = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|e| sqd::DataError {
@@ -85,6 +101,50 @@ pub fn scene_extras(
     }
     let (lights, fitted) = scene.resolve_user(d)?;
     crate::tools::warn_zeroed("report", &sqd::scene::user_warnings(&lights, &fitted));
+    for l in &lights {
+        if let Some(other) = illuminants.iter().find(|o| o.name == l.name) {
+            if !same_curve(&l.curve, other, d.settings.range_nm) {
+                let line = scene
+                    .user
+                    .lights
+                    .iter()
+                    .find(|s| s.name == l.name)
+                    .map_or(0, |s| s.line as u64);
+                return Err(sqd::DataError {
+                    file: label.clone(),
+                    line,
+                    message: format!(
+                        "the scene's light {} ({}) is not the light of that name in {illuminants_from}: name one of them otherwise",
+                        l.name, l.file
+                    ),
+                }
+                .into());
+            }
+        }
+    }
+    // A misspelt light in a set name: the message lists the scene's lights beside the
+    // built-in ones (the catalogue knows only the latter).
+    let unknown_light = |e: sqd::Error, line: usize| {
+        match e {
+        sqd::Error::SetName {
+            name,
+            problem: sqd::SetNameProblem::UnknownLight { light, valid },
+        } => Error::from(sqd::DataError {
+            file: label.clone(),
+            line: line as u64,
+            message: format!(
+                "{name}: {light} is neither a built-in illuminant ({}) nor a light of the scene's [lights] ({})",
+                valid.join(", "),
+                if lights.is_empty() {
+                    "it has none".to_string()
+                } else {
+                    lights.iter().map(|l| l.name.as_str()).collect::<Vec<_>>().join(", ")
+                }
+            ),
+        }),
+        e => Error::from(e.at(&label, line as u64)),
+    }
+    };
     let light_curve = |name: &str| -> Result<Curve, Error> {
         if let Some(l) = lights.iter().find(|l| l.name == name) {
             return Ok(l.curve.clone());
@@ -104,7 +164,7 @@ pub fn scene_extras(
     let mut out = Vec::new();
     for (name, line) in &scene.sets {
         let set =
-            sqd::catalog::resolve_with(d, name, &lights).map_err(|e| e.at(&label, *line as u64))?;
+            sqd::catalog::resolve_with(d, name, &lights).map_err(|e| unknown_light(e, *line))?;
         let light = set.light.as_deref().map(light_curve).transpose()?;
         let e = shared::eval_on_radiance(d, &set, "scene", light.as_ref())?;
         let eval = Extra {
