@@ -52,8 +52,18 @@ pub(crate) const EDGES: [f32; 22] = [
 /// Says in the test's output that a check did not run on this machine, and why: written to the
 /// process's standard error directly, past the test harness's capture (which holds back
 /// `eprintln!` of passing tests), so that a skipped check shows in every run; once per message.
-pub(crate) fn skipped(what: &str, why: &str) {
+///
+/// `capability` names what is missing (`"avx512"`, `"avx2"`). Where the environment variable
+/// `SPECTRAL_QUADRATURE_REQUIRE` lists it (comma-separated; `.ci/run` sets it from the machine's
+/// `/proc/cpuinfo`), the machine has it and the test must not pass by skipping: this panics.
+pub(crate) fn skipped(capability: &str, what: &str, why: &str) {
     use std::io::Write;
+    if required(capability) {
+        panic!(
+            "{what}: {why}, but SPECTRAL_QUADRATURE_REQUIRE says this machine has {capability}: \
+             the check may not be skipped here"
+        );
+    }
     static SAID: std::sync::Mutex<std::vec::Vec<std::string::String>> =
         std::sync::Mutex::new(std::vec::Vec::new());
     let line = std::format!("skipped: {what}: {why}");
@@ -62,4 +72,10 @@ pub(crate) fn skipped(what: &str, why: &str) {
         let _ = writeln!(std::io::stderr(), "{line}");
         said.push(line);
     }
+}
+
+/// Whether `SPECTRAL_QUADRATURE_REQUIRE` (a comma-separated list) names `capability`.
+pub(crate) fn required(capability: &str) -> bool {
+    std::env::var("SPECTRAL_QUADRATURE_REQUIRE")
+        .is_ok_and(|list| list.split(',').any(|c| c.trim() == capability))
 }

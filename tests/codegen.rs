@@ -256,6 +256,13 @@ fn rustfmt_accepts_the_baked_tables() {
     // Where rustfmt is not installed (a toolchain without the component), only the widths
     // above are checked; say so in the test output (written past the harness's capture).
     let missing = |why: &str| {
+        // Where `.ci/run` found rustfmt (SPECTRAL_QUADRATURE_REQUIRE names it), it must run.
+        let required = std::env::var("SPECTRAL_QUADRATURE_REQUIRE")
+            .is_ok_and(|list| list.split(',').any(|c| c.trim() == "rustfmt"));
+        assert!(
+            !required,
+            "rustfmt is not available ({why}), but SPECTRAL_QUADRATURE_REQUIRE says this machine has it"
+        );
         let note = format!(
             "note: rustfmt is not available ({why}): tables.rs checked for 100 columns only\n"
         );

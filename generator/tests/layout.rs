@@ -87,6 +87,13 @@ light = "F11"
 #[test]
 fn rustfmt_leaves_every_scenes_tables_as_they_are() {
     let missing = |why: &str| {
+        // Where `.ci/run` found rustfmt (SPECTRAL_QUADRATURE_REQUIRE names it), it must run.
+        let required = std::env::var("SPECTRAL_QUADRATURE_REQUIRE")
+            .is_ok_and(|list| list.split(',').any(|c| c.trim() == "rustfmt"));
+        assert!(
+            !required,
+            "rustfmt is not available ({why}), but SPECTRAL_QUADRATURE_REQUIRE says this machine has it"
+        );
         let note = format!(
             "note: rustfmt is not available ({why}): the scenes' tables checked for 100 columns only\n"
         );

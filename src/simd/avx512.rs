@@ -761,6 +761,7 @@ mod tests {
     fn the_vector_encoder_is_exact_where_it_does_not_flag() {
         if !available() {
             crate::test_inputs::skipped(
+                "avx512",
                 "the AVX-512 encoder",
                 "this CPU has no AVX-512 (F, BW, VBMI)",
             );
@@ -817,6 +818,7 @@ mod tests {
     fn the_encoders_error_stays_inside_its_window() {
         if !available() {
             crate::test_inputs::skipped(
+                "avx512",
                 "the AVX-512 encoder",
                 "this CPU has no AVX-512 (F, BW, VBMI)",
             );

@@ -41,6 +41,8 @@ fn past_line(buf: &[f32], k: usize) -> usize {
 #[cfg(target_arch = "x86_64")]
 struct X86Loops<const N: usize> {
     name: &'static str,
+    /// What `SPECTRAL_QUADRATURE_REQUIRE` calls the CPU feature the loops need.
+    capability: &'static str,
     available: bool,
     /// Pixels per group of the sRGB loops.
     group: usize,
@@ -69,6 +71,7 @@ fn x86_loops<const N: usize>() -> [X86Loops<N>; 2] {
     [
         X86Loops {
             name: "AVX-512",
+            capability: "avx512",
             available: avx512::available(),
             group: avx512::LANES,
             planar: avx512::encode_srgb8_planar::<N>,
@@ -78,6 +81,7 @@ fn x86_loops<const N: usize>() -> [X86Loops<N>; 2] {
         },
         X86Loops {
             name: "AVX2",
+            capability: "avx2",
             available: avx2::available(),
             group: avx2::LANES,
             planar: avx2::encode_srgb8_planar::<N>,
@@ -159,6 +163,7 @@ fn check<const N: usize>(set: &crate::FoldedSet<N>, pixels: usize, seed: u64) {
     for x86 in x86_loops::<N>() {
         if !x86.available {
             skipped(
+                x86.capability,
                 &std::format!("the {} loops, N = {N}", x86.name),
                 "this CPU does not have them",
             );
@@ -333,11 +338,22 @@ fn with_loops(level: Loops, f: impl FnOnce()) {
         f();
     } else {
         skipped(
+            capability(level),
             &std::format!("the public functions with the {} loops", level.name()),
             &std::format!("this CPU's fastest loops are {}", got.name()),
         );
     }
     force(Loops::Avx512);
+}
+
+/// What a CPU needs for `level`'s loops, as `SPECTRAL_QUADRATURE_REQUIRE` names it (the scalar
+/// and portable loops need nothing).
+fn capability(level: Loops) -> &'static str {
+    match level {
+        Loops::Avx512 => "avx512",
+        Loops::Avx2 => "avx2",
+        Loops::Scalar | Loops::Portable => "",
+    }
 }
 
 /// The level whose loop an interleaved sRGB call at width `n` takes under a cap of `level`:
