@@ -28,6 +28,14 @@ impl LuxScale {
     /// in nm (every [`WavelengthSet`](crate::WavelengthSet) the scene bakes; not the folded sets,
     /// which divide by [`UNIT_SPECTRUM_Y`](crate::tables::UNIT_SPECTRUM_Y)): Y is then
     /// ∫ ȳ E dλ in W·m⁻², and K_m = 683.002 lm/W (CIE 015) turns it into lux.
+    ///
+    /// The V(λ) this assumes is the scene's ȳ over the scene's range (CIE 1931 2° over
+    /// 380-770 nm by default): a set approximates that integral, where CIE 015 integrates
+    /// V(λ) = ȳ(λ) over 360-830 nm. For the CIE illuminants and LED lights in `data/` the
+    /// scene's range leaves out less than 10⁻⁵ of the standard's illuminance (at most
+    /// 6.5 × 10⁻⁶, illuminant E; `cargo test --test integration -- sensor_lights:: --nocapture`),
+    /// far below a set's own error, so the scale is not corrected for it. With another observer
+    /// the scene's ȳ is that observer's, not V(λ).
     pub const SPECTRAL_IRRADIANCE: LuxScale = LuxScale { lux_per_y: 683.002 };
 
     /// From one reading of a known light: `y`, the Y the set gave for it, and `lux`, its

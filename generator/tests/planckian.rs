@@ -11,7 +11,7 @@ const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");
 fn locus(observer: sqd::ObserverId) -> PlanckianLocus {
     let settings = sqd::Settings::for_observer(observer, DATA_DIR).unwrap();
     let d = sqd::derive(&settings).unwrap();
-    PlanckianLocus::new(&d.observer, d.settings.range_nm).unwrap()
+    PlanckianLocus::standard(&d.observer).unwrap()
 }
 
 fn tables(text: &str) -> String {
@@ -103,4 +103,45 @@ fn the_scene_decides() {
         .resolve(&d)
         .unwrap();
     assert!(default.extras.cct);
+}
+
+/// The locus is integrated over CIE 015's 360-830 nm whatever the derivation's range, clipped
+/// to the observer's table (the CIE 2015 tables start at 390 nm).
+#[test]
+fn the_locus_range_is_cie_015s() {
+    assert_eq!(planckian::CIE_015_RANGE_NM, [360.0, 830.0]);
+    for (observer, range) in [
+        (sqd::ObserverId::Cie1931_2deg, [360.0, 830.0]),
+        (sqd::ObserverId::Cie1964_10deg, [360.0, 830.0]),
+        (sqd::ObserverId::Cie2015_2deg, [390.0, 830.0]),
+        (sqd::ObserverId::Cie2015_10deg, [390.0, 830.0]),
+    ] {
+        let settings = sqd::Settings::for_observer(observer, DATA_DIR).unwrap();
+        let o = observer.load(std::path::Path::new(DATA_DIR)).unwrap();
+        assert_eq!(planckian::standard_range_nm(&o), range, "{observer:?}");
+        let standard = PlanckianLocus::standard(&o).unwrap();
+        assert_eq!(standard, PlanckianLocus::new(&o, range).unwrap());
+        // The derivation's own range (380-770 or 390-770 nm) is another locus.
+        let scene = PlanckianLocus::new(&o, settings.range_nm).unwrap();
+        assert_ne!(standard.uv(153.8), scene.uv(153.8), "{observer:?}");
+    }
+    // A scene integrating over another range bakes the same locus, and its doc says the range.
+    let default = tables("sets = [\"TABLE2_ROW2\"]\ndisplays = [\"SRGB\"]\n[extras]\ncct = true\n");
+    let narrow = tables(
+        "range_nm = [400, 700]\nsets = [\"TABLE2_ROW2\"]\ndisplays = [\"SRGB\"]\n[extras]\ncct = true\n",
+    );
+    let locus = |t: &str| {
+        let start = t.find("pub const PLANCKIAN_LOCUS").unwrap();
+        let end = start + t[start..].find("};").unwrap();
+        t[start..end].to_string()
+    };
+    assert_eq!(locus(&default), locus(&narrow));
+    let doc = default.replace("\n/// ", " ");
+    assert!(doc.contains("at 1 nm over 360-830 nm, CIE 015's range, whatever range the scene"));
+    let cie2015 = tables(
+        "observer = \"cie2015_2deg\"\nsets = [\"TABLE2_ROW2\"]\ndisplays = [\"SRGB\"]\n[extras]\ncct = true\n",
+    )
+    .replace("\n/// ", " ");
+    assert!(cie2015
+        .contains("at 1 nm over 390-830 nm, CIE 015's 360-830 nm clipped to the observer's table"));
 }

@@ -5,6 +5,8 @@
 // part of it.
 #![allow(dead_code)]
 
+pub mod cie015;
+
 use std::fmt::Debug;
 
 use proptest::strategy::Strategy;

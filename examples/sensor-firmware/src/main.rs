@@ -219,7 +219,7 @@ fn results(out: &mut impl Write) -> core::fmt::Result {
         write!(out, " {g}")?;
     }
     writeln!(out, " lux_per_y {}", Bits(device.lux.lux_per_y))?;
-    // The white tile: CCT and Duv of the light (C: 6773 K, Duv −0.0022) as the sensor sees it.
+    // The white tile: CCT and Duv of the light (C: 6771 K, Duv −0.0021) as the sensor sees it.
     let w = read(&device, &DEVICE_WHITE);
     let [x, y, z] = w.xyz.map(Bits);
     writeln!(

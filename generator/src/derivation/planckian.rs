@@ -2,10 +2,14 @@
 //! colour temperature (CCT) and Duv it defines, and the table of locus points the runtime's
 //! `PlanckianLocus::cct` interpolates.
 //!
-//! The locus is Planck's law integrated against the observer's x̄ȳz̄ at 1 nm over the
-//! derivation's range (the same integration every exact colour of the crate uses), with the
-//! second radiation constant of CIE 015 (c₂ = 1.4388 × 10⁻² m·K). It is parametrised by the
-//! reciprocal temperature in mired, μ = 10⁶ / T, in which it is smooth up to T = ∞ (μ = 0).
+//! The locus is Planck's law integrated against the observer's x̄ȳz̄ at 1 nm over CIE 015's
+//! range, 360-830 nm, whatever range the derivation integrates colours over (380-770 nm by
+//! default): CCT and Duv have a standard definition, and a user compares them with other
+//! instruments and software. Where the observer's table starts later or ends sooner (the CIE
+//! 2015 tables start at 390 nm), its own table clipped to 360-830 nm ([`standard_range_nm`]).
+//! The second radiation constant is CIE 015's (c₂ = 1.4388 × 10⁻² m·K). The locus is
+//! parametrised by the reciprocal temperature in mired, μ = 10⁶ / T, in which it is smooth up to
+//! T = ∞ (μ = 0).
 //!
 //! The CCT of a chromaticity is the temperature of the nearest point of the locus in (u, v), and
 //! Duv its distance, positive above the locus (toward green) and negative below (toward
@@ -21,6 +25,20 @@ use crate::base::error::Error;
 
 /// Planck's second radiation constant as CIE 015 gives it, in nm·K (1.4388 × 10⁻² m·K).
 pub const C2_NM_K: f64 = 1.4388e7;
+
+/// CIE 015's range of integration for colorimetry, nm: the Planckian locus's (and so CCT's and
+/// Duv's) whatever the derivation's range.
+pub const CIE_015_RANGE_NM: [f64; 2] = [360.0, 830.0];
+
+/// The range the standard locus of `observer` is integrated over: [`CIE_015_RANGE_NM`] clipped
+/// to the observer's table (390-830 nm for the CIE 2015 observers, whose tables start at
+/// 390 nm; 360-830 nm for CIE 1931 2° and CIE 1964 10°).
+pub fn standard_range_nm(observer: &Observer) -> [f64; 2] {
+    let [lo, hi] = CIE_015_RANGE_NM;
+    let first = observer.wavelengths.first().copied().unwrap_or(lo);
+    let last = observer.wavelengths.last().copied().unwrap_or(hi);
+    [lo.max(first), hi.min(last)]
+}
 
 /// The locus table's ends in mired: 10 (100 000 K) to 1000 (1000 K).
 pub const TABLE_MIRED: [f64; 2] = [10.0, 1000.0];
@@ -83,7 +101,10 @@ pub struct CctDuv {
     pub duv: f64,
 }
 
-/// The Planckian locus of one observer over one range of wavelengths.
+/// The Planckian locus of one observer over one range of wavelengths: the standard one
+/// ([`PlanckianLocus::standard`], CIE 015's 360-830 nm) for CCT and Duv, which the runtime's
+/// table bakes; another range only to measure what the range changes
+/// ([`PlanckianLocus::new`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct PlanckianLocus {
     /// x̄ȳz̄ · dλ on the 1 nm grid.
@@ -112,8 +133,18 @@ pub fn xyz_from_uv([u, v]: [f64; 2]) -> [f64; 3] {
 }
 
 impl PlanckianLocus {
-    /// The locus with `observer` over `range_nm` at 1 nm (the grid of the crate's exact
-    /// integration). Errors: the range is not on the observer's 1 nm table.
+    /// The standard locus of `observer`, the one CCT and Duv are defined on: Planck's law
+    /// against its x̄ȳz̄ at 1 nm over [`standard_range_nm`] (CIE 015's 360-830 nm, clipped to the
+    /// observer's table), whatever range the derivation integrates colours over. The runtime's
+    /// `tables::PLANCKIAN_LOCUS` is this locus's [`table`](Self::table). Errors: the observer's
+    /// table is not at 1 nm (or a divisor of it) on whole nm.
+    pub fn standard(observer: &Observer) -> Result<PlanckianLocus, Error> {
+        PlanckianLocus::new(observer, standard_range_nm(observer))
+    }
+
+    /// The locus with `observer` over `range_nm` at 1 nm: not CIE 015's unless the range is
+    /// [`standard_range_nm`] ([`standard`](Self::standard)); another range serves to measure
+    /// what the range changes. Errors: the range is not on the observer's 1 nm table.
     pub fn new(observer: &Observer, range_nm: [f64; 2]) -> Result<PlanckianLocus, Error> {
         let full = full_integration(observer, range_nm, 1.0)?;
         let per_wavelength = full

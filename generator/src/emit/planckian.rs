@@ -7,15 +7,17 @@ use std::vec::Vec;
 use super::layout::{self, Expr};
 use crate::base::error::Error;
 use crate::derivation::derive::Derivation;
-use crate::derivation::planckian::PlanckianLocus;
+use crate::derivation::planckian::{standard_range_nm, PlanckianLocus};
 
-/// The item `PLANCKIAN_LOCUS` for `d`'s observer and range, and how many f32 values it holds.
+/// The item `PLANCKIAN_LOCUS` for `d`'s observer over CIE 015's range (360-830 nm, clipped to
+/// the observer's table), whatever `d`'s range, and how many f32 values it holds.
 /// `f32_literal` writes each value (the code generator's, which calls this one).
 pub(crate) fn planckian_rs(
     d: &Derivation,
     f32_literal: impl Fn(f64) -> Result<String, Error>,
 ) -> Result<(String, usize), Error> {
-    let locus = PlanckianLocus::new(&d.observer, d.settings.range_nm)?;
+    let locus = PlanckianLocus::standard(&d.observer)?;
+    let [lo_nm, hi_nm] = standard_range_nm(&d.observer);
     let nodes = locus.table();
     let pairs = |f: &dyn Fn(usize) -> [f64; 2]| -> Result<Expr, Error> {
         (0..nodes.len())
@@ -65,7 +67,14 @@ pub(crate) fn planckian_rs(
         ],
     );
     let doc = std::format!(
-        "The Planckian locus in CIE 1960 (u, v) with this observer, {} to {} mired ({} K to {} K): {} nodes, each a point, its tangent d(u, v)/dμ, the chord to the next and the tangent's direction in fixed point, close enough that their cubic Hermite interpolation stays within 5e-9 of the locus. [`PlanckianLocus::cct`](crate::PlanckianLocus::cct) gives the CCT and Duv of an XYZ.",
+        "The Planckian locus in CIE 1960 (u, v), Planck's law (c₂ = 1.4388e-2 m·K) against the {} functions ({}) at 1 nm over {lo_nm}-{hi_nm} nm, {}, whatever range the scene integrates colours over; {} to {} mired ({} K to {} K): {} nodes, each a point, its tangent d(u, v)/dμ, the chord to the next and the tangent's direction in fixed point, close enough that their cubic Hermite interpolation stays within 5e-9 of the locus. [`PlanckianLocus::cct`](crate::PlanckianLocus::cct) gives the CCT and Duv of an XYZ.",
+        d.observer.name,
+        d.observer.file,
+        if [lo_nm, hi_nm] == [360.0, 830.0] {
+            "CIE 015's range"
+        } else {
+            "CIE 015's 360-830 nm clipped to the observer's table"
+        },
         nodes[0].mired,
         nodes[nodes.len() - 1].mired,
         (1e6 / nodes[nodes.len() - 1].mired).round(),
