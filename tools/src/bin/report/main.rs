@@ -65,7 +65,7 @@ struct Args {
     /// its own files' rule with `clamp_negatives = true`.
     #[arg(long)]
     clamp_negatives: bool,
-    /// Folder for the CSV files and SVG plots.
+    /// Folder for the CSV files and SVG plots, relative to the current folder.
     #[arg(long, value_name = "DIR", default_value = "target/report")]
     out: PathBuf,
     /// Print only section 4 (error against run time) as CSV on standard output.
