@@ -1,6 +1,8 @@
 //! Bakes `OUT_DIR/tables.rs` and the shader snippets with the generator crate
 //! (`spectral-quadrature-build`), from this crate's `data/` and the scene named by the
-//! environment variable `SPECTRAL_QUADRATURE_SCENE` (or the default scene).
+//! environment variable `SPECTRAL_QUADRATURE_SCENE` (or the default scene). With the feature
+//! `default-scene` the variable is not read: the default scene, whatever the environment says
+//! (for the desk tools; see DESIGN.md, "The desk tools and the scene").
 
 use std::path::PathBuf;
 
@@ -8,7 +10,6 @@ use spectral_quadrature_build::{generate, SCENE_ENV};
 
 fn main() {
     println!("cargo:rerun-if-changed=build.rs");
-    println!("cargo:rerun-if-env-changed={SCENE_ENV}");
     // Armv7E-M (Cortex-M4, M4F, M7) has the DSP extension's dual 16-bit multiply-accumulate,
     // which the integer path uses through inline assembly; rustc sets no target feature for
     // it on these targets, so the target's name decides.
@@ -20,7 +21,31 @@ fn main() {
     let crate_dir = PathBuf::from(
         std::env::var_os("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR"),
     );
-    let scene = std::env::var_os(SCENE_ENV);
+    // For dependents' build scripts (`links`): DEP_SPECTRAL_QUADRATURE_CRATE_DIR and
+    // DEP_SPECTRAL_QUADRATURE_DATA_DIR, where this package's files are however it was obtained
+    // (a checkout, Cargo's copy of the published package). The desk tools read the data there.
+    println!("cargo::metadata=crate_dir={}", crate_dir.display());
+    println!(
+        "cargo::metadata=data_dir={}",
+        crate_dir.join("data").display()
+    );
+    let scene = if std::env::var_os("CARGO_FEATURE_DEFAULT_SCENE").is_some() {
+        // The runtime's own code reads `tables` (the observer's matrices, the displays' transfer
+        // curves), so a scene applies to the whole crate: an application whose results must not
+        // depend on the environment (the desk tools) takes the default scene for all of it. The
+        // variable is not tracked, so a change to it rebuilds nothing.
+        if std::env::var_os(SCENE_ENV).is_some() {
+            println!(
+                "cargo:warning=spectral-quadrature build: the feature `default-scene` is on (the \
+                 desk tools enable it): {SCENE_ENV} is not read, the tables are the default \
+                 scene's"
+            );
+        }
+        None
+    } else {
+        println!("cargo:rerun-if-env-changed={SCENE_ENV}");
+        std::env::var_os(SCENE_ENV)
+    };
     let out = generate(&crate_dir, scene.as_deref()).unwrap_or_else(|e| fail(&e.to_string()));
     for path in &out.rerun_if_changed {
         println!("cargo:rerun-if-changed={}", path.display());

@@ -23,13 +23,16 @@ pub mod sensitivity;
 pub mod stability;
 pub mod upsampling;
 
-/// The runtime crate's `data/` in this workspace: the CIE tables, illuminants and reflectances
-/// the derivation reads ([`spectral_quadrature_build::Settings::data_dir`]).
-pub const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");
+/// The runtime package's `data/`: the CIE tables, illuminants and reflectances the derivation
+/// reads ([`spectral_quadrature_build::Settings::data_dir`]). The runtime's build script names
+/// it (build.rs): the workspace's `data/` in a checkout (`cargo run`, `cargo install --path
+/// tools`), Cargo's unpacked copy of the published `spectral-quadrature` package for
+/// `cargo install spectral-quadrature-tools`. An absolute path: the tools run from any folder.
+pub const DATA_DIR: &str = env!("SPECTRAL_QUADRATURE_TOOLS_DATA_DIR");
 
-/// The runtime crate's root in this workspace: where its build script finds `data/` and
+/// The runtime package's root (see [`DATA_DIR`]): where its build script finds `data/` and
 /// resolves a relative `SPECTRAL_QUADRATURE_SCENE`.
-pub const CRATE_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+pub const CRATE_DIR: &str = env!("SPECTRAL_QUADRATURE_TOOLS_CRATE_DIR");
 
 /// `items.iter().map(f).collect()`, with the items shared among as many threads as the machine
 /// has cores (each thread takes the next item when it is done with one, so uneven items balance),

@@ -67,7 +67,7 @@ struct Args {
     /// its own files' rule with `clamp_negatives = true`.
     #[arg(long)]
     clamp_negatives: bool,
-    /// Folder for the CSV files and SVG plots.
+    /// Folder for the CSV files and SVG plots, relative to the current folder.
     #[arg(long, value_name = "DIR", default_value = "target/report")]
     out: PathBuf,
     /// Run section 4 (error against run time) alone and print it as CSV on standard output,
