@@ -22,6 +22,17 @@ fn cache() -> Vec<CacheEntry> {
     shared::read_cache(Path::new(DATA_DIR)).expect("data/shared_nodes.csv parses")
 }
 
+/// The checked-in cache, read and written again (through the `csv` crate's writer, as
+/// `tables --shared-cache` writes it), is the same bytes.
+#[test]
+fn the_cache_file_round_trips_through_the_writer() {
+    let text = std::fs::read_to_string(Path::new(DATA_DIR).join("shared_nodes.csv")).unwrap();
+    assert!(
+        shared::write_cache(&cache()) == text,
+        "data/shared_nodes.csv is not what the writer makes of it"
+    );
+}
+
 #[test]
 fn the_cache_holds_every_cached_set_with_current_fingerprints() {
     let d = derivation();

@@ -198,6 +198,19 @@ fn radiance_sets_reach_round_trip_and_linear_maps() {
 
 const REGENERATE: &str = "regenerate with `cargo run --release -p spectral-quadrature-tools --bin tables -- --upsampling-cache > data/upsampling_codes.csv`";
 
+/// The checked-in cache, read and written again (through the `csv` crate's writer, as
+/// `tables --upsampling-cache` writes it), is the same bytes.
+#[test]
+fn the_cache_file_round_trips_through_the_writer() {
+    let data = std::path::Path::new(DATA_DIR);
+    let text = std::fs::read_to_string(data.join("upsampling_codes.csv")).unwrap();
+    let cache = up::read_cache(data).expect("data/upsampling_codes.csv parses");
+    assert!(
+        up::write_cache(&cache) == text,
+        "data/upsampling_codes.csv is not what the writer makes of it"
+    );
+}
+
 #[test]
 fn the_cache_equals_a_fresh_fit_of_every_default_map() {
     let d = derive(&Settings::new(DATA_DIR)).unwrap();

@@ -381,9 +381,9 @@ fn every_csv_the_report_writes_parses_strictly_with_a_light_named_with_a_comma()
     assert_eq!(code, Some(0), "{stderr}");
     assert!(stdout.contains("8. RGB materials"), "{stdout}");
     let csvs = check_files(&out, &stderr);
-    let (header, rows) = &csvs["random_wavelengths.csv"];
-    let judged = header.iter().position(|h| h == "judged_on").unwrap();
-    assert!(rows.iter().any(|r| r[judged] == format!("under {name}")));
+    // Section 7: the light's folded set (its only light: judged on all stimuli).
+    let (_, rows) = &csvs["random_vs_fixed.csv"];
+    assert!(rows.iter().any(|r| r[0] == format!("KQ_{name}_8")));
     let (header, rows) = &csvs["upsampling.csv"];
     assert_eq!(header.len(), 6);
     assert!(rows
@@ -466,6 +466,20 @@ fn a_light_in_the_scene_and_in_illuminants_is_measured_once_and_judged_on_all_st
     // The ten surfaces under WARM_LED are every stimulus: every row says so alike.
     let judged: std::collections::BTreeSet<&str> = rows.iter().map(|r| r[7].as_str()).collect();
     assert_eq!(judged, ["all stimuli"].into(), "{judged:?}");
+    // Section 7 too: its samplers and fixed sets, the light's folded sets among them, are judged
+    // on all stimuli, with no second group "under WARM_LED" of the same ten.
+    for file in ["random_wavelengths.csv", "random_vs_fixed.csv"] {
+        let (header, rows) = &csvs[file];
+        let at = header.iter().position(|h| h == "judged_on").unwrap();
+        let judged: std::collections::BTreeSet<&str> =
+            rows.iter().map(|r| r[at].as_str()).collect();
+        assert_eq!(judged, ["all stimuli"].into(), "{file}: {judged:?}");
+    }
+    let (_, reach) = &csvs["random_vs_fixed.csv"];
+    assert!(
+        reach.iter().any(|r| r[0] == "KQ_WARM_LED_8"),
+        "section 7 judges the light's folded set"
+    );
 }
 
 #[test]

@@ -461,3 +461,29 @@ pub(crate) fn read_text(path: &std::path::Path) -> Result<(String, String), Data
 fn line_of(e: &csv::Error) -> u64 {
     e.position().map_or(0, |p| p.line())
 }
+
+/// The text of a CSV file the crate writes (the node and upsampling caches): `comments`, each
+/// on a line of its own after `# `, then the header and the rows through the `csv` crate's
+/// writer, which quotes a field where CSV needs it and refuses a row whose length differs from
+/// the header's (a bug of the caller: this panics then).
+pub(crate) fn write_csv(comments: &[&str], header: &str, rows: &[Vec<String>]) -> String {
+    let mut text = String::new();
+    for line in comments {
+        text += "# ";
+        text += line;
+        text += "\n";
+    }
+    let mut writer = csv::WriterBuilder::new()
+        .flexible(false)
+        .from_writer(Vec::new());
+    let written = writer
+        .write_record(header.split(','))
+        .and_then(|()| rows.iter().try_for_each(|r| writer.write_record(r)));
+    if let Err(e) = written {
+        panic!("a cache row does not fit its header ({header}): {e}");
+    }
+    let bytes = writer
+        .into_inner()
+        .unwrap_or_else(|e| panic!("writing to memory: {}", e.error()));
+    text + &String::from_utf8(bytes).expect("the fields are UTF-8")
+}

@@ -148,11 +148,17 @@ pub fn section(x: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
         .map(|t| t.cells.span_nm())
         .ok_or_else(|| Error::Sampling("no stimuli".into()))?;
     let mut groups: Vec<(Group, Vec<usize>)> = vec![(Group::All, (0..x.stimuli.len()).collect())];
+    // A light under which every stimulus lies (the user's only light) has no group of its own:
+    // its stimuli are all of them, and its rows say "all stimuli" like every other row judged on
+    // them, not "under" it for the same stimuli.
+    let mut covering_all: Vec<&Curve> = Vec::new();
     for l in x.lights {
         let which: Vec<usize> = (0..x.stimuli.len())
             .filter(|&k| x.stimuli[k].reflectance.is_some() && x.stimuli[k].light.name == l.name)
             .collect();
-        if !which.is_empty() {
+        if which.len() == x.stimuli.len() {
+            covering_all.push(l);
+        } else if !which.is_empty() {
             groups.push((Group::Light(l.name.clone()), which));
         }
     }
@@ -236,12 +242,11 @@ pub fn section(x: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
         for set in &radiance {
             fixed.push(judge(set, group, which, None)?);
         }
-        if let Group::Light(name) = group {
-            let light = x
-                .lights
-                .iter()
-                .find(|l| &l.name == name)
-                .expect("groups come from the lights");
+        let folded: Vec<&Curve> = match group {
+            Group::Light(name) => x.lights.iter().filter(|l| &l.name == name).collect(),
+            Group::All => covering_all.clone(),
+        };
+        for light in folded {
             for n in SIZES {
                 let t = Instant::now();
                 let set = budget::shared_sets_sized(x.d, Some(light), [n])?.remove(0);
@@ -491,7 +496,8 @@ fn text(
         .enumerate()
         .filter(|(_, (g, _))| match g {
             Group::Light(l) => x.users_lights || SPIKY.contains(&l.as_str()),
-            Group::All => false,
+            // The user's only light: its folded sets are judged on all stimuli.
+            Group::All => x.users_lights && groups.len() == 1 && !x.lights.is_empty(),
         })
         .map(|(i, _)| i)
         .collect();
