@@ -5,6 +5,7 @@ use std::string::{String, ToString};
 use std::vec::Vec;
 
 use super::layout::{self, Expr};
+use super::lists::names_rs;
 use crate::base::error::Error;
 use crate::derivation::evaluate::builtin_lights;
 use crate::scenes::scene::Resolved;
@@ -45,6 +46,7 @@ pub(crate) fn upsampling_rs(
     }
     let mut o = String::new();
     let mut bytes = 0;
+    let mut names = Vec::new();
     o.push_str(&layout::comment(
         0,
         "///",
@@ -146,6 +148,7 @@ pub(crate) fn upsampling_rs(
             &value,
         ));
         o.push('\n');
+        names.push(name.clone());
         for (lang, ext, decl, where_) in [
             (
                 "WGSL",
@@ -184,6 +187,7 @@ pub(crate) fn upsampling_rs(
             }
         }
     }
+    o.push_str(&names_rs("upsampling", "upsampling", &names));
     o.push_str("}\n\n");
     Ok((o, bytes))
 }
