@@ -20,7 +20,7 @@ use super::observer::Observer;
 use crate::base::error::Error;
 
 /// Planck's second radiation constant as CIE 015 gives it, in nm·K (1.4388 × 10⁻² m·K).
-pub const C2_NM_K: f64 = 1.4388e7;
+pub(crate) const C2_NM_K: f64 = 1.4388e7;
 
 /// The locus table's ends in mired: 10 (100 000 K) to 1000 (1000 K).
 pub const TABLE_MIRED: [f64; 2] = [10.0, 1000.0];
@@ -38,7 +38,7 @@ pub const TABLE_TOLERANCE_UV: f64 = 5e-9;
 /// f32 rounding of (u, v) alone moves the foot where the locus is slowest (3 × 10⁻⁸ over
 /// 2.3 × 10⁻⁴ per mired, at 1000 K): a tighter one doubles the table and changes the runtime's
 /// largest error by a tenth (`tests/cct.rs` prints it).
-pub const TABLE_TOLERANCE_MIRED: f64 = 1e-4;
+pub(crate) const TABLE_TOLERANCE_MIRED: f64 = 1e-4;
 
 /// The largest |Duv| the table is made for.
 const TABLE_MAX_DUV: f64 = 0.05;
@@ -301,7 +301,7 @@ impl PlanckianLocus {
 }
 
 /// The derivative d(u, v)/dμ of [`hermite`] at t.
-pub fn hermite_tangent(a: &LocusNode, b: &LocusNode, t: f64) -> [f64; 2] {
+pub(crate) fn hermite_tangent(a: &LocusNode, b: &LocusNode, t: f64) -> [f64; 2] {
     let h = b.mired - a.mired;
     let t2 = t * t;
     let (d00, d10, d01, d11) = (

@@ -12,7 +12,7 @@ use crate::scenes::scene::Resolved;
 use crate::upsampling::{Baked, CACHE_FILE, TRAINING_FILES};
 
 /// The const name of the upsampling of `set` for `display`: `<SET>_<DISPLAY>`.
-pub fn const_name(set: &str, display: &str) -> String {
+pub(crate) fn const_name(set: &str, display: &str) -> String {
     std::format!("{set}_{display}")
 }
 
@@ -194,7 +194,7 @@ pub(crate) fn upsampling_rs(
 
 /// The file in `OUT_DIR` that holds the shader source of the upsampling of `set` for `display`
 /// in the language whose extension is `ext` (`wgsl`, `glsl`): `tables.rs` includes it.
-pub fn shader_file(set: &str, display: &str, ext: &str) -> String {
+pub(crate) fn shader_file(set: &str, display: &str, ext: &str) -> String {
     std::format!(
         "upsampling_{}.{ext}",
         const_name(set, display).to_ascii_lowercase()

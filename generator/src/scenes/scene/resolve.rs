@@ -7,7 +7,7 @@ use std::string::{String, ToString};
 use std::vec::Vec;
 
 use super::parse::{Extras, PlanRequest, Scene, DEFAULT_SHARED_SETS};
-use crate::base::error::{DataError, Error};
+use crate::base::error::Error;
 use crate::base::files::read_error;
 use crate::base::table::{Negatives, ZeroedNegatives};
 use crate::derivation::derive::Derivation;
@@ -194,7 +194,7 @@ impl Scene {
     /// Each sensor's white reference and, where the scene gives readings, the calibration
     /// fitted to them ([`calibration`]). Errors name the scene's line that declares the sensor,
     /// around the file's own error (which names its line).
-    pub fn resolve_sensors(
+    pub(crate) fn resolve_sensors(
         &self,
         d: &Derivation,
         lights: &[UserLight],
@@ -250,13 +250,8 @@ impl Scene {
                     let golden =
                         calibration::golden_readings(d, &sensor, light.as_ref(), &reflectances)
                             .map_err(within)?;
-                    let fit = calibration::fit(&golden, &readings.values).map_err(|message| {
-                        within(Error::Data(DataError {
-                            file: label.clone(),
-                            line: 0,
-                            message,
-                        }))
-                    })?;
+                    let fit = calibration::fit(&golden, &readings.values)
+                        .map_err(|e| within(e.at(&label, 0)))?;
                     Some(fit)
                 }
             };
