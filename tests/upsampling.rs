@@ -43,42 +43,21 @@ struct Fresh {
     light_at_nodes: Option<Vec<f64>>,
 }
 
-/// The default scene's upsamplings: its shared sets and Table 2's rows on every display, by
-/// const name.
+/// The named upsamplings with their folded sets, by const name.
 macro_rules! maps {
-    ($($name:ident),* $(,)?) => {
+    ($($name:ident,)*) => {
         [$((stringify!($name), &(upsampling::$name, folded::$name) as &(dyn Dyn + Sync))),*]
     };
 }
 
 /// Each baked upsampling of the default scene (with its folded set) and its fresh bake.
 fn all_maps() -> Vec<(&'static (dyn Dyn + Sync), Fresh)> {
-    let all = maps![
-        KQ_C_4_SRGB,
-        KQ_C_4_DISPLAY_P3,
-        KQ_C_4_REC2020,
-        KQ_C_4_MEYER_1987,
-        KQ_C_6_SRGB,
-        KQ_C_6_DISPLAY_P3,
-        KQ_C_6_REC2020,
-        KQ_C_6_MEYER_1987,
-        KQ_C_8_SRGB,
-        KQ_C_8_DISPLAY_P3,
-        KQ_C_8_REC2020,
-        KQ_C_8_MEYER_1987,
-        KQ_F11_6_SRGB,
-        KQ_F11_6_DISPLAY_P3,
-        KQ_F11_6_REC2020,
-        KQ_F11_6_MEYER_1987,
-        TABLE2_ROW1_SRGB,
-        TABLE2_ROW1_DISPLAY_P3,
-        TABLE2_ROW1_REC2020,
-        TABLE2_ROW1_MEYER_1987,
-        TABLE2_ROW2_SRGB,
-        TABLE2_ROW2_DISPLAY_P3,
-        TABLE2_ROW2_REC2020,
-        TABLE2_ROW2_MEYER_1987,
-    ];
+    // The build's own list of the upsamplings it baked.
+    let all = upsampling::all!(maps);
+    assert_eq!(all.len(), upsampling::NAMES.len());
+    // The list holds every upsampling the build baked.
+    let baked = include_str!(concat!(env!("OUT_DIR"), "/tables.rs"));
+    assert_eq!(baked.matches(": Upsampling<").count(), all.len());
     let (d, r) = fresh();
     assert_eq!(
         all.len(),

@@ -59,7 +59,9 @@ mod scenes;
 pub mod shared;
 pub mod upsampling;
 
-pub use base::error::{DataError, DisplayProblem, Error, LightProblem, SetNameProblem};
+pub use base::error::{
+    CalibrationProblem, DataError, DisplayProblem, Error, LightProblem, SetNameProblem,
+};
 pub use base::files::{data_path, sha256_hex};
 pub use base::table;
 pub use derivation::derive::{derive, derive_with, Derivation};

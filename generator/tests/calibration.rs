@@ -283,6 +283,7 @@ fn the_fit_is_exact_on_exact_readings() {
     let flat: Vec<Vec<f64>> = (0..5).map(|_| vec![1.0]).collect();
     assert!(calibration::fit(&flat, &flat)
         .unwrap_err()
+        .to_string()
         .contains("channel 1"));
     // The parser on its own.
     let r = Readings::parse("r.csv", "p,a\nx,1\ny,2\nz,3\n", &["a".into()]).unwrap();

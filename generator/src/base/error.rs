@@ -94,6 +94,27 @@ pub enum Error {
     Plan(PlanError),
     /// A worker thread measuring sets panicked.
     Panicked(&'static str),
+    /// A device's readings to which no calibration fits ([`crate::calibration::fit`]).
+    Calibration {
+        /// The sensor's channel, counted from 1.
+        channel: usize,
+        /// Why none fits.
+        problem: CalibrationProblem,
+    },
+}
+
+/// Why a device's readings give no calibration in a channel ([`Error::Calibration`]).
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum CalibrationProblem {
+    /// The golden device reads every reflectance the same: no slope to fit.
+    GoldenFlat,
+    /// The device's readings do not grow with the golden device's (a wrong channel order or a
+    /// dead channel).
+    NotGrowing {
+        /// The fitted slope, not positive (or not finite).
+        slope: f64,
+    },
 }
 
 /// What is wrong with a data file, and where.
@@ -275,6 +296,16 @@ impl fmt::Display for Error {
             Error::NotAscii { language } => write!(f, "{language} text is not ASCII"),
             Error::Plan(e) => e.fmt(f),
             Error::Panicked(what) => write!(f, "{what} panicked"),
+            Error::Calibration { channel, problem } => match problem {
+                CalibrationProblem::GoldenFlat => write!(
+                    f,
+                    "channel {channel}: the golden device reads every reflectance the same; nothing to fit"
+                ),
+                CalibrationProblem::NotGrowing { slope } => write!(
+                    f,
+                    "channel {channel}: the readings do not grow with what the golden device reads (slope {slope:.3e}); are the columns in the sensor's order?"
+                ),
+            },
         }
     }
 }

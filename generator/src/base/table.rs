@@ -33,7 +33,7 @@ use super::error::DataError;
 /// One part in a million is ten orders of magnitude above the rounding noise of a file written
 /// in double precision (about 1e-16 of its largest value), and below what a measured reflectance
 /// or sensitivity can be trusted to.
-pub const NEGATIVE_TOLERANCE: f64 = 1e-6;
+pub(crate) const NEGATIVE_TOLERANCE: f64 = 1e-6;
 
 /// What a reader does with values below zero (see the [module docs](self)).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -437,7 +437,7 @@ pub fn read_table(
 }
 
 /// [`read_table`] with the rule for negative values given ([`parse_table_with`]).
-pub fn read_table_with(
+pub(crate) fn read_table_with(
     path: &std::path::Path,
     columns: Option<usize>,
     spacing: Spacing,

@@ -95,7 +95,7 @@ impl Spectra {
     }
 
     /// The file label.
-    pub fn file(&self) -> &str {
+    pub(crate) fn file(&self) -> &str {
         &self.table.file
     }
 

@@ -24,7 +24,7 @@ use super::observer::Observer;
 use crate::base::error::Error;
 
 /// Planck's second radiation constant as CIE 015 gives it, in nm·K (1.4388 × 10⁻² m·K).
-pub const C2_NM_K: f64 = 1.4388e7;
+pub(crate) const C2_NM_K: f64 = 1.4388e7;
 
 /// CIE 015's range of integration for colorimetry, nm: the Planckian locus's (and so CCT's and
 /// Duv's) whatever the derivation's range.
@@ -56,7 +56,7 @@ pub const TABLE_TOLERANCE_UV: f64 = 5e-9;
 /// f32 rounding of (u, v) alone moves the foot where the locus is slowest (3 × 10⁻⁸ over
 /// 2.3 × 10⁻⁴ per mired, at 1000 K): a tighter one doubles the table and changes the runtime's
 /// largest error by a tenth (`tests/cct.rs` prints it).
-pub const TABLE_TOLERANCE_MIRED: f64 = 1e-4;
+pub(crate) const TABLE_TOLERANCE_MIRED: f64 = 1e-4;
 
 /// The largest |Duv| the table is made for.
 const TABLE_MAX_DUV: f64 = 0.05;
@@ -332,7 +332,7 @@ impl PlanckianLocus {
 }
 
 /// The derivative d(u, v)/dμ of [`hermite`] at t.
-pub fn hermite_tangent(a: &LocusNode, b: &LocusNode, t: f64) -> [f64; 2] {
+pub(crate) fn hermite_tangent(a: &LocusNode, b: &LocusNode, t: f64) -> [f64; 2] {
     let h = b.mired - a.mired;
     let t2 = t * t;
     let (d00, d10, d01, d11) = (

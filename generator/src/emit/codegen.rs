@@ -10,6 +10,7 @@ use std::string::{String, ToString};
 use std::vec::Vec;
 
 use super::layout::{self, Expr};
+use super::lists::names_rs;
 use super::transfer_tables::gamma_encoders_rs;
 use crate::base::error::Error;
 use crate::derivation::derive::Derivation;
@@ -79,7 +80,6 @@ fn weights(w: &[Vec<f64>; 3]) -> Result<Expr, Error> {
 
 /// The runtime's `Samples` value for a set.
 fn samples_literal(set: &WavelengthSet) -> Expr {
-    let quoted = |s: &str| Expr::atom(std::format!("{s:?}"));
     match (&set.sensor, &set.light) {
         (Some(s), light) => Expr::Struct(
             "Samples::Readings".into(),
@@ -151,17 +151,62 @@ pub(crate) fn header(d: &Derivation, inputs: &[(String, String)], scene: &Resolv
 
 /// The generated Rust source for a scene. `inputs` lists (file label, SHA-256) for the header.
 /// It is laid out as rustfmt lays it out: at most 100 columns, one array item a line, or short
-/// numbers filling their lines.
+/// numbers filling their lines. Each section has its emitter below (or in its own module), in
+/// the order the file holds them.
 pub fn tables_rs(
     d: &Derivation,
     inputs: &[(String, String)],
     scene: &Resolved,
 ) -> Result<String, Error> {
-    let mut o = String::new();
+    let mut t = Tables::default();
+    provenance_rs(&mut t, d, inputs, scene);
+    opponent_rs(&mut t, d)?;
+    if scene.extras.cct {
+        let (locus, n) = super::planckian::planckian_rs(d, f32_literal)?;
+        t.o.push_str(&locus);
+        writeln!(t.o).ok();
+        t.floats += n;
+    }
+    if scene.extras.sensitivities {
+        sensitivities_rs(&mut t, d)?;
+    }
+    if scene.extras.rules {
+        rules_rs(&mut t, d)?;
+    }
+    rule_sets_rs(&mut t, scene)?;
+    colour_sets_rs(&mut t, scene)?;
+    displays_rs(&mut t, d, scene)?;
+    folded_rs(&mut t, d, scene)?;
+    let (upsampling, upsampling_bytes) = super::upsampling::upsampling_rs(scene, &f32_literal)?;
+    t.o.push_str(&upsampling);
+    let (sensors, sensor_tables, n) = super::sensors::sensors_rs(&scene.sensors, f32_literal)?;
+    t.o.push_str(&sensors);
+    t.floats += n;
+    t.o.push_str(&super::fixed_point::integer_rs(scene)?);
+    all_tables_rs(&mut t, d, scene, sensor_tables, upsampling_bytes);
+    t.o.push_str(&gamma_encoders_rs(
+        scene.displays.iter().map(|(spec, _)| &spec.transfer),
+    ));
+    Ok(t.o)
+}
+
+/// The text written so far and how many f32 values it bakes (for `TABLE_BYTES`).
+#[derive(Default)]
+struct Tables {
+    o: String,
+    floats: usize,
+}
+
+/// A quoted string literal.
+fn quoted(s: &str) -> Expr {
+    Expr::atom(std::format!("{s:?}"))
+}
+
+/// The file's leading comment, the imports, and the provenance consts: `SCENE`, `OBSERVER`,
+/// `SETTINGS`, `HEADER` and `INPUTS`.
+fn provenance_rs(t: &mut Tables, d: &Derivation, inputs: &[(String, String)], scene: &Resolved) {
+    let o = &mut t.o;
     let s = &d.settings;
-    let n_grid = d.grid_nm.len();
-    let max_order = s.max_order;
-    let mut floats = 0usize;
     let header = header(d, inputs, scene);
     o.push_str(&layout::comment(0, "//", header.trim_end(), 4));
     writeln!(o).ok();
@@ -170,24 +215,22 @@ pub fn tables_rs(
         "#[allow(unused_imports)]\nuse crate::{{Channel, GaussRule, RuleStatus, Samples, WavelengthSet}};\n"
     )
     .ok();
-
-    let quoted = |s: &str| Expr::atom(std::format!("{s:?}"));
     item(
-        &mut o,
+        o,
         0,
         "The scene these tables were baked for (`default`, or the file named by `SPECTRAL_QUADRATURE_SCENE`).",
         "pub const SCENE: &str =",
         &quoted(&scene.file),
     );
     item(
-        &mut o,
+        o,
         0,
         "The observer the tables were derived from.",
         "pub const OBSERVER: &str =",
         &quoted(s.observer.name()),
     );
     item(
-        &mut o,
+        o,
         0,
         "The derivation's settings, as one line.",
         "pub const SETTINGS: &str =",
@@ -195,7 +238,7 @@ pub fn tables_rs(
     );
     let header_lhs = "pub const HEADER: &str =";
     item(
-        &mut o,
+        o,
         0,
         "The header of the generated tables: the generator, the settings, the scene, and every input file with its SHA-256 (the provenance a firmware can log at start-up).",
         header_lhs,
@@ -206,285 +249,322 @@ pub fn tables_rs(
         .map(|(f, h)| Expr::Tuple(std::vec![quoted(f), quoted(h)]))
         .collect();
     item(
-        &mut o,
+        o,
         0,
         "The input files (relative to the crate root, or as the scene names them) and their SHA-256 checksums: the observer, the scene and any file it names, and every data file a baked set was made from (a shared set's training reflectances, light and node cache).",
         "pub const INPUTS: &[(&str, &str)] =",
         &Expr::Array(inputs_lit).by_ref(),
     );
+}
+
+/// The range, the grid step, the AC1C2 matrices (Eq. 9), the eigenvalues (Eq. 10) and the unit
+/// spectrum's Y.
+fn opponent_rs(t: &mut Tables, d: &Derivation) -> Result<(), Error> {
+    let o = &mut t.o;
+    let s = &d.settings;
     item(
-        &mut o,
+        o,
         0,
         "The spectrum's limits in nm (Eq. 2).",
         "pub const RANGE_NM: [f32; 2] =",
         &f32s(&s.range_nm)?,
     );
     item(
-        &mut o,
+        o,
         0,
         "The grid step in nm: weights are for dλ in nm.",
         "pub const STEP_NM: f32 =",
         &Expr::Atom(f32_literal(s.step_nm)?),
     );
     item(
-        &mut o,
+        o,
         0,
         "Eq. 9: `[A, C1, C2] = XYZ_TO_AC1C2 · [X, Y, Z]` (rows scaled to unit peak sensitivity).",
         "pub const XYZ_TO_AC1C2: [[f32; 3]; 3] =",
         &matrix(&d.opponent.xyz_to_ac1c2)?,
     );
     item(
-        &mut o,
+        o,
         0,
         "The inverse of [`XYZ_TO_AC1C2`]: `[X, Y, Z] = AC1C2_TO_XYZ · [A, C1, C2]`.",
         "pub const AC1C2_TO_XYZ: [[f32; 3]; 3] =",
         &matrix(&d.opponent.ac1c2_to_xyz)?,
     );
     item(
-        &mut o,
+        o,
         0,
         "Eq. 10: eigenvalues of the covariance matrix of Eq. 4 for A, C1, C2 (largest first).",
         "pub const EIGENVALUES: [f32; 3] =",
         &f32s(&d.opponent.eigenvalues)?,
     );
     item(
-        &mut o,
+        o,
         0,
         "∫ ȳ dλ over the grid (dλ in nm): the luminance Y of a spectrum of constant 1 with these weights' units. The folded sets divide by it.",
         "pub const UNIT_SPECTRUM_Y: f32 =",
         &Expr::Atom(f32_literal(d.unit_spectrum_y)?),
     );
     writeln!(o).ok();
-    floats += 9 + 9 + 3 + 1;
+    t.floats += 9 + 9 + 3 + 1;
+    Ok(())
+}
 
-    if scene.extras.cct {
-        let (locus, n) = super::planckian::planckian_rs(d, f32_literal)?;
-        o.push_str(&locus);
-        writeln!(o).ok();
-        floats += n;
-    }
+/// The `sensitivities` extra: the grid and the opponent sensitivities on it (Fig. 4).
+fn sensitivities_rs(t: &mut Tables, d: &Derivation) -> Result<(), Error> {
+    let o = &mut t.o;
+    let n_grid = d.grid_nm.len();
+    item(
+        o,
+        0,
+        "The number of grid wavelengths.",
+        "pub const GRID_LEN: usize =",
+        &Expr::atom(n_grid.to_string()),
+    );
+    item(
+        o,
+        0,
+        "The grid wavelengths in nm.",
+        "pub const GRID_NM: [f32; GRID_LEN] =",
+        &f32s(&d.grid_nm)?,
+    );
+    let rows = d
+        .sensitivities
+        .iter()
+        .map(|r| f32s(r))
+        .collect::<Result<Vec<_>, Error>>()?;
+    item(
+        o,
+        0,
+        "The opponent sensitivities `[ā, c̄1, c̄2]` at each grid wavelength (Fig. 4).",
+        "pub const SENSITIVITIES: [[f32; 3]; GRID_LEN] =",
+        &Expr::Array(rows),
+    );
+    writeln!(o).ok();
+    t.floats += 4 * n_grid;
+    Ok(())
+}
 
-    if scene.extras.sensitivities {
-        item(
-            &mut o,
-            0,
-            "The number of grid wavelengths.",
-            "pub const GRID_LEN: usize =",
-            &Expr::atom(n_grid.to_string()),
-        );
-        item(
-            &mut o,
-            0,
-            "The grid wavelengths in nm.",
-            "pub const GRID_NM: [f32; GRID_LEN] =",
-            &f32s(&d.grid_nm)?,
-        );
-        let rows = d
-            .sensitivities
+/// The `rules` extra: every channel's Gauss rules as `GaussRule`s, defined or not.
+fn rules_rs(t: &mut Tables, d: &Derivation) -> Result<(), Error> {
+    let o = &mut t.o;
+    item(
+        o,
+        0,
+        "Rules were formed for orders 1..=MAX_ORDER in each channel.",
+        "pub const MAX_ORDER: usize =",
+        &Expr::atom(d.settings.max_order.to_string()),
+    );
+    for (c, name) in CHANNELS.iter().enumerate() {
+        let items = d.rules[c]
             .iter()
-            .map(|r| f32s(r))
+            .map(|r| rule_literal(c, r))
             .collect::<Result<Vec<_>, Error>>()?;
         item(
-            &mut o,
-            0,
-            "The opponent sensitivities `[ā, c̄1, c̄2]` at each grid wavelength (Fig. 4).",
-            "pub const SENSITIVITIES: [[f32; 3]; GRID_LEN] =",
-            &Expr::Array(rows),
-        );
-        writeln!(o).ok();
-        floats += 4 * n_grid;
-    }
-
-    if scene.extras.rules {
-        item(
-            &mut o,
-            0,
-            "Rules were formed for orders 1..=MAX_ORDER in each channel.",
-            "pub const MAX_ORDER: usize =",
-            &Expr::atom(max_order.to_string()),
-        );
-        for (c, name) in CHANNELS.iter().enumerate() {
-            let items = d.rules[c]
-                .iter()
-                .map(|r| rule_literal(c, r))
-                .collect::<Result<Vec<_>, Error>>()?;
-            item(
-                &mut o,
-                0,
-                &std::format!("Channel {name}'s Gauss rules, `{name}_RULES[n - 1]` of order n: nodes and weights, or why the order is undefined."),
-                &std::format!("pub const {name}_RULES: [GaussRule; MAX_ORDER] ="),
-                &Expr::Array(items),
-            );
-            floats += d.rules[c]
-                .iter()
-                .filter(|r| r.is_defined())
-                .map(|r| 2 * r.order)
-                .sum::<usize>();
-        }
-        item(
-            &mut o,
-            0,
-            "All rules, indexed `[channel][order - 1]` with channels A, C1, C2.",
-            "pub const RULES: [[GaussRule; MAX_ORDER]; 3] =",
-            &Expr::Array(std::vec![
-                Expr::atom("A_RULES"),
-                Expr::atom("C1_RULES"),
-                Expr::atom("C2_RULES")
-            ]),
-        );
-        writeln!(o).ok();
-    }
-
-    if !scene.rule_sets.is_empty() {
-        o.push_str(&layout::comment(0, "///", "Per-channel Gauss rules as [`WavelengthSet`]s (the other two rows zero), named `<channel>_<order>`.", 0));
-        writeln!(
             o,
-            "pub mod rules {{\n    use crate::{{Samples, WavelengthSet}};"
-        )
-        .ok();
-        for set in &scene.rule_sets {
-            item(
-                &mut o,
-                4,
-                &set.doc,
-                &std::format!("pub const {}: WavelengthSet<{}> =", set.name, set.len()),
-                &set_literal(set)?,
-            );
-            floats += 4 * set.len();
-        }
-        writeln!(o, "}}\n").ok();
+            0,
+            &std::format!("Channel {name}'s Gauss rules, `{name}_RULES[n - 1]` of order n: nodes and weights, or why the order is undefined."),
+            &std::format!("pub const {name}_RULES: [GaussRule; MAX_ORDER] ="),
+            &Expr::Array(items),
+        );
+        t.floats += d.rules[c]
+            .iter()
+            .filter(|r| r.is_defined())
+            .map(|r| 2 * r.order)
+            .sum::<usize>();
     }
+    item(
+        o,
+        0,
+        "All rules, indexed `[channel][order - 1]` with channels A, C1, C2.",
+        "pub const RULES: [[GaussRule; MAX_ORDER]; 3] =",
+        &Expr::Array(std::vec![
+            Expr::atom("A_RULES"),
+            Expr::atom("C1_RULES"),
+            Expr::atom("C2_RULES")
+        ]),
+    );
+    writeln!(o).ok();
+    Ok(())
+}
 
+/// `pub mod rules`: the scene's per-channel rules as wavelength sets.
+fn rule_sets_rs(t: &mut Tables, scene: &Resolved) -> Result<(), Error> {
+    if scene.rule_sets.is_empty() {
+        return Ok(());
+    }
+    let o = &mut t.o;
+    o.push_str(&layout::comment(0, "///", "Per-channel Gauss rules as [`WavelengthSet`]s (the other two rows zero), named `<channel>_<order>`.", 0));
+    writeln!(
+        o,
+        "pub mod rules {{\n    use crate::{{Samples, WavelengthSet}};"
+    )
+    .ok();
+    for set in &scene.rule_sets {
+        item(
+            o,
+            4,
+            &set.doc,
+            &std::format!("pub const {}: WavelengthSet<{}> =", set.name, set.len()),
+            &set_literal(set)?,
+        );
+        t.floats += 4 * set.len();
+    }
+    writeln!(o, "}}\n").ok();
+    Ok(())
+}
+
+/// The scene's colour sets, at the top level.
+fn colour_sets_rs(t: &mut Tables, scene: &Resolved) -> Result<(), Error> {
     for set in &scene.colour_sets {
         item(
-            &mut o,
+            &mut t.o,
             0,
             &set.doc,
             &std::format!("pub const {}: WavelengthSet<{}> =", set.name, set.len()),
             &set_literal(set)?,
         );
-        floats += 4 * set.len();
+        t.floats += 4 * set.len();
     }
+    Ok(())
+}
 
-    if !scene.displays.is_empty() {
-        // One blank line before the displays, also where the rule sets' module ends in one.
-        if !o.ends_with("\n\n") {
-            writeln!(o).ok();
-        }
-        o.push_str(&layout::comment(0, "///", "Displays: primaries, white and transfer function, with matrices derived in f64 (white at Y = 1).", 0));
-        writeln!(
+/// `pub mod displays`: each display's primaries, white, matrices and transfer, and `ALL`.
+fn displays_rs(t: &mut Tables, d: &Derivation, scene: &Resolved) -> Result<(), Error> {
+    if scene.displays.is_empty() {
+        return Ok(());
+    }
+    let o = &mut t.o;
+    // One blank line before the displays, also where the rule sets' module ends in one.
+    if !o.ends_with("\n\n") {
+        writeln!(o).ok();
+    }
+    o.push_str(&layout::comment(0, "///", "Displays: primaries, white and transfer function, with matrices derived in f64 (white at Y = 1).", 0));
+    writeln!(
+        o,
+        "pub mod displays {{\n    use crate::{{Display, TransferFunction}};"
+    )
+    .ok();
+    let mut names = Vec::new();
+    for (spec, m) in &scene.displays {
+        let a_from_rgb: Vec<f64> = (0..3)
+            .map(|j| {
+                (0..3)
+                    .map(|k| d.opponent.xyz_to_ac1c2[0][k] * m.rgb_to_xyz[k][j])
+                    .sum()
+            })
+            .collect();
+        let transfer = match spec.transfer {
+            Transfer::Linear => "TransferFunction::Linear".to_string(),
+            Transfer::Srgb => "TransferFunction::Srgb".to_string(),
+            Transfer::Gamma(g) => {
+                std::format!("TransferFunction::Gamma({})", f32_literal(g)?)
+            }
+        };
+        let display = Expr::Struct(
+            "Display".into(),
+            std::vec![
+                ("name".into(), quoted(&spec.label)),
+                (
+                    "primaries_xy".into(),
+                    Expr::Array(std::vec![
+                        f32s(&spec.primaries_xy[0])?,
+                        f32s(&spec.primaries_xy[1])?,
+                        f32s(&spec.primaries_xy[2])?,
+                    ]),
+                ),
+                ("white_xy".into(), f32s(&spec.white_xy)?),
+                ("rgb_to_xyz".into(), matrix(&m.rgb_to_xyz)?),
+                ("xyz_to_rgb".into(), matrix(&m.xyz_to_rgb)?),
+                ("a_from_rgb".into(), f32s(&a_from_rgb)?),
+                ("transfer".into(), Expr::Atom(transfer)),
+            ],
+        );
+        item(
             o,
-            "pub mod displays {{\n    use crate::{{Display, TransferFunction}};"
-        )
-        .ok();
-        let mut names = Vec::new();
+            4,
+            &std::format!(
+                "{} White balance Y_r : Y_g : Y_b = {:.4} : {:.4} : {:.4}; matrix condition number {:.2}.",
+                spec.doc, m.luminance[0], m.luminance[1], m.luminance[2], m.condition
+            ),
+            &std::format!("pub const {}: Display =", spec.name),
+            &display,
+        );
+        t.floats += 6 + 2 + 9 + 9 + 3;
+        names.push(Expr::atom(spec.name.clone()));
+    }
+    item(
+        o,
+        4,
+        "Every display above.",
+        &std::format!("pub const ALL: [Display; {}] =", names.len()),
+        &Expr::Array(names),
+    );
+    writeln!(o, "}}\n").ok();
+    Ok(())
+}
+
+/// `pub mod folded`: each colour set folded for each display, and their list (`lists`).
+fn folded_rs(t: &mut Tables, d: &Derivation, scene: &Resolved) -> Result<(), Error> {
+    if scene.colour_sets.is_empty() || scene.displays.is_empty() {
+        return Ok(());
+    }
+    let o = &mut t.o;
+    o.push_str(&layout::comment(0, "///", "Each colour set folded for each display: samples → linear RGB in one 3×N product, a spectrum of constant 1 at Y = 1. Named `<SET>_<DISPLAY>`.", 0));
+    writeln!(
+        o,
+        "pub mod folded {{\n    use crate::{{FoldedSet, Samples}};"
+    )
+    .ok();
+    let mut names = Vec::new();
+    for set in &scene.colour_sets {
         for (spec, m) in &scene.displays {
-            let a_from_rgb: Vec<f64> = (0..3)
-                .map(|j| {
-                    (0..3)
-                        .map(|k| d.opponent.xyz_to_ac1c2[0][k] * m.rgb_to_xyz[k][j])
-                        .sum()
-                })
-                .collect();
-            let transfer = match spec.transfer {
-                Transfer::Linear => "TransferFunction::Linear".to_string(),
-                Transfer::Srgb => "TransferFunction::Srgb".to_string(),
-                Transfer::Gamma(g) => {
-                    std::format!("TransferFunction::Gamma({})", f32_literal(g)?)
-                }
-            };
-            let display = Expr::Struct(
-                "Display".into(),
+            let folded = Expr::Struct(
+                "FoldedSet".into(),
                 std::vec![
-                    ("name".into(), quoted(&spec.label)),
+                    ("wavelengths_nm".into(), f32s(&set.wavelengths_nm)?),
+                    ("weights".into(), weights(&d.folded(set, m))?),
+                    ("samples".into(), samples_literal(set)),
                     (
-                        "primaries_xy".into(),
-                        Expr::Array(std::vec![
-                            f32s(&spec.primaries_xy[0])?,
-                            f32s(&spec.primaries_xy[1])?,
-                            f32s(&spec.primaries_xy[2])?,
-                        ]),
+                        "display".into(),
+                        Expr::atom(std::format!("super::displays::{}", spec.name)),
                     ),
-                    ("white_xy".into(), f32s(&spec.white_xy)?),
-                    ("rgb_to_xyz".into(), matrix(&m.rgb_to_xyz)?),
-                    ("xyz_to_rgb".into(), matrix(&m.xyz_to_rgb)?),
-                    ("a_from_rgb".into(), f32s(&a_from_rgb)?),
-                    ("transfer".into(), Expr::Atom(transfer)),
                 ],
             );
             item(
-                &mut o,
+                o,
                 4,
                 &std::format!(
-                    "{} White balance Y_r : Y_g : Y_b = {:.4} : {:.4} : {:.4}; matrix condition number {:.2}.",
-                    spec.doc, m.luminance[0], m.luminance[1], m.luminance[2], m.condition
+                    "[`{}`](super::{}) folded for [`{}`](super::displays::{}).",
+                    set.name,
+                    set.name,
+                    spec.name,
+                    spec.name
                 ),
-                &std::format!("pub const {}: Display =", spec.name),
-                &display,
+                &std::format!(
+                    "pub const {}_{}: FoldedSet<{}> =",
+                    set.name,
+                    spec.name,
+                    set.len()
+                ),
+                &folded,
             );
-            floats += 6 + 2 + 9 + 9 + 3;
-            names.push(Expr::atom(spec.name.clone()));
+            t.floats += 4 * set.len();
+            names.push(std::format!("{}_{}", set.name, spec.name));
         }
-        item(
-            &mut o,
-            4,
-            "Every display above.",
-            &std::format!("pub const ALL: [Display; {}] =", names.len()),
-            &Expr::Array(names),
-        );
-        writeln!(o, "}}\n").ok();
     }
+    o.push_str(&names_rs("folded", "folded set", &names));
+    writeln!(o, "}}\n").ok();
+    Ok(())
+}
 
-    if !scene.colour_sets.is_empty() && !scene.displays.is_empty() {
-        o.push_str(&layout::comment(0, "///", "Each colour set folded for each display: samples → linear RGB in one 3×N product, a spectrum of constant 1 at Y = 1. Named `<SET>_<DISPLAY>`.", 0));
-        writeln!(
-            o,
-            "pub mod folded {{\n    use crate::{{FoldedSet, Samples}};"
-        )
-        .ok();
-        for set in &scene.colour_sets {
-            for (spec, m) in &scene.displays {
-                let folded = Expr::Struct(
-                    "FoldedSet".into(),
-                    std::vec![
-                        ("wavelengths_nm".into(), f32s(&set.wavelengths_nm)?),
-                        ("weights".into(), weights(&d.folded(set, m))?),
-                        ("samples".into(), samples_literal(set)),
-                        (
-                            "display".into(),
-                            Expr::atom(std::format!("super::displays::{}", spec.name)),
-                        ),
-                    ],
-                );
-                item(
-                    &mut o,
-                    4,
-                    &std::format!(
-                        "[`{}`](super::{}) folded for [`{}`](super::displays::{}).",
-                        set.name,
-                        set.name,
-                        spec.name,
-                        spec.name
-                    ),
-                    &std::format!(
-                        "pub const {}_{}: FoldedSet<{}> =",
-                        set.name,
-                        spec.name,
-                        set.len()
-                    ),
-                    &folded,
-                );
-                floats += 4 * set.len();
-            }
-        }
-        writeln!(o, "}}\n").ok();
-    }
-    let (upsampling, upsampling_bytes) = super::upsampling::upsampling_rs(scene, &f32_literal)?;
-    o.push_str(&upsampling);
-    let (sensors, sensor_tables, n) = super::sensors::sensors_rs(&scene.sensors, f32_literal)?;
-    o.push_str(&sensors);
-    floats += n;
-    o.push_str(&super::fixed_point::integer_rs(scene)?);
+/// `ALL_TABLES` (every numeric table as a slice, by name) and `TABLE_BYTES`.
+fn all_tables_rs(
+    t: &mut Tables,
+    d: &Derivation,
+    scene: &Resolved,
+    sensor_tables: Vec<(String, Expr)>,
+    upsampling_bytes: usize,
+) {
     // Every table as a slice, so a program can link them all (examples/size_probe measures
     // what a scene costs when nothing is left unused).
     let chain = |root: &str, children: &[&str]| {
@@ -579,21 +659,17 @@ pub fn tables_rs(
         .map(|(name, e)| Expr::Tuple(std::vec![quoted(&name), e]))
         .collect();
     item(
-        &mut o,
+        &mut t.o,
         0,
         "Every numeric table above as a slice, by name: for programs that must link them all (see `examples/size_probe.rs`).",
         "pub static ALL_TABLES: &[(&str, &[f32])] =",
         &Expr::Array(all).by_ref(),
     );
     item(
-        &mut o,
+        &mut t.o,
         0,
         "Bytes of the numeric tables above (f32 values; rule tables count their nodes and weights; upsampling tables two bytes a code): what the scene bakes.",
         "pub const TABLE_BYTES: usize =",
-        &Expr::atom((4 * floats + upsampling_bytes).to_string()),
+        &Expr::atom((4 * t.floats + upsampling_bytes).to_string()),
     );
-    o.push_str(&gamma_encoders_rs(
-        scene.displays.iter().map(|(spec, _)| &spec.transfer),
-    ));
-    Ok(o)
 }

@@ -8,6 +8,7 @@ use std::string::String;
 use std::vec::Vec;
 
 use super::layout::{self, Expr};
+use super::lists::names_rs;
 use crate::base::error::Error;
 use crate::derivation::sets::WavelengthSet;
 use crate::scenes::scene::Resolved;
@@ -53,6 +54,7 @@ pub(crate) fn integer_rs(scene: &Resolved) -> Result<String, Error> {
         "    const fn baked<const N: usize>(set: &FoldedSet<N>, sample_unit: f32) -> IntegerSet<N> {\n        match IntegerSet::new(set, sample_unit) {\n            Ok(set) => set,\n            Err(_) => panic!(\"a baked set has no fixed-point form\"),\n        }\n    }\n\n",
     );
     let mut items = Vec::new();
+    let mut names = Vec::new();
     for set in &scene.colour_sets {
         let unit = sample_unit(set, scene);
         let unit32 = unit as f32;
@@ -87,9 +89,11 @@ pub(crate) fn integer_rs(scene: &Resolved) -> Result<String, Error> {
                     )
                     + "\n",
             );
+            names.push(name);
         }
     }
     o.push_str(&items.concat());
+    o.push_str(&names_rs("integer", "integer set", &names));
     o.push_str("}\n\n");
     Ok(o)
 }

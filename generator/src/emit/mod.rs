@@ -10,6 +10,7 @@ pub mod codegen;
 pub mod fixed_point;
 pub(crate) mod generate;
 pub(crate) mod layout;
+pub(crate) mod lists;
 pub(crate) mod planckian;
 pub(crate) mod sensors;
 pub mod shader;

@@ -5,13 +5,14 @@ use std::string::{String, ToString};
 use std::vec::Vec;
 
 use super::layout::{self, Expr};
+use super::lists::names_rs;
 use crate::base::error::Error;
 use crate::derivation::evaluate::builtin_lights;
 use crate::scenes::scene::Resolved;
 use crate::upsampling::{Baked, CACHE_FILE, TRAINING_FILES};
 
 /// The const name of the upsampling of `set` for `display`: `<SET>_<DISPLAY>`.
-pub fn const_name(set: &str, display: &str) -> String {
+pub(crate) fn const_name(set: &str, display: &str) -> String {
     std::format!("{set}_{display}")
 }
 
@@ -45,6 +46,7 @@ pub(crate) fn upsampling_rs(
     }
     let mut o = String::new();
     let mut bytes = 0;
+    let mut names = Vec::new();
     o.push_str(&layout::comment(
         0,
         "///",
@@ -146,6 +148,7 @@ pub(crate) fn upsampling_rs(
             &value,
         ));
         o.push('\n');
+        names.push(name.clone());
         for (lang, ext, decl, where_) in [
             (
                 "WGSL",
@@ -184,13 +187,14 @@ pub(crate) fn upsampling_rs(
             }
         }
     }
+    o.push_str(&names_rs("upsampling", "upsampling", &names));
     o.push_str("}\n\n");
     Ok((o, bytes))
 }
 
 /// The file in `OUT_DIR` that holds the shader source of the upsampling of `set` for `display`
 /// in the language whose extension is `ext` (`wgsl`, `glsl`): `tables.rs` includes it.
-pub fn shader_file(set: &str, display: &str, ext: &str) -> String {
+pub(crate) fn shader_file(set: &str, display: &str, ext: &str) -> String {
     std::format!(
         "upsampling_{}.{ext}",
         const_name(set, display).to_ascii_lowercase()

@@ -18,7 +18,7 @@ use std::string::{String, ToString};
 use std::vec::Vec;
 
 pub use super::user::{golden_readings, white_readings};
-use crate::base::error::DataError;
+use crate::base::error::{CalibrationProblem, DataError, Error};
 use crate::derivation::evaluate::{Curve, Spectra};
 
 /// The reflectances a calibration's readings name when the scene gives none: the ColorChecker
@@ -27,7 +27,7 @@ pub const DEFAULT_REFLECTANCES: &str = "data/reflectance_colorchecker_ohta.csv";
 
 /// The fewest readings a fit takes: two unknowns a channel, and at least one reading more to
 /// tell a misfit.
-pub const MIN_READINGS: usize = 3;
+pub(crate) const MIN_READINGS: usize = 3;
 
 /// A device's dark offsets and gains: `(reading − dark) · gain` is the golden device's reading.
 #[derive(Debug, Clone, PartialEq)]
@@ -101,7 +101,7 @@ impl Readings {
             if trimmed.is_empty() {
                 return Err(err(line, "empty line inside the readings".into()));
             }
-            let fields = split_csv_line(raw).map_err(|e| err(line, e))?;
+            let fields = split_csv_line(raw).map_err(|e| err(line, e.to_string()))?;
             if !header_seen {
                 header_seen = true;
                 let names: Vec<&str> = fields.iter().skip(1).map(String::as_str).collect();
@@ -168,7 +168,7 @@ impl Readings {
 
     /// The reflectance of each row, looked up by name in `reflectances`. The error names the
     /// row's line and the names there are.
-    pub fn reflectances(
+    pub(crate) fn reflectances(
         &self,
         reflectances: &Spectra,
         range_nm: [f64; 2],
@@ -194,7 +194,7 @@ impl Readings {
 }
 
 /// The fields of one CSV line (quotes as RFC 4180 has them), trimmed.
-fn split_csv_line(line: &str) -> Result<Vec<String>, String> {
+fn split_csv_line(line: &str) -> Result<Vec<String>, csv::Error> {
     let mut reader = csv::ReaderBuilder::new()
         .has_headers(false)
         .flexible(true)
@@ -202,7 +202,7 @@ fn split_csv_line(line: &str) -> Result<Vec<String>, String> {
         .from_reader(line.as_bytes());
     match reader.records().next() {
         Some(Ok(r)) => Ok(r.iter().map(ToString::to_string).collect()),
-        Some(Err(e)) => Err(e.to_string()),
+        Some(Err(e)) => Err(e),
         None => Ok(Vec::new()),
     }
 }
@@ -212,7 +212,7 @@ fn split_csv_line(line: &str) -> Result<Vec<String>, String> {
 /// channel k), `device ≈ golden / gain + dark`. Errors (naming the channel, counted from 1):
 /// the golden readings do not vary in a channel (no slope to fit), or the device's do not grow
 /// with them (a slope that is not positive: a wrong channel order or a dead channel).
-pub fn fit(golden: &[Vec<f64>], device: &[Vec<f64>]) -> Result<ChannelFit, String> {
+pub fn fit(golden: &[Vec<f64>], device: &[Vec<f64>]) -> Result<ChannelFit, Error> {
     let n = golden.first().map_or(0, Vec::len);
     let m = golden.len() as f64;
     let mut out = ChannelFit {
@@ -227,17 +227,17 @@ pub fn fit(golden: &[Vec<f64>], device: &[Vec<f64>]) -> Result<ChannelFit, Strin
         let sgg: f64 = g.iter().map(|v| (v - mg).powi(2)).sum();
         let sgx: f64 = g.iter().zip(&x).map(|(a, b)| (a - mg) * (b - mx)).sum();
         if sgg <= 0.0 || sgg.is_nan() {
-            return Err(std::format!(
-                "channel {}: the golden device reads every reflectance the same; nothing to fit",
-                k + 1
-            ));
+            return Err(Error::Calibration {
+                channel: k + 1,
+                problem: CalibrationProblem::GoldenFlat,
+            });
         }
         let slope = sgx / sgg;
         if !(slope > 0.0 && slope.is_finite()) {
-            return Err(std::format!(
-                "channel {}: the readings do not grow with what the golden device reads (slope {slope:.3e}); are the columns in the sensor's order?",
-                k + 1
-            ));
+            return Err(Error::Calibration {
+                channel: k + 1,
+                problem: CalibrationProblem::NotGrowing { slope },
+            });
         }
         let dark = mx - slope * mg;
         let rss: f64 = g

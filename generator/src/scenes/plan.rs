@@ -187,7 +187,7 @@ pub fn shared_sets(
 }
 
 /// The shared-set sizes the planner tries: those the node cache holds for the built-in lights.
-pub const SHARED_SIZES: [usize; 3] = [4, 6, 8];
+pub(crate) const SHARED_SIZES: [usize; 3] = [4, 6, 8];
 
 /// Builds the set `name` and measures it.
 fn candidate(
@@ -333,7 +333,7 @@ pub(crate) fn plan_with(
 impl Plan {
     /// One sentence saying what was chosen and why: the set, its wavelengths, the budget, the
     /// measured error, and what the best set with fewer wavelengths measures.
-    pub fn sentence(&self) -> String {
+    pub(crate) fn sentence(&self) -> String {
         let c = &self.chosen;
         let m = self.metric;
         let mut s = std::format!(

@@ -29,7 +29,7 @@ use crate::shared;
 
 /// The most wavelengths or channels a fixed or sensor set may have (the runtime's largest
 /// const-generic size the crate tests).
-pub const MAX_SAMPLES: usize = 64;
+pub(crate) const MAX_SAMPLES: usize = 64;
 
 /// Whether `name` can be a set or light name in generated code: upper snake case, starting with
 /// a letter (`SHOP_LED`, `AS7341`).
@@ -81,7 +81,7 @@ impl UserLight {
     }
 
     /// [`parse`](Self::parse) with the rule for negative values given ([`Spectra::parse_with`]).
-    pub fn parse_with(
+    pub(crate) fn parse_with(
         name: &str,
         file: &str,
         text: &str,
@@ -209,7 +209,7 @@ impl Sensor {
     }
 
     /// [`read`](Self::read) with the rule for negative values given ([`Spectra::parse_with`]).
-    pub fn read_with(
+    pub(crate) fn read_with(
         path: &std::path::Path,
         label: &str,
         range_nm: [f64; 2],

@@ -59,7 +59,7 @@ pub struct CacheEntry {
 
 impl CacheEntry {
     /// The entry for a fitted upsampling whose inputs have `fingerprint`.
-    pub fn new(baked: &Baked, fingerprint: String) -> CacheEntry {
+    pub(crate) fn new(baked: &Baked, fingerprint: String) -> CacheEntry {
         CacheEntry {
             set: baked.set.clone(),
             display: baked.display.clone(),
@@ -76,7 +76,7 @@ impl CacheEntry {
     /// The upsampling this entry caches, for `set` under the reference light `light` (its
     /// name), with the set's `encoding` ([`super::encoding`]): everything a fit gives but the fit
     /// itself ([`Baked::fit`] is `None`).
-    pub fn baked(&self, set: &WavelengthSet, light: &str, encoding: [Vec<f64>; 3]) -> Baked {
+    pub(crate) fn baked(&self, set: &WavelengthSet, light: &str, encoding: [Vec<f64>; 3]) -> Baked {
         Baked {
             set: self.set.clone(),
             display: self.display.clone(),
@@ -103,7 +103,7 @@ pub struct FitInputs {
 
 impl FitInputs {
     /// Reads the training files' checksums from the derivation's data directory.
-    pub fn new(d: &Derivation) -> Result<FitInputs, Error> {
+    pub(crate) fn new(d: &Derivation) -> Result<FitInputs, Error> {
         let mut common = std::format!(
             "upsampling fit {FIT_VERSION}\nobserver {} {}\nrange {:?}\nconstants bandwidth {LOCAL_BANDWIDTH:?} prior {LOCAL_PRIOR:?} reachable {REACHABLE_DELTA_E00:?} code {CODE_ONE:?} qp {:?} {:?} {} radiance light {RADIANCE_REFERENCE_LIGHT}\n",
             d.observer.file,

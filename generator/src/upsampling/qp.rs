@@ -33,11 +33,11 @@ pub const EPSILON: f64 = 1e-9;
 /// A fixed variable is freed only when its multiplier has the wrong sign by more than this: well
 /// above the multipliers' rounding (about 1e-16 / [`EPSILON`]), and a multiplier this small moves
 /// the solution by about as little.
-pub const TOLERANCE: f64 = 1e-6;
+pub(crate) const TOLERANCE: f64 = 1e-6;
 
 /// Active-set steps allowed per variable (plus a constant): each step fixes or frees one
 /// variable, and the method seldom revisits one.
-pub const MAX_STEPS: usize = 20;
+pub(crate) const MAX_STEPS: usize = 20;
 
 /// The solution of one programme.
 #[derive(Debug, Clone, PartialEq)]
