@@ -171,8 +171,14 @@ fn mistakes_name_the_file_the_line_and_the_choices() {
         !shown.contains("defined rules") && !shown.contains("C2_15"),
         "{e}"
     );
+    // An unknown light: the built-in lights listed once, by the error (not again by the hint).
     let e = error("sets = [\"KQ_NOPE_6\"]\n");
-    assert!(e.to_string().contains("lights: A, C"), "{e}");
+    assert!(
+        e.to_string().contains("NOPE is not a built-in illuminant"),
+        "{e}"
+    );
+    assert!(e.to_string().contains(": A, C, D50"), "{e}");
+    assert_eq!(e.to_string().matches("LED_B3").count(), 1, "{e}");
     assert!(!e.to_string().contains("defined rules"), "{e}");
     // Unknown display.
     let e = error("sets = [\"TABLE2_ROW2\"]\ndisplays = [\"SRGB\", \"CRT\"]\n");

@@ -277,6 +277,20 @@ fn mistakes_in_the_users_inputs_name_the_file_and_line() {
         msg.contains("none.csv") && msg.contains("cannot read"),
         "{msg}"
     );
+    // A misspelt light in a set name: the built-in lights and the scene's own, each once.
+    let (line, msg) = scene_error(
+        "misspelt",
+        "sets = [\"KQ_WARMLED_6\"]\n[lights]\nWARM_LED = \"l.csv\"\n",
+        &[("l.csv", "wavelength_nm,power\n380,1\n780,1\n")],
+    );
+    assert_eq!(line, 1, "{msg}");
+    assert!(
+        msg.contains("WARMLED is neither a built-in illuminant")
+            && msg.contains("nor a light of the scene's [lights] (WARM_LED)"),
+        "{msg}"
+    );
+    assert_eq!(msg.matches("LED_B3").count(), 1, "{msg}");
+    assert_eq!(msg.matches("KQ_WARMLED_6").count(), 1, "{msg}");
     // A light named like a built-in one.
     let (_, msg) = scene_error(
         "builtin",

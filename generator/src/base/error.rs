@@ -188,6 +188,8 @@ pub enum SetNameProblem {
         light: String,
         /// The built-in lights.
         valid: Vec<String>,
+        /// The lights of the scene's `[lights]` (empty outside a scene).
+        scene: Vec<String>,
     },
 }
 

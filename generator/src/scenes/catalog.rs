@@ -71,10 +71,24 @@ impl fmt::Display for SetNameProblem {
                 sizes.start(),
                 sizes.end()
             ),
-            SetNameProblem::UnknownLight { light, valid } => write!(
+            SetNameProblem::UnknownLight {
+                light,
+                valid,
+                scene,
+            } if scene.is_empty() => write!(
                 f,
                 "{light} is not a built-in illuminant (data/illuminant_<light>.csv: {})",
                 valid.join(", ")
+            ),
+            SetNameProblem::UnknownLight {
+                light,
+                valid,
+                scene,
+            } => write!(
+                f,
+                "{light} is neither a built-in illuminant (data/illuminant_<light>.csv: {}) nor a light of the scene's [lights] ({})",
+                valid.join(", "),
+                scene.join(", ")
             ),
         }
     }
@@ -202,6 +216,7 @@ pub fn resolve_with(
                 return Err(problem(SetNameProblem::UnknownLight {
                     light: l.into(),
                     valid: builtin_lights().into_iter().map(String::from).collect(),
+                    scene: lights.iter().map(|u| u.name.clone()).collect(),
                 }));
             }
         }
@@ -295,17 +310,38 @@ pub(crate) fn rule_names(d: &Derivation) -> Vec<String> {
 }
 
 /// The valid choices to follow an error about the set `name`, for its form: the shared-set forms
-/// and built-in lights for a `KQ_` name, the uniform sizes for a `UNIFORM_` name, the orders for
-/// an `INTERP_A_` name, and otherwise the defined per-channel rules (the orders a rule or an
-/// `AC1C2_<a>_<c1>_<c2>` may use).
-pub(crate) fn valid_choices_for(d: &Derivation, name: &str) -> String {
+/// for a `KQ_` name, with the built-in lights and the scene's `lights` (the error about an
+/// unknown light lists them itself: then only the forms), the uniform sizes for a `UNIFORM_`
+/// name, the orders for an `INTERP_A_` name, and otherwise the defined per-channel rules (the
+/// orders a rule or an `AC1C2_<a>_<c1>_<c2>` may use).
+pub(crate) fn valid_choices_for(
+    d: &Derivation,
+    name: &str,
+    lights: &[UserLight],
+    error: &Error,
+) -> String {
     if name.starts_with("KQ_") {
-        return std::format!(
-            "shared sets: KQ_<n> (radiance) and KQ_<light>_<n> (light folded in), n = {}..={}; lights: {}",
+        let forms = std::format!(
+            "shared sets: KQ_<n> (radiance) and KQ_<light>_<n> (light folded in), n = {}..={}",
             shared::SIZES.start(),
             shared::SIZES.end(),
-            builtin_lights().join(", ")
         );
+        let listed = matches!(
+            error,
+            Error::SetName {
+                problem: SetNameProblem::UnknownLight { .. },
+                ..
+            }
+        );
+        if listed {
+            return forms;
+        }
+        let mut s = std::format!("{forms}; lights: {}", builtin_lights().join(", "));
+        if !lights.is_empty() {
+            let scene: Vec<&str> = lights.iter().map(|u| u.name.as_str()).collect();
+            s += &std::format!("; the scene's [lights]: {}", scene.join(", "));
+        }
+        return s;
     }
     if name.starts_with("UNIFORM_") {
         return std::format!(

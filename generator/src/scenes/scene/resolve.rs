@@ -141,8 +141,8 @@ impl Scene {
             let set = catalog::resolve_with(d, name, lights).map_err(|e| Error::At {
                 file: self.file.clone(),
                 line: *line as u64,
+                hint: Some(catalog::valid_choices_for(d, name, lights, &e)),
                 error: std::boxed::Box::new(e),
-                hint: Some(catalog::valid_choices_for(d, name)),
             })?;
             let target = if catalog::is_single_channel(name) {
                 &mut rule_sets

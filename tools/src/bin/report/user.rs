@@ -122,29 +122,9 @@ pub fn scene_extras(
             }
         }
     }
-    // A misspelt light in a set name: the message lists the scene's lights beside the
-    // built-in ones (the catalogue knows only the latter).
-    let unknown_light = |e: sqd::Error, line: usize| {
-        match e {
-        sqd::Error::SetName {
-            name,
-            problem: sqd::SetNameProblem::UnknownLight { light, valid },
-        } => Error::from(sqd::DataError {
-            file: label.clone(),
-            line: line as u64,
-            message: format!(
-                "{name}: {light} is neither a built-in illuminant ({}) nor a light of the scene's [lights] ({})",
-                valid.join(", "),
-                if lights.is_empty() {
-                    "it has none".to_string()
-                } else {
-                    lights.iter().map(|l| l.name.as_str()).collect::<Vec<_>>().join(", ")
-                }
-            ),
-        }),
-        e => Error::from(e.at(&label, line as u64)),
-    }
-    };
+    // A misspelt light in a set name: the generator's message lists the scene's lights beside
+    // the built-in ones.
+    let unknown_light = |e: sqd::Error, line: usize| Error::from(e.at(&label, line as u64));
     let light_curve = |name: &str| -> Result<Curve, Error> {
         if let Some(l) = lights.iter().find(|l| l.name == name) {
             return Ok(l.curve.clone());
