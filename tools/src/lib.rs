@@ -4,6 +4,7 @@
 //! paper's).
 //!
 //! - [`budget`]: every method at each wavelength budget (report section 5).
+//! - [`cli`]: the command-line arguments the programs share.
 //! - [`csv_table`]: every CSV the programs write, through the `csv` crate's writer.
 //! - [`prefilter`]: spiky lamps, band-averaged and exact-line pre-filtering (section 6d).
 //! - [`stability`]: unstable alternatives to the crate's quadrature (section 6b).
@@ -16,6 +17,7 @@
 use std::path::PathBuf;
 
 pub mod budget;
+pub mod cli;
 pub mod csv_table;
 pub mod prefilter;
 pub mod random_wavelengths;

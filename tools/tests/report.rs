@@ -557,3 +557,32 @@ fn the_csv_writer_quotes_what_needs_it_and_refuses_short_rows() {
     t.row(["only one"]);
     assert!(t.into_string().is_err());
 }
+
+/// Each program's `--help` opens with what that program does (not the package's description),
+/// and `--version` gives the package's version.
+#[test]
+fn each_program_says_what_it_does() {
+    for (exe, opening) in [
+        (env!("CARGO_BIN_EXE_report"), "Error against run time"),
+        (
+            env!("CARGO_BIN_EXE_plan"),
+            "Finds the set with the fewest wavelengths",
+        ),
+        (
+            env!("CARGO_BIN_EXE_tables"),
+            "Prints the crate's derived tables",
+        ),
+    ] {
+        let run = |arg: &str| {
+            let out = std::process::Command::new(exe).arg(arg).output().unwrap();
+            assert!(out.status.success(), "{exe} {arg}");
+            String::from_utf8(out.stdout).unwrap()
+        };
+        let help = run("--help");
+        assert!(help.starts_with(opening), "{exe}: {help}");
+        assert!(
+            run("--version").contains(env!("CARGO_PKG_VERSION")),
+            "{exe}"
+        );
+    }
+}

@@ -29,23 +29,10 @@ use sqd::plan::{self, fmt_de, Candidate, Metric, Plan};
 
 /// Finds the set with the fewest wavelengths that meets a ΔE00 budget and writes a scene file.
 #[derive(Parser)]
-#[command(about)]
+#[command(version)]
 struct Args {
-    /// Reflectances (CSV: wavelength_nm, one column per surface). Default: the ColorChecker
-    /// (Ohta) and the CIE test colour samples 1-14.
-    #[arg(long, value_name = "FILE")]
-    reflectances: Option<PathBuf>,
-    /// Illuminants (CSV: wavelength_nm, one column per light). Default: CIE illuminant C.
-    #[arg(long, value_name = "FILE")]
-    illuminants: Option<PathBuf>,
-    /// Light spectra seen directly (CSV), instead of surfaces under illuminants.
-    #[arg(long, value_name = "FILE", conflicts_with_all = ["reflectances", "illuminants"])]
-    emission: Option<PathBuf>,
-    /// Read every negative value of the spectra files given here as 0 (each file's count is
-    /// printed as a warning), for measured data whose noise exceeds the tolerance (1e-6 of the
-    /// file's largest value; within it, values are read as 0 without this flag).
-    #[arg(long)]
-    clamp_negatives: bool,
+    #[command(flatten)]
+    spectra: tools::cli::SpectraArgs,
     /// The budget: the largest acceptable ΔE00 (mean or max over the spectra, see --metric).
     #[arg(long, value_name = "X", allow_hyphen_values = true)]
     max_delta_e: f64,
@@ -157,8 +144,8 @@ fn check_displays(d: &sqd::Derivation, names: &[String]) -> Result<Vec<String>, 
 
 /// The stimuli and a few words saying what they are.
 fn load_stimuli(args: &Args, range: [f64; 2]) -> Result<(Vec<Stimulus>, String), Error> {
-    let negatives = tools::negatives(args.clamp_negatives);
-    if let Some(path) = &args.emission {
+    let negatives = tools::negatives(args.spectra.clamp_negatives);
+    if let Some(path) = &args.spectra.emission {
         let (s, zeroed) = plan::stimuli_from_files(range, None, None, Some(path), negatives)?;
         tools::warn_zeroed("plan", &zeroed);
         let described = format!("{} in {}", plural(s.len(), "light"), path.display());
@@ -169,14 +156,14 @@ fn load_stimuli(args: &Args, range: [f64; 2]) -> Result<(Vec<Stimulus>, String),
         tools::warn_zeroed("plan", spectra.zeroed());
         spectra.curves(range)
     };
-    let (surfaces, surfaces_from) = match &args.reflectances {
+    let (surfaces, surfaces_from) = match &args.spectra.reflectances {
         Some(p) => (read(p)?, p.display().to_string()),
         None => (
             tools::prefilter::default_surfaces(range)?,
             "the ColorChecker and CIE TCS 1-14".to_string(),
         ),
     };
-    let (lights, lights_from): (Vec<Curve>, String) = match &args.illuminants {
+    let (lights, lights_from): (Vec<Curve>, String) = match &args.spectra.illuminants {
         Some(p) => (read(p)?, p.display().to_string()),
         None => (
             vec![evaluate::builtin_illuminant(

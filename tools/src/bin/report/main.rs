@@ -44,29 +44,14 @@ use tools::csv_table::Table;
 
 /// Error against run time for Meyer's wavelength sets and their alternatives.
 #[derive(Parser)]
-#[command(about)]
+#[command(version)]
 struct Args {
-    /// Reflectances (CSV: wavelength_nm, one column per surface). Default: the ColorChecker
-    /// (Ohta) and the CIE test colour samples 1-14.
-    #[arg(long, value_name = "FILE")]
-    reflectances: Option<PathBuf>,
-    /// Illuminants (CSV: wavelength_nm, one column per light). Default: CIE C, D65, A, F2, F11
-    /// and LED-B2.
-    #[arg(long, value_name = "FILE")]
-    illuminants: Option<PathBuf>,
+    #[command(flatten)]
+    spectra: tools::cli::SpectraArgs,
     /// A scene file whose sets join section 4 (catalogue names, its lights' shared sets, fixed
     /// wavelengths and sensors). Paths in it are relative to it.
     #[arg(long, value_name = "FILE")]
     scene: Option<PathBuf>,
-    /// Light spectra seen directly (CSV), instead of surfaces under illuminants.
-    #[arg(long, value_name = "FILE", conflicts_with_all = ["reflectances", "illuminants"])]
-    emission: Option<PathBuf>,
-    /// Read every negative value of the spectra files given here as 0 (each file's count is
-    /// printed as a warning), for measured data whose noise exceeds the tolerance (1e-6 of the
-    /// file's largest value; within it, values are read as 0 without this flag). A scene sets
-    /// its own files' rule with `clamp_negatives = true`.
-    #[arg(long)]
-    clamp_negatives: bool,
     /// Folder for the CSV files and SVG plots, relative to the current folder.
     #[arg(long, value_name = "DIR", default_value = "target/report")]
     out: PathBuf,
@@ -215,6 +200,7 @@ fn run(args: &Args) -> Result<(), Error> {
             &inputs.surfaces_from,
             &inputs.user_lights,
             &args
+                .spectra
                 .illuminants
                 .as_ref()
                 .map_or(String::new(), |p| p.display().to_string()),
@@ -254,8 +240,7 @@ fn run(args: &Args) -> Result<(), Error> {
     progress.next();
     let spaces = tools::budget::rule_spaces(&d, work.max_order)?;
     // Figs. 6 and 7 reproduce the paper's setup (ColorChecker under C) unless spectra are given.
-    let user_spectra =
-        args.reflectances.is_some() || args.illuminants.is_some() || args.emission.is_some();
+    let user_spectra = args.spectra.any();
     let (fig_stimuli, fig_reference) = if user_spectra {
         (&stimuli, &reference)
     } else {
@@ -377,7 +362,8 @@ fn run(args: &Args) -> Result<(), Error> {
         &spaces,
         &radiance,
         &folded_user,
-        args.reflectances
+        args.spectra
+            .reflectances
             .as_ref()
             .map(|_| inputs.surfaces.as_slice()),
         &inputs.surfaces_from,
@@ -419,10 +405,12 @@ fn run(args: &Args) -> Result<(), Error> {
         &upsampling::Inputs {
             d: &d,
             reflectances: args
+                .spectra
                 .reflectances
                 .as_ref()
                 .map(|_| (inputs.surfaces.as_slice(), inputs.surfaces_from.as_str())),
             lights: args
+                .spectra
                 .illuminants
                 .as_ref()
                 .map(|_| inputs.user_lights.as_slice()),
@@ -475,22 +463,22 @@ struct Inputs {
 
 fn load_inputs(args: &Args, range: [f64; 2]) -> Result<Inputs, Error> {
     let read = |p: &Path| {
-        let spectra = Spectra::read_with(p, tools::negatives(args.clamp_negatives))?;
+        let spectra = Spectra::read_with(p, tools::negatives(args.spectra.clamp_negatives))?;
         tools::warn_zeroed("report", spectra.zeroed());
         spectra.curves(range)
     };
-    let (surfaces, surfaces_from) = match &args.reflectances {
+    let (surfaces, surfaces_from) = match &args.spectra.reflectances {
         Some(p) => (read(p)?, p.display().to_string()),
         None => (
             tools::prefilter::default_surfaces(range)?,
             "the ColorChecker and CIE TCS 1-14".to_string(),
         ),
     };
-    let user_lights = match &args.illuminants {
+    let user_lights = match &args.spectra.illuminants {
         Some(p) => read(p)?,
         None => Vec::new(),
     };
-    let (stimuli, lights) = if let Some(path) = &args.emission {
+    let (stimuli, lights) = if let Some(path) = &args.spectra.emission {
         (evaluate::emissions(&read(path)?), Vec::new())
     } else if user_lights.is_empty() {
         let lights: Vec<Curve> = DEFAULT_ILLUMINANTS
