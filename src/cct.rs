@@ -14,6 +14,7 @@
 
 /// A correlated colour temperature and the chromaticity's distance from the Planckian locus.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Cct {
     /// The temperature of the nearest blackbody in CIE 1960 (u, v), kelvin.
     pub kelvin: f32,
@@ -51,6 +52,7 @@ pub const DUV_MAX_ERROR: f32 = 1e-7;
 /// is defined with CIE 1931 2°, the default observer, and with another observer these are its
 /// own temperatures, consistent with the XYZ its sets give.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct PlanckianLocus<const K: usize> {
     /// The nodes' reciprocal temperatures μ = 10⁶ / T in mired, ascending (T descending).
     pub mired: [f32; K],

@@ -71,9 +71,9 @@
 //! pixel through [`FoldedSet::encode_u8`].
 //!
 //! **Planes** (`src/planar/`): [`FoldedSet::linear_rgb_planar`] and, with the sRGB curve and
-//! `Clip`, [`FoldedSet::encode_u8_planar`] run the AVX-512 loop (any N) or the AVX2 loop on
+//! `Clip`, [`FoldedSet::encode_u8_planar_to_interleaved`] run the AVX-512 loop (any N) or the AVX2 loop on
 //! x86-64 CPUs that have them, then the portable chunked loop for the pixels left (or for all,
-//! elsewhere). Without vector units, `encode_u8_planar` runs a scalar loop one pixel at a time
+//! elsewhere). Without vector units, `encode_u8_planar_to_interleaved` runs a scalar loop one pixel at a time
 //! with the weights in registers (`src/planar/scalar.rs`); other curves and mappings go pixel
 //! by pixel through [`FoldedSet::encode_u8`].
 //!
@@ -111,7 +111,12 @@
 //! `docs/colour-temperature-and-calibration.md`.
 //!
 //! ## Features
-//! - `std`: links the standard library (`std::error::Error` for [`Error`]).
+//!
+//! All additive, none on by default. [`Error`] implements `core::error::Error` (and so
+//! `std::error::Error`) without any of them.
+//! - `defmt`: `defmt::Format` for the public types, for logging from firmware.
+//! - `micromath`: `TransferFunction::encode_fast`, within `ENCODE_FAST_MAX_ERROR` of the
+//!   exact curve (a coarse bound: previews and indicators).
 #![no_std]
 #![cfg_attr(docsrs, feature(doc_cfg))]
 #![deny(missing_docs)]
@@ -124,7 +129,7 @@
 #![deny(clippy::undocumented_unsafe_blocks)]
 
 // The unit tests and the fuzz targets' loop switch (`simd::forced`) use std.
-#[cfg(any(test, fuzzing, feature = "std"))]
+#[cfg(any(test, fuzzing))]
 extern crate std;
 
 // The modules, each importing only from those in the lines above it (and from `tables`, the
@@ -156,32 +161,26 @@ mod test_inputs;
 mod transfer;
 mod upsample;
 
-#[cfg(feature = "defmt")]
-mod defmt;
 #[cfg(feature = "micromath")]
 mod fast;
-
-pub mod paper;
 
 pub use calibration::{Calibration, CalibrationProblem, CountCalibration};
 pub use cct::{uv_from_xyz, Cct, PlanckianLocus, CCT_MAX_ERROR_MIRED, DUV_MAX_ERROR, MAX_DUV};
 pub use display::{Display, GamutMapping};
 pub use dynamic::DynamicSet;
-pub use encode::{srgb8_from_linear, SRGB8_MAX_DELTA_E, SRGB8_MAX_STEP_ERROR};
-pub use error::Error;
+pub use encode::{srgb8_from_linear, SRGB8_MAX_ERROR, SRGB8_MAX_ERROR_DE76};
+pub use error::{DisplayError, Error};
 #[cfg(feature = "micromath")]
 pub use fast::ENCODE_FAST_MAX_ERROR;
-pub use integer::{IntegerSet, INTEGER_MAX_CODE_DIFFERENCE};
+pub use integer::{IntegerSet, INTEGER_MAX_ERROR_CODES};
 pub use lux::LuxScale;
 pub use matrix::{ac1c2_from_xyz, xyz_from_ac1c2};
 pub use pixel::f32_budget;
 pub use set::{Channel, FoldedSet, GaussRule, RuleStatus, Samples, WavelengthSet, MAX_WAVELENGTHS};
 pub use spectral_quadrature_math::{
-    delta_e2000, delta_e76, lab_from_xyz, MAX_PRIMARIES_CONDITION, MIN_WHITE_SHARE,
+    delta_e2000, delta_e76, lab_from_xyz, Point, MAX_PRIMARIES_CONDITION, MIN_WHITE_SHARE,
 };
-pub use transfer::{
-    quantize_u16, quantize_u8, ChannelLuts, Rgb, TransferFunction, U16_MAX_STEP_ERROR,
-};
+pub use transfer::{quantize_u16, quantize_u8, ChannelLuts, Rgb, TransferFunction, U16_MAX_ERROR};
 pub use upsample::{RoundTrip, Upsampling, UPSAMPLING_CODE_ONE};
 
 /// Internal, for the fuzz targets in `fuzz/` alone: caps the loops the batch and planar paths

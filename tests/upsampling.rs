@@ -173,19 +173,19 @@ trait Dyn {
 
 impl<const N: usize> Dyn for (Upsampling<N>, FoldedSet<N>) {
     fn set(&self) -> &str {
-        self.0.set
+        self.0.set()
     }
     fn grid(&self) -> usize {
         self.0.grid()
     }
     fn lipschitz(&self) -> f32 {
-        self.0.lipschitz
+        self.0.lipschitz().expect("baked: measured")
     }
     fn max_round_trip(&self) -> f32 {
-        self.0.max_round_trip_delta_e00
+        self.0.max_round_trip_delta_e00().expect("baked: measured")
     }
     fn reachable_share(&self) -> f32 {
-        self.0.reachable_share
+        self.0.reachable_share().expect("baked: measured")
     }
     fn table(&self) -> Vec<Vec<u16>> {
         self.0.table().iter().map(|e| e.to_vec()).collect()
@@ -197,13 +197,13 @@ impl<const N: usize> Dyn for (Upsampling<N>, FoldedSet<N>) {
         self.0.interpolate(rgb).to_vec()
     }
     fn folded_light(&self) -> bool {
-        matches!(self.1.samples, Samples::Reflectance { .. })
+        matches!(self.1.samples(), Samples::Reflectance { .. })
     }
     fn weights(&self) -> Vec<Vec<f32>> {
-        self.1.weights.iter().map(|r| r.to_vec()).collect()
+        self.1.weights().iter().map(|r| r.to_vec()).collect()
     }
     fn rgb_to_xyz(&self) -> [[f32; 3]; 3] {
-        self.1.display.rgb_to_xyz
+        self.1.display().rgb_to_xyz()
     }
     fn batch_agrees(&self, rgb: &[[f32; 3]]) -> bool {
         let mut out = vec![[0.0f32; N]; rgb.len()];
@@ -269,12 +269,12 @@ fn tables_equal_a_fresh_bake() {
         assert_eq!(u.reachable_share(), b.reachable_share() as f32);
         assert_eq!(u.folded_light(), f.light_at_nodes.is_none(), "{}", f.name);
     });
-    assert_eq!(upsampling::KQ_C_8_SRGB.light, "C");
-    assert_eq!(upsampling::KQ_F11_6_SRGB.light, "F11");
-    assert_eq!(upsampling::KQ_C_8_SRGB.display, "sRGB");
+    assert_eq!(upsampling::KQ_C_8_SRGB.light(), "C");
+    assert_eq!(upsampling::KQ_F11_6_SRGB.light(), "F11");
+    assert_eq!(upsampling::KQ_C_8_SRGB.display(), "sRGB");
     assert_eq!(
-        upsampling::KQ_C_8_SRGB.wavelengths_nm,
-        folded::KQ_C_8_SRGB.wavelengths_nm
+        upsampling::KQ_C_8_SRGB.wavelengths_nm(),
+        folded::KQ_C_8_SRGB.wavelengths_nm()
     );
 }
 
@@ -530,13 +530,27 @@ fn batch_is_per_pixel() {
 #[test]
 fn new_checks_the_table() {
     static TABLE: [[u16; 2]; 8] = [[0; 2]; 8];
-    assert!(Upsampling::new(2, &TABLE).is_some());
-    assert!(Upsampling::new(3, &TABLE).is_none());
-    assert!(Upsampling::<2>::new(1, &TABLE[..1]).is_none());
-    assert!(Upsampling::new(usize::MAX, &TABLE).is_none());
-    let u = Upsampling::new(2, &TABLE).unwrap();
+    let new =
+        |grid, table| Upsampling::new("MINE", "sRGB", "D65", [450.0, 600.0], grid, table, None);
+    assert!(new(2, &TABLE).is_ok());
+    let refused = |grid: usize, table: &[[u16; 2]]| {
+        Err(Error::UpsamplingTable {
+            grid,
+            entries: table.len(),
+        })
+    };
+    assert_eq!(new(3, &TABLE), refused(3, &TABLE));
+    assert_eq!(new(1, &TABLE[..1]), refused(1, &TABLE[..1]));
+    assert_eq!(new(usize::MAX, &TABLE), refused(usize::MAX, &TABLE));
+    let u = new(2, &TABLE).unwrap();
     assert_eq!(u.reflectance([0.5; 3]), [0.0; 2]);
     assert_eq!(u.grid(), 2);
+    assert_eq!((u.set(), u.display(), u.light()), ("MINE", "sRGB", "D65"));
+    assert_eq!(u.wavelengths_nm(), [450.0, 600.0]);
+    // Made at run time: no measured figures, and no NaN standing in for them.
+    assert_eq!(u.lipschitz(), None);
+    assert_eq!(u.max_round_trip_delta_e00(), None);
+    assert_eq!(u.reachable_share(), None);
 }
 
 /// The largest change of a node value per unit of max-norm RGB change, in the cells at the edge
@@ -1170,9 +1184,9 @@ fn shader_words_hold_the_table_then_the_round_trip() {
     let u = upsampling::KQ_C_4_SRGB;
     let words: Vec<u32> = u.shader_words().collect();
     let codes: Vec<u16> = u.table().iter().flatten().copied().collect();
-    let rt = u.round_trip.unwrap();
+    let rt = u.round_trip().unwrap();
     let n_codes = codes.len().div_ceil(2);
-    assert_eq!(words.len(), n_codes + rt.edge_cells.len() + 3 * 4 + 9 + 3);
+    assert_eq!(words.len(), n_codes + rt.edge_cells().len() + 3 * 4 + 9 + 3);
     for (k, w) in words[..n_codes].iter().enumerate() {
         assert_eq!(*w & 0xffff, u32::from(codes[2 * k]));
         assert_eq!(
@@ -1181,12 +1195,12 @@ fn shader_words_hold_the_table_then_the_round_trip() {
         );
     }
     assert_eq!(
-        &words[n_codes..n_codes + rt.edge_cells.len()],
-        rt.edge_cells
+        &words[n_codes..n_codes + rt.edge_cells().len()],
+        rt.edge_cells()
     );
-    let f = n_codes + rt.edge_cells.len();
-    assert_eq!(f32::from_bits(words[f + 5]), rt.weights[1][1]);
-    assert_eq!(f32::from_bits(words[f + 12 + 4]), rt.rgb_to_xyz[1][1]);
+    let f = n_codes + rt.edge_cells().len();
+    assert_eq!(f32::from_bits(words[f + 5]), rt.weights()[1][1]);
+    assert_eq!(f32::from_bits(words[f + 12 + 4]), rt.rgb_to_xyz()[1][1]);
 }
 
 /// The largest change of a node value between neighbouring f32 inputs that

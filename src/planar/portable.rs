@@ -75,7 +75,7 @@ fn product_for_encoding<const N: usize>(
 /// Whether the target has vector units for f32 that the chunked loops vectorize for (SSE2 on
 /// x86, NEON, WebAssembly SIMD). Without them (microcontrollers such as the Cortex-M4F, whose
 /// FPU is scalar) the chunks' buffers are only extra loads and stores, and
-/// [`FoldedSet::encode_u8_planar`](crate::FoldedSet::encode_u8_planar) goes one pixel at a time
+/// [`FoldedSet::encode_u8_planar_to_interleaved`](crate::FoldedSet::encode_u8_planar_to_interleaved) goes one pixel at a time
 /// instead (`planar::scalar` for sRGB with `Clip`), in fewer instructions per pixel on the M4F
 /// (docs/performance.md has the counts under QEMU and their commands). `tests/planar.rs` checks
 /// that the chunked form equals `encode_u8`.

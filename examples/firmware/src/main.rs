@@ -132,7 +132,7 @@ fn print_display(
         }
         let mut planar = [[0u8; 3]; PIXELS];
         let ok = f
-            .encode_u8_planar(mapping, planes.each_ref().map(|p| &p[..]), &mut planar)
+            .encode_u8_planar_to_interleaved(mapping, planes.each_ref().map(|p| &p[..]), &mut planar)
             .is_ok();
         writeln!(out, "res {name} {m} planar ok {ok}")?;
         for (p, [r, g, b]) in planar.iter().enumerate() {
@@ -217,7 +217,7 @@ fn benches(
     }
     let planes: [[f32; P]; 4] = core::array::from_fn(|i| core::array::from_fn(|p| samples[p][i]));
     measure("planar encode_u8 sRGB Clip", P, &mut || {
-        let _ = black_box(set.encode_u8_planar(
+        let _ = black_box(set.encode_u8_planar_to_interleaved(
             GamutMapping::Clip,
             black_box(planes.each_ref().map(|p| &p[..])),
             &mut rgb,
