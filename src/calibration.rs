@@ -42,6 +42,10 @@ impl CalibrationProblem {
 /// readings the golden device would have given, in the units of the reference it was formed
 /// against.
 ///
+/// Formed against a baked sensor's white (`tables::<SENSOR>_WHITE`), a calibrated white tile
+/// gives the sensor set's XYZ with Y = [`UNIT_SPECTRUM_Y`](crate::tables::UNIT_SPECTRUM_Y)
+/// (about 106.86, the weights being for dλ in nm), not 1: divide by it for Y = 1 at white.
+///
 /// ```
 /// use spectral_quadrature::Calibration;
 /// // A two-channel device: 12 and 30 counts in the dark, 812 and 630 on a white tile the

@@ -88,6 +88,11 @@ pub enum Samples {
     /// `wavelengths_nm` are each channel's peak, not wavelengths to sample at. A reading is
     /// `∫ S_k(λ) e(λ) dλ` of the radiance e reaching the sensor, in the units of the scene's
     /// sensor file times nm.
+    ///
+    /// The set's XYZ from such readings is in the weights' units, dλ in nm: a calibrated white
+    /// (readings equal to the golden device's on a perfect white, `tables::<SENSOR>_WHITE`) gives
+    /// Y = [`UNIT_SPECTRUM_Y`](crate::tables::UNIT_SPECTRUM_Y) (about 106.86), not 1; divide by
+    /// it for Y = 1 at white, as the folded sets do.
     Readings {
         /// The sensor's name in the scene.
         sensor: &'static str,

@@ -403,7 +403,90 @@ fn planar_case<const N: usize>(
         // SRGB8_MAX_ERROR = 0 says.
         prop_assert_eq!(out[p], one, "pixel {}", p);
     }
+    other_layouts_case(set, mapping, px)
+}
+
+/// The planar-out 8-bit encoder and both 16-bit encoders against the per-pixel functions, every
+/// pixel exactly; outputs start at values no pixel is expected to keep by chance everywhere.
+fn other_layouts_case<const N: usize>(
+    set: &FoldedSet<N>,
+    mapping: GamutMapping,
+    px: &[[f32; N]],
+) -> TestCaseResult {
+    let n = px.len();
+    let pl = planes(px);
+    let samples = plane_refs(&pl);
+    let mut p8 = [0, 1, 2].map(|_| vec![7u8; n]);
+    let [r, g, b] = &mut p8;
+    prop_assert_eq!(set.encode_u8_planar(mapping, samples, [r, g, b]), Ok(()));
+    let mut i16 = vec![[7u16; 3]; n];
+    prop_assert_eq!(
+        set.encode_u16_planar_to_interleaved(mapping, samples, &mut i16),
+        Ok(())
+    );
+    let mut p16 = [0, 1, 2].map(|_| vec![7u16; n]);
+    let [r, g, b] = &mut p16;
+    prop_assert_eq!(set.encode_u16_planar(mapping, samples, [r, g, b]), Ok(()));
+    for (p, s) in px.iter().enumerate() {
+        let one8 = set.encode_u8(mapping, s);
+        let one16 = set.encode_u16(mapping, s);
+        prop_assert_eq!(
+            [p8[0][p], p8[1][p], p8[2][p]],
+            one8,
+            "u8 planes, pixel {}",
+            p
+        );
+        prop_assert_eq!(i16[p], one16, "u16 interleaved, pixel {}", p);
+        prop_assert_eq!(
+            [p16[0][p], p16[1][p], p16[2][p]],
+            one16,
+            "u16 planes, pixel {}",
+            p
+        );
+    }
     Ok(())
+}
+
+/// The planar-out 8-bit encoder runs the interleaved loops on chunks of 64 pixels: images of
+/// several chunks and a partial one, with NaN, ±Inf, subnormal, huge and negative samples among
+/// random ones, on every baked display and mapping, give the per-pixel bytes.
+#[test]
+fn planar_out_encoders_equal_per_pixel_across_chunks() {
+    let specials = [
+        f32::NAN,
+        f32::INFINITY,
+        -f32::INFINITY,
+        1e-45,
+        -1e-45,
+        f32::MIN_POSITIVE,
+        f32::MAX,
+        -f32::MAX,
+        -1.0,
+        0.0,
+        -0.0,
+        1.0,
+    ];
+    let mut state = 0x9e37_79b9_7f4a_7c15u64;
+    let mut next = || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        if state % 5 == 0 {
+            specials[(state >> 8) as usize % specials.len()]
+        } else {
+            ((state >> 40) as f32) / (1u64 << 24) as f32 * 1.2 - 0.1
+        }
+    };
+    for n in [0, 1, 63, 64, 65, 200] {
+        let px4: Vec<[f32; 4]> = (0..n).map(|_| std::array::from_fn(|_| next())).collect();
+        let px6: Vec<[f32; 6]> = (0..n).map(|_| std::array::from_fn(|_| next())).collect();
+        for j in 0..4 {
+            for mapping in MAPPINGS {
+                other_layouts_case(&FOLDED_ROW2[j], mapping, &px4).unwrap();
+                other_layouts_case(&FOLDED_ROW1[j], mapping, &px6).unwrap();
+            }
+        }
+    }
 }
 
 /// The baked sets of Table 2 folded for each display, and both mappings.
@@ -586,5 +669,48 @@ fn length_mismatches_are_errors_and_write_nothing() {
             assert_eq!(set.linear_rgb_planar(samples, [r, g, b]), expected);
             assert!(lin.iter().flatten().all(|v| *v == -7.5));
         }
+    }
+}
+
+#[test]
+fn new_layouts_refuse_length_mismatches_and_write_nothing() {
+    let set = folded::TABLE2_ROW2_SRGB;
+    let (a, short) = ([0.5f32; 70], [0.5f32; 69]);
+    let mismatch = |outputs| {
+        Err(Error::LengthMismatch {
+            inputs: 70,
+            outputs,
+        })
+    };
+    for mapping in MAPPINGS {
+        // A short sample plane.
+        let mut p8 = [[9u8; 70]; 3];
+        let [r, g, b] = &mut p8;
+        let got = set.encode_u8_planar(mapping, [&a, &a, &short, &a], [r, g, b]);
+        assert_eq!(got, mismatch(69));
+        // A short output plane, after a full chunk: nothing is written, not even the first.
+        let (mut r, mut g, mut b) = ([9u8; 70], [9u8; 70], [9u8; 69]);
+        let got = set.encode_u8_planar(mapping, [&a; 4], [&mut r, &mut g, &mut b]);
+        assert_eq!(got, mismatch(69));
+        assert!(p8
+            .iter()
+            .flatten()
+            .chain(&r)
+            .chain(&g)
+            .chain(&b)
+            .all(|&v| v == 9));
+        let mut i16 = [[9u16; 3]; 71];
+        let got = set.encode_u16_planar_to_interleaved(mapping, [&a; 4], &mut i16);
+        assert_eq!(got, mismatch(71));
+        let (mut r, mut g, mut b) = ([9u16; 70], [9u16; 71], [9u16; 70]);
+        let got = set.encode_u16_planar(mapping, [&a; 4], [&mut r, &mut g, &mut b]);
+        assert_eq!(got, mismatch(71));
+        assert!(i16
+            .iter()
+            .flatten()
+            .chain(&r)
+            .chain(&g)
+            .chain(&b)
+            .all(|&v| v == 9));
     }
 }

@@ -1312,3 +1312,72 @@ fn jumps_between_neighbouring_f32_inputs() {
         );
     });
 }
+
+/// The planar forms give `reflectance`'s bits on every pixel, for random and extreme RGB (NaN,
+/// ±Inf, negative, huge, subnormal), and refuse length mismatches without writing.
+#[test]
+fn planar_forms_are_per_pixel() {
+    let u = upsampling::KQ_C_4_SRGB;
+    let specials = [
+        f32::NAN,
+        f32::INFINITY,
+        -f32::INFINITY,
+        -1.0,
+        2.0,
+        1e30,
+        1e-45,
+        0.0,
+    ];
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    let rgb: Vec<[f32; 3]> = (0..300)
+        .map(|_| {
+            std::array::from_fn(|_| {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                if state % 6 == 0 {
+                    specials[(state >> 8) as usize % specials.len()]
+                } else {
+                    ((state >> 40) as f32) / (1u64 << 24) as f32
+                }
+            })
+        })
+        .collect();
+    let rgb_planes = [0, 1, 2].map(|c| rgb.iter().map(|p| p[c]).collect::<Vec<f32>>());
+    let mut a = [0, 1, 2, 3].map(|_| vec![-1.0f32; rgb.len()]);
+    let mut b = a.clone();
+    let [a0, a1, a2, a3] = &mut a;
+    let planes = rgb_planes.each_ref().map(|p| &p[..]);
+    assert_eq!(u.reflectance_planar(planes, [a0, a1, a2, a3]), Ok(()));
+    let [b0, b1, b2, b3] = &mut b;
+    assert_eq!(
+        u.reflectance_interleaved_to_planar(&rgb, [b0, b1, b2, b3]),
+        Ok(())
+    );
+    for (p, px) in rgb.iter().enumerate() {
+        let one = u.reflectance(*px).map(f32::to_bits);
+        assert_eq!(
+            a.each_ref().map(|n| n[p].to_bits()),
+            one,
+            "planar, pixel {p}"
+        );
+        assert_eq!(
+            b.each_ref().map(|n| n[p].to_bits()),
+            one,
+            "interleaved, pixel {p}"
+        );
+    }
+    // Length mismatches: an error, nothing written.
+    let mut c = [0, 1, 2, 3].map(|_| vec![-1.0f32; 300]);
+    let [c0, c1, c2, c3] = &mut c;
+    let short = [planes[0], &planes[1][..299], planes[2]];
+    let mismatch = Err(Error::LengthMismatch {
+        inputs: 300,
+        outputs: 299,
+    });
+    assert_eq!(u.reflectance_planar(short, [c0, c1, c2, c3]), mismatch);
+    let [c0, c1, c2, c3] = &mut c;
+    let got = u.reflectance_interleaved_to_planar(&rgb, [c0, c1, c2, &mut c3[..299]]);
+    assert_eq!(got, mismatch);
+    assert!(c.iter().flatten().all(|&v| v == -1.0));
+}

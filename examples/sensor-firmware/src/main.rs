@@ -54,19 +54,17 @@ const fn first_channels<const M: usize>() -> IntegerSet<M> {
     let mut weights = [[0.0; M]; 3];
     let mut i = 0;
     while i < M {
-        wavelengths_nm[i] = all.wavelengths_nm[i];
+        wavelengths_nm[i] = all.wavelengths_nm()[i];
         let mut c = 0;
         while c < 3 {
-            weights[c][i] = all.weights[c][i];
+            weights[c][i] = all.weights()[c][i];
             c += 1;
         }
         i += 1;
     }
-    let folded = FoldedSet {
-        wavelengths_nm,
-        weights,
-        samples: all.samples,
-        display: all.display,
+    let folded = match FoldedSet::new(wavelengths_nm, weights, all.samples(), all.display()) {
+        Ok(set) => set,
+        Err(_) => panic!("the first channels of a baked set are a set"),
     };
     match IntegerSet::new(&folded, SAMPLE_UNIT) {
         Ok(set) => set,
