@@ -471,7 +471,7 @@ fn planar_out_encoders_equal_per_pixel_across_chunks() {
         state ^= state << 13;
         state ^= state >> 7;
         state ^= state << 17;
-        if state % 5 == 0 {
+        if state.is_multiple_of(5) {
             specials[(state >> 8) as usize % specials.len()]
         } else {
             ((state >> 40) as f32) / (1u64 << 24) as f32 * 1.2 - 0.1

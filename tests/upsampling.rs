@@ -1335,7 +1335,7 @@ fn planar_forms_are_per_pixel() {
                 state ^= state << 13;
                 state ^= state >> 7;
                 state ^= state << 17;
-                if state % 6 == 0 {
+                if state.is_multiple_of(6) {
                     specials[(state >> 8) as usize % specials.len()]
                 } else {
                     ((state >> 40) as f32) / (1u64 << 24) as f32
