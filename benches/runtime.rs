@@ -37,7 +37,7 @@ use criterion::{
     criterion_group, criterion_main, BenchmarkGroup, Criterion, SamplingMode, Throughput,
 };
 use spectral_quadrature::tables::{self, displays::SRGB, folded};
-use spectral_quadrature::{Display, FoldedSet, GamutMapping, WavelengthSet, SRGB8_MAX_STEP_ERROR};
+use spectral_quadrature::{Display, FoldedSet, GamutMapping, WavelengthSet, SRGB8_MAX_ERROR};
 
 /// Pixels in the input set (a power of two, so the per-pixel index wraps with a mask).
 const PIXELS: usize = 4096;
@@ -231,7 +231,7 @@ impl Full1nm {
         mapping: GamutMapping,
         samples: &[f32; FULL_LEN],
     ) -> [u8; 3] {
-        display.encode_u8(display.linear_from_xyz(self.xyz(samples)), mapping)
+        display.encode_u8(mapping, display.linear_from_xyz(self.xyz(samples)))
     }
 
     #[inline]
@@ -241,7 +241,7 @@ impl Full1nm {
         mapping: GamutMapping,
         samples: &[f32; FULL_LEN],
     ) -> [u8; 3] {
-        display.encode_u8(display.linear_from_xyz(self.xyz_8acc(samples)), mapping)
+        display.encode_u8(mapping, display.linear_from_xyz(self.xyz_8acc(samples)))
     }
 
     /// The batch loop a renderer would write around [`encode_u8`](Self::encode_u8).
@@ -341,11 +341,11 @@ fn runtime(c: &mut Criterion) {
     // pixel loop in an application would, so the compiler sees them as constants.
     const ROW2_SRGB: &FoldedSet<4> = &folded::TABLE2_ROW2_SRGB;
     const ROW1_SRGB: &FoldedSet<6> = &folded::TABLE2_ROW1_SRGB;
-    assert_eq!(row2.wavelengths_nm, ROW2_SRGB.wavelengths_nm);
-    assert_eq!(row1.wavelengths_nm, ROW1_SRGB.wavelengths_nm);
+    assert_eq!(row2.wavelengths_nm(), ROW2_SRGB.wavelengths_nm());
+    assert_eq!(row1.wavelengths_nm(), ROW1_SRGB.wavelengths_nm());
 
-    let s_row2 = sample_at(&refl, &row2.wavelengths_nm);
-    let s_row1 = sample_at(&refl, &row1.wavelengths_nm);
+    let s_row2 = sample_at(&refl, &row2.wavelengths_nm());
+    let s_row1 = sample_at(&refl, &row1.wavelengths_nm());
     let s_1nm = sample_1nm(&refl);
     let full = Full1nm::new();
     sanity(&full, &s_1nm, &s_row2, &s_row1);
@@ -452,7 +452,7 @@ fn uniform_set<const N: usize>(full: &Full1nm, display: &Display) -> FoldedSet<N
         let xyz: [f64; 3] = core::array::from_fn(|r| f64::from(full.xyz_weights[r][i]));
         for (c, row) in weights.iter_mut().enumerate() {
             row[bin] += (0..3)
-                .map(|k| f64::from(display.xyz_to_rgb[c][k]) * xyz[k])
+                .map(|k| f64::from(display.xyz_to_rgb()[c][k]) * xyz[k])
                 .sum::<f64>();
         }
     }
@@ -461,12 +461,13 @@ fn uniform_set<const N: usize>(full: &Full1nm, display: &Display) -> FoldedSet<N
         let last = ((b + 1) * FULL_LEN).div_ceil(N) - 1;
         (FULL_START_NM + (first + last) as f64 / 2.0 * DLAMBDA_NM) as f32
     });
-    FoldedSet {
+    FoldedSet::new(
         wavelengths_nm,
-        weights: weights.map(|row| row.map(|w| w as f32)),
-        samples: spectral_quadrature::Samples::Radiance,
-        display: SRGB,
-    }
+        weights.map(|row| row.map(|w| w as f32)),
+        spectral_quadrature::Samples::Radiance,
+        SRGB,
+    )
+    .unwrap()
 }
 
 /// Planar samples of the 4096 spectra at `nm`, repeated to `BIG_PIXELS` pixels: `[plane][pixel]`.
@@ -526,7 +527,7 @@ impl OneAllocation {
     }
 }
 
-/// Case `soa/srgb_u8_in_cache<layout>/N<n>`: `encode_u8_planar` (sRGB, `Clip`) on `planes` of
+/// Case `soa/srgb_u8_in_cache<layout>/N<n>`: `encode_u8_planar_to_interleaved` (sRGB, `Clip`) on `planes` of
 /// `IN_CACHE_PIXELS` pixels each, into the front of `out`.
 fn planar_in_cache<const N: usize>(
     g: &mut BenchmarkGroup<'_, WallTime>,
@@ -537,7 +538,7 @@ fn planar_in_cache<const N: usize>(
 ) {
     g.bench_function(format!("soa/srgb_u8_in_cache{layout}/N{N}"), |b| {
         b.iter(|| {
-            set.encode_u8_planar(
+            set.encode_u8_planar_to_interleaved(
                 GamutMapping::Clip,
                 black_box(planes),
                 &mut out[..IN_CACHE_PIXELS],
@@ -549,7 +550,7 @@ fn planar_in_cache<const N: usize>(
 }
 
 /// Cases `stream/read_write_3B<layout>/N<n>` and `soa/srgb_u8<layout>/N<n>`: the streaming
-/// bound for sRGB u8 on `planes`, then `encode_u8_planar` (sRGB, `Clip`) on the same planes,
+/// bound for sRGB u8 on `planes`, then `encode_u8_planar_to_interleaved` (sRGB, `Clip`) on the same planes,
 /// both into the first `planes[0].len()` pixels of `out`.
 fn planar_against_bound<const N: usize>(
     g: &mut BenchmarkGroup<'_, WallTime>,
@@ -568,8 +569,12 @@ fn planar_against_bound<const N: usize>(
     g.bench_function(&path, |b| {
         ran(&path);
         b.iter(|| {
-            set.encode_u8_planar(GamutMapping::Clip, black_box(planes), black_box(&mut *out))
-                .unwrap()
+            set.encode_u8_planar_to_interleaved(
+                GamutMapping::Clip,
+                black_box(planes),
+                black_box(&mut *out),
+            )
+            .unwrap()
         })
     });
 }
@@ -585,7 +590,7 @@ const BANDWIDTH_TIME: Duration = Duration::from_secs(3);
 const ROUNDS_TIME: Duration = Duration::from_secs(6);
 
 /// Case `rounds/soa_srgb_u8/N<n>`: the streaming bound for sRGB u8 (`stream::<N, 3>`, as in
-/// `stream/read_write_3B/N<n>`) and `encode_u8_planar` (sRGB, `Clip`, as in `soa/srgb_u8/N<n>`)
+/// `stream/read_write_3B/N<n>`) and `encode_u8_planar_to_interleaved` (sRGB, `Clip`, as in `soa/srgb_u8/N<n>`)
 /// on the same `planes` and `out`, alternating in rounds of one pass each, the bound first.
 /// A round's share of the bound is the bound's time over the path's (the definition of every
 /// `ratio` line); [`print_rounds`] prints the median of the rounds' shares and their spread.
@@ -612,8 +617,12 @@ fn rounds_against_bound<const N: usize>(
         stream::<N, 3>(black_box(planes), black_box(out.as_flattened_mut()));
         let bound = start.elapsed();
         let start = Instant::now();
-        set.encode_u8_planar(GamutMapping::Clip, black_box(planes), black_box(&mut *out))
-            .unwrap();
+        set.encode_u8_planar_to_interleaved(
+            GamutMapping::Clip,
+            black_box(planes),
+            black_box(&mut *out),
+        )
+        .unwrap();
         (bound, start.elapsed())
     };
     let mut shares: Vec<[Duration; 2]> = Vec::new();
@@ -841,20 +850,21 @@ fn bandwidth_set<const N: usize>(
     refl: &[Reflectance],
     set: &FoldedSet<N>,
 ) {
-    let planes = planes(refl, &set.wavelengths_nm);
+    let planes = planes(refl, &set.wavelengths_nm());
     let samples = plane_refs::<N>(&planes);
     let clip = GamutMapping::Clip;
 
     // Untimed: the planar path agrees with the per-pixel one on the first pixels.
     let mut check = vec![[0u8; 3]; SMALL_PIXELS];
     let head: [&[f32]; N] = samples.map(|p| &p[..SMALL_PIXELS]);
-    set.encode_u8_planar(clip, head, &mut check).unwrap();
+    set.encode_u8_planar_to_interleaved(clip, head, &mut check)
+        .unwrap();
     let mut differ = 0;
     for (p, o) in check.iter().enumerate() {
         let one = set.encode_u8(clip, &core::array::from_fn(|i| samples[i][p]));
-        // SRGB8_MAX_STEP_ERROR is 0: the same bytes.
+        // SRGB8_MAX_ERROR is 0: the same bytes.
         assert!(
-            (0..3).all(|c| u16::from(o[c].abs_diff(one[c])) <= u16::from(SRGB8_MAX_STEP_ERROR)),
+            (0..3).all(|c| u16::from(o[c].abs_diff(one[c])) <= u16::from(SRGB8_MAX_ERROR)),
             "pixel {p}: {o:?} {one:?}"
         );
         differ += usize::from(*o != one);
@@ -929,7 +939,7 @@ fn bandwidth_set<const N: usize>(
     g.bench_function(format!("soa/srgb_u8/N{N}"), |b| {
         ran(&format!("soa/srgb_u8/N{N}"));
         b.iter(|| {
-            set.encode_u8_planar(clip, black_box(samples), black_box(&mut out))
+            set.encode_u8_planar_to_interleaved(clip, black_box(samples), black_box(&mut out))
                 .unwrap()
         })
     });
@@ -1091,7 +1101,7 @@ fn print_ratios(n: usize) {
 ///   is the faster of the two;
 /// - `soa/linear/N<n>`: `linear_rgb_planar`, N planes → 3 planes of f32;
 ///   `soa/linear_offset/N<n>`: the same into output planes shifted by 0, 1 and 2 cache lines;
-/// - `soa/srgb_u8/N<n>`: `encode_u8_planar` (sRGB, Clip) → interleaved `[u8; 3]`;
+/// - `soa/srgb_u8/N<n>`: `encode_u8_planar_to_interleaved` (sRGB, Clip) → interleaved `[u8; 3]`;
 ///   `aos/srgb_u8/N<n>`: `encode_u8_batch` on the same pixels interleaved (`[f32; N]` each);
 ///   `soa/srgb_u8_spaced/N<n>`: the same planes copied into one allocation 8 KiB apart,
 ///   against `stream/read_write_3B_spaced/N<n>`, the bound on those planes;
@@ -1190,7 +1200,7 @@ fn bandwidth(c: &mut Criterion) {
 fn encoders(c: &mut Criterion) {
     let refl = spectra();
     let set = &folded::TABLE2_ROW2_SRGB;
-    let planes = planes(&refl, &set.wavelengths_nm);
+    let planes = planes(&refl, &set.wavelengths_nm());
     let samples: [&[f32]; 4] = core::array::from_fn(|i| &planes[i][..SMALL_PIXELS]);
     let mut lin = [0, 1, 2].map(|_| vec![0.0f32; SMALL_PIXELS]);
     {

@@ -49,11 +49,11 @@ impl<const N: usize> FoldedSet<N> {
     ///
     /// With the sRGB curve and [`GamutMapping::Clip`] on an x86-64 CPU with AVX-512 (F, BW and
     /// VBMI; detected at run time, once) and N = 4, sixteen pixels go through each register
-    /// and their code values are computed as by [`encode_u8_planar`](Self::encode_u8_planar)
+    /// and their code values are computed as by [`encode_u8_planar_to_interleaved`](Self::encode_u8_planar_to_interleaved)
     /// there; with AVX2 (and at other N), eight pixels go through each AVX2 register; on other
     /// targets with f32 vector units (SSE2, NEON, WebAssembly SIMD) chunks of 16 pixels are
     /// transposed into planes on the stack and encoded as by
-    /// [`encode_u8_planar`](Self::encode_u8_planar), in loops the compiler vectorizes; without
+    /// [`encode_u8_planar_to_interleaved`](Self::encode_u8_planar_to_interleaved), in loops the compiler vectorizes; without
     /// vector units (microcontrollers), pixel by pixel. Every way gives
     /// [`encode_u8`](Self::encode_u8)'s bytes, bit for bit (with N = 0, the display's encoding
     /// of black for every pixel). N above [`MAX_WAVELENGTHS`](crate::MAX_WAVELENGTHS) does not

@@ -14,6 +14,7 @@ use crate::Error;
 
 /// What is wrong with one channel of a calibration (see [`Error::Calibration`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[non_exhaustive]
 pub enum CalibrationProblem {
     /// The white reading is not above the dark one (or one of them is not finite): there is no
@@ -28,7 +29,7 @@ pub enum CalibrationProblem {
 
 impl CalibrationProblem {
     /// A short description, for messages.
-    pub const fn as_str(self) -> &'static str {
+    pub const fn name(self) -> &'static str {
         match self {
             CalibrationProblem::NoSignal => "the white reading is not above the dark one",
             CalibrationProblem::Reference => "the reference reading is not finite and positive",
@@ -41,6 +42,10 @@ impl CalibrationProblem {
 /// readings the golden device would have given, in the units of the reference it was formed
 /// against.
 ///
+/// Formed against a baked sensor's white (`tables::<SENSOR>_WHITE`), a calibrated white tile
+/// gives the sensor set's XYZ with Y = [`UNIT_SPECTRUM_Y`](crate::tables::UNIT_SPECTRUM_Y)
+/// (about 106.86, the weights being for dλ in nm), not 1: divide by it for Y = 1 at white.
+///
 /// ```
 /// use spectral_quadrature::Calibration;
 /// // A two-channel device: 12 and 30 counts in the dark, 812 and 630 on a white tile the
@@ -49,6 +54,7 @@ impl CalibrationProblem {
 /// assert_eq!(cal.apply(&[412.0, 330.0]), [0.4, 0.3]);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Calibration<const N: usize> {
     /// Each channel's reading in the dark, subtracted first.
     pub dark: [f32; N],
@@ -87,7 +93,7 @@ impl<const N: usize> Calibration<N> {
         for (k, g) in gain.iter_mut().enumerate() {
             let fail = |problem| {
                 Err(Error::Calibration {
-                    channel: k,
+                    channel_index: k,
                     problem,
                 })
             };
@@ -129,7 +135,7 @@ impl<const N: usize> Calibration<N> {
         };
         for k in 0..N {
             let out_of_range = Err(Error::Calibration {
-                channel: k,
+                channel_index: k,
                 problem: CalibrationProblem::OutOfRange,
             });
             let dark = self.dark[k] + 0.5;
@@ -157,6 +163,7 @@ impl<const N: usize> Calibration<N> {
 /// assert_eq!(cal.apply(&[50]), [0]); // below the dark offset
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct CountCalibration<const N: usize> {
     /// Each channel's counts in the dark, subtracted first (saturating at 0).
     pub dark: [u16; N],
@@ -191,13 +198,13 @@ impl<const N: usize> CountCalibration<N> {
             let signal = u32::from(white[k].saturating_sub(dark[k]));
             if signal == 0 {
                 return Err(Error::Calibration {
-                    channel: k,
+                    channel_index: k,
                     problem: CalibrationProblem::NoSignal,
                 });
             }
             if reference[k] == 0 {
                 return Err(Error::Calibration {
-                    channel: k,
+                    channel_index: k,
                     problem: CalibrationProblem::Reference,
                 });
             }

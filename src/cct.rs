@@ -14,6 +14,7 @@
 
 /// A correlated colour temperature and the chromaticity's distance from the Planckian locus.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Cct {
     /// The temperature of the nearest blackbody in CIE 1960 (u, v), kelvin.
     pub kelvin: f32,
@@ -65,6 +66,7 @@ pub const DUV_MAX_ERROR: f32 = 1e-7;
 /// its XYZ over that range: for D65 0.85 K below its CCT over 360-830 nm
 /// (docs/colour-temperature-and-calibration.md).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct PlanckianLocus<const K: usize> {
     /// The nodes' reciprocal temperatures μ = 10⁶ / T in mired, ascending (T descending).
     pub mired: [f32; K],

@@ -9,7 +9,9 @@ use crate::transfer::{gamma_encoder, gamma_f32, quantize_u8, Rgb, TransferFuncti
 use crate::Error;
 
 /// What to do with colours the display cannot show (a linear channel below 0 or above 1).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum GamutMapping {
     /// Clamp each channel to 0..=1. Hue and luminance may shift.
     #[default]
@@ -25,50 +27,82 @@ pub enum GamutMapping {
 /// A display: primaries, white point (CIE 1931 xy), the matrices between linear RGB and XYZ
 /// (white at Y = 1), and a transfer function.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Display {
-    /// A short name, e.g. `"sRGB"`.
-    pub name: &'static str,
-    /// Chromaticities of red, green, blue.
-    pub primaries_xy: [[f32; 2]; 3],
-    /// Chromaticity of white (RGB = 1, 1, 1).
-    pub white_xy: [f32; 2],
-    /// Linear RGB → XYZ.
-    pub rgb_to_xyz: [[f32; 3]; 3],
-    /// XYZ → linear RGB.
-    pub xyz_to_rgb: [[f32; 3]; 3],
-    /// The achromatic coordinate A of one unit of linear R, G and B (used by
-    /// [`GamutMapping::PreserveA`]).
-    pub a_from_rgb: [f32; 3],
-    /// How linear light is encoded.
-    pub transfer: TransferFunction,
+    // `pub(crate)`: the baked tables (`crate::tables`) set them; users call `new`, which derives
+    // the matrices, so that they always agree with the chromaticities.
+    pub(crate) name: &'static str,
+    pub(crate) primaries_xy: [[f32; 2]; 3],
+    pub(crate) white_xy: [f32; 2],
+    pub(crate) rgb_to_xyz: [[f32; 3]; 3],
+    pub(crate) xyz_to_rgb: [[f32; 3]; 3],
+    pub(crate) a_from_rgb: [f32; 3],
+    pub(crate) transfer: TransferFunction,
 }
 
 impl Display {
+    /// A short name, e.g. `"sRGB"`.
+    pub const fn name(&self) -> &'static str {
+        self.name
+    }
+
+    /// Chromaticities (CIE 1931 xy) of red, green, blue.
+    pub const fn primaries_xy(&self) -> [[f32; 2]; 3] {
+        self.primaries_xy
+    }
+
+    /// Chromaticity of white (RGB = 1, 1, 1).
+    pub const fn white_xy(&self) -> [f32; 2] {
+        self.white_xy
+    }
+
+    /// Linear RGB → XYZ (white at Y = 1), row-major.
+    pub const fn rgb_to_xyz(&self) -> [[f32; 3]; 3] {
+        self.rgb_to_xyz
+    }
+
+    /// XYZ → linear RGB, row-major.
+    pub const fn xyz_to_rgb(&self) -> [[f32; 3]; 3] {
+        self.xyz_to_rgb
+    }
+
+    /// The achromatic coordinate A of one unit of linear R, G and B (used by
+    /// [`GamutMapping::PreserveA`]).
+    pub const fn a_from_rgb(&self) -> [f32; 3] {
+        self.a_from_rgb
+    }
+
+    /// How linear light is encoded.
+    pub const fn transfer(&self) -> TransferFunction {
+        self.transfer
+    }
+
     /// A display made at run time from its primaries and white point (CIE 1931 xy) and a transfer
     /// function: linear RGB = (1, 1, 1) is the white at Y = 1. The matrices come from
     /// [`spectral_quadrature_math::display_matrices`] in f64, the same operations the baked
     /// displays come from, then rounded to f32.
     ///
-    /// Errors, never a panic: [`Error::InvalidGamma`] for a `Gamma(γ)` whose γ is not finite and
-    /// positive; [`Error::InvalidChromaticity`] for a coordinate that is not finite, negative, or
-    /// with x + y > 1 or y = 0; [`Error::SingularPrimaries`] when the primaries are collinear (or
-    /// nearly: the 2-norm condition number of their matrix above
+    /// Errors, never a panic, all [`Error::Display`] with the [`DisplayError`] that says what and
+    /// where: [`DisplayError::Gamma`] for a `Gamma(γ)` whose γ is not finite and positive;
+    /// [`DisplayError::Chromaticity`] (naming the point) for a coordinate that is not finite,
+    /// negative, or with x + y > 1 or y = 0; [`DisplayError::Collinear`] when the primaries are
+    /// collinear (or nearly: the 2-norm condition number of their matrix above
     /// [`MAX_PRIMARIES_CONDITION`](crate::MAX_PRIMARIES_CONDITION)), or so extreme that the f32
-    /// matrices would overflow; [`Error::WhiteOutsideGamut`] when the white is not a positive mix
-    /// of the primaries (or lies on an edge of their triangle: some primary's share below
-    /// [`MIN_WHITE_SHARE`](crate::MIN_WHITE_SHARE) of the largest). Lookup tables were checked
-    /// by [`ChannelLuts::new`](crate::ChannelLuts::new).
+    /// matrices would overflow (condition `+Inf`); [`DisplayError::WhiteOutside`] when the white
+    /// is not a positive mix of the primaries (or lies on an edge of their triangle: some
+    /// primary's share below [`MIN_WHITE_SHARE`](crate::MIN_WHITE_SHARE) of the largest). Lookup
+    /// tables were checked by [`ChannelLuts::new`](crate::ChannelLuts::new).
     ///
     /// It computes in f64: once per display, never per pixel, and only for displays made at run
     /// time (the baked [`tables::displays`](crate::tables::displays) cost nothing). On a
     /// microcontroller without a double-precision FPU that f64 is soft-float.
     ///
     /// ```
-    /// use spectral_quadrature::{tables::displays, Display, Error, TransferFunction};
+    /// use spectral_quadrature::{tables::displays, Display, DisplayError, Error, TransferFunction};
     /// let srgb = Display::new("sRGB", [[0.64, 0.33], [0.30, 0.60], [0.15, 0.06]], [0.3127, 0.3290], TransferFunction::Srgb).unwrap();
-    /// assert!((srgb.xyz_to_rgb[0][0] - displays::SRGB.xyz_to_rgb[0][0]).abs() < 1e-4);
+    /// assert!((srgb.xyz_to_rgb()[0][0] - displays::SRGB.xyz_to_rgb()[0][0]).abs() < 1e-4);
     /// let flat = Display::new("flat", [[0.2, 0.2], [0.4, 0.4], [0.3, 0.3]], [0.3127, 0.3290], TransferFunction::Srgb);
-    /// assert_eq!(flat.unwrap_err(), Error::SingularPrimaries);
+    /// assert!(matches!(flat, Err(Error::Display(DisplayError::Collinear { .. }))));
     /// ```
     pub fn new(
         name: &'static str,
@@ -78,16 +112,13 @@ impl Display {
     ) -> Result<Display, Error> {
         if let TransferFunction::Gamma(g) = transfer {
             if !(g.is_finite() && g > 0.0) {
-                return Err(Error::InvalidGamma);
+                return Err(Error::Display(DisplayError::Gamma {
+                    gamma: f64::from(g),
+                }));
             }
         }
         let f64s = |xy: [f32; 2]| xy.map(f64::from);
-        let matrices =
-            display_matrices(primaries_xy.map(f64s), f64s(white_xy)).map_err(|e| match e {
-                DisplayError::Chromaticity { .. } => Error::InvalidChromaticity,
-                DisplayError::Collinear { .. } => Error::SingularPrimaries,
-                DisplayError::WhiteOutside { .. } => Error::WhiteOutsideGamut,
-            })?;
+        let matrices = display_matrices(primaries_xy.map(f64s), f64s(white_xy))?;
         let DisplayMatrices {
             rgb_to_xyz,
             xyz_to_rgb,
@@ -108,7 +139,9 @@ impl Display {
             .flatten()
             .chain(&a_from_rgb);
         if !all.into_iter().all(|v| v.is_finite()) {
-            return Err(Error::SingularPrimaries);
+            return Err(Error::Display(DisplayError::Collinear {
+                condition: f64::INFINITY,
+            }));
         }
         Ok(Display {
             name,
@@ -144,7 +177,7 @@ impl Display {
     /// channel is clipped as with `Clip` (+Inf → 1, −Inf → 0). Never panics; the output is
     /// always in 0..=1.
     #[inline]
-    pub fn map_gamut(&self, rgb: [f32; 3], mapping: GamutMapping) -> [f32; 3] {
+    pub fn map_gamut(&self, mapping: GamutMapping, rgb: [f32; 3]) -> [f32; 3] {
         if rgb.iter().any(|v| v.is_nan()) {
             return [0.0; 3];
         }
@@ -161,8 +194,8 @@ impl Display {
 
     /// Gamut-maps and encodes a linear colour: values in 0..=1 ready to quantize. Input handling
     /// as [`map_gamut`](Self::map_gamut) (NaN anywhere → black).
-    pub fn encode(&self, rgb: [f32; 3], mapping: GamutMapping) -> [f32; 3] {
-        let m = self.map_gamut(rgb, mapping);
+    pub fn encode(&self, mapping: GamutMapping, rgb: [f32; 3]) -> [f32; 3] {
+        let m = self.map_gamut(mapping, rgb);
         [
             self.transfer.encode(Rgb::R, m[0]),
             self.transfer.encode(Rgb::G, m[1]),
@@ -175,7 +208,7 @@ impl Display {
     /// `quantize_u8(encode(..))`, rounding twice, misses by one step on a few inputs). No f64
     /// arithmetic. Input handling as [`map_gamut`](Self::map_gamut): NaN anywhere → black.
     #[inline]
-    pub fn encode_u8(&self, rgb: [f32; 3], mapping: GamutMapping) -> [u8; 3] {
+    pub fn encode_u8(&self, mapping: GamutMapping, rgb: [f32; 3]) -> [u8; 3] {
         // The common case inline and without branches: the sRGB table clamps as `Clip` does,
         // and a NaN anywhere selects black afterwards.
         if self.is_srgb_clip(mapping) {
@@ -183,7 +216,7 @@ impl Display {
             let px = rgb.map(srgb8_not_nan);
             return if nan { [0; 3] } else { px };
         }
-        self.encode_u8_other(rgb, mapping)
+        self.encode_u8_other(mapping, rgb)
     }
 
     /// Whether 8-bit encoding with `mapping` is the sRGB table with `Clip`: the case every fast
@@ -199,7 +232,7 @@ impl Display {
 
     /// [`encode_u8`](Self::encode_u8) for every transfer function and mapping but sRGB with
     /// `Clip`.
-    fn encode_u8_other(&self, rgb: [f32; 3], mapping: GamutMapping) -> [u8; 3] {
+    fn encode_u8_other(&self, mapping: GamutMapping, rgb: [f32; 3]) -> [u8; 3] {
         let m = match mapping {
             // Every 8-bit encoder clamps to 0..=1 itself, exactly as `Clip` does for a colour
             // without NaN: only the NaN rule is left to apply here.
@@ -209,7 +242,7 @@ impl Display {
                 }
                 rgb
             }
-            GamutMapping::PreserveA => self.map_gamut(rgb, mapping),
+            GamutMapping::PreserveA => self.map_gamut(mapping, rgb),
         };
         // The transfer function is matched once per pixel, not per channel. `m` has no NaN.
         match self.transfer {
@@ -227,11 +260,11 @@ impl Display {
     }
 
     /// Gamut-maps and encodes to 16 bits with [`TransferFunction::encode_u16`] (f32, within
-    /// [`U16_MAX_STEP_ERROR`](crate::U16_MAX_STEP_ERROR) of the exact curve rounded). No f64
+    /// [`U16_MAX_ERROR`](crate::U16_MAX_ERROR) of the exact curve rounded). No f64
     /// arithmetic. Input handling as [`map_gamut`](Self::map_gamut): NaN anywhere → black.
     #[inline]
-    pub fn encode_u16(&self, rgb: [f32; 3], mapping: GamutMapping) -> [u16; 3] {
-        let m = self.map_gamut(rgb, mapping);
+    pub fn encode_u16(&self, mapping: GamutMapping, rgb: [f32; 3]) -> [u16; 3] {
+        let m = self.map_gamut(mapping, rgb);
         [
             self.transfer.encode_u16(Rgb::R, m[0]),
             self.transfer.encode_u16(Rgb::G, m[1]),

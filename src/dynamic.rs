@@ -11,6 +11,7 @@ use crate::{Error, GaussRule, RuleStatus};
 /// chosen by a user setting). Baked sets ([`WavelengthSet`](crate::WavelengthSet)) are the
 /// faster choice when the combination is known at compile time.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct DynamicSet<const CAP: usize> {
     wavelengths_nm: Vec<f32, CAP>,
     weights: [Vec<f32, CAP>; 3],
@@ -47,7 +48,7 @@ impl<const CAP: usize> DynamicSet<CAP> {
     pub fn add_rule(&mut self, rule: &GaussRule) -> Result<(), Error> {
         if rule.status != RuleStatus::Defined {
             return Err(Error::UndefinedRule {
-                channel: rule.channel.index() as u8,
+                channel: rule.channel,
                 order: rule.order,
             });
         }

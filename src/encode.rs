@@ -33,7 +33,7 @@ const SEGMENTS: usize = 13 * PER_OCTAVE + 1;
 pub(crate) const TABLE_LEN: usize = 2048;
 
 /// The largest difference, per channel in 8-bit steps, between the fast sRGB paths
-/// ([`srgb8_from_linear`] and [`FoldedSet::encode_u8_planar`](crate::FoldedSet::encode_u8_planar)
+/// ([`srgb8_from_linear`] and [`FoldedSet::encode_u8_planar_to_interleaved`](crate::FoldedSet::encode_u8_planar_to_interleaved)
 /// with the sRGB curve and [`Clip`](crate::GamutMapping::Clip)) and the per-pixel
 /// [`Display::encode_u8`](crate::Display::encode_u8): 0, since the per-pixel encoder uses the
 /// same table ([`TransferFunction::encode_u8`](crate::TransferFunction::encode_u8)).
@@ -42,16 +42,16 @@ pub(crate) const TABLE_LEN: usize = 2048;
 /// is at most ½ step before rounding and 0 steps after, for every f32. Quantizing the f32
 /// curve instead (`quantize_u8(TransferFunction::Srgb.encode(..))`, what the per-pixel
 /// encoder did before) rounds twice: `tests/planar.rs` checks every f32 in 0..=1, and that form
-/// differs on 268 of them, by 1 step. [`SRGB8_MAX_DELTA_E`] is what one step can cost in
+/// differs on 268 of them, by 1 step. [`SRGB8_MAX_ERROR_DE76`] is what one step can cost in
 /// colour.
-pub const SRGB8_MAX_STEP_ERROR: u8 = 0;
+pub const SRGB8_MAX_ERROR: u8 = 0;
 
 /// The largest CIELAB ΔE*ab (CIE 1976, white of the sRGB display) between two 8-bit sRGB
-/// colours that differ by at most [`SRGB8_MAX_STEP_ERROR`] (one step) in each channel, anywhere
+/// colours that differ by at most [`SRGB8_MAX_ERROR`] (one step) in each channel, anywhere
 /// in the cube. `tests/planar.rs` measures every such pair of the 256³ colours: at most 1.932
 /// (sRGB 1, 25, 45 against 0, 26, 44: near black each step is a large part of the colour), and
 /// 1.189 where only one channel differs.
-pub const SRGB8_MAX_DELTA_E: f32 = 1.94;
+pub const SRGB8_MAX_ERROR_DE76: f32 = 1.94;
 
 /// `(k − ½) / 255` decoded with the exact sRGB curve, in f64: the linear value where the
 /// encoded value crosses the boundary between code values k − 1 and k (k = 1..=255).
@@ -142,7 +142,7 @@ pub(crate) static SEGMENT_TABLE: [u32; TABLE_LEN] = {
 /// Input handling: NaN, negative values, −Inf and everything below 1.5e-4 (subnormals
 /// included) give 0; values ≥ 1 (+Inf, huge) give 255. Never panics.
 ///
-/// Within [`SRGB8_MAX_STEP_ERROR`] (1 step) of the per-pixel
+/// Within [`SRGB8_MAX_ERROR`] (1 step) of the per-pixel
 /// [`TransferFunction::Srgb`](crate::TransferFunction::Srgb) encode quantized with
 /// [`quantize_u8`](crate::quantize_u8), and equal to it almost everywhere.
 ///

@@ -4,8 +4,13 @@
 
 use core::fmt;
 
+pub use spectral_quadrature_math::DisplayError;
+
 /// What went wrong in a runtime call. Runtime functions return this instead of panicking.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+///
+/// It implements `core::error::Error` (and so `std::error::Error`) without any feature.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[non_exhaustive]
 pub enum Error {
     /// A batch call got input and output slices of different lengths.
@@ -22,8 +27,8 @@ pub enum Error {
     },
     /// A rule that is not `Defined` was asked to contribute to a set.
     UndefinedRule {
-        /// The rule's channel row (0 = A, 1 = C1, 2 = C2).
-        channel: u8,
+        /// The rule's channel.
+        channel: crate::Channel,
         /// The rule's order.
         order: u8,
     },
@@ -32,25 +37,40 @@ pub enum Error {
         /// The offending channel.
         channel: crate::Rgb,
     },
-    /// A chromaticity given to [`Display::new`](crate::Display::new) is not finite, is
-    /// negative, or has y = 0 or x + y > 1.
-    InvalidChromaticity,
-    /// The primaries given to [`Display::new`](crate::Display::new) are collinear or nearly
-    /// so (see [`MAX_PRIMARIES_CONDITION`](crate::MAX_PRIMARIES_CONDITION)).
-    SingularPrimaries,
-    /// The white point given to [`Display::new`](crate::Display::new) is not a positive mix
-    /// of the primaries (it lies outside their triangle).
-    WhiteOutsideGamut,
-    /// A `Gamma(γ)` transfer function given to [`Display::new`](crate::Display::new) has a γ
-    /// that is not finite and positive.
-    InvalidGamma,
+    /// [`Display::new`](crate::Display::new) refuses the display: the details (which
+    /// chromaticity, the primaries' condition number, the white's drives, the γ) in the
+    /// [`DisplayError`] that the build-time generator reports for its displays too.
+    Display(DisplayError),
     /// A [`Calibration`](crate::Calibration) or [`CountCalibration`](crate::CountCalibration)
     /// cannot be formed for a channel.
     Calibration {
-        /// The channel, counted from 0 in the sensor's order.
-        channel: usize,
+        /// The sensor channel's index, counted from 0 in the sensor's order.
+        channel_index: usize,
         /// What is wrong with it.
         problem: crate::CalibrationProblem,
+    },
+    /// A set's or rule's constructor ([`WavelengthSet::new`](crate::WavelengthSet::new),
+    /// [`FoldedSet::new`](crate::FoldedSet::new), [`GaussRule::new`](crate::GaussRule::new)) got
+    /// a wavelength that is not finite and positive, or not above the one before (sensor
+    /// readings excepted, whose channel peaks may come in any order).
+    InvalidWavelength {
+        /// The first such wavelength's index.
+        index: usize,
+    },
+    /// A set's or rule's constructor got a weight that is not finite.
+    InvalidWeight {
+        /// The weight's row (the channel: A, C1, C2 or R, G, B, from 0).
+        row: usize,
+        /// Its index in the row.
+        index: usize,
+    },
+    /// [`Upsampling::new`](crate::Upsampling::new) got a table that is not `grid³` entries, or
+    /// a grid below 2.
+    UpsamplingTable {
+        /// Points per axis given.
+        grid: usize,
+        /// Entries in the table.
+        entries: usize,
     },
     /// [`IntegerSet::new`](crate::IntegerSet::new) got a weight that is not finite, a sample
     /// unit that is not finite and positive, or weights too large for 32-bit sums of u16
@@ -74,24 +94,33 @@ impl fmt::Display for Error {
             Error::UndefinedRule { channel, order } => write!(
                 f,
                 "channel {} order {order} is not a defined rule",
-                ["A", "C1", "C2"].get(channel as usize).unwrap_or(&"?")
+                channel.name()
             ),
             Error::InvalidLut { channel } => write!(
                 f,
                 "lookup table for channel {} needs 2 or more finite, non-decreasing entries in 0..=1",
                 channel.name()
             ),
-            Error::InvalidChromaticity => f.write_str(
-                "a chromaticity is not finite, is negative, or has y = 0 or x + y > 1",
+            Error::Display(e) => write!(f, "display refused: {e}"),
+            Error::Calibration {
+                channel_index,
+                problem,
+            } => write!(
+                f,
+                "calibration of sensor channel {channel_index}: {}",
+                problem.name()
             ),
-            Error::SingularPrimaries => f.write_str("the primaries are (nearly) collinear"),
-            Error::WhiteOutsideGamut => {
-                f.write_str("the white point lies outside the primaries' triangle")
+            Error::InvalidWavelength { index } => write!(
+                f,
+                "wavelength {index} is not finite and positive, or not above the one before"
+            ),
+            Error::InvalidWeight { row, index } => {
+                write!(f, "weight {index} of row {row} is not finite")
             }
-            Error::InvalidGamma => f.write_str("gamma must be finite and positive"),
-            Error::Calibration { channel, problem } => {
-                write!(f, "calibration of channel {channel}: {}", problem.as_str())
-            }
+            Error::UpsamplingTable { grid, entries } => write!(
+                f,
+                "an upsampling table of {entries} entries is not grid³ for a grid of {grid} (≥ 2)"
+            ),
             Error::IntegerRange => f.write_str(
                 "the weights or the sample unit have no fixed-point form for u16 counts",
             ),
@@ -100,4 +129,17 @@ impl fmt::Display for Error {
     }
 }
 
-impl core::error::Error for Error {}
+impl core::error::Error for Error {
+    fn source(&self) -> Option<&(dyn core::error::Error + 'static)> {
+        match self {
+            Error::Display(e) => Some(e),
+            _ => None,
+        }
+    }
+}
+
+impl From<DisplayError> for Error {
+    fn from(e: DisplayError) -> Error {
+        Error::Display(e)
+    }
+}

@@ -9,7 +9,7 @@ use crate::{Display, Error, FoldedSet, Samples, TransferFunction};
 
 /// The largest difference, in 8-bit code values per channel, between
 /// [`IntegerSet::encode_u8`] and the f32 path on the same input
-/// (`folded.encode_u8(GamutMapping::Clip, &set.samples_f32(&x))`, with `folded` the set the
+/// (`folded.encode_u8(GamutMapping::Clip, &set.counts_as_f32(&x))`, with `folded` the set the
 /// integer set was made from): 1.
 ///
 /// Both compare a value against the same thresholds θₖ of the transfer curve; the integer path's
@@ -22,7 +22,7 @@ use crate::{Display, Error, FoldedSet, Samples, TransferFunction};
 /// `tests/integer.rs` proves that for every channel of every baked set and every u16 input (for
 /// each pair of neighbouring thresholds, with `Σ|wᵢ·sᵢ|` bounded by the largest value any input
 /// can give next to them), then checks it on random inputs and dense sweeps.
-pub const INTEGER_MAX_CODE_DIFFERENCE: u8 = 1;
+pub const INTEGER_MAX_ERROR_CODES: u8 = 1;
 
 /// An integer encoder of one transfer function: its f32 thresholds (those of the f32 8-bit
 /// encoder), the same thresholds on a 2³¹ scale rounded up, and a table of limits that settles
@@ -501,7 +501,7 @@ const MAX_FRAC_BITS: i32 = 46;
 /// integer arithmetic only (no f32, no f64, no division).
 ///
 /// A count `x` stands for the f32 sample `x · sample_unit` of the folded set it was made from
-/// ([`samples_f32`](Self::samples_f32) gives those samples, for the f32 path). The baked sets
+/// ([`counts_as_f32`](Self::counts_as_f32) gives those samples, for the f32 path). The baked sets
 /// ([`tables::integer`](crate::tables::integer)) take 65 535 as the samples of white: a
 /// reflectance of 1 (for a set with a light folded in), a radiance of 1 (a spectrum of
 /// constant 1, the display white's luminance), or, for a sensor, the largest of its channels'
@@ -515,7 +515,7 @@ const MAX_FRAC_BITS: i32 = 46;
 /// let counts: [u16; 8] = [9000, 21000, 33000, 30000, 26000, 17000, 12000, 10000];
 /// let rgb = set.encode_u8(&counts);
 /// // The f32 path on the same input gives the same bytes, or one code apart.
-/// let f32_rgb = folded::KQ_C_8_SRGB.encode_u8(GamutMapping::Clip, &set.samples_f32(&counts));
+/// let f32_rgb = folded::KQ_C_8_SRGB.encode_u8(GamutMapping::Clip, &set.counts_as_f32(&counts));
 /// assert!(rgb.iter().zip(f32_rgb).all(|(a, b)| a.abs_diff(b) <= 1));
 /// ```
 ///
@@ -578,6 +578,26 @@ impl<const N: usize> PartialEq for IntegerSet<N> {
             && self.sample_unit.to_bits() == other.sample_unit.to_bits()
             && self.samples == other.samples
             && self.display == other.display
+    }
+}
+
+/// By hand, not derived: the set's fixed-point curve and packed weights follow from what it
+/// shows (the weights, the display) and would fill a log with tables.
+#[cfg(feature = "defmt")]
+impl<const N: usize> defmt::Format for IntegerSet<N> {
+    fn format(&self, f: defmt::Formatter<'_>) {
+        let w = self.weights();
+        defmt::write!(
+            f,
+            "IntegerSet {{ samples: {}, display: {=str}, sample_unit: {=f32}, frac_bits: {=u32}, weights: [{=[?]}, {=[?]}, {=[?]}] }}",
+            self.samples(),
+            self.display().name(),
+            self.sample_unit(),
+            self.frac_bits(),
+            &w[0][..],
+            &w[1][..],
+            &w[2][..]
+        )
     }
 }
 
@@ -675,7 +695,7 @@ impl<const N: usize> IntegerSet<N> {
     /// The samples the f32 path takes for the same counts: `x as f32 · sample_unit` (f32; for
     /// comparisons with [`FoldedSet::encode_u8`], and for the f32 functions that take samples,
     /// such as XYZ from the unfolded set).
-    pub fn samples_f32(&self, counts: &[u16; N]) -> [f32; N] {
+    pub fn counts_as_f32(&self, counts: &[u16; N]) -> [f32; N] {
         counts.map(|x| f32::from(x) * self.sample_unit)
     }
 
@@ -693,7 +713,7 @@ impl<const N: usize> IntegerSet<N> {
     /// [`Display::encode_u8`]) at or below the exact fixed-point value
     /// `F / 2^P` ([`linear_fixed`](Self::linear_fixed)): the f32 path's correctly rounded
     /// curve, applied without rounding the sum. So it is within
-    /// [`INTEGER_MAX_CODE_DIFFERENCE`] (1) of the f32 path on the same input, and the same on
+    /// [`INTEGER_MAX_ERROR_CODES`] (1) of the f32 path on the same input, and the same on
     /// every target.
     #[inline]
     pub fn encode_u8(&self, counts: &[u16; N]) -> [u8; 3] {

@@ -71,18 +71,24 @@
 //! pixel through [`FoldedSet::encode_u8`].
 //!
 //! **Planes** (`src/planar/`): [`FoldedSet::linear_rgb_planar`] and, with the sRGB curve and
-//! `Clip`, [`FoldedSet::encode_u8_planar`] run the AVX-512 loop (any N) or the AVX2 loop on
+//! `Clip`, [`FoldedSet::encode_u8_planar_to_interleaved`] (and [`FoldedSet::encode_u8_planar`],
+//! the same loops on chunks of 64 pixels, its bytes scattered to three planes) run the AVX-512 loop (any N) or the AVX2 loop on
 //! x86-64 CPUs that have them, then the portable chunked loop for the pixels left (or for all,
-//! elsewhere). Without vector units, `encode_u8_planar` runs a scalar loop one pixel at a time
+//! elsewhere). Without vector units, `encode_u8_planar_to_interleaved` runs a scalar loop one pixel at a time
 //! with the weights in registers (`src/planar/scalar.rs`); other curves and mappings go pixel
 //! by pixel through [`FoldedSet::encode_u8`].
+//! [`FoldedSet::encode_u16_planar`] and [`FoldedSet::encode_u16_planar_to_interleaved`] go pixel
+//! by pixel through [`FoldedSet::encode_u16`].
 //!
 //! **RGB materials** (`src/upsample.rs`): [`Upsampling::reflectance`] takes a linear RGB colour
 //! to a set's N node reflectances: each channel clamped to [0, 1] (NaN to 0), the cell of the
 //! baked grid and one of its six tetrahedra, then four table entries weighted and summed per node
 //! ([`Upsampling::interpolate`]); in a cell at the edge of what the set reaches, where the colour's
 //! residual exceeds the table's rounding, the [`RoundTrip`] correction (`src/upsample/round_trip.rs`:
-//! a small active-set solve), all in f32; [`Upsampling::reflectance_batch`] calls it on each pixel.
+//! a small active-set solve), all in f32; [`Upsampling::reflectance_batch`] (pixels to pixels),
+//! [`Upsampling::reflectance_planar`] (RGB planes to node planes) and
+//! [`Upsampling::reflectance_interleaved_to_planar`] (an RGB texture to the node planes the
+//! planar encoders take) call it on each pixel.
 //! The tables are in [`tables::upsampling`] for the sets and displays the scene names (see
 //! `docs/upsampling.md`).
 //!
@@ -110,8 +116,48 @@
 //! from a dark and a white reading or fitted at build time). See
 //! `docs/colour-temperature-and-calibration.md`.
 //!
+//! ## Conventions
+//!
+//! The rules every public item follows, so that a name or an argument list says what it does:
+//!
+//! - **Argument order**: the receiver, then *how* (a [`GamutMapping`], a channel selector such as
+//!   [`Rgb`]), then the input, then the output buffer:
+//!   `set.encode_u8(mapping, &samples)`, `display.encode_u8(mapping, rgb)`,
+//!   `transfer.encode_u8(Rgb::R, x)`, `set.encode_u8_batch(mapping, &pixels, &mut out)`.
+//! - **Layouts, by suffix**: none, one pixel (`[f32; N]` in); `_batch`, interleaved pixels in
+//!   (`&[[T; N]]`) and out (`&mut [[U; 3]]`); `_planar`, planes in (one slice per wavelength or
+//!   channel) and planes out (one slice per output channel); `_planar_to_interleaved`, planes in
+//!   and interleaved pixels out; `_interleaved_to_planar`, the reverse. Every layout gives the
+//!   per-pixel function's bits or bytes, and a call whose slices differ in length returns
+//!   [`Error::LengthMismatch`] before writing anything.
+//! - **One word per idea**: *samples* are the f32 values a set takes (and [`Samples`] says what
+//!   they are); *counts* are the u16 inputs of [`IntegerSet`]; an enum's text is its `name()`;
+//!   an error bound is `<WHAT>_MAX_ERROR`, with a unit suffix where the unit is not the
+//!   quantity's own ([`INTEGER_MAX_ERROR_CODES`], [`SRGB8_MAX_ERROR_DE76`],
+//!   [`CCT_MAX_ERROR_MIRED`]); a channel of AC1C2 is a [`Channel`], of RGB an [`Rgb`], and a
+//!   sensor's channel is an index (`channel_index`).
+//! - **Errors**: every fallible function returns [`Error`]; a refused display is
+//!   [`Error::Display`] with the [`DisplayError`] the build-time generator reports too. Enums
+//!   that may grow (errors, problems, [`Samples`], [`GamutMapping`], [`TransferFunction`],
+//!   [`RuleStatus`]) are `#[non_exhaustive]`.
+//! - **Construction**: the baked types' fields are private; read them through `const fn`
+//!   accessors of the same names (`set.weights()`, `display.name()`), and build your own with a
+//!   checked `const fn new` ([`WavelengthSet::new`], [`FoldedSet::new`], [`GaussRule::new`],
+//!   [`Upsampling::new`], [`IntegerSet::new`], [`ChannelLuts::new`]) or [`Display::new`]. No
+//!   constructor leaves a placeholder (such as NaN) for the caller to fill.
+//! - **Inputs**: no function panics or allocates on any input; each documents what NaN, ±Inf,
+//!   subnormal, huge and negative values yield. No f64 per pixel.
+//! - **Traits**: every public type is `Debug`, `Clone` and `PartialEq` (`Copy` where it holds no
+//!   buffer, `Eq` and `Hash` where it holds no float), and `defmt::Format` with the `defmt`
+//!   feature.
+//!
 //! ## Features
-//! - `std`: links the standard library (`std::error::Error` for [`Error`]).
+//!
+//! All additive, none on by default. [`Error`] implements `core::error::Error` (and so
+//! `std::error::Error`) without any of them.
+//! - `defmt`: `defmt::Format` for the public types, for logging from firmware.
+//! - `micromath`: `TransferFunction::encode_fast`, within `ENCODE_FAST_MAX_ERROR` of the
+//!   exact curve (a coarse bound: previews and indicators).
 #![no_std]
 #![cfg_attr(docsrs, feature(doc_cfg))]
 #![deny(missing_docs)]
@@ -124,7 +170,7 @@
 #![deny(clippy::undocumented_unsafe_blocks)]
 
 // The unit tests and the fuzz targets' loop switch (`simd::forced`) use std.
-#[cfg(any(test, fuzzing, feature = "std"))]
+#[cfg(any(test, fuzzing))]
 extern crate std;
 
 // The modules, each importing only from those in the lines above it (and from `tables`, the
@@ -136,7 +182,11 @@ extern crate std;
 // - planar (the planar path and the portable loops, on pixel and simd); batch (the interleaved
 //   path, on pixel, planar's portable loops and simd);
 // - integer (the integer path, on set and encode's thresholds);
-// - dynamic, paper, defmt and fast, on the types; upsample (RGB → node reflectances, on error).
+// - dynamic and fast, on the types; upsample (RGB → node reflectances, on error).
+// simd::target (whether the target has f32 vector units) is a leaf that both simd::forced (the
+// test and fuzz builds' loop caps) and planar read, so that neither imports the other. The
+// `tables` below name the types they instantiate, and `error` names `Channel`, `Rgb` and
+// `CalibrationProblem` in its variants: those imports point up the list.
 mod batch;
 mod calibration;
 mod cct;
@@ -156,32 +206,26 @@ mod test_inputs;
 mod transfer;
 mod upsample;
 
-#[cfg(feature = "defmt")]
-mod defmt;
 #[cfg(feature = "micromath")]
 mod fast;
-
-pub mod paper;
 
 pub use calibration::{Calibration, CalibrationProblem, CountCalibration};
 pub use cct::{uv_from_xyz, Cct, PlanckianLocus, CCT_MAX_ERROR_MIRED, DUV_MAX_ERROR, MAX_DUV};
 pub use display::{Display, GamutMapping};
 pub use dynamic::DynamicSet;
-pub use encode::{srgb8_from_linear, SRGB8_MAX_DELTA_E, SRGB8_MAX_STEP_ERROR};
-pub use error::Error;
+pub use encode::{srgb8_from_linear, SRGB8_MAX_ERROR, SRGB8_MAX_ERROR_DE76};
+pub use error::{DisplayError, Error};
 #[cfg(feature = "micromath")]
 pub use fast::ENCODE_FAST_MAX_ERROR;
-pub use integer::{IntegerSet, INTEGER_MAX_CODE_DIFFERENCE};
+pub use integer::{IntegerSet, INTEGER_MAX_ERROR_CODES};
 pub use lux::LuxScale;
 pub use matrix::{ac1c2_from_xyz, xyz_from_ac1c2};
 pub use pixel::f32_budget;
 pub use set::{Channel, FoldedSet, GaussRule, RuleStatus, Samples, WavelengthSet, MAX_WAVELENGTHS};
 pub use spectral_quadrature_math::{
-    delta_e2000, delta_e76, lab_from_xyz, MAX_PRIMARIES_CONDITION, MIN_WHITE_SHARE,
+    delta_e2000, delta_e76, lab_from_xyz, Point, MAX_PRIMARIES_CONDITION, MIN_WHITE_SHARE,
 };
-pub use transfer::{
-    quantize_u16, quantize_u8, ChannelLuts, Rgb, TransferFunction, U16_MAX_STEP_ERROR,
-};
+pub use transfer::{quantize_u16, quantize_u8, ChannelLuts, Rgb, TransferFunction, U16_MAX_ERROR};
 pub use upsample::{RoundTrip, Upsampling, UPSAMPLING_CODE_ONE};
 
 /// Internal, for the fuzz targets in `fuzz/` alone: caps the loops the batch and planar paths
@@ -207,9 +251,9 @@ pub mod tables {
     ///
     /// | WGSL item | what | Rust counterpart |
     /// |---|---|---|
-    /// | `<SET>_WL: array<f32, N>` | wavelengths in nm: the samples' order | `<SET>.wavelengths_nm` |
-    /// | `<SET>_AC1C2: array<vec3<f32>, N>` | weights for A, C1, C2, one column per wavelength | `<SET>.weights` |
-    /// | `<SET>_<DISPLAY>: array<vec3<f32>, N>` | weights for linear RGB, one column per wavelength | `folded::<SET>_<DISPLAY>.weights` |
+    /// | `<SET>_WL: array<f32, N>` | wavelengths in nm: the samples' order | `<SET>.wavelengths_nm()` |
+    /// | `<SET>_AC1C2: array<vec3<f32>, N>` | weights for A, C1, C2, one column per wavelength | `<SET>.weights()` |
+    /// | `<SET>_<DISPLAY>: array<vec3<f32>, N>` | weights for linear RGB, one column per wavelength | `folded::<SET>_<DISPLAY>.weights()` |
     /// | `<set>_ac1c2(s: array<f32, N>) -> vec3<f32>` | samples → `[A, C1, C2]` | [`WavelengthSet::ac1c2`](crate::WavelengthSet::ac1c2) |
     /// | `<set>_<display>_linear(s: array<f32, N>) -> vec3<f32>` | samples → linear RGB | [`FoldedSet::linear_rgb`](crate::FoldedSet::linear_rgb) |
     /// | `<display>_encode(rgb: vec3<f32>) -> vec3<f32>` | linear RGB → clipped, encoded 0..=1 | [`Display::encode`](crate::Display::encode) with [`GamutMapping::Clip`](crate::GamutMapping::Clip) |

@@ -18,6 +18,7 @@
 /// assert!((scale.lux([0.0038, 0.004, 0.0031]) - 160.0).abs() < 1e-3);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct LuxScale {
     /// Illuminance in lux for Y = 1.
     pub lux_per_y: f32,

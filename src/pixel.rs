@@ -91,13 +91,13 @@ impl<const N: usize> FoldedSet<N> {
             return crate::simd::sse2::encode_srgb8(&self.weights, samples);
         }
         self.display
-            .encode_u8(mat_vec_for_encoding(&self.weights, samples), mapping)
+            .encode_u8(mapping, mat_vec_for_encoding(&self.weights, samples))
     }
 
     /// As [`encode_u8`](Self::encode_u8), 16 bits (N = 0 included).
     #[inline]
     pub fn encode_u16(&self, mapping: crate::GamutMapping, samples: &[f32; N]) -> [u16; 3] {
-        self.display.encode_u16(self.linear_rgb(samples), mapping)
+        self.display.encode_u16(mapping, self.linear_rgb(samples))
     }
 }
 

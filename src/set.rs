@@ -4,6 +4,7 @@
 
 /// One of the three opponent channels of AC1C2 space.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Channel {
     /// The achromatic channel, close to luminance ȳ.
     A,
@@ -38,6 +39,8 @@ impl Channel {
 
 /// Whether a Gauss rule of some order exists, and if not, why.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum RuleStatus {
     /// All nodes real and inside the spectrum's range: the rule can be used.
     Defined,
@@ -52,7 +55,7 @@ pub enum RuleStatus {
 
 impl RuleStatus {
     /// `"defined"`, `"outside"`, `"complex"` or `"vanishing-norm"`.
-    pub const fn as_str(self) -> &'static str {
+    pub const fn name(self) -> &'static str {
         match self {
             RuleStatus::Defined => "defined",
             RuleStatus::Outside => "outside",
@@ -70,6 +73,7 @@ impl RuleStatus {
 /// gives wrong colours, silently, so the set carries this field and the docs, `Debug` and
 /// `defmt` output show it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[non_exhaustive]
 pub enum Samples {
     /// Samples of a spectral radiance (or of any spectrum whose colour is wanted as given).
@@ -84,6 +88,11 @@ pub enum Samples {
     /// `wavelengths_nm` are each channel's peak, not wavelengths to sample at. A reading is
     /// `∫ S_k(λ) e(λ) dλ` of the radiance e reaching the sensor, in the units of the scene's
     /// sensor file times nm.
+    ///
+    /// The set's XYZ from such readings is in the weights' units, dλ in nm: a calibrated white
+    /// (readings equal to the golden device's on a perfect white, `tables::<SENSOR>_WHITE`) gives
+    /// Y = [`UNIT_SPECTRUM_Y`](crate::tables::UNIT_SPECTRUM_Y) (about 106.86), not 1; divide by
+    /// it for Y = 1 at white, as the folded sets do.
     Readings {
         /// The sensor's name in the scene.
         sensor: &'static str,
@@ -113,23 +122,145 @@ impl Samples {
 
 /// One channel's Gauss rule of one order, as baked by the build script.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct GaussRule {
+    // `pub(crate)`: the baked tables (`crate::tables`) set them; users call `new`.
+    pub(crate) channel: Channel,
+    pub(crate) order: u8,
+    pub(crate) status: RuleStatus,
+    pub(crate) wavelengths_nm: &'static [f32],
+    pub(crate) weights: &'static [f32],
+}
+
+impl GaussRule {
+    /// A rule of `order` nodes for `channel`, checked: with `status` [`RuleStatus::Defined`]
+    /// `wavelengths_nm` and `weights` have `order` entries each, otherwise none (else
+    /// [`Error::LengthMismatch`](crate::Error::LengthMismatch) with `inputs` the count
+    /// expected and `outputs` the first count that differs); every wavelength finite, positive and
+    /// above the one before (else [`Error::InvalidWavelength`](crate::Error::InvalidWavelength));
+    /// every weight finite (else [`Error::InvalidWeight`](crate::Error::InvalidWeight), `row`
+    /// the channel's). Never panics; usable in consts.
+    pub const fn new(
+        channel: Channel,
+        order: u8,
+        status: RuleStatus,
+        wavelengths_nm: &'static [f32],
+        weights: &'static [f32],
+    ) -> Result<GaussRule, crate::Error> {
+        let expected = match status {
+            RuleStatus::Defined => order as usize,
+            _ => 0,
+        };
+        if wavelengths_nm.len() != expected || weights.len() != expected {
+            let outputs = if wavelengths_nm.len() != expected {
+                wavelengths_nm.len()
+            } else {
+                weights.len()
+            };
+            return Err(crate::Error::LengthMismatch {
+                inputs: expected,
+                outputs,
+            });
+        }
+        if let Err(e) = check_wavelengths(wavelengths_nm, false) {
+            return Err(e);
+        }
+        if let Err(index) = check_finite(weights) {
+            return Err(crate::Error::InvalidWeight {
+                row: channel.index(),
+                index,
+            });
+        }
+        Ok(GaussRule {
+            channel,
+            order,
+            status,
+            wavelengths_nm,
+            weights,
+        })
+    }
+
     /// The channel whose sensitivity is the weight function.
-    pub channel: Channel,
+    pub const fn channel(&self) -> Channel {
+        self.channel
+    }
+
     /// The number of nodes n.
-    pub order: u8,
-    /// Whether the rule exists; `wavelengths_nm` and `weights` are empty unless `Defined`.
-    pub status: RuleStatus,
+    pub const fn order(&self) -> u8 {
+        self.order
+    }
+
+    /// Whether the rule exists; [`wavelengths_nm`](Self::wavelengths_nm) and
+    /// [`weights`](Self::weights) are empty unless `Defined`.
+    pub const fn status(&self) -> RuleStatus {
+        self.status
+    }
+
     /// Nodes in nm, ascending.
-    pub wavelengths_nm: &'static [f32],
+    pub const fn wavelengths_nm(&self) -> &'static [f32] {
+        self.wavelengths_nm
+    }
+
     /// Weights for dλ in nm: `channel ≈ Σ weights[i] · spectrum(wavelengths_nm[i])`.
-    pub weights: &'static [f32],
+    pub const fn weights(&self) -> &'static [f32] {
+        self.weights
+    }
+}
+
+/// `Err(Error::InvalidWavelength)` at the first wavelength that is not finite and positive or,
+/// unless `any_order` (a sensor's channel peaks), not above the one before.
+const fn check_wavelengths(wavelengths_nm: &[f32], any_order: bool) -> Result<(), crate::Error> {
+    let mut i = 0;
+    while i < wavelengths_nm.len() {
+        let l = wavelengths_nm[i];
+        let ordered = any_order || i == 0 || l > wavelengths_nm[i - 1];
+        if !(l.is_finite() && l > 0.0 && ordered) {
+            return Err(crate::Error::InvalidWavelength { index: i });
+        }
+        i += 1;
+    }
+    Ok(())
+}
+
+/// The index of the first value that is not finite.
+const fn check_finite(values: &[f32]) -> Result<(), usize> {
+    let mut i = 0;
+    while i < values.len() {
+        if !values[i].is_finite() {
+            return Err(i);
+        }
+        i += 1;
+    }
+    Ok(())
+}
+
+/// [`check_wavelengths`] and [`check_finite`] on each row of a set's weights.
+const fn check_set<const N: usize>(
+    wavelengths_nm: &[f32; N],
+    weights: &[[f32; N]; 3],
+    samples: Samples,
+) -> Result<(), crate::Error> {
+    let any_order = matches!(samples, Samples::Readings { .. });
+    if let Err(e) = check_wavelengths(wavelengths_nm, any_order) {
+        return Err(e);
+    }
+    let mut row = 0;
+    while row < 3 {
+        if let Err(index) = check_finite(&weights[row]) {
+            return Err(crate::Error::InvalidWeight { row, index });
+        }
+        row += 1;
+    }
+    Ok(())
 }
 
 /// The most wavelengths (or sensor channels), N, of a [`FoldedSet`] whose planar functions
 /// ([`linear_rgb_planar`](FoldedSet::linear_rgb_planar),
-/// [`encode_u8_planar`](FoldedSet::encode_u8_planar)) or
-/// [`encode_u8_batch`](FoldedSet::encode_u8_batch) are called: those three check N against it at
+/// [`encode_u8_planar`](FoldedSet::encode_u8_planar),
+/// [`encode_u8_planar_to_interleaved`](FoldedSet::encode_u8_planar_to_interleaved),
+/// [`encode_u16_planar`](FoldedSet::encode_u16_planar),
+/// [`encode_u16_planar_to_interleaved`](FoldedSet::encode_u16_planar_to_interleaved)) or
+/// [`encode_u8_batch`](FoldedSet::encode_u8_batch) are called: those check N against it at
 /// compile time, and a call with a larger N stops the build (`cargo build`; `cargo check` does
 /// not evaluate the check). The generator bakes no larger set (`UNIFORM_64`, and user and
 /// sensor sets of up to 64 samples, are its largest).
@@ -159,12 +290,8 @@ pub struct GaussRule {
 ///
 /// ```compile_fail
 /// use spectral_quadrature::{tables::folded::TABLE2_ROW2_SRGB as SRGB, FoldedSet};
-/// let wide = FoldedSet::<65> {
-///     wavelengths_nm: [500.0; 65],
-///     weights: [[0.0; 65]; 3],
-///     samples: SRGB.samples,
-///     display: SRGB.display,
-/// };
+/// let nm = core::array::from_fn(|i| 400.0 + i as f32);
+/// let wide = FoldedSet::<65>::new(nm, [[0.0; 65]; 3], SRGB.samples(), SRGB.display()).unwrap();
 /// let planes = [&[0.5f32][..]; 65];
 /// let (mut r, mut g, mut b) = ([0.0f32], [0.0f32], [0.0f32]);
 /// let _ = wide.linear_rgb_planar(planes, [&mut r, &mut g, &mut b]);
@@ -190,18 +317,69 @@ pub(crate) const fn assert_width<const N: usize>() {
 /// merged sets, and any other set. N = 0 is allowed and gives the colour of no signal; the
 /// planar and 8-bit batch loops of [`FoldedSet`] take N up to [`MAX_WAVELENGTHS`] (see there).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct WavelengthSet<const N: usize> {
-    /// Wavelengths in nm, ascending and distinct.
-    pub wavelengths_nm: [f32; N],
-    /// `weights[channel][i]`, rows A, C1, C2, for dλ in nm.
-    pub weights: [[f32; N]; 3],
-    /// What the samples are: radiances, or reflectances under a light folded into the weights.
-    pub samples: Samples,
+    // `pub(crate)`: the baked tables (`crate::tables`) set them; users call `new`.
+    pub(crate) wavelengths_nm: [f32; N],
+    pub(crate) weights: [[f32; N]; 3],
+    pub(crate) samples: Samples,
 }
 
 impl<const N: usize> WavelengthSet<N> {
     /// The number of distinct wavelengths, N.
     pub const LEN: usize = N;
+
+    /// A set of your own: wavelengths in nm, `weights[channel][i]` (rows A, C1, C2, for dλ in
+    /// nm) and what the samples are. Checked, never a panic, usable in consts: every wavelength
+    /// finite, positive and (except for [`Samples::Readings`], whose "wavelengths" are the
+    /// sensor channels' peaks in the sensor's order) above the one before, else
+    /// [`Error::InvalidWavelength`](crate::Error::InvalidWavelength) at the first that is not;
+    /// every weight finite, else [`Error::InvalidWeight`](crate::Error::InvalidWeight).
+    ///
+    /// ```
+    /// use spectral_quadrature::{Samples, WavelengthSet};
+    /// const MINE: WavelengthSet<2> = match WavelengthSet::new(
+    ///     [450.0, 600.0],
+    ///     [[20.0, 80.0], [-10.0, 10.0], [30.0, -5.0]],
+    ///     Samples::Radiance,
+    /// ) {
+    ///     Ok(set) => set,
+    ///     Err(_) => panic!("not a set"),
+    /// };
+    /// assert_eq!(MINE.ac1c2(&[1.0, 1.0]), [100.0, 0.0, 25.0]);
+    /// assert!(WavelengthSet::new([600.0, 450.0], [[0.0; 2]; 3], Samples::Radiance).is_err());
+    /// ```
+    pub const fn new(
+        wavelengths_nm: [f32; N],
+        weights: [[f32; N]; 3],
+        samples: Samples,
+    ) -> Result<WavelengthSet<N>, crate::Error> {
+        if let Err(e) = check_set(&wavelengths_nm, &weights, samples) {
+            return Err(e);
+        }
+        Ok(WavelengthSet {
+            wavelengths_nm,
+            weights,
+            samples,
+        })
+    }
+
+    /// Wavelengths in nm, ascending and distinct (sensor readings: each channel's peak, in the
+    /// sensor's order): the order of the samples.
+    pub const fn wavelengths_nm(&self) -> [f32; N] {
+        self.wavelengths_nm
+    }
+
+    /// `weights[channel][i]`, rows A, C1, C2, for dλ in nm.
+    pub const fn weights(&self) -> [[f32; N]; 3] {
+        self.weights
+    }
+
+    /// What the samples are: radiances, or reflectances under a light folded into the weights,
+    /// or a sensor's readings.
+    pub const fn samples(&self) -> Samples {
+        self.samples
+    }
 
     /// Folds AC1C2 → XYZ → the display's linear RGB and a `scale` into the weights, in f32, so
     /// that [`FoldedSet::linear_rgb`] is one 3×N product; the folded set keeps `display` (its
@@ -240,7 +418,7 @@ impl<const N: usize> WavelengthSet<N> {
 /// use spectral_quadrature::tables::folded::TABLE2_ROW2_SRGB;
 /// use spectral_quadrature::GamutMapping;
 /// let px = TABLE2_ROW2_SRGB.encode_u8(GamutMapping::Clip, &[0.5; 4]);
-/// assert_eq!(TABLE2_ROW2_SRGB.display.name, "sRGB");
+/// assert_eq!(TABLE2_ROW2_SRGB.display().name(), "sRGB");
 /// # let _ = px;
 /// ```
 ///
@@ -257,13 +435,57 @@ impl<const N: usize> WavelengthSet<N> {
 /// spectrum of constant 1 has luminance Y = 1, the luminance of the display's white (its
 /// chromaticity is that of illuminant E, not of the display's white point).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct FoldedSet<const N: usize> {
-    /// Wavelengths in nm, ascending and distinct.
-    pub wavelengths_nm: [f32; N],
+    // `pub(crate)`: the baked tables (`crate::tables`) set them; users call `new` or
+    // `WavelengthSet::fold`.
+    pub(crate) wavelengths_nm: [f32; N],
+    pub(crate) weights: [[f32; N]; 3],
+    pub(crate) samples: Samples,
+    pub(crate) display: crate::Display,
+}
+
+impl<const N: usize> FoldedSet<N> {
+    /// A folded set of your own: wavelengths in nm, `weights[channel][i]` (rows R, G, B: linear
+    /// RGB of `display` per unit sample), what the samples are, and the display whose transfer
+    /// function encodes the output. Checked as [`WavelengthSet::new`] checks (never a panic,
+    /// usable in consts). [`WavelengthSet::fold`] makes one from an AC1C2 set.
+    pub const fn new(
+        wavelengths_nm: [f32; N],
+        weights: [[f32; N]; 3],
+        samples: Samples,
+        display: crate::Display,
+    ) -> Result<FoldedSet<N>, crate::Error> {
+        if let Err(e) = check_set(&wavelengths_nm, &weights, samples) {
+            return Err(e);
+        }
+        Ok(FoldedSet {
+            wavelengths_nm,
+            weights,
+            samples,
+            display,
+        })
+    }
+
+    /// Wavelengths in nm, ascending and distinct (sensor readings: each channel's peak, in the
+    /// sensor's order): the order of the samples.
+    pub const fn wavelengths_nm(&self) -> [f32; N] {
+        self.wavelengths_nm
+    }
+
     /// `weights[channel][i]`, rows R, G, B.
-    pub weights: [[f32; N]; 3],
-    /// What the samples are: radiances, or reflectances under a light folded into the weights.
-    pub samples: Samples,
+    pub const fn weights(&self) -> [[f32; N]; 3] {
+        self.weights
+    }
+
+    /// What the samples are: radiances, or reflectances under a light folded into the weights,
+    /// or a sensor's readings.
+    pub const fn samples(&self) -> Samples {
+        self.samples
+    }
+
     /// The display the weights were folded for: its transfer function encodes the output.
-    pub display: crate::Display,
+    pub const fn display(&self) -> crate::Display {
+        self.display
+    }
 }

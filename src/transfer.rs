@@ -9,6 +9,7 @@ use crate::Error;
 /// One of a display's three channels. Lookup tables and transfer functions take it instead of a
 /// bare index, so an index out of range cannot be written.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Rgb {
     /// Red.
     R,
@@ -45,6 +46,7 @@ impl Rgb {
 /// (0..=1) that produces the linear light `i / (len − 1)` on channel c (R, G, B). Values
 /// between entries are interpolated linearly.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct ChannelLuts {
     tables: [&'static [f32]; 3],
 }
@@ -93,6 +95,8 @@ impl ChannelLuts {
 
 /// How linear light in 0..=1 becomes the value sent to the display.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum TransferFunction {
     /// No encoding: the output is linear.
     Linear,
@@ -182,7 +186,7 @@ impl TransferFunction {
     /// (libm's f32 `powf` for sRGB and `Gamma(γ)`), then [`quantize_u16`]. Input handling as
     /// [`encode`](Self::encode): NaN, ≤ 0 → 0; ≥ 1 → 65535. Never panics.
     ///
-    /// Within [`U16_MAX_STEP_ERROR`] (1 step) of the exact curve (f64) times 65 535 rounded to
+    /// Within [`U16_MAX_ERROR`] (1 step) of the exact curve (f64) times 65 535 rounded to
     /// nearest; tests/transfer.rs measures it at every 8- and 16-bit code boundary of sRGB,
     /// `Gamma(2.2)` and `Gamma(2.4)`.
     #[inline]
@@ -233,7 +237,7 @@ impl TransferFunction {
 /// curve (f64) times 65 535 rounded to nearest, for sRGB and power laws: the f32 curve is within a
 /// few units in the last place, so it can only land on the other side of a step's half.
 /// tests/transfer.rs checks every 8- and 16-bit code boundary.
-pub const U16_MAX_STEP_ERROR: u16 = 1;
+pub const U16_MAX_ERROR: u16 = 1;
 
 /// The sRGB curve in f32 (libm's `powf`), held at the join's value above it so it never drops
 /// below the linear segment; clamped input, output in 0..=1.

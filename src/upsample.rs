@@ -42,60 +42,118 @@ pub const UPSAMPLING_CODE_ONE: u16 = u16::MAX;
 /// node values feed the set directly. For a set for radiances, the RGB is the surface's colour
 /// under D65 and the renderer multiplies the node values by its own light's samples.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Upsampling<const N: usize> {
-    /// The set's name (`"KQ_C_8"`).
-    pub set: &'static str,
-    /// The display whose linear RGB it takes (`"sRGB"`).
-    pub display: &'static str,
-    /// The reference light: the set's folded light, or `"D65"` for a set for radiances.
-    pub light: &'static str,
-    /// The set's wavelengths in nm: the order of the node values.
-    pub wavelengths_nm: [f32; N],
-    /// A Lipschitz constant of [`interpolate`](Self::interpolate) (and of
-    /// [`reflectance`](Self::reflectance) outside the edge cells) from the max norm of the RGB
-    /// change to the largest change of a node value, computed from the table at build time.
-    pub lipschitz: f32,
-    /// The largest CIEDE2000 difference between a reachable grid point and the colour the set
-    /// gives its table entry (the table's 16-bit rounding).
-    pub max_round_trip_delta_e00: f32,
-    /// The share of the grid's points that node values in [0, 1] reach.
-    pub reachable_share: f32,
+    // `pub(crate)`: the baked tables (`crate::tables`) set them; users call `new`. The three
+    // figures are NaN where `new` made the upsampling (not measured; their accessors say
+    // `None`).
+    pub(crate) set: &'static str,
+    pub(crate) display: &'static str,
+    pub(crate) light: &'static str,
+    pub(crate) wavelengths_nm: [f32; N],
+    pub(crate) lipschitz: f32,
+    pub(crate) max_round_trip_delta_e00: f32,
+    pub(crate) reachable_share: f32,
     /// Points per axis, at least 2.
     pub(crate) grid: usize,
     /// `grid³` entries, index `(r · grid + g) · grid + b`, codes of
     /// [`UPSAMPLING_CODE_ONE`]ths.
     pub(crate) table: &'static [[u16; N]],
-    /// The set's encoding, with which [`reflectance`](Self::reflectance) restores the round
-    /// trip in the cells at the edge of what the set reaches; `None`: the interpolation alone.
-    pub round_trip: Option<RoundTrip<N>>,
+    pub(crate) round_trip: Option<RoundTrip<N>>,
 }
 
 impl<const N: usize> Upsampling<N> {
-    /// An upsampling from a table of `grid³` entries (index `(r · grid + g) · grid + b`, node
-    /// values in 65535ths), with empty names, zero wavelengths and NaN figures for the caller
-    /// to fill in. `None` unless `grid ≥ 2` and `table.len() == grid³`.
-    pub const fn new(grid: usize, table: &'static [[u16; N]]) -> Option<Self> {
+    /// An upsampling of your own (the baked ones are in
+    /// [`tables::upsampling`](crate::tables::upsampling)): the set's, display's and reference
+    /// light's names, the set's wavelengths (the order of the node values), a table of `grid³`
+    /// entries (index `(r · grid + g) · grid + b`, node values in 65535ths) and, if the edge
+    /// cells are to be corrected, a [`RoundTrip`]. Its measured figures
+    /// ([`lipschitz`](Self::lipschitz), [`max_round_trip_delta_e00`](Self::max_round_trip_delta_e00),
+    /// [`reachable_share`](Self::reachable_share)) are `None`: only the build measures them.
+    ///
+    /// Errors, never a panic, usable in consts: [`Error::UpsamplingTable`] unless `grid ≥ 2`
+    /// and `table.len() == grid³`.
+    pub const fn new(
+        set: &'static str,
+        display: &'static str,
+        light: &'static str,
+        wavelengths_nm: [f32; N],
+        grid: usize,
+        table: &'static [[u16; N]],
+        round_trip: Option<RoundTrip<N>>,
+    ) -> Result<Self, Error> {
+        let refused = Err(Error::UpsamplingTable {
+            grid,
+            entries: table.len(),
+        });
         let Some(sq) = grid.checked_mul(grid) else {
-            return None;
+            return refused;
         };
         let Some(cube) = sq.checked_mul(grid) else {
-            return None;
+            return refused;
         };
         if grid < 2 || table.len() != cube {
-            return None;
+            return refused;
         }
-        Some(Upsampling {
-            set: "",
-            display: "",
-            light: "",
-            wavelengths_nm: [0.0; N],
+        Ok(Upsampling {
+            set,
+            display,
+            light,
+            wavelengths_nm,
             lipschitz: f32::NAN,
             max_round_trip_delta_e00: f32::NAN,
             reachable_share: f32::NAN,
             grid,
             table,
-            round_trip: None,
+            round_trip,
         })
+    }
+
+    /// The set's name (`"KQ_C_8"`).
+    pub const fn set(&self) -> &'static str {
+        self.set
+    }
+
+    /// The display whose linear RGB it takes (`"sRGB"`).
+    pub const fn display(&self) -> &'static str {
+        self.display
+    }
+
+    /// The reference light: the set's folded light, or `"D65"` for a set for radiances.
+    pub const fn light(&self) -> &'static str {
+        self.light
+    }
+
+    /// The set's wavelengths in nm: the order of the node values.
+    pub const fn wavelengths_nm(&self) -> [f32; N] {
+        self.wavelengths_nm
+    }
+
+    /// A Lipschitz constant of [`interpolate`](Self::interpolate) (and of
+    /// [`reflectance`](Self::reflectance) outside the edge cells) from the max norm of the RGB
+    /// change to the largest change of a node value, computed from the table at build time;
+    /// `None` for an upsampling made by [`new`](Self::new).
+    pub const fn lipschitz(&self) -> Option<f32> {
+        measured(self.lipschitz)
+    }
+
+    /// The largest CIEDE2000 difference between a reachable grid point and the colour the set
+    /// gives its table entry (the table's 16-bit rounding); `None` for an upsampling made by
+    /// [`new`](Self::new).
+    pub const fn max_round_trip_delta_e00(&self) -> Option<f32> {
+        measured(self.max_round_trip_delta_e00)
+    }
+
+    /// The share of the grid's points that node values in [0, 1] reach; `None` for an
+    /// upsampling made by [`new`](Self::new).
+    pub const fn reachable_share(&self) -> Option<f32> {
+        measured(self.reachable_share)
+    }
+
+    /// The set's encoding, with which [`reflectance`](Self::reflectance) restores the round
+    /// trip in the cells at the edge of what the set reaches; `None`: the interpolation alone.
+    pub const fn round_trip(&self) -> Option<RoundTrip<N>> {
+        self.round_trip
     }
 
     /// Points per axis of the table.
@@ -237,11 +295,23 @@ impl<const N: usize> Upsampling<N> {
         (r, p, cell_index)
     }
 
-    /// [`reflectance`](Self::reflectance) for every pixel: `out[p] = reflectance(rgb[p])`.
+    /// [`reflectance`](Self::reflectance) for interleaved pixels: `out[p] = reflectance(rgb[p])`,
+    /// the node values of pixel p as one `[f32; N]` (the layout a renderer that shades pixel by
+    /// pixel reads). The same values as `reflectance` on each pixel, bit for bit: it calls it.
+    ///
+    /// Input handling as [`reflectance`](Self::reflectance): any input (NaN, ±Inf, negative,
+    /// huge, subnormal) gives node values in [0, 1]; never panics, allocates nothing.
     ///
     /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless
-    /// `rgb.len() == out.len()`. Per-pixel input handling as
-    /// [`reflectance`](Self::reflectance).
+    /// `rgb.len() == out.len()`; `inputs` is `rgb.len()`, `outputs` `out.len()`.
+    ///
+    /// ```
+    /// use spectral_quadrature::tables::upsampling::KQ_C_4_SRGB as UP;
+    /// let rgb = [[0.8f32, 0.2, 0.1], [0.5, 0.5, 0.5]];
+    /// let mut out = [[0.0f32; 4]; 2];
+    /// UP.reflectance_batch(&rgb, &mut out).unwrap();
+    /// assert_eq!(out[0], UP.reflectance(rgb[0]));
+    /// ```
     pub fn reflectance_batch(&self, rgb: &[[f32; 3]], out: &mut [[f32; N]]) -> Result<(), Error> {
         if rgb.len() != out.len() {
             return Err(Error::LengthMismatch {
@@ -253,6 +323,101 @@ impl<const N: usize> Upsampling<N> {
             *o = self.reflectance(*p);
         }
         Ok(())
+    }
+
+    /// [`reflectance`](Self::reflectance) from RGB planes to node planes: `rgb[c][p]` is channel
+    /// c (R, G, B) of pixel p, and `out[i][p]` receives pixel p's value at
+    /// [`wavelengths_nm`](Self::wavelengths_nm)`[i]`: the planes
+    /// [`FoldedSet::linear_rgb_planar`](crate::FoldedSet::linear_rgb_planar) and
+    /// [`FoldedSet::encode_u8_planar`](crate::FoldedSet::encode_u8_planar) take (multiplied by
+    /// the light's samples first, for a set for radiances). The same values as `reflectance` on
+    /// each pixel, bit for bit.
+    ///
+    /// Input handling as [`reflectance`](Self::reflectance); never panics, allocates nothing.
+    ///
+    /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless every plane of `rgb`
+    /// and `out` has the length of `rgb[0]`: `inputs` is that length, `outputs` the first length
+    /// that differs. With N = 0 there is nothing to write and only the RGB planes are checked.
+    ///
+    /// ```
+    /// use spectral_quadrature::tables::upsampling::KQ_C_4_SRGB as UP;
+    /// let (r, g, b) = ([0.8f32, 0.5], [0.2f32, 0.5], [0.1f32, 0.5]);
+    /// let mut n = [[0.0f32; 2]; 4];
+    /// let [n0, n1, n2, n3] = &mut n;
+    /// UP.reflectance_planar([&r, &g, &b], [n0, n1, n2, n3]).unwrap();
+    /// assert_eq!(n.map(|plane| plane[0]), UP.reflectance([0.8, 0.2, 0.1]));
+    /// ```
+    pub fn reflectance_planar(&self, rgb: [&[f32]; 3], out: [&mut [f32]; N]) -> Result<(), Error> {
+        let pixels = rgb[0].len();
+        check_lengths(
+            pixels,
+            [rgb[1].len(), rgb[2].len()]
+                .into_iter()
+                .chain(out.iter().map(|o| o.len())),
+        )?;
+        let mut out = out;
+        for p in 0..pixels {
+            let px = [rgb[0][p], rgb[1][p], rgb[2][p]];
+            for (plane, v) in out.iter_mut().zip(self.reflectance(px)) {
+                plane[p] = v;
+            }
+        }
+        Ok(())
+    }
+
+    /// [`reflectance`](Self::reflectance) from interleaved RGB pixels (an RGB texture's layout)
+    /// to node planes, `out[i][p]` as for [`reflectance_planar`](Self::reflectance_planar): an
+    /// RGB texture feeds the planar encoders without a transpose of your own. The same values as
+    /// `reflectance` on each pixel, bit for bit.
+    ///
+    /// Input handling as [`reflectance`](Self::reflectance); never panics, allocates nothing.
+    ///
+    /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless every plane of `out`
+    /// has `rgb.len()` values: `inputs` is `rgb.len()`, `outputs` the first length that differs.
+    ///
+    /// ```
+    /// use spectral_quadrature::tables::upsampling::KQ_C_4_SRGB as UP;
+    /// let rgb = [[0.8f32, 0.2, 0.1], [0.5, 0.5, 0.5]];
+    /// let mut n = [[0.0f32; 2]; 4];
+    /// let [n0, n1, n2, n3] = &mut n;
+    /// UP.reflectance_interleaved_to_planar(&rgb, [n0, n1, n2, n3]).unwrap();
+    /// assert_eq!(n.map(|plane| plane[1]), UP.reflectance(rgb[1]));
+    /// ```
+    pub fn reflectance_interleaved_to_planar(
+        &self,
+        rgb: &[[f32; 3]],
+        out: [&mut [f32]; N],
+    ) -> Result<(), Error> {
+        check_lengths(rgb.len(), out.iter().map(|o| o.len()))?;
+        let mut out = out;
+        for (p, px) in rgb.iter().enumerate() {
+            for (plane, v) in out.iter_mut().zip(self.reflectance(*px)) {
+                plane[p] = v;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// `Err(LengthMismatch)` at the first length that is not `pixels`.
+fn check_lengths(pixels: usize, lengths: impl Iterator<Item = usize>) -> Result<(), Error> {
+    for len in lengths {
+        if len != pixels {
+            return Err(Error::LengthMismatch {
+                inputs: pixels,
+                outputs: len,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// A build-time figure, `None` where it was not measured (NaN).
+const fn measured(v: f32) -> Option<f32> {
+    if v.is_nan() {
+        None
+    } else {
+        Some(v)
     }
 }
 

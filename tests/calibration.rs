@@ -46,7 +46,10 @@ fn dark_and_white_make_the_white_read_as_the_reference() {
 #[test]
 fn bad_calibration_readings_name_the_channel() {
     fn err<T>(channel: usize, problem: CalibrationProblem) -> Result<T, Error> {
-        Err(Error::Calibration { channel, problem })
+        Err(Error::Calibration {
+            channel_index: channel,
+            problem,
+        })
     }
     let ok = [1.0f32; 3];
     let white = [5.0f32; 3];
@@ -95,13 +98,13 @@ fn bad_calibration_readings_name_the_channel() {
         err(1, CalibrationProblem::Reference)
     );
     let msg = Error::Calibration {
-        channel: 3,
+        channel_index: 3,
         problem: CalibrationProblem::NoSignal,
     }
     .to_string();
     assert_eq!(
         msg,
-        "calibration of channel 3: the white reading is not above the dark one"
+        "calibration of sensor channel 3: the white reading is not above the dark one"
     );
 }
 
@@ -165,7 +168,7 @@ fn the_integer_form_follows_the_float_form() {
         },
     );
     let out_of_range = Err(Error::Calibration {
-        channel: 0,
+        channel_index: 0,
         problem: CalibrationProblem::OutOfRange,
     });
     let cal = |dark: f32, gain: f32| Calibration {
@@ -270,8 +273,8 @@ fn bench() -> &'static Bench {
                     .sum::<f64>() as f32
             })
         });
-        let set = WavelengthSet {
-            wavelengths_nm: fitted
+        let set = WavelengthSet::new(
+            fitted
                 .wavelengths_nm
                 .iter()
                 .map(|&l| l as f32)
@@ -279,11 +282,12 @@ fn bench() -> &'static Bench {
                 .try_into()
                 .unwrap(),
             weights,
-            samples: Samples::Readings {
+            Samples::Readings {
                 sensor: "AS7341",
                 light: Some("C"),
             },
-        };
+        )
+        .unwrap();
         let white = calibration::white_readings(&d, &sensor, Some(&light)).unwrap();
         // Exact colours in the same units: the light scaled so the perfect white has
         // Y = UNIT_SPECTRUM_Y.

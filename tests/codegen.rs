@@ -75,15 +75,15 @@ fn every_rule_and_its_status() {
     for (c, channel) in Channel::ALL.into_iter().enumerate() {
         assert_eq!(tables::RULES[c].len(), d.rules[c].len());
         for (baked, rule) in tables::RULES[c].iter().zip(&d.rules[c]) {
-            assert_eq!(baked.channel, channel);
-            assert_eq!(usize::from(baked.order), rule.order);
-            assert_eq!(baked.status.as_str(), rule.status.as_str());
-            if baked.status == RuleStatus::Defined {
+            assert_eq!(baked.channel(), channel);
+            assert_eq!(usize::from(baked.order()), rule.order);
+            assert_eq!(baked.status().name(), rule.status.as_str());
+            if baked.status() == RuleStatus::Defined {
                 defined += 1;
-                assert_eq!(baked.wavelengths_nm, f32s(&rule.nodes_nm).as_slice());
-                assert_eq!(baked.weights, f32s(&rule.weights).as_slice());
+                assert_eq!(baked.wavelengths_nm(), f32s(&rule.nodes_nm).as_slice());
+                assert_eq!(baked.weights(), f32s(&rule.weights).as_slice());
             } else {
-                assert!(baked.wavelengths_nm.is_empty() && baked.weights.is_empty());
+                assert!(baked.wavelengths_nm().is_empty() && baked.weights().is_empty());
             }
         }
     }
@@ -91,9 +91,9 @@ fn every_rule_and_its_status() {
 }
 
 fn assert_set<const N: usize>(baked: &WavelengthSet<N>, fresh: &sqd::WavelengthSet) {
-    assert_eq!(baked.wavelengths_nm.to_vec(), f32s(&fresh.wavelengths_nm));
+    assert_eq!(baked.wavelengths_nm().to_vec(), f32s(&fresh.wavelengths_nm));
     for c in 0..3 {
-        assert_eq!(baked.weights[c].to_vec(), f32s(&fresh.weights[c]));
+        assert_eq!(baked.weights()[c].to_vec(), f32s(&fresh.weights[c]));
     }
 }
 
@@ -105,26 +105,26 @@ fn table2_sets_and_rule_sets() {
     // A few of the per-rule sets: the rule's own row, the other rows zero.
     for (set_nm, set_w, c, order) in [
         (
-            tables::rules::A_3.wavelengths_nm.to_vec(),
-            tables::rules::A_3.weights.map(|r| r.to_vec()),
+            tables::rules::A_3.wavelengths_nm().to_vec(),
+            tables::rules::A_3.weights().map(|r| r.to_vec()),
             0,
             3,
         ),
         (
-            tables::rules::C1_2.wavelengths_nm.to_vec(),
-            tables::rules::C1_2.weights.map(|r| r.to_vec()),
+            tables::rules::C1_2.wavelengths_nm().to_vec(),
+            tables::rules::C1_2.weights().map(|r| r.to_vec()),
             1,
             2,
         ),
         (
-            tables::rules::C2_1.wavelengths_nm.to_vec(),
-            tables::rules::C2_1.weights.map(|r| r.to_vec()),
+            tables::rules::C2_1.wavelengths_nm().to_vec(),
+            tables::rules::C2_1.weights().map(|r| r.to_vec()),
             2,
             1,
         ),
         (
-            tables::rules::A_16.wavelengths_nm.to_vec(),
-            tables::rules::A_16.weights.map(|r| r.to_vec()),
+            tables::rules::A_16.wavelengths_nm().to_vec(),
+            tables::rules::A_16.weights().map(|r| r.to_vec()),
             0,
             16,
         ),
@@ -179,30 +179,33 @@ fn the_header_const_names_every_input_and_the_settings() {
 #[test]
 fn sets_say_what_their_samples_are_and_folded_sets_carry_their_display() {
     use spectral_quadrature::Samples;
-    assert_eq!(tables::TABLE2_ROW2.samples, Samples::Radiance);
-    assert_eq!(tables::KQ_C_6.samples, Samples::Reflectance { light: "C" });
-    assert_eq!(tables::KQ_F11_6.samples.light(), Some("F11"));
-    assert_eq!(tables::rules::A_3.samples, Samples::Radiance);
+    assert_eq!(tables::TABLE2_ROW2.samples(), Samples::Radiance);
+    assert_eq!(
+        tables::KQ_C_6.samples(),
+        Samples::Reflectance { light: "C" }
+    );
+    assert_eq!(tables::KQ_F11_6.samples().light(), Some("F11"));
+    assert_eq!(tables::rules::A_3.samples(), Samples::Radiance);
     // Each folded set: the samples of its set, and the display its name gives.
     let folded = [
         (
-            tables::folded::TABLE2_ROW2_SRGB.samples,
-            tables::folded::TABLE2_ROW2_SRGB.display,
+            tables::folded::TABLE2_ROW2_SRGB.samples(),
+            tables::folded::TABLE2_ROW2_SRGB.display(),
             tables::displays::SRGB,
         ),
         (
-            tables::folded::TABLE2_ROW1_REC2020.samples,
-            tables::folded::TABLE2_ROW1_REC2020.display,
+            tables::folded::TABLE2_ROW1_REC2020.samples(),
+            tables::folded::TABLE2_ROW1_REC2020.display(),
             tables::displays::REC2020,
         ),
         (
-            tables::folded::KQ_C_6_DISPLAY_P3.samples,
-            tables::folded::KQ_C_6_DISPLAY_P3.display,
+            tables::folded::KQ_C_6_DISPLAY_P3.samples(),
+            tables::folded::KQ_C_6_DISPLAY_P3.display(),
             tables::displays::DISPLAY_P3,
         ),
         (
-            tables::folded::KQ_F11_6_MEYER_1987.samples,
-            tables::folded::KQ_F11_6_MEYER_1987.display,
+            tables::folded::KQ_F11_6_MEYER_1987.samples(),
+            tables::folded::KQ_F11_6_MEYER_1987.display(),
             tables::displays::MEYER_1987,
         ),
     ];

@@ -112,7 +112,7 @@ fn catastrophic_cancellation_in_c1_and_c2_is_within_the_absolute_budget() {
     let w = weights_of(&d, 1);
     let set = tables::TABLE2_ROW2;
     let (i, j) = {
-        let nz: Vec<usize> = (0..4).filter(|&i| set.weights[1][i] != 0.0).collect();
+        let nz: Vec<usize> = (0..4).filter(|&i| set.weights()[1][i] != 0.0).collect();
         (nz[0], nz[1])
     };
     let mut worst = 0.0f64;
@@ -121,9 +121,9 @@ fn catastrophic_cancellation_in_c1_and_c2_is_within_the_absolute_budget() {
         let scale = 10f32.powi((k % 60) as i32 - 30);
         let mut s = [0.3f32 * scale; 4];
         s[i] = scale * (1.0 + (k as f32) * 1e-7);
-        s[j] = (-(set.weights[1][i] * s[i]) / set.weights[1][j]).abs()
-            * (-set.weights[1][j]).signum()
-            * set.weights[1][i].signum();
+        s[j] = (-(set.weights()[1][i] * s[i]) / set.weights()[1][j]).abs()
+            * (-set.weights()[1][j]).signum()
+            * set.weights()[1][i].signum();
         let r = check(&set, &w, &s);
         worst = worst.max(r);
         let exact: f64 = (0..4).map(|n| w[1][n] * f64::from(s[n])).sum();

@@ -7,7 +7,7 @@
 //! 1. The fixed-point weights are `round(w · q · 2^P)` of the f32 weights, recomputed here in
 //!    f64 (exact: two 24-bit significands), and P is the largest that keeps the proven bound
 //!    `Σ|V >> 16| · 65535 + N · 65535 ≤ i32::MAX` (no overflow for any u16 input).
-//! 2. The bound of `INTEGER_MAX_CODE_DIFFERENCE` is proven: for each channel and each pair of
+//! 2. The bound of `INTEGER_MAX_ERROR_CODES` is proven: for each channel and each pair of
 //!    neighbouring thresholds of the f32 encoder, the pair is further apart than the
 //!    fixed-point error plus the f32 path's error budget next to it.
 //! 3. `encode_u8` equals an independent reference (the exact sum in i128 against the f32
@@ -20,7 +20,7 @@ mod common;
 use spectral_quadrature::tables::{displays, folded, integer};
 use spectral_quadrature::{
     f32_budget, Display, Error, FoldedSet, GamutMapping, IntegerSet, Samples,
-    INTEGER_MAX_CODE_DIFFERENCE,
+    INTEGER_MAX_ERROR_CODES,
 };
 use spectral_quadrature_build as sqd;
 
@@ -32,7 +32,7 @@ const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data");
 /// The f32 encoder's thresholds θₖ of a display (k = 1..=255; entry 0 is 0): the smallest f32 in
 /// 0..=1 that the f32 path encodes to k or more, by bisection on the bits.
 fn thresholds(display: &Display) -> [f32; 256] {
-    let code = |x: f32| display.encode_u8([x; 3], GamutMapping::Clip)[0];
+    let code = |x: f32| display.encode_u8(GamutMapping::Clip, [x; 3])[0];
     let mut t = [0.0f32; 256];
     for (k, slot) in t.iter_mut().enumerate().skip(1) {
         let (mut lo, mut hi) = (0u32, 1.0f32.to_bits());
@@ -81,7 +81,7 @@ struct Case<const N: usize> {
 
 impl<const N: usize> Case<N> {
     fn new(name: &str, folded: FoldedSet<N>, set: IntegerSet<N>) -> Case<N> {
-        let t = thresholds(&folded.display);
+        let t = thresholds(&folded.display());
         let p = set.frac_bits();
         let scaled: Vec<i128> = t[1..].iter().map(|&th| scaled_ceil(th, p)).collect();
         Case {
@@ -106,7 +106,7 @@ impl<const N: usize> Case<N> {
 
     fn f32_path(&self, x: &[u16; N]) -> [u8; 3] {
         self.folded
-            .encode_u8(GamutMapping::Clip, &self.set.samples_f32(x))
+            .encode_u8(GamutMapping::Clip, &self.set.counts_as_f32(x))
     }
 
     /// Checks one input; the message names the set and the input.
@@ -123,7 +123,7 @@ impl<const N: usize> Case<N> {
         if got
             .iter()
             .zip(f)
-            .any(|(a, b)| a.abs_diff(b) > INTEGER_MAX_CODE_DIFFERENCE)
+            .any(|(a, b)| a.abs_diff(b) > INTEGER_MAX_ERROR_CODES)
         {
             return Err(format!(
                 "{}: {x:?} encodes to {got:?}, the f32 path to {f:?}",
@@ -143,7 +143,7 @@ impl<const N: usize> Case<N> {
         let q = f64::from(self.set.sample_unit());
         let p = self.set.frac_bits() as i32;
         let fixed = |p: i32| -> [[i64; N]; 3] {
-            self.folded.weights.map(|row| {
+            self.folded.weights().map(|row| {
                 row.map(|w| {
                     // Exact: two 24-bit significands, and a power of two.
                     let v = f64::from(w) * q * 2f64.powi(p);
@@ -169,14 +169,14 @@ impl<const N: usize> Case<N> {
     /// Item 2: the proof of the 1-code bound. Returns the smallest ratio, over channels and
     /// pairs of neighbouring thresholds, of the pair's distance to the error it must exceed.
     fn prove_within_one_code(&self) -> f64 {
-        let t = thresholds(&self.folded.display);
+        let t = thresholds(&self.folded.display());
         let q = f64::from(self.set.sample_unit());
         let p = self.set.frac_bits();
         let v = self.set.weights();
         // The largest f32 sample: 65535 · q rounded once (half an f32 unit up at most).
         let s_max = 65535.0 * q * (1.0 + f64::from(f32::EPSILON) / 2.0);
         let mut worst = f64::INFINITY;
-        for (c, (fixed, w)) in v.iter().zip(self.folded.weights).enumerate() {
+        for (c, (fixed, w)) in v.iter().zip(self.folded.weights()).enumerate() {
             let w = w.map(f64::from);
             // The fixed-point rounding, for the largest count: Σ|Vᵢ/2^P − wᵢ·q| · 65535.
             let fixed_error: f64 = fixed
@@ -293,10 +293,10 @@ fn the_example_sensor_scenes_sets_are_proven_within_one_code_and_exact() {
         for (spec, m) in &resolved.displays {
             let display = displays::ALL
                 .into_iter()
-                .find(|x| x.name == spec.label)
+                .find(|x| x.name() == spec.label)
                 .expect("a display of the default scene");
             assert_eq!(
-                display.xyz_to_rgb,
+                display.xyz_to_rgb(),
                 m.xyz_to_rgb.map(|r| r.map(|v| v as f32))
             );
             let w = d.folded(set, m);
@@ -316,12 +316,13 @@ fn the_example_sensor_scenes_sets_are_proven_within_one_code_and_exact() {
             let name = format!("{}_{}", set.name, spec.name);
             macro_rules! run {
                 ($n:literal) => {{
-                    let folded = FoldedSet::<$n> {
-                        wavelengths_nm: std::array::from_fn(|i| set.wavelengths_nm[i] as f32),
-                        weights: w.clone().map(|r| std::array::from_fn(|i| r[i] as f32)),
+                    let folded = FoldedSet::<$n>::new(
+                        std::array::from_fn(|i| set.wavelengths_nm[i] as f32),
+                        w.clone().map(|r| std::array::from_fn(|i| r[i] as f32)),
                         samples,
                         display,
-                    };
+                    )
+                    .unwrap();
                     let int = IntegerSet::new(&folded, unit).unwrap();
                     all_checks(&Case::new(&name, folded, int), 500, 7);
                 }};
@@ -386,7 +387,7 @@ fn ends_of_the_range() {
     assert_eq!(set.samples(), Samples::Reflectance { light: "C" });
     assert_eq!(set.sample_unit(), 1.0 / 65535.0);
     assert_eq!(set.display(), displays::SRGB);
-    assert_eq!(set.wavelengths_nm(), folded::KQ_C_8_SRGB.wavelengths_nm);
+    assert_eq!(set.wavelengths_nm(), folded::KQ_C_8_SRGB.wavelengths_nm());
 }
 
 #[test]
@@ -399,27 +400,36 @@ fn what_has_no_fixed_point_form_is_an_error() {
             "{unit}"
         );
     }
-    let mut bad = f;
-    bad.weights[1][2] = f32::INFINITY;
-    assert_eq!(IntegerSet::new(&bad, 1e-5), Err(Error::IntegerRange));
-    bad.weights[1][2] = f32::NAN;
-    assert_eq!(IntegerSet::new(&bad, 1e-5), Err(Error::IntegerRange));
+    // The same set with other weights or another display.
+    let with = |weights: [[f32; 4]; 3], display: spectral_quadrature::Display| {
+        spectral_quadrature::FoldedSet::new(f.wavelengths_nm(), weights, f.samples(), display)
+    };
+    // A folded set's constructor refuses weights that are not finite; a set folded at run time
+    // with a scale that is not finite has them, and IntegerSet::new refuses that.
+    let mut weights = f.weights();
+    weights[1][2] = f32::INFINITY;
+    assert_eq!(
+        with(weights, f.display()),
+        Err(Error::InvalidWeight { row: 1, index: 2 })
+    );
+    for scale in [f32::INFINITY, f32::NAN] {
+        let bad = spectral_quadrature::tables::KQ_C_4.fold(&displays::SRGB, scale);
+        assert_eq!(IntegerSet::new(&bad, 1e-5), Err(Error::IntegerRange));
+    }
     // Weights so large that even 17 fractional bits overflow 32-bit sums.
-    let mut huge = f;
-    huge.weights[0][0] = 1e30;
+    let mut weights = f.weights();
+    weights[0][0] = 1e30;
+    let huge = with(weights, f.display()).unwrap();
     assert_eq!(IntegerSet::new(&huge, 1e-5), Err(Error::IntegerRange));
     // A measured display's lookup tables and a γ no baked display has: no integer encoder.
     let luts = spectral_quadrature::ChannelLuts::new([&[0.0, 1.0], &[0.0, 1.0], &[0.0, 1.0]]);
-    let mut lut = f;
-    lut.display =
-        displays::SRGB.with_transfer(spectral_quadrature::TransferFunction::Lut(luts.unwrap()));
+    let transfer = |t| with(f.weights(), displays::SRGB.with_transfer(t)).unwrap();
+    let lut = transfer(spectral_quadrature::TransferFunction::Lut(luts.unwrap()));
     assert_eq!(IntegerSet::new(&lut, 1e-5), Err(Error::IntegerTransfer));
-    let mut gamma = f;
-    gamma.display = displays::SRGB.with_transfer(spectral_quadrature::TransferFunction::Gamma(1.8));
+    let gamma = transfer(spectral_quadrature::TransferFunction::Gamma(1.8));
     assert_eq!(IntegerSet::new(&gamma, 1e-5), Err(Error::IntegerTransfer));
     // Linear light: the integer encoder has quantize_u8's thresholds.
-    let mut linear = f;
-    linear.display = displays::SRGB.with_transfer(spectral_quadrature::TransferFunction::Linear);
+    let linear = transfer(spectral_quadrature::TransferFunction::Linear);
     let set = IntegerSet::new(&linear, 1.0 / 65535.0).unwrap();
     all_checks(&Case::new("KQ_C_4 linear", linear, set), 200, 61);
 }
@@ -431,8 +441,13 @@ fn a_set_folded_at_run_time_and_tiny_weights() {
     let set = IntegerSet::new(&f, 1.0 / 65535.0).unwrap();
     all_checks(&Case::new("KQ_C_6 folded at run time", f, set), 200, 61);
     // Weights a million times smaller: P stops at 46, and what is left is still exact.
-    let mut tiny = f;
-    tiny.weights = tiny.weights.map(|r| r.map(|w| w * 1e-6));
+    let tiny = spectral_quadrature::FoldedSet::new(
+        f.wavelengths_nm(),
+        f.weights().map(|r| r.map(|w| w * 1e-6)),
+        f.samples(),
+        f.display(),
+    )
+    .unwrap();
     let set = IntegerSet::new(&tiny, 1.0 / 65535.0).unwrap();
     assert_eq!(set.frac_bits(), 46);
     let case = Case::new("tiny", tiny, set);

@@ -14,8 +14,8 @@ use std::hint::black_box;
 
 use spectral_quadrature::tables::{self, displays, folded, rules};
 use spectral_quadrature::{
-    ac1c2_from_xyz, quantize_u16, quantize_u8, xyz_from_ac1c2, ChannelLuts, Display, DynamicSet,
-    Error, FoldedSet, GamutMapping, Rgb, TransferFunction,
+    ac1c2_from_xyz, quantize_u16, quantize_u8, xyz_from_ac1c2, Channel, ChannelLuts, Display,
+    DisplayError, DynamicSet, Error, FoldedSet, GamutMapping, Rgb, TransferFunction,
 };
 
 struct Counting;
@@ -168,10 +168,10 @@ fn per_pixel_paths_do_not_allocate() {
                 for mapping in MAPPINGS {
                     for rgb in COLOURS {
                         let rgb = black_box(rgb);
-                        black_box(display.map_gamut(rgb, mapping));
-                        black_box(display.encode(rgb, mapping));
-                        black_box(display.encode_u8(rgb, mapping));
-                        black_box(display.encode_u16(rgb, mapping));
+                        black_box(display.map_gamut(mapping, rgb));
+                        black_box(display.encode(mapping, rgb));
+                        black_box(display.encode_u8(mapping, rgb));
+                        black_box(display.encode_u16(mapping, rgb));
                     }
                 }
             }
@@ -239,10 +239,8 @@ fn batch_apis_do_not_allocate() {
         results[1] = tables::TABLE2_ROW1.ac1c2_batch(&pixels, &mut ac);
         for display in &displays {
             // The same weights with each display's transfer function, to run every encoder.
-            let set = FoldedSet {
-                display: *display,
-                ..set
-            };
+            let set = FoldedSet::new(set.wavelengths_nm(), set.weights(), set.samples(), *display)
+                .unwrap();
             for mapping in MAPPINGS {
                 results[2] = set.encode_u8_batch(mapping, &pixels, &mut out8);
                 results[3] = set.encode_u16_batch(mapping, &pixels, &mut out16);
@@ -264,10 +262,13 @@ fn batch_apis_do_not_allocate() {
     assert_eq!(lin[5], set.linear_rgb(&pixels[5]));
     assert_eq!(
         out16[9],
-        FoldedSet {
-            display: displays[displays.len() - 1],
-            ..set
-        }
+        FoldedSet::new(
+            set.wavelengths_nm(),
+            set.weights(),
+            set.samples(),
+            displays[displays.len() - 1]
+        )
+        .unwrap()
         .encode_u16(GamutMapping::PreserveA, &pixels[9])
     );
 }
@@ -321,7 +322,7 @@ fn dynamic_sets_and_errors_do_not_allocate() {
     assert_eq!(
         undefined,
         Err(Error::UndefinedRule {
-            channel: 1,
+            channel: Channel::C1,
             order: 1
         })
     );
@@ -339,9 +340,10 @@ fn dynamic_sets_and_errors_do_not_allocate() {
             },
             Error::Capacity { capacity: 4 },
             Error::UndefinedRule {
-                channel: 2,
+                channel: Channel::C2,
                 order: 4,
             },
+            Error::Display(DisplayError::Gamma { gamma: -1.0 }),
             Error::InvalidLut { channel: Rgb::R },
         ] {
             text.len = 0;
@@ -366,23 +368,63 @@ fn planar_paths_never_allocate() {
     ];
     let samples = planes.each_ref().map(|p| &p[..]);
     let mut out = vec![[0u8; 3]; 100];
+    let mut out16 = vec![[0u16; 3]; 100];
     let mut lin = [0, 1, 2].map(|_| vec![0.0f32; 100]);
+    let mut planes8 = [0, 1, 2].map(|_| vec![0u8; 100]);
+    let mut planes16 = [0, 1, 2].map(|_| vec![0u16; 100]);
     let mut bad = vec![[0u8; 3]; 99];
-    let displays = all_displays();
+    let sets: Vec<FoldedSet<4>> = all_displays()
+        .into_iter()
+        .map(|d| FoldedSet::new(set.wavelengths_nm(), set.weights(), set.samples(), d).unwrap())
+        .collect();
     assert_no_alloc("planar paths", || {
-        for display in &displays {
-            let set = FoldedSet {
-                display: *display,
-                ..set
-            };
+        for set in &sets {
             for mapping in MAPPINGS {
-                let _ = black_box(set.encode_u8_planar(mapping, black_box(samples), &mut out));
+                let _ = black_box(set.encode_u8_planar_to_interleaved(
+                    mapping,
+                    black_box(samples),
+                    &mut out,
+                ));
+                let [r, g, b] = &mut planes8;
+                let _ = black_box(set.encode_u8_planar(mapping, black_box(samples), [r, g, b]));
+                let _ = black_box(set.encode_u16_planar_to_interleaved(
+                    mapping,
+                    black_box(samples),
+                    &mut out16,
+                ));
+                let [r, g, b] = &mut planes16;
+                let _ = black_box(set.encode_u16_planar(mapping, black_box(samples), [r, g, b]));
             }
         }
         let [r, g, b] = &mut lin;
         let _ = black_box(set.linear_rgb_planar(black_box(samples), [r, g, b]));
-        let _ = black_box(set.encode_u8_planar(GamutMapping::Clip, samples, &mut bad));
+        let _ =
+            black_box(set.encode_u8_planar_to_interleaved(GamutMapping::Clip, samples, &mut bad));
+        let [r, g, b] = &mut planes8;
+        let _ = black_box(set.encode_u8_planar(GamutMapping::Clip, samples, [r, g, &mut b[..99]]));
         let _ = black_box(spectral_quadrature::srgb8_from_linear(black_box(0.5)));
+    });
+}
+
+#[test]
+fn upsampling_paths_never_allocate() {
+    use spectral_quadrature::tables::upsampling::KQ_C_4_SRGB as UP;
+    let rgb: Vec<[f32; 3]> = (0..100)
+        .map(|p| [p as f32 / 99.0, f32::NAN, -f32::INFINITY])
+        .chain([[0.8, 0.2, 0.1], [2.0, 1e-45, 0.5]])
+        .collect();
+    let planes = [0, 1, 2].map(|c| rgb.iter().map(|px| px[c]).collect::<Vec<f32>>());
+    let mut nodes = vec![[0.0f32; 4]; rgb.len()];
+    let mut node_planes = [0, 1, 2, 3].map(|_| vec![0.0f32; rgb.len()]);
+    assert_no_alloc("Upsampling", || {
+        let _ = black_box(UP.reflectance_batch(black_box(&rgb), &mut nodes));
+        let [a, b, c, d] = &mut node_planes;
+        let _ = black_box(UP.reflectance_interleaved_to_planar(black_box(&rgb), [a, b, c, d]));
+        let [a, b, c, d] = &mut node_planes;
+        let rgb_planes = planes.each_ref().map(|p| &p[..]);
+        let _ = black_box(UP.reflectance_planar(black_box(rgb_planes), [a, b, c, d]));
+        let [a, b, c, d] = &mut node_planes;
+        let _ = black_box(UP.reflectance_planar(rgb_planes, [a, b, c, &mut d[..1]]));
     });
 }
 

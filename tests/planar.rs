@@ -2,9 +2,9 @@
 //!
 //! 1. The encoder against the exact sRGB curve, recomputed here in f64 with `libm::pow`: equal
 //!    to it rounded to nearest for every f32 from 2⁻¹³ to 1 (109 million values, exhaustively),
-//!    and 0 below; against the per-pixel encoder within `SRGB8_MAX_STEP_ERROR`.
+//!    and 0 below; against the per-pixel encoder within `SRGB8_MAX_ERROR`.
 //! 2. What one step costs in colour: the largest ΔE*ab between 8-bit sRGB colours that differ by
-//!    at most one step per channel, over the whole cube, below `SRGB8_MAX_DELTA_E`.
+//!    at most one step per channel, over the whole cube, below `SRGB8_MAX_ERROR_DE76`.
 //! 3. Property tests (2 000 cases each, of up to 39 pixels: some 40 000 pixels per property; no
 //!    regression files): the planar path equals the per-pixel path, for random lengths (0 to 39
 //!    pixels: multiples of the 16-pixel chunk and not), random finite and non-finite samples,
@@ -26,7 +26,7 @@ use proptest::test_runner::TestCaseResult;
 use spectral_quadrature::tables::{displays, folded};
 use spectral_quadrature::{
     delta_e76, f32_budget, lab_from_xyz, quantize_u8, srgb8_from_linear, Error, FoldedSet,
-    GamutMapping, Rgb, Samples, TransferFunction, SRGB8_MAX_DELTA_E, SRGB8_MAX_STEP_ERROR,
+    GamutMapping, Rgb, Samples, TransferFunction, SRGB8_MAX_ERROR, SRGB8_MAX_ERROR_DE76,
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -96,7 +96,7 @@ fn encoder_is_the_exact_curve_rounded_for_every_f32_in_0_1() {
     assert_eq!(exact8(LO), 0);
     // Every f32 from 2⁻¹³ to 1, in increasing order: the exact code value is the number of
     // thresholds passed; the encoder must equal it, and the per-pixel one differ by at most
-    // SRGB8_MAX_STEP_ERROR.
+    // SRGB8_MAX_ERROR.
     let (mut k_exact, mut k_pixel, mut k_twice) = (0usize, 0usize, 0usize);
     let (mut differ, mut worst, mut twice_differ) = (0u64, 0u8, 0u64);
     let mut bits = LO.to_bits();
@@ -140,11 +140,11 @@ fn encoder_is_the_exact_curve_rounded_for_every_f32_in_0_1() {
          encoder differs on {differ} of them, by at most {worst} step(s) (asserted ≤ {}); \
          the f32 curve quantized differs on {twice_differ}, by 1 step",
         1.0f32.to_bits() - LO.to_bits() + 1,
-        SRGB8_MAX_STEP_ERROR
+        SRGB8_MAX_ERROR
     );
-    assert_eq!(worst, SRGB8_MAX_STEP_ERROR);
+    assert_eq!(worst, SRGB8_MAX_ERROR);
     assert_eq!(differ, 0);
-    // The count the docs of SRGB8_MAX_STEP_ERROR give for rounding twice.
+    // The count the docs of SRGB8_MAX_ERROR give for rounding twice.
     assert_eq!(twice_differ, 268);
     // Below 2⁻¹³: every 4096th f32 (the encoder clamps them all to 2⁻¹³), and the specials.
     for bits in (0..LO.to_bits()).step_by(4096) {
@@ -232,7 +232,7 @@ fn one_step_per_channel_costs_at_most_srgb8_max_delta_e() {
             libm::pow((e + 0.055) / 1.055, 2.4)
         }
     });
-    let m = displays::SRGB.rgb_to_xyz.map(|row| row.map(f64::from));
+    let m = displays::SRGB.rgb_to_xyz().map(|row| row.map(f64::from));
     let white: [f64; 3] = std::array::from_fn(|i| m[i].iter().sum());
     // Each unordered pair of colours at most one step apart in every channel, once: one step
     // down in blue (the previous plane, any red and green step), or the same blue and a step
@@ -279,10 +279,10 @@ fn one_step_per_channel_costs_at_most_srgb8_max_delta_e() {
     let (de, single) = (worst.0.sqrt(), single.sqrt());
     eprintln!(
         "one step: max ΔE*ab {de:.4} between {:?} and {:?} (≤ 1 step in each channel); \
-         {single:.4} for a step in one channel (asserted < {SRGB8_MAX_DELTA_E})",
+         {single:.4} for a step in one channel (asserted < {SRGB8_MAX_ERROR_DE76})",
         worst.1, worst.2
     );
-    assert!(de < f64::from(SRGB8_MAX_DELTA_E));
+    assert!(de < f64::from(SRGB8_MAX_ERROR_DE76));
     // delta_e76 agrees with the squared distance used above: the same f64 differences, summed
     // in another order, so a few units of 2⁻⁵² of a ΔE near 2, far below 1e-12.
     let lab = |c: [usize; 3]| lab_plane(c[2], &linear, &m, white)[c[0] * 256 + c[1]];
@@ -354,7 +354,7 @@ fn planar_case<const N: usize>(
     mapping: GamutMapping,
     px: &[[f32; N]],
 ) -> TestCaseResult {
-    let display = &set.display;
+    let display = &set.display();
     let n = px.len();
     let pl = planes(px);
     let samples = plane_refs(&pl);
@@ -371,7 +371,7 @@ fn planar_case<const N: usize>(
             prop_assert!(same(lin[c][p], one[c]), "linear pixel {} channel {}", p, c);
             if s.iter().all(|v| v.is_finite()) && lin[c][p].is_finite() {
                 let (exact, abs) =
-                    set.weights[c]
+                    set.weights()[c]
                         .iter()
                         .zip(s)
                         .fold((0.0, 0.0), |(e, a), (w, v)| {
@@ -389,18 +389,104 @@ fn planar_case<const N: usize>(
     // Encoded: the fast path (sRGB curve, Clip) equals `reference8` exactly; every display and
     // mapping equals the per-pixel `encode_u8` exactly.
     let mut out = vec![[7u8; 3]; n];
-    prop_assert_eq!(set.encode_u8_planar(mapping, samples, &mut out), Ok(()));
-    let fast = display.transfer == TransferFunction::Srgb && mapping == GamutMapping::Clip;
+    prop_assert_eq!(
+        set.encode_u8_planar_to_interleaved(mapping, samples, &mut out),
+        Ok(())
+    );
+    let fast = display.transfer() == TransferFunction::Srgb && mapping == GamutMapping::Clip;
     for (p, s) in px.iter().enumerate() {
         let one = set.encode_u8(mapping, s);
         if fast {
             prop_assert_eq!(out[p], reference8(set, s), "pixel {}", p);
         }
         // Every path equals `encode_u8` exactly; for the fast one that is what
-        // SRGB8_MAX_STEP_ERROR = 0 says.
+        // SRGB8_MAX_ERROR = 0 says.
         prop_assert_eq!(out[p], one, "pixel {}", p);
     }
+    other_layouts_case(set, mapping, px)
+}
+
+/// The planar-out 8-bit encoder and both 16-bit encoders against the per-pixel functions, every
+/// pixel exactly; outputs start at values no pixel is expected to keep by chance everywhere.
+fn other_layouts_case<const N: usize>(
+    set: &FoldedSet<N>,
+    mapping: GamutMapping,
+    px: &[[f32; N]],
+) -> TestCaseResult {
+    let n = px.len();
+    let pl = planes(px);
+    let samples = plane_refs(&pl);
+    let mut p8 = [0, 1, 2].map(|_| vec![7u8; n]);
+    let [r, g, b] = &mut p8;
+    prop_assert_eq!(set.encode_u8_planar(mapping, samples, [r, g, b]), Ok(()));
+    let mut i16 = vec![[7u16; 3]; n];
+    prop_assert_eq!(
+        set.encode_u16_planar_to_interleaved(mapping, samples, &mut i16),
+        Ok(())
+    );
+    let mut p16 = [0, 1, 2].map(|_| vec![7u16; n]);
+    let [r, g, b] = &mut p16;
+    prop_assert_eq!(set.encode_u16_planar(mapping, samples, [r, g, b]), Ok(()));
+    for (p, s) in px.iter().enumerate() {
+        let one8 = set.encode_u8(mapping, s);
+        let one16 = set.encode_u16(mapping, s);
+        prop_assert_eq!(
+            [p8[0][p], p8[1][p], p8[2][p]],
+            one8,
+            "u8 planes, pixel {}",
+            p
+        );
+        prop_assert_eq!(i16[p], one16, "u16 interleaved, pixel {}", p);
+        prop_assert_eq!(
+            [p16[0][p], p16[1][p], p16[2][p]],
+            one16,
+            "u16 planes, pixel {}",
+            p
+        );
+    }
     Ok(())
+}
+
+/// The planar-out 8-bit encoder runs the interleaved loops on chunks of 64 pixels: images of
+/// several chunks and a partial one, with NaN, ±Inf, subnormal, huge and negative samples among
+/// random ones, on every baked display and mapping, give the per-pixel bytes.
+#[test]
+fn planar_out_encoders_equal_per_pixel_across_chunks() {
+    let specials = [
+        f32::NAN,
+        f32::INFINITY,
+        -f32::INFINITY,
+        1e-45,
+        -1e-45,
+        f32::MIN_POSITIVE,
+        f32::MAX,
+        -f32::MAX,
+        -1.0,
+        0.0,
+        -0.0,
+        1.0,
+    ];
+    let mut state = 0x9e37_79b9_7f4a_7c15u64;
+    let mut next = || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        if state.is_multiple_of(5) {
+            specials[(state >> 8) as usize % specials.len()]
+        } else {
+            ((state >> 40) as f32) / (1u64 << 24) as f32 * 1.2 - 0.1
+        }
+    };
+    for n in [0, 1, 63, 64, 65, 200] {
+        let px4: Vec<[f32; 4]> = (0..n).map(|_| std::array::from_fn(|_| next())).collect();
+        let px6: Vec<[f32; 6]> = (0..n).map(|_| std::array::from_fn(|_| next())).collect();
+        for j in 0..4 {
+            for mapping in MAPPINGS {
+                other_layouts_case(&FOLDED_ROW2[j], mapping, &px4).unwrap();
+                other_layouts_case(&FOLDED_ROW1[j], mapping, &px6).unwrap();
+            }
+        }
+    }
 }
 
 /// The baked sets of Table 2 folded for each display, and both mappings.
@@ -438,18 +524,20 @@ fn planar_equals_per_pixel_for_8_and_16_wavelengths() {
             pixels::<16>(),
         ),
         |(w8, px8, w16, px16)| {
-            let set8 = FoldedSet {
-                wavelengths_nm: std::array::from_fn(|i| 400.0 + 40.0 * i as f32),
-                weights: w8,
-                samples: Samples::Radiance,
-                display: displays::SRGB,
-            };
-            let set16 = FoldedSet {
-                wavelengths_nm: std::array::from_fn(|i| 390.0 + 20.0 * i as f32),
-                weights: w16,
-                samples: Samples::Radiance,
-                display: displays::SRGB,
-            };
+            let set8 = FoldedSet::new(
+                std::array::from_fn(|i| 400.0 + 40.0 * i as f32),
+                w8,
+                Samples::Radiance,
+                displays::SRGB,
+            )
+            .unwrap();
+            let set16 = FoldedSet::new(
+                std::array::from_fn(|i| 390.0 + 20.0 * i as f32),
+                w16,
+                Samples::Radiance,
+                displays::SRGB,
+            )
+            .unwrap();
             planar_case(&set8, GamutMapping::Clip, &px8)?;
             planar_case(&set16, GamutMapping::Clip, &px16)
         },
@@ -492,7 +580,7 @@ fn specials_give_what_the_docs_say() {
         .collect();
     let pl = planes(&px);
     let mut out = vec![[7u8; 3]; px.len()];
-    set.encode_u8_planar(GamutMapping::Clip, plane_refs(&pl), &mut out)
+    set.encode_u8_planar_to_interleaved(GamutMapping::Clip, plane_refs(&pl), &mut out)
         .unwrap();
     for (p, s) in px.iter().enumerate() {
         let rgb = set.linear_rgb(s);
@@ -525,7 +613,7 @@ fn empty_inputs_are_fine() {
     let set = folded::TABLE2_ROW1_SRGB;
     let empty: [&[f32]; 6] = [&[]; 6];
     assert_eq!(
-        set.encode_u8_planar(GamutMapping::Clip, empty, &mut []),
+        set.encode_u8_planar_to_interleaved(GamutMapping::Clip, empty, &mut []),
         Ok(())
     );
     assert_eq!(
@@ -551,7 +639,7 @@ fn length_mismatches_are_errors_and_write_nothing() {
             outputs: if plane == 0 { 20 } else { len },
         });
         let mut out = vec![[9u8; 3]; 20];
-        let r = set.encode_u8_planar(GamutMapping::Clip, samples, &mut out);
+        let r = set.encode_u8_planar_to_interleaved(GamutMapping::Clip, samples, &mut out);
         assert_eq!(r, expected, "{what}");
         assert!(out.iter().all(|o| *o == [9; 3]), "{what}");
         let mut lin = [0, 1, 2].map(|_| vec![-7.5f32; 20]);
@@ -571,7 +659,7 @@ fn length_mismatches_are_errors_and_write_nothing() {
             outputs: len,
         });
         let mut out = vec![[9u8; 3]; len];
-        let r = set.encode_u8_planar(GamutMapping::Clip, samples, &mut out);
+        let r = set.encode_u8_planar_to_interleaved(GamutMapping::Clip, samples, &mut out);
         assert_eq!(r, expected);
         assert!(out.iter().all(|o| *o == [9; 3]));
         for c in 0..3 {
@@ -581,5 +669,48 @@ fn length_mismatches_are_errors_and_write_nothing() {
             assert_eq!(set.linear_rgb_planar(samples, [r, g, b]), expected);
             assert!(lin.iter().flatten().all(|v| *v == -7.5));
         }
+    }
+}
+
+#[test]
+fn new_layouts_refuse_length_mismatches_and_write_nothing() {
+    let set = folded::TABLE2_ROW2_SRGB;
+    let (a, short) = ([0.5f32; 70], [0.5f32; 69]);
+    let mismatch = |outputs| {
+        Err(Error::LengthMismatch {
+            inputs: 70,
+            outputs,
+        })
+    };
+    for mapping in MAPPINGS {
+        // A short sample plane.
+        let mut p8 = [[9u8; 70]; 3];
+        let [r, g, b] = &mut p8;
+        let got = set.encode_u8_planar(mapping, [&a, &a, &short, &a], [r, g, b]);
+        assert_eq!(got, mismatch(69));
+        // A short output plane, after a full chunk: nothing is written, not even the first.
+        let (mut r, mut g, mut b) = ([9u8; 70], [9u8; 70], [9u8; 69]);
+        let got = set.encode_u8_planar(mapping, [&a; 4], [&mut r, &mut g, &mut b]);
+        assert_eq!(got, mismatch(69));
+        assert!(p8
+            .iter()
+            .flatten()
+            .chain(&r)
+            .chain(&g)
+            .chain(&b)
+            .all(|&v| v == 9));
+        let mut i16 = [[9u16; 3]; 71];
+        let got = set.encode_u16_planar_to_interleaved(mapping, [&a; 4], &mut i16);
+        assert_eq!(got, mismatch(71));
+        let (mut r, mut g, mut b) = ([9u16; 70], [9u16; 71], [9u16; 70]);
+        let got = set.encode_u16_planar(mapping, [&a; 4], [&mut r, &mut g, &mut b]);
+        assert_eq!(got, mismatch(71));
+        assert!(i16
+            .iter()
+            .flatten()
+            .chain(&r)
+            .chain(&g)
+            .chain(&b)
+            .all(|&v| v == 9));
     }
 }

@@ -72,9 +72,9 @@ fn folded64() -> &'static [[[Vec<f64>; 3]; 4]; 2] {
         for (j, display) in displays::ALL.iter().enumerate() {
             assert_eq!(d.displays[j].0.name, consts[j], "display order");
             let primaries = d.displays[j].0.primaries_xy.map(|p| p.map(|v| v as f32));
-            assert_eq!(display.primaries_xy, primaries, "{}", display.name);
+            assert_eq!(display.primaries_xy(), primaries, "{}", display.name());
             // One description: the baked human name is the derivation's label.
-            assert_eq!(display.name, d.displays[j].0.label, "display name");
+            assert_eq!(display.name(), d.displays[j].0.label, "display name");
         }
         [0, 1].map(|k| [0, 1, 2, 3].map(|j| d.folded(&d.table2[k], &d.displays[j].1)))
     })
@@ -215,7 +215,7 @@ fn p1_folded_linear_rgb_within_f32_budget_of_the_f64_fold() {
     check("linear_rgb vs f64 fold", spectrum16(), |s| {
         for j in 0..4 {
             let s6: [f32; 6] = prefix(&s);
-            let name = format!("TABLE2_ROW1_{}", displays::ALL[j].name);
+            let name = format!("TABLE2_ROW1_{}", displays::ALL[j].name());
             assert_budget(
                 &name,
                 FOLDED_ROW1[j].linear_rgb(&s6),
@@ -224,7 +224,7 @@ fn p1_folded_linear_rgb_within_f32_budget_of_the_f64_fold() {
                 &worst,
             )?;
             let s4: [f32; 4] = prefix(&s);
-            let name = format!("TABLE2_ROW2_{}", displays::ALL[j].name);
+            let name = format!("TABLE2_ROW2_{}", displays::ALL[j].name());
             assert_budget(
                 &name,
                 FOLDED_ROW2[j].linear_rgb(&s4),
@@ -270,7 +270,7 @@ fn linearity<const N: usize>(
     let rhs: [f32; 3] = std::array::from_fn(|c| a * p[c] + b * q[c]);
     let (a64, b64) = (f64::from(a), f64::from(b));
     for c in 0..3 {
-        let w: Vec<f64> = set.weights[c].iter().map(|&w| f64::from(w)).collect();
+        let w: Vec<f64> = set.weights()[c].iter().map(|&w| f64::from(w)).collect();
         let (ws, ws_abs) = dot64(&w, s);
         let (wt, wt_abs) = dot64(&w, t);
         let (_, wu_abs) = dot64(&w, &u);
@@ -454,15 +454,15 @@ fn p4_baked_constants_equal_a_fresh_derivation() {
             // Exact: the generator writes `v as f32` and Rust parses the printed f32 exactly.
             let baked = &tables::RULES[c][order - 1];
             let fresh_rule = &d.rules[c][order - 1];
-            prop_assert_eq!(baked.channel.index(), c);
-            prop_assert_eq!(usize::from(baked.order), order);
-            prop_assert!(status_matches(baked.status, fresh_rule.status));
-            if baked.status == RuleStatus::Defined {
-                prop_assert_eq!(baked.wavelengths_nm.to_vec(), f32s(&fresh_rule.nodes_nm));
-                prop_assert_eq!(baked.weights.to_vec(), f32s(&fresh_rule.weights));
-                prop_assert_eq!(baked.wavelengths_nm.len(), order);
+            prop_assert_eq!(baked.channel().index(), c);
+            prop_assert_eq!(usize::from(baked.order()), order);
+            prop_assert!(status_matches(baked.status(), fresh_rule.status));
+            if baked.status() == RuleStatus::Defined {
+                prop_assert_eq!(baked.wavelengths_nm().to_vec(), f32s(&fresh_rule.nodes_nm));
+                prop_assert_eq!(baked.weights().to_vec(), f32s(&fresh_rule.weights));
+                prop_assert_eq!(baked.wavelengths_nm().len(), order);
             } else {
-                prop_assert!(baked.wavelengths_nm.is_empty() && baked.weights.is_empty());
+                prop_assert!(baked.wavelengths_nm().is_empty() && baked.weights().is_empty());
             }
             prop_assert_eq!(
                 tables::SENSITIVITIES[i],
@@ -471,8 +471,8 @@ fn p4_baked_constants_equal_a_fresh_derivation() {
             prop_assert_eq!(tables::GRID_NM[i], d.grid_nm[i] as f32);
             // And the folded weights of display j (both rows of Table 2).
             for r in 0..3 {
-                prop_assert_eq!(FOLDED_ROW1[j].weights[r].to_vec(), f32s(&f64s[0][j][r]));
-                prop_assert_eq!(FOLDED_ROW2[j].weights[r].to_vec(), f32s(&f64s[1][j][r]));
+                prop_assert_eq!(FOLDED_ROW1[j].weights()[r].to_vec(), f32s(&f64s[0][j][r]));
+                prop_assert_eq!(FOLDED_ROW2[j].weights()[r].to_vec(), f32s(&f64s[1][j][r]));
             }
             Ok(())
         },
@@ -604,22 +604,22 @@ fn p6_encoded_greys_are_monotonic() {
         for display in &displays::ALL {
             for mapping in MAPPINGS {
                 let (a8, b8) = (
-                    display.encode_u8([g1; 3], mapping),
-                    display.encode_u8([g2; 3], mapping),
+                    display.encode_u8(mapping, [g1; 3]),
+                    display.encode_u8(mapping, [g2; 3]),
                 );
                 prop_assert!(
                     non_decreasing(a8, b8),
                     "{} {mapping:?}: u8 grey {g1} → {a8:?} but {g2} → {b8:?}",
-                    display.name
+                    display.name()
                 );
                 let (a16, b16) = (
-                    display.encode_u16([g1; 3], mapping),
-                    display.encode_u16([g2; 3], mapping),
+                    display.encode_u16(mapping, [g1; 3]),
+                    display.encode_u16(mapping, [g2; 3]),
                 );
                 prop_assert!(
                     non_decreasing(a16, b16),
                     "{} {mapping:?}: u16 grey {g1} → {a16:?} but {g2} → {b16:?}",
-                    display.name
+                    display.name()
                 );
             }
         }
@@ -663,7 +663,7 @@ fn p6_constant_spectra_encode_monotonically() {
 
 /// `(Σ a_i rgb_i, Σ |a_i rgb_i|, Σ a_i)` in f64.
 fn a_of(display: &Display, rgb: [f32; 3]) -> (f64, f64, f64) {
-    let a = display.a_from_rgb.map(f64::from);
+    let a = display.a_from_rgb().map(f64::from);
     let (sum, abs) = dot64(&a, &rgb);
     (sum, abs, a.iter().sum())
 }
@@ -679,7 +679,7 @@ fn p7_preserve_a_keeps_a() {
     // t·d_c (u) contribute 3u Σ a_c t |d_c| ≤ 3u · 2|a||rgb| = 3ε |a||rgb|; the final sums u Σ a_c
     // r_c ≤ u |a||rgb|. Total ≤ 6.5 ε |a||rgb|; asserted: 8 ε (|a|·|rgb|) (a_from_rgb > 0).
     for display in &displays::ALL {
-        assert!(display.a_from_rgb.iter().all(|&a| a > 0.0));
+        assert!(display.a_from_rgb().iter().all(|&a| a > 0.0));
     }
     let worst = Cell::new(0.0);
     let branches = Cell::new([0usize; 4]);
@@ -688,7 +688,7 @@ fn p7_preserve_a_keeps_a() {
         (uniform::<_, 3>(-2.0f32..=3.0), 0usize..4),
         |(rgb, j)| {
             let display = &displays::ALL[j];
-            let r = display.map_gamut(rgb, GamutMapping::PreserveA);
+            let r = display.map_gamut(GamutMapping::PreserveA, rgb);
             prop_assert!(r.iter().all(|v| (0.0..=1.0).contains(v)), "{rgb:?} → {r:?}");
             let (a_in, abs, sa) = a_of(display, rgb);
             let level = a_in / sa;
@@ -708,7 +708,7 @@ fn p7_preserve_a_keeps_a() {
                 prop_assert!(
                     err <= 8.0 * EPS * abs + f64_slack(3, abs),
                     "{} {rgb:?} → {r:?}: A {a_in} → {a_out}, error {err:e} > 8ε·|a||rgb| = {:e}",
-                    display.name,
+                    display.name(),
                     8.0 * EPS * abs
                 );
             } else {
@@ -741,7 +741,7 @@ fn p7_preserve_a_leaves_in_gamut_colours_unchanged() {
         ),
         |(rgb, j)| {
             let display = &displays::ALL[j];
-            let r = display.map_gamut(rgb, GamutMapping::PreserveA);
+            let r = display.map_gamut(GamutMapping::PreserveA, rgb);
             let (a_in, _, sa) = a_of(display, rgb);
             let level = (a_in / sa).clamp(0.0, 1.0);
             for c in 0..3 {
@@ -753,7 +753,7 @@ fn p7_preserve_a_leaves_in_gamut_colours_unchanged() {
                 prop_assert!(
                     err <= 2.0 * EPS * scale,
                     "{} in gamut {rgb:?} → {r:?} (channel {c}, error {err:e})",
-                    display.name
+                    display.name()
                 );
             }
             Ok(())
@@ -889,12 +889,12 @@ fn p9_dynamic_set_rebuilds_table2_row1_exactly() {
     assert_eq!(set.len(), 6);
     assert_eq!(
         set.wavelengths_nm(),
-        tables::TABLE2_ROW1.wavelengths_nm.as_slice()
+        tables::TABLE2_ROW1.wavelengths_nm().as_slice()
     );
     for c in 0..3 {
         assert_eq!(
             set.weights(c),
-            tables::TABLE2_ROW1.weights[c].as_slice(),
+            tables::TABLE2_ROW1.weights()[c].as_slice(),
             "row {c}"
         );
     }
@@ -932,19 +932,19 @@ fn p9_dynamic_set_model() {
                 let before = set.clone();
                 let result = set.add_rule(rule);
                 let mut counts = outcomes.get();
-                if rule.status != RuleStatus::Defined {
+                if rule.status() != RuleStatus::Defined {
                     counts[1] += 1;
                     prop_assert_eq!(
                         result,
                         Err(Error::UndefinedRule {
-                            channel: rule.channel.index() as u8,
-                            order: rule.order
+                            channel: rule.channel(),
+                            order: rule.order()
                         })
                     );
                     prop_assert_eq!(&set, &before, "unchanged after UndefinedRule");
                 } else {
                     let new = rule
-                        .wavelengths_nm
+                        .wavelengths_nm()
                         .iter()
                         .filter(|l| !model.contains_key(&l.to_bits()))
                         .count();
@@ -955,8 +955,9 @@ fn p9_dynamic_set_model() {
                     } else {
                         counts[0] += 1;
                         prop_assert_eq!(result, Ok(()));
-                        for (&l, &w) in rule.wavelengths_nm.iter().zip(rule.weights) {
-                            model.entry(l.to_bits()).or_insert([0.0; 3])[rule.channel.index()] += w;
+                        for (&l, &w) in rule.wavelengths_nm().iter().zip(rule.weights()) {
+                            model.entry(l.to_bits()).or_insert([0.0; 3])[rule.channel().index()] +=
+                                w;
                         }
                         added.push(rule);
                     }
@@ -997,8 +998,8 @@ fn p9_dynamic_set_model() {
             for c in 0..3 {
                 let mut exact = 0.0f64;
                 let mut abs = 0.0f64;
-                for rule in added.iter().filter(|r| r.channel.index() == c) {
-                    for (l, w) in rule.wavelengths_nm.iter().zip(rule.weights) {
+                for rule in added.iter().filter(|r| r.channel().index() == c) {
+                    for (l, w) in rule.wavelengths_nm().iter().zip(rule.weights()) {
                         let i = set
                             .wavelengths_nm()
                             .iter()

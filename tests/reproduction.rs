@@ -6,7 +6,7 @@ use spectral_quadrature_build as sqd;
 /// The data files the derivation reads (this crate's `data/`).
 const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data");
 
-use spectral_quadrature::paper;
+use spectral_quadrature_build::paper;
 use sqd::{derive, Derivation, Settings, Status};
 use std::sync::OnceLock;
 

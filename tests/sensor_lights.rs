@@ -25,20 +25,21 @@ fn sensor_set(
 ) -> WavelengthSet<8> {
     let fitted = sqd::user::sensor_set(d, "AS7341", "AS7341", sensor, light).unwrap();
     let m = d.opponent.xyz_to_ac1c2;
-    WavelengthSet {
-        wavelengths_nm: core::array::from_fn(|k| fitted.wavelengths_nm[k] as f32),
-        weights: core::array::from_fn(|r| {
+    WavelengthSet::new(
+        core::array::from_fn(|k| fitted.wavelengths_nm[k] as f32),
+        core::array::from_fn(|r| {
             core::array::from_fn(|k| {
                 (0..3)
                     .map(|c| m[r][c] * fitted.xyz_weights[c][k])
                     .sum::<f64>() as f32
             })
         }),
-        samples: Samples::Readings {
+        Samples::Readings {
             sensor: "AS7341",
             light: None,
         },
-    }
+    )
+    .unwrap()
 }
 
 /// Every light read through the sensor's set fitted for radiances and through the one fitted

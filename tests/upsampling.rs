@@ -152,19 +152,19 @@ trait Dyn {
 
 impl<const N: usize> Dyn for (Upsampling<N>, FoldedSet<N>) {
     fn set(&self) -> &str {
-        self.0.set
+        self.0.set()
     }
     fn grid(&self) -> usize {
         self.0.grid()
     }
     fn lipschitz(&self) -> f32 {
-        self.0.lipschitz
+        self.0.lipschitz().expect("baked: measured")
     }
     fn max_round_trip(&self) -> f32 {
-        self.0.max_round_trip_delta_e00
+        self.0.max_round_trip_delta_e00().expect("baked: measured")
     }
     fn reachable_share(&self) -> f32 {
-        self.0.reachable_share
+        self.0.reachable_share().expect("baked: measured")
     }
     fn table(&self) -> Vec<Vec<u16>> {
         self.0.table().iter().map(|e| e.to_vec()).collect()
@@ -176,13 +176,13 @@ impl<const N: usize> Dyn for (Upsampling<N>, FoldedSet<N>) {
         self.0.interpolate(rgb).to_vec()
     }
     fn folded_light(&self) -> bool {
-        matches!(self.1.samples, Samples::Reflectance { .. })
+        matches!(self.1.samples(), Samples::Reflectance { .. })
     }
     fn weights(&self) -> Vec<Vec<f32>> {
-        self.1.weights.iter().map(|r| r.to_vec()).collect()
+        self.1.weights().iter().map(|r| r.to_vec()).collect()
     }
     fn rgb_to_xyz(&self) -> [[f32; 3]; 3] {
-        self.1.display.rgb_to_xyz
+        self.1.display().rgb_to_xyz()
     }
     fn batch_agrees(&self, rgb: &[[f32; 3]]) -> bool {
         let mut out = vec![[0.0f32; N]; rgb.len()];
@@ -248,12 +248,12 @@ fn tables_equal_a_fresh_bake() {
         assert_eq!(u.reachable_share(), b.reachable_share() as f32);
         assert_eq!(u.folded_light(), f.light_at_nodes.is_none(), "{}", f.name);
     });
-    assert_eq!(upsampling::KQ_C_8_SRGB.light, "C");
-    assert_eq!(upsampling::KQ_F11_6_SRGB.light, "F11");
-    assert_eq!(upsampling::KQ_C_8_SRGB.display, "sRGB");
+    assert_eq!(upsampling::KQ_C_8_SRGB.light(), "C");
+    assert_eq!(upsampling::KQ_F11_6_SRGB.light(), "F11");
+    assert_eq!(upsampling::KQ_C_8_SRGB.display(), "sRGB");
     assert_eq!(
-        upsampling::KQ_C_8_SRGB.wavelengths_nm,
-        folded::KQ_C_8_SRGB.wavelengths_nm
+        upsampling::KQ_C_8_SRGB.wavelengths_nm(),
+        folded::KQ_C_8_SRGB.wavelengths_nm()
     );
 }
 
@@ -509,13 +509,27 @@ fn batch_is_per_pixel() {
 #[test]
 fn new_checks_the_table() {
     static TABLE: [[u16; 2]; 8] = [[0; 2]; 8];
-    assert!(Upsampling::new(2, &TABLE).is_some());
-    assert!(Upsampling::new(3, &TABLE).is_none());
-    assert!(Upsampling::<2>::new(1, &TABLE[..1]).is_none());
-    assert!(Upsampling::new(usize::MAX, &TABLE).is_none());
-    let u = Upsampling::new(2, &TABLE).unwrap();
+    let new =
+        |grid, table| Upsampling::new("MINE", "sRGB", "D65", [450.0, 600.0], grid, table, None);
+    assert!(new(2, &TABLE).is_ok());
+    let refused = |grid: usize, table: &[[u16; 2]]| {
+        Err(Error::UpsamplingTable {
+            grid,
+            entries: table.len(),
+        })
+    };
+    assert_eq!(new(3, &TABLE), refused(3, &TABLE));
+    assert_eq!(new(1, &TABLE[..1]), refused(1, &TABLE[..1]));
+    assert_eq!(new(usize::MAX, &TABLE), refused(usize::MAX, &TABLE));
+    let u = new(2, &TABLE).unwrap();
     assert_eq!(u.reflectance([0.5; 3]), [0.0; 2]);
     assert_eq!(u.grid(), 2);
+    assert_eq!((u.set(), u.display(), u.light()), ("MINE", "sRGB", "D65"));
+    assert_eq!(u.wavelengths_nm(), [450.0, 600.0]);
+    // Made at run time: no measured figures, and no NaN standing in for them.
+    assert_eq!(u.lipschitz(), None);
+    assert_eq!(u.max_round_trip_delta_e00(), None);
+    assert_eq!(u.reachable_share(), None);
 }
 
 /// The largest change of a node value per unit of max-norm RGB change, in the cells at the edge
@@ -1149,9 +1163,9 @@ fn shader_words_hold_the_table_then_the_round_trip() {
     let u = upsampling::KQ_C_4_SRGB;
     let words: Vec<u32> = u.shader_words().collect();
     let codes: Vec<u16> = u.table().iter().flatten().copied().collect();
-    let rt = u.round_trip.unwrap();
+    let rt = u.round_trip().unwrap();
     let n_codes = codes.len().div_ceil(2);
-    assert_eq!(words.len(), n_codes + rt.edge_cells.len() + 3 * 4 + 9 + 3);
+    assert_eq!(words.len(), n_codes + rt.edge_cells().len() + 3 * 4 + 9 + 3);
     for (k, w) in words[..n_codes].iter().enumerate() {
         assert_eq!(*w & 0xffff, u32::from(codes[2 * k]));
         assert_eq!(
@@ -1160,12 +1174,12 @@ fn shader_words_hold_the_table_then_the_round_trip() {
         );
     }
     assert_eq!(
-        &words[n_codes..n_codes + rt.edge_cells.len()],
-        rt.edge_cells
+        &words[n_codes..n_codes + rt.edge_cells().len()],
+        rt.edge_cells()
     );
-    let f = n_codes + rt.edge_cells.len();
-    assert_eq!(f32::from_bits(words[f + 5]), rt.weights[1][1]);
-    assert_eq!(f32::from_bits(words[f + 12 + 4]), rt.rgb_to_xyz[1][1]);
+    let f = n_codes + rt.edge_cells().len();
+    assert_eq!(f32::from_bits(words[f + 5]), rt.weights()[1][1]);
+    assert_eq!(f32::from_bits(words[f + 12 + 4]), rt.rgb_to_xyz()[1][1]);
 }
 
 /// The largest change of a node value between neighbouring f32 inputs that
@@ -1276,4 +1290,73 @@ fn jumps_between_neighbouring_f32_inputs() {
             worst
         );
     });
+}
+
+/// The planar forms give `reflectance`'s bits on every pixel, for random and extreme RGB (NaN,
+/// ±Inf, negative, huge, subnormal), and refuse length mismatches without writing.
+#[test]
+fn planar_forms_are_per_pixel() {
+    let u = upsampling::KQ_C_4_SRGB;
+    let specials = [
+        f32::NAN,
+        f32::INFINITY,
+        -f32::INFINITY,
+        -1.0,
+        2.0,
+        1e30,
+        1e-45,
+        0.0,
+    ];
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    let rgb: Vec<[f32; 3]> = (0..300)
+        .map(|_| {
+            std::array::from_fn(|_| {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                if state.is_multiple_of(6) {
+                    specials[(state >> 8) as usize % specials.len()]
+                } else {
+                    ((state >> 40) as f32) / (1u64 << 24) as f32
+                }
+            })
+        })
+        .collect();
+    let rgb_planes = [0, 1, 2].map(|c| rgb.iter().map(|p| p[c]).collect::<Vec<f32>>());
+    let mut a = [0, 1, 2, 3].map(|_| vec![-1.0f32; rgb.len()]);
+    let mut b = a.clone();
+    let [a0, a1, a2, a3] = &mut a;
+    let planes = rgb_planes.each_ref().map(|p| &p[..]);
+    assert_eq!(u.reflectance_planar(planes, [a0, a1, a2, a3]), Ok(()));
+    let [b0, b1, b2, b3] = &mut b;
+    assert_eq!(
+        u.reflectance_interleaved_to_planar(&rgb, [b0, b1, b2, b3]),
+        Ok(())
+    );
+    for (p, px) in rgb.iter().enumerate() {
+        let one = u.reflectance(*px).map(f32::to_bits);
+        assert_eq!(
+            a.each_ref().map(|n| n[p].to_bits()),
+            one,
+            "planar, pixel {p}"
+        );
+        assert_eq!(
+            b.each_ref().map(|n| n[p].to_bits()),
+            one,
+            "interleaved, pixel {p}"
+        );
+    }
+    // Length mismatches: an error, nothing written.
+    let mut c = [0, 1, 2, 3].map(|_| vec![-1.0f32; 300]);
+    let [c0, c1, c2, c3] = &mut c;
+    let short = [planes[0], &planes[1][..299], planes[2]];
+    let mismatch = Err(Error::LengthMismatch {
+        inputs: 300,
+        outputs: 299,
+    });
+    assert_eq!(u.reflectance_planar(short, [c0, c1, c2, c3]), mismatch);
+    let [c0, c1, c2, c3] = &mut c;
+    let got = u.reflectance_interleaved_to_planar(&rgb, [c0, c1, c2, &mut c3[..299]]);
+    assert_eq!(got, mismatch);
+    assert!(c.iter().flatten().all(|&v| v == -1.0));
 }

@@ -55,13 +55,12 @@
 mod base;
 mod derivation;
 mod emit;
+pub mod paper;
 mod scenes;
 pub mod shared;
 pub mod upsampling;
 
-pub use base::error::{
-    CalibrationProblem, DataError, DisplayProblem, Error, LightProblem, SetNameProblem,
-};
+pub use base::error::{CalibrationProblem, DataError, Error, LightProblem, SetNameProblem};
 pub use base::files::{data_path, sha256_hex};
 pub use base::table;
 pub use derivation::derive::{derive, derive_with, Derivation};
@@ -75,3 +74,6 @@ pub use emit::generate::{generate, Output};
 pub use emit::{codegen, fixed_point, shader};
 pub use scenes::scene::SCENE_ENV;
 pub use scenes::{calibration, catalog, plan, scene, user};
+/// Why a display is refused: the one type the runtime (`Error::Display`) and the derivation
+/// ([`Error::Display`]) report.
+pub use spectral_quadrature_math::DisplayError;

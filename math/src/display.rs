@@ -22,6 +22,7 @@ pub const MIN_WHITE_SHARE: f64 = 1e-6;
 
 /// Which chromaticity of a display.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Point {
     /// The red primary.
     Red,
@@ -45,8 +46,12 @@ impl Point {
     }
 }
 
-/// Why [`display_matrices`] refuses a display.
+/// Why a display is refused: by [`display_matrices`], and by the runtime's `Display::new` and the
+/// generator's display derivation, which report this same type (the runtime inside its
+/// `Error::Display`, the generator inside its `Error::Display` with the display's name).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum DisplayError {
     /// A chromaticity is not finite, is negative, or has y ≤ 0 or x + y > 1.
     Chromaticity {
@@ -65,9 +70,18 @@ pub enum DisplayError {
     /// The white is not a mix of the primaries in which every primary's share exceeds
     /// [`MIN_WHITE_SHARE`] of the largest: it lies outside their triangle or on an edge.
     WhiteOutside {
+        /// The white point's chromaticity.
+        white_xy: [f64; 2],
         /// The primaries' shares of the white (at Y = 1 each): what they would have to be
         /// driven at to make it.
         drives: [f64; 3],
+    },
+    /// A power-law transfer function's γ is not finite and positive (not a
+    /// [`display_matrices`] error: the runtime's `Display::new` checks its transfer function
+    /// first).
+    Gamma {
+        /// The γ given.
+        gamma: f64,
     },
 }
 
@@ -86,12 +100,15 @@ impl fmt::Display for DisplayError {
                 "primaries are nearly collinear (condition number {condition:.3e} > threshold \
                  {MAX_PRIMARIES_CONDITION:e})"
             ),
-            DisplayError::WhiteOutside { drives } => write!(
+            DisplayError::WhiteOutside { white_xy, drives } => write!(
                 f,
-                "the white lies outside the primaries' triangle or on an edge (drives {:.4}, \
-                 {:.4}, {:.4})",
-                drives[0], drives[1], drives[2]
+                "the white ({}, {}) lies outside the primaries' triangle or on an edge (drives \
+                 {:.4}, {:.4}, {:.4})",
+                white_xy[0], white_xy[1], drives[0], drives[1], drives[2]
             ),
+            DisplayError::Gamma { gamma } => {
+                write!(f, "gamma {gamma} is not finite and positive")
+            }
         }
     }
 }
@@ -176,7 +193,10 @@ pub fn display_matrices(
         .iter()
         .all(|&v| v.is_finite() && v > MIN_WHITE_SHARE * largest)
     {
-        return Err(DisplayError::WhiteOutside { drives: s });
+        return Err(DisplayError::WhiteOutside {
+            white_xy,
+            drives: s,
+        });
     }
     let rgb_to_xyz = p.map(|row| [row[0] * s[0], row[1] * s[1], row[2] * s[2]]);
     let xyz_to_rgb = invert3(&rgb_to_xyz).ok_or(collinear(f64::INFINITY))?;

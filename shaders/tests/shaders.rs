@@ -449,7 +449,7 @@ macro_rules! case {
         Case {
             set: stringify!($set),
             display_name: stringify!($display),
-            n: tables::$set.wavelengths_nm.len(),
+            n: tables::$set.wavelengths_nm().len(),
             ac1c2: |s| tables::$set.ac1c2(s.try_into().unwrap()),
             linear: |s| folded::$folded.linear_rgb(s.try_into().unwrap()),
             display: displays::$display,
@@ -600,7 +600,7 @@ fn encode_bound(transfer: TransferFunction, x: f32) -> f64 {
             // The pow error, and the runtime's conversion of its f64 power to f32 (½ ULP).
             pow_bound(xf, f64::from(y as f32), y) + 0.5 * ulp(xf.powf(y))
         }
-        TransferFunction::Lut(_) => unreachable!("scenes have no lookup-table transfers"),
+        _ => unreachable!("scenes have no lookup-table transfers"),
     }
 }
 
@@ -905,9 +905,9 @@ fn wgsl_and_glsl_run_on_vulkan_and_agree_with_the_runtime() {
                     let rust = (case.linear)(s);
                     let device_linear = [out[k], out[k + 1], out[k + 2]];
                     let device_encoded = [out[k + 3], out[k + 4], out[k + 5]];
-                    let rust_encoded = case.display.encode(device_linear, GamutMapping::Clip);
-                    let rust_u8 = case.display.encode_u8(rust, GamutMapping::Clip);
-                    let rust_full = case.display.encode(rust, GamutMapping::Clip);
+                    let rust_encoded = case.display.encode(GamutMapping::Clip, device_linear);
+                    let rust_u8 = case.display.encode_u8(GamutMapping::Clip, rust);
+                    let rust_full = case.display.encode(GamutMapping::Clip, rust);
                     for c in 0..3 {
                         let row = &rows[c * set.n..(c + 1) * set.n];
                         let what = format!("{lang:?} {name} channel {c} pixel {p} {s:?}");
@@ -916,7 +916,7 @@ fn wgsl_and_glsl_run_on_vulkan_and_agree_with_the_runtime() {
                             &what,
                             device_encoded[c],
                             rust_encoded[c],
-                            encode_bound(case.display.transfer, device_linear[c]),
+                            encode_bound(case.display.transfer(), device_linear[c]),
                         );
                         // The whole path, samples to encoded values: the encode bound plus the
                         // curve's change across the linear difference; quantized, at most one
@@ -927,7 +927,7 @@ fn wgsl_and_glsl_run_on_vulkan_and_agree_with_the_runtime() {
                             &what,
                             device_encoded[c],
                             rust_full[c],
-                            encode_bound(case.display.transfer, device_linear[c]) + curve_shift,
+                            encode_bound(case.display.transfer(), device_linear[c]) + curve_shift,
                         );
                         let q = quantize_u8(device_encoded[c]);
                         assert!(

@@ -1,6 +1,8 @@
-//! The planar path: [`FoldedSet::linear_rgb_planar`] and [`FoldedSet::encode_u8_planar`], over
-//! samples in planes (structure of arrays: one slice per wavelength). Nothing allocates; a
-//! length mismatch is an [`Error`], checked before any output is written.
+//! The planar path, over samples in planes (structure of arrays: one slice per wavelength):
+//! [`FoldedSet::linear_rgb_planar`], [`FoldedSet::encode_u8_planar_to_interleaved`] and
+//! [`FoldedSet::encode_u8_planar`] (its bytes in three planes), and the 16-bit
+//! [`FoldedSet::encode_u16_planar`] and [`FoldedSet::encode_u16_planar_to_interleaved`]. Nothing
+//! allocates; a length mismatch is an [`Error`], checked before any output is written.
 //!
 //! The loops: an accelerated x86-64 loop where the CPU has one ([`simd`](crate::simd)), the
 //! portable chunked loops ([`portable`]) where the target has f32 vector units, and a loop one
@@ -95,7 +97,8 @@ impl<const N: usize> FoldedSet<N> {
     }
 
     /// Planar samples (as for [`linear_rgb_planar`](Self::linear_rgb_planar)) → gamut-mapped,
-    /// encoded 8-bit RGB with the set's [`display`](Self::display), interleaved:
+    /// encoded 8-bit RGB with the set's [`display`](Self::display), interleaved (planes in,
+    /// pixels out; [`encode_u8_planar`](Self::encode_u8_planar) writes three planes instead):
     /// `out[p] = [r, g, b]`, the layout of RGB8 images and frame buffers, and of
     /// [`encode_u8_batch`](Self::encode_u8_batch).
     ///
@@ -110,7 +113,7 @@ impl<const N: usize> FoldedSet<N> {
     /// rounding boundary (and every NaN) back to the per-pixel function; on those with AVX2,
     /// eight pixels per AVX2 register; else chunks of 16 pixels that the compiler vectorizes
     /// for the target. It equals [`encode_u8`](Self::encode_u8) exactly
-    /// ([`SRGB8_MAX_STEP_ERROR`](crate::SRGB8_MAX_STEP_ERROR) is 0): every loop uses the same
+    /// ([`SRGB8_MAX_ERROR`](crate::SRGB8_MAX_ERROR) is 0): every loop uses the same
     /// f32 operations in the same order for the product and the table's code values (the
     /// polynomial's wherever it does not hand the value back, checked for every f32 from 0 to
     /// 1), and the unit tests compare each loop with the per-pixel function on a million
@@ -140,12 +143,15 @@ impl<const N: usize> FoldedSet<N> {
     /// use spectral_quadrature::GamutMapping;
     /// let planes = [[0.5f32; 20], [0.4; 20], [0.3; 20], [0.2; 20]];
     /// let mut out = [[0u8; 3]; 20];
-    /// SET.encode_u8_planar(GamutMapping::Clip, planes.each_ref().map(|p| &p[..]), &mut out)
-    ///     .unwrap();
-    /// let one = SET.encode_u8(GamutMapping::Clip, &[0.5, 0.4, 0.3, 0.2]);
-    /// assert!((0..3).all(|c| out[7][c].abs_diff(one[c]) <= 1));
+    /// SET.encode_u8_planar_to_interleaved(
+    ///     GamutMapping::Clip,
+    ///     planes.each_ref().map(|p| &p[..]),
+    ///     &mut out,
+    /// )
+    /// .unwrap();
+    /// assert_eq!(out[7], SET.encode_u8(GamutMapping::Clip, &[0.5, 0.4, 0.3, 0.2]));
     /// ```
-    pub fn encode_u8_planar(
+    pub fn encode_u8_planar_to_interleaved(
         &self,
         mapping: GamutMapping,
         samples: [&[f32]; N],
@@ -181,4 +187,123 @@ impl<const N: usize> FoldedSet<N> {
         );
         Ok(())
     }
+
+    /// [`encode_u8_planar_to_interleaved`](Self::encode_u8_planar_to_interleaved) with the
+    /// output in planes too: `out[c][p]` receives channel c (R, G, B) of pixel p. The same
+    /// loops, run on chunks of 64 pixels through a small buffer on the stack (192 bytes), so the
+    /// same bytes as [`encode_u8`](Self::encode_u8) on every pixel, and the same input handling
+    /// (NaN anywhere in a pixel → black; ±Inf and huge channels clip; never panics).
+    ///
+    /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless every plane of
+    /// `samples` and of `out` has the same length, reported as for
+    /// [`linear_rgb_planar`](Self::linear_rgb_planar) (with N = 0, `out[0]` gives the number of
+    /// pixels). N above [`MAX_WAVELENGTHS`](crate::MAX_WAVELENGTHS) does not compile.
+    ///
+    /// ```
+    /// use spectral_quadrature::tables::folded::TABLE2_ROW2_SRGB as SET;
+    /// use spectral_quadrature::GamutMapping;
+    /// let planes = [[0.5f32; 20], [0.4; 20], [0.3; 20], [0.2; 20]];
+    /// let (mut r, mut g, mut b) = ([0u8; 20], [0u8; 20], [0u8; 20]);
+    /// SET.encode_u8_planar(GamutMapping::Clip, planes.each_ref().map(|p| &p[..]), [&mut r, &mut g, &mut b])
+    ///     .unwrap();
+    /// assert_eq!([r[7], g[7], b[7]], SET.encode_u8(GamutMapping::Clip, &[0.5, 0.4, 0.3, 0.2]));
+    /// ```
+    pub fn encode_u8_planar(
+        &self,
+        mapping: GamutMapping,
+        samples: [&[f32]; N],
+        out: [&mut [u8]; 3],
+    ) -> Result<(), Error> {
+        crate::set::assert_width::<N>();
+        let pixels = check_planes(&samples, &[out[0].len(), out[1].len(), out[2].len()])?;
+        let [r, g, b] = out;
+        let mut buf = [[0u8; 3]; CHUNK];
+        let mut start = 0;
+        while start < pixels {
+            let end = pixels.min(start + CHUNK);
+            let chunk = &mut buf[..end - start];
+            self.encode_u8_planar_to_interleaved(mapping, samples.map(|p| &p[start..end]), chunk)?;
+            for (k, px) in chunk.iter().enumerate() {
+                r[start + k] = px[0];
+                g[start + k] = px[1];
+                b[start + k] = px[2];
+            }
+            start = end;
+        }
+        Ok(())
+    }
+
+    /// Planar samples (as for [`linear_rgb_planar`](Self::linear_rgb_planar)) → gamut-mapped,
+    /// encoded 16-bit RGB, interleaved: `out[p] = encode_u16(samples of pixel p)`. Pixel by
+    /// pixel through [`encode_u16`](Self::encode_u16), so the same values and input handling
+    /// (NaN anywhere in a pixel → black; ±Inf and huge channels clip; never panics).
+    ///
+    /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless every plane and `out`
+    /// have the same length, reported as for [`linear_rgb_planar`](Self::linear_rgb_planar)
+    /// (with N = 0, `out.len()` is the number of pixels). N above
+    /// [`MAX_WAVELENGTHS`](crate::MAX_WAVELENGTHS) does not compile.
+    ///
+    /// ```
+    /// use spectral_quadrature::tables::folded::TABLE2_ROW2_SRGB as SET;
+    /// use spectral_quadrature::GamutMapping;
+    /// let planes = [[0.5f32; 20], [0.4; 20], [0.3; 20], [0.2; 20]];
+    /// let mut out = [[0u16; 3]; 20];
+    /// SET.encode_u16_planar_to_interleaved(GamutMapping::Clip, planes.each_ref().map(|p| &p[..]), &mut out)
+    ///     .unwrap();
+    /// assert_eq!(out[7], SET.encode_u16(GamutMapping::Clip, &[0.5, 0.4, 0.3, 0.2]));
+    /// ```
+    pub fn encode_u16_planar_to_interleaved(
+        &self,
+        mapping: GamutMapping,
+        samples: [&[f32]; N],
+        out: &mut [[u16; 3]],
+    ) -> Result<(), Error> {
+        crate::set::assert_width::<N>();
+        let pixels = check_planes(&samples, &[out.len()])?;
+        let planes: [&[f32]; N] = samples.map(|plane| &plane[..pixels]);
+        for (p, o) in out[..pixels].iter_mut().enumerate() {
+            let s: [f32; N] = core::array::from_fn(|i| planes[i][p]);
+            *o = self.encode_u16(mapping, &s);
+        }
+        Ok(())
+    }
+
+    /// [`encode_u16_planar_to_interleaved`](Self::encode_u16_planar_to_interleaved) with the
+    /// output in planes: `out[c][p]` receives channel c (R, G, B) of pixel p. The same values
+    /// as [`encode_u16`](Self::encode_u16) on every pixel, the same input handling.
+    ///
+    /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless every plane of
+    /// `samples` and of `out` has the same length, reported as for
+    /// [`linear_rgb_planar`](Self::linear_rgb_planar). N above
+    /// [`MAX_WAVELENGTHS`](crate::MAX_WAVELENGTHS) does not compile.
+    ///
+    /// ```
+    /// use spectral_quadrature::tables::folded::TABLE2_ROW2_SRGB as SET;
+    /// use spectral_quadrature::GamutMapping;
+    /// let planes = [[0.5f32; 20], [0.4; 20], [0.3; 20], [0.2; 20]];
+    /// let (mut r, mut g, mut b) = ([0u16; 20], [0u16; 20], [0u16; 20]);
+    /// SET.encode_u16_planar(GamutMapping::Clip, planes.each_ref().map(|p| &p[..]), [&mut r, &mut g, &mut b])
+    ///     .unwrap();
+    /// assert_eq!([r[7], g[7], b[7]], SET.encode_u16(GamutMapping::Clip, &[0.5, 0.4, 0.3, 0.2]));
+    /// ```
+    pub fn encode_u16_planar(
+        &self,
+        mapping: GamutMapping,
+        samples: [&[f32]; N],
+        out: [&mut [u16]; 3],
+    ) -> Result<(), Error> {
+        crate::set::assert_width::<N>();
+        let pixels = check_planes(&samples, &[out[0].len(), out[1].len(), out[2].len()])?;
+        let planes: [&[f32]; N] = samples.map(|plane| &plane[..pixels]);
+        let [r, g, b] = out;
+        let (r, g, b) = (&mut r[..pixels], &mut g[..pixels], &mut b[..pixels]);
+        for p in 0..pixels {
+            let s: [f32; N] = core::array::from_fn(|i| planes[i][p]);
+            [r[p], g[p], b[p]] = self.encode_u16(mapping, &s);
+        }
+        Ok(())
+    }
 }
+
+/// Pixels per chunk of [`FoldedSet::encode_u8_planar`]: its stack buffer holds 3 · 64 bytes.
+const CHUNK: usize = 64;

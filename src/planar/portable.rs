@@ -72,18 +72,9 @@ fn product_for_encoding<const N: usize>(
     out
 }
 
-/// Whether the target has vector units for f32 that the chunked loops vectorize for (SSE2 on
-/// x86, NEON, WebAssembly SIMD). Without them (microcontrollers such as the Cortex-M4F, whose
-/// FPU is scalar) the chunks' buffers are only extra loads and stores, and
-/// [`FoldedSet::encode_u8_planar`](crate::FoldedSet::encode_u8_planar) goes one pixel at a time
-/// instead (`planar::scalar` for sRGB with `Clip`), in fewer instructions per pixel on the M4F
-/// (docs/performance.md has the counts under QEMU and their commands). `tests/planar.rs` checks
-/// that the chunked form equals `encode_u8`.
-pub(crate) const VECTOR_UNITS: bool = cfg!(any(
-    target_feature = "sse2",
-    target_feature = "neon",
-    target_feature = "simd128"
-));
+/// Whether the target has vector units for f32 that the chunked loops vectorize for (defined
+/// in `simd::target`, below this module, which the loop caps of `simd::forced` read too).
+pub(crate) use crate::simd::VECTOR_UNITS;
 
 /// Bytes one chunk of interleaved 8-bit RGB takes.
 const CHUNK_BYTES: usize = 3 * CHUNK;

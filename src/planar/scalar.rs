@@ -1,7 +1,7 @@
 //! The planar sRGB encoder for targets without f32 vector units (microcontrollers such as the
 //! Cortex-M4F): one pixel at a time, with the weights held in registers across the loop.
 //!
-//! [`FoldedSet::encode_u8_planar`](crate::FoldedSet::encode_u8_planar) calls it for the sRGB
+//! [`FoldedSet::encode_u8_planar_to_interleaved`](crate::FoldedSet::encode_u8_planar_to_interleaved) calls it for the sRGB
 //! curve with [`GamutMapping::Clip`](crate::GamutMapping::Clip) where the chunked loops of
 //! [`planar`](super) would not vectorize. Its bytes equal
 //! [`FoldedSet::encode_u8`](crate::FoldedSet::encode_u8) on every pixel: the same sums in the

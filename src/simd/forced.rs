@@ -53,7 +53,7 @@ impl Loops {
                 return Loops::Avx2;
             }
         }
-        if crate::planar::portable::VECTOR_UNITS {
+        if super::target::VECTOR_UNITS {
             Loops::Portable
         } else {
             Loops::Scalar

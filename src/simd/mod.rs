@@ -31,6 +31,8 @@
 //! differ in the last bit, and now and then in an encoded code value. (The AVX-512 encoder's
 //! polynomial uses FMA: its result is checked, not trusted.)
 
+pub(crate) use target::VECTOR_UNITS;
+
 #[cfg(target_arch = "x86_64")]
 pub(crate) mod avx2;
 #[cfg(target_arch = "x86_64")]
@@ -39,6 +41,7 @@ pub(crate) mod avx512;
 pub(crate) mod forced;
 #[cfg(target_arch = "x86_64")]
 pub(crate) mod sse2;
+mod target;
 #[cfg(test)]
 mod tests;
 

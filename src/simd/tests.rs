@@ -22,7 +22,7 @@ fn sample(rng: &mut Rng) -> f32 {
 /// `Display::encode_u8`, as on a target without vector code.
 fn reference<const N: usize>(set: &crate::FoldedSet<N>, s: &[f32; N]) -> [u8; 3] {
     set.display
-        .encode_u8(mat_vec_for_encoding(&set.weights, s), GamutMapping::Clip)
+        .encode_u8(GamutMapping::Clip, mat_vec_for_encoding(&set.weights, s))
 }
 
 fn same_f32(a: f32, b: f32) -> bool {
@@ -233,9 +233,9 @@ fn check<const N: usize>(set: &crate::FoldedSet<N>, pixels: usize, seed: u64) {
 
     // The public functions, whichever loops they pick.
     let mut got = std::vec![[0u8; 3]; pixels];
-    set.encode_u8_planar(GamutMapping::Clip, planes, &mut got)
+    set.encode_u8_planar_to_interleaved(GamutMapping::Clip, planes, &mut got)
         .unwrap();
-    compare("encode_u8_planar", &got);
+    compare("encode_u8_planar_to_interleaved", &got);
     let mut got = std::vec![[0u8; 3]; pixels];
     set.encode_u8_batch(GamutMapping::Clip, &aos, &mut got)
         .unwrap();
@@ -263,12 +263,13 @@ fn check<const N: usize>(set: &crate::FoldedSet<N>, pixels: usize, seed: u64) {
 /// registers).
 fn random_set<const N: usize>(seed: u64) -> crate::FoldedSet<N> {
     let mut rng = Rng(seed);
-    crate::FoldedSet {
-        wavelengths_nm: core::array::from_fn(|i| 400.0 + i as f32),
-        weights: [0, 1, 2].map(|_| core::array::from_fn(|_| 2.0 * rng.unit() - 0.6)),
-        samples: TABLE2_ROW2_SRGB.samples,
-        display: TABLE2_ROW2_SRGB.display,
-    }
+    crate::FoldedSet::new(
+        core::array::from_fn(|i| 400.0 + i as f32),
+        [0, 1, 2].map(|_| core::array::from_fn(|_| 2.0 * rng.unit() - 0.6)),
+        TABLE2_ROW2_SRGB.samples,
+        TABLE2_ROW2_SRGB.display,
+    )
+    .unwrap()
 }
 
 /// Pixels per block of the planar loops in passes (`avx2::BLOCK_GROUPS` groups of 8), so
@@ -427,11 +428,14 @@ fn public_functions_at<const N: usize>(set: &crate::FoldedSet<N>, pixels: usize,
                 );
             }
             let mut got = std::vec![[0xA5u8; 3]; pixels];
-            set.encode_u8_planar(GamutMapping::Clip, planes, &mut got)
+            set.encode_u8_planar_to_interleaved(GamutMapping::Clip, planes, &mut got)
                 .unwrap();
             assert_eq!(take_ran(), ran(level, false), "planar, {level:?}, N = {N}");
             let bad = got.iter().zip(&want).position(|(g, w)| g != w);
-            assert_eq!(bad, None, "encode_u8_planar, {level:?}, N = {N}");
+            assert_eq!(
+                bad, None,
+                "encode_u8_planar_to_interleaved, {level:?}, N = {N}"
+            );
             let mut got = std::vec![[0xA5u8; 3]; pixels];
             set.encode_u8_batch(GamutMapping::Clip, &aos, &mut got)
                 .unwrap();
@@ -484,7 +488,7 @@ fn no_wavelengths_give_the_colour_of_no_signal_on_every_path() {
             with_loops(level, || {
                 let mut out = std::vec![[9u8; 3]; pixels];
                 assert_eq!(
-                    set.encode_u8_planar(GamutMapping::Clip, [], &mut out),
+                    set.encode_u8_planar_to_interleaved(GamutMapping::Clip, [], &mut out),
                     Ok(())
                 );
                 assert!(out.iter().all(|o| *o == [0; 3]), "{level:?} {pixels}");

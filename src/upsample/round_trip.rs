@@ -11,17 +11,12 @@
 /// ([`edge_cells`](Self::edge_cells)), [`Upsampling::reflectance`](crate::Upsampling::reflectance)
 /// checks the residual `rgb − weights · r` and, where it exceeds the rounding, corrects `r`.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct RoundTrip<const N: usize> {
-    /// `rgb = weights · r`: the set's linear RGB of node reflectances under the reference light,
-    /// white-balanced (each row sums to 1).
-    pub weights: [[f32; N]; 3],
-    /// The display's linear RGB to CIE XYZ: the metric (CIELAB, the display's white as the
-    /// reference white) in which an unreachable colour's nearest reachable colour is found.
-    pub rgb_to_xyz: [[f32; 3]; 3],
-    /// One bit per cell of the grid, index `(r · (grid − 1) + g) · (grid − 1) + b`, bit `i % 32`
-    /// of word `i / 32`: set where a corner of the cell is a colour node values in [0, 1] do
-    /// not reach. A cell past the slice's end counts as set.
-    pub edge_cells: &'static [u32],
+    // Set by `new` alone (the baked tables call it too).
+    pub(crate) weights: [[f32; N]; 3],
+    pub(crate) rgb_to_xyz: [[f32; 3]; 3],
+    pub(crate) edge_cells: &'static [u32],
     /// Per channel, the largest residual the table's rounding alone can leave: half a code
     /// times the sum of the row's absolute weights.
     pub(crate) rounding: [f32; 3],
@@ -45,6 +40,25 @@ const MU: f32 = 1.0e6;
 const RELEASE_TRIAL: f32 = 1.0 / 1024.0;
 
 impl<const N: usize> RoundTrip<N> {
+    /// `rgb = weights · r`: the set's linear RGB of node reflectances under the reference light,
+    /// white-balanced (each row sums to 1).
+    pub const fn weights(&self) -> [[f32; N]; 3] {
+        self.weights
+    }
+
+    /// The display's linear RGB to CIE XYZ: the metric (CIELAB, the display's white as the
+    /// reference white) in which an unreachable colour's nearest reachable colour is found.
+    pub const fn rgb_to_xyz(&self) -> [[f32; 3]; 3] {
+        self.rgb_to_xyz
+    }
+
+    /// One bit per cell of the grid, index `(r · (grid − 1) + g) · (grid − 1) + b`, bit `i % 32`
+    /// of word `i / 32`: set where a corner of the cell is a colour node values in [0, 1] do
+    /// not reach. A cell past the slice's end counts as set.
+    pub const fn edge_cells(&self) -> &'static [u32] {
+        self.edge_cells
+    }
+
     /// A round trip from the set's white-balanced weights, the display's RGB → XYZ and the
     /// edge cells' bits. A weight that is not finite makes the correction a no-op (its
     /// residuals never pass the gate).

@@ -328,7 +328,7 @@ fn reach_interpolates_in_log_spp_and_log_error() {
 
 #[test]
 fn the_f32_path_computes_what_the_f64_one_does() {
-    let m = spectral_quadrature::tables::displays::SRGB.xyz_to_rgb;
+    let m = spectral_quadrature::tables::displays::SRGB.xyz_to_rgb();
     let d = sqd::derive(&sqd::Settings::new(DATA_DIR)).unwrap();
     let rows = d.observer.grid_rows(RANGE[0], RANGE[1], 1.0).unwrap();
     let xyz_bar: Vec<[f64; 3]> = rows.iter().map(|&r| d.observer.xyz[r]).collect();

@@ -5,7 +5,7 @@ use spectral_quadrature_build as sqd;
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = spectral_quadrature_tools::DATA_DIR;
 
-use spectral_quadrature::paper;
+use spectral_quadrature_build::paper;
 use sqd::evaluate::{self, EvalSet, Reference, Spectra};
 use sqd::{derive, Settings};
 

@@ -7,7 +7,7 @@ use spectral_quadrature_tools as tools;
 const DATA_DIR: &str = spectral_quadrature_tools::DATA_DIR;
 
 use sqd::display::{display_matrices, DisplaySpec, Transfer, MAX_CONDITION};
-use sqd::DisplayProblem;
+use sqd::DisplayError;
 use sqd::{Settings, Status};
 use tools::sensitivity::{shifts, standard_variants};
 
@@ -86,7 +86,7 @@ fn nearly_collinear_primaries_are_refused_with_condition_number_and_threshold() 
     let e = display_matrices(&spec("FLAT", [red, on_line, blue], [0.3127, 0.329])).unwrap_err();
     let sqd::Error::Display {
         name,
-        problem: DisplayProblem::Collinear { condition },
+        problem: DisplayError::Collinear { condition },
     } = &e
     else {
         panic!("expected collinear primaries, got {e:?}");
@@ -112,7 +112,7 @@ fn white_outside_the_primaries_triangle_is_refused() {
     assert!(
         matches!(
             &e,
-            sqd::Error::Display { problem: DisplayProblem::WhiteOutside { drives, .. }, .. }
+            sqd::Error::Display { problem: DisplayError::WhiteOutside { drives, .. }, .. }
                 if drives.iter().any(|d| *d <= 0.0)
         ),
         "{e:?}"
@@ -137,17 +137,17 @@ fn invalid_chromaticities_are_refused() {
             matches!(
                 &e,
                 sqd::Error::Display {
-                    problem: DisplayProblem::Chromaticity {
-                        which: "red primary",
-                        ..
-                    },
+                    problem: DisplayError::Chromaticity { point, .. },
                     ..
-                }
+                } if point.name() == "red primary"
             ),
             "{e:?}"
         );
         let e = e.to_string();
-        assert!(e.contains("BAD") && e.contains("not a valid colour"), "{e}");
+        assert!(
+            e.contains("BAD") && e.contains("red primary chromaticity"),
+            "{e}"
+        );
     }
 }
 

@@ -180,7 +180,12 @@ fn the_catalog_builds_the_same_sets_the_comparison_judged() {
     // Mistakes in a KQ name are typed, and their messages list the choices.
     let err = catalog::resolve(d, "KQ_Z9_6").unwrap_err();
     let sqd::Error::SetName {
-        problem: sqd::SetNameProblem::UnknownLight { light, valid },
+        problem:
+            sqd::SetNameProblem::UnknownLight {
+                light,
+                valid,
+                scene,
+            },
         ..
     } = &err
     else {
@@ -188,6 +193,7 @@ fn the_catalog_builds_the_same_sets_the_comparison_judged() {
     };
     assert_eq!(light, "Z9");
     assert!(valid.iter().any(|l| l == "F11"), "{valid:?}");
+    assert!(scene.is_empty(), "no scene, no scene lights: {scene:?}");
     let shown = err.to_string();
     assert!(shown.contains("Z9 is not a built-in illuminant"), "{shown}");
     assert!(shown.contains("F11"), "{shown}");

@@ -114,7 +114,7 @@ fn print_display(
     f: &FoldedSet<4>,
     px: &[[f32; 4]; PIXELS],
 ) -> core::fmt::Result {
-    let name = display.name;
+    let name = display.name();
     for (p, s) in px.iter().enumerate() {
         let [r, g, b] = f.linear_rgb(s).map(Bits);
         writeln!(out, "res {name} linear {p} {r} {g} {b}")?;
@@ -132,7 +132,7 @@ fn print_display(
         }
         let mut planar = [[0u8; 3]; PIXELS];
         let ok = f
-            .encode_u8_planar(mapping, planes.each_ref().map(|p| &p[..]), &mut planar)
+            .encode_u8_planar_to_interleaved(mapping, planes.each_ref().map(|p| &p[..]), &mut planar)
             .is_ok();
         writeln!(out, "res {name} {m} planar ok {ok}")?;
         for (p, [r, g, b]) in planar.iter().enumerate() {
@@ -208,7 +208,7 @@ fn benches(
     }
     for display in displays::ALL {
         let f = tables::TABLE2_ROW2.fold(&display, 1.0 / tables::UNIT_SPECTRUM_Y);
-        let line = heapless_name::<40>("encode_u8 Clip ", display.name);
+        let line = heapless_name::<40>("encode_u8 Clip ", display.name());
         measure(line.as_str(), P, &mut || {
             for (o, s) in rgb.iter_mut().zip(&samples) {
                 *o = black_box(f.encode_u8(GamutMapping::Clip, black_box(s)));
@@ -217,7 +217,7 @@ fn benches(
     }
     let planes: [[f32; P]; 4] = core::array::from_fn(|i| core::array::from_fn(|p| samples[p][i]));
     measure("planar encode_u8 sRGB Clip", P, &mut || {
-        let _ = black_box(set.encode_u8_planar(
+        let _ = black_box(set.encode_u8_planar_to_interleaved(
             GamutMapping::Clip,
             black_box(planes.each_ref().map(|p| &p[..])),
             &mut rgb,
@@ -233,7 +233,7 @@ fn benches(
         measure("encode (f32 out, f64 inside) sRGB Clip", P, &mut || {
             for (o, s) in lin.iter_mut().zip(&samples) {
                 let rgb = set.linear_rgb(black_box(s));
-                *o = black_box(display.encode(rgb, GamutMapping::Clip));
+                *o = black_box(display.encode(GamutMapping::Clip, rgb));
             }
         })?;
         let mut de = [0.0f64; P];

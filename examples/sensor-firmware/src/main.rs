@@ -54,19 +54,17 @@ const fn first_channels<const M: usize>() -> IntegerSet<M> {
     let mut weights = [[0.0; M]; 3];
     let mut i = 0;
     while i < M {
-        wavelengths_nm[i] = all.wavelengths_nm[i];
+        wavelengths_nm[i] = all.wavelengths_nm()[i];
         let mut c = 0;
         while c < 3 {
-            weights[c][i] = all.weights[c][i];
+            weights[c][i] = all.weights()[c][i];
             c += 1;
         }
         i += 1;
     }
-    let folded = FoldedSet {
-        wavelengths_nm,
-        weights,
-        samples: all.samples,
-        display: all.display,
+    let folded = match FoldedSet::new(wavelengths_nm, weights, all.samples(), all.display()) {
+        Ok(set) => set,
+        Err(_) => panic!("the first channels of a baked set are a set"),
     };
     match IntegerSet::new(&folded, SAMPLE_UNIT) {
         Ok(set) => set,
@@ -246,7 +244,7 @@ fn results(out: &mut impl Write) -> core::fmt::Result {
         // The f32 path on the calibrated counts, and the golden device's reading through the
         // integer path, with the exact fixed-point sums behind it.
         let [rf, gf, bf] =
-            folded::AS7341_SRGB.encode_u8(GamutMapping::Clip, &SENSOR.samples_f32(&r.counts));
+            folded::AS7341_SRGB.encode_u8(GamutMapping::Clip, &SENSOR.counts_as_f32(&r.counts));
         let golden = &GOLDEN_COUNTS[p];
         let [gr, gg, gb] = SENSOR.encode_u8(golden);
         let [fr, fg, fb] = SENSOR.linear_fixed(golden);
@@ -492,7 +490,7 @@ static PATCH_COUNTS: [[u16; CHANNELS]; P] = {
 };
 
 /// The same inputs as f32 samples, for the f32 path.
-const fn samples_f32<const N: usize>(counts: &[[u16; N]; P], unit: f32) -> [[f32; N]; P] {
+const fn counts_as_f32<const N: usize>(counts: &[[u16; N]; P], unit: f32) -> [[f32; N]; P] {
     let mut out = [[0.0f32; N]; P];
     let mut p = 0;
     while p < P {
@@ -505,8 +503,8 @@ const fn samples_f32<const N: usize>(counts: &[[u16; N]; P], unit: f32) -> [[f32
     }
     out
 }
-static SWEEP4_F32: [[f32; 4]; P] = samples_f32(&SWEEP4, integer::TABLE2_ROW2_SRGB.sample_unit());
-static PATCH_F32: [[f32; CHANNELS]; P] = samples_f32(&PATCH_COUNTS, SAMPLE_UNIT);
+static SWEEP4_F32: [[f32; 4]; P] = counts_as_f32(&SWEEP4, integer::TABLE2_ROW2_SRGB.sample_unit());
+static PATCH_F32: [[f32; CHANNELS]; P] = counts_as_f32(&PATCH_COUNTS, SAMPLE_UNIT);
 
 /// Instruction counts per call: `ticks` counts SysTick ticks, and `ratio` (instructions,
 /// ticks) is how many instructions a number of ticks is. Integer arithmetic only, so that

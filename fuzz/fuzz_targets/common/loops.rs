@@ -15,7 +15,7 @@
 //!
 //! Checked, with the level capped by `__fuzzing::force`: the loop that ran is the forced one;
 //! `linear_rgb_planar` and `linear_rgb_batch` equal `linear_rgb` bit for bit (NaN payloads
-//! aside) on every pixel; `encode_u8_planar` and `encode_u8_batch` equal `encode_u8` and the
+//! aside) on every pixel; `encode_u8_planar_to_interleaved` and `encode_u8_batch` equal `encode_u8` and the
 //! scalar route `display.encode_u8(linear_rgb(s))` on every pixel; `encode_u16_batch` and
 //! `ac1c2_batch` equal their per-pixel functions; one plane or output shorter or longer is
 //! `Err(LengthMismatch)` with the lengths the docs name, and writes nothing.
@@ -282,13 +282,13 @@ fn shape<const N: usize>(level: Loops, b: &mut Bytes) {
     // 8-bit planar.
     let mut out8 = Placed::new(&vec![[0xA5u8; 3]; n], c.out_leads[3], [0x5A; 3]);
     assert_eq!(
-        set.encode_u8_planar(c.mapping, samples, out8.get_mut()),
+        set.encode_u8_planar_to_interleaved(c.mapping, samples, out8.get_mut()),
         Ok(()),
-        "encode_u8_planar N={N}"
+        "encode_u8_planar_to_interleaved N={N}"
     );
     if fast {
-        let ran = take_ran().expect("encode_u8_planar records its loop");
-        assert_eq!(ran.loops, level, "encode_u8_planar N={N}: {ran:?}");
+        let ran = take_ran().expect("encode_u8_planar_to_interleaved records its loop");
+        assert_eq!(ran.loops, level, "encode_u8_planar_to_interleaved N={N}: {ran:?}");
     }
     let want8: Vec<[u8; 3]> = c
         .pixels
@@ -306,7 +306,7 @@ fn shape<const N: usize>(level: Loops, b: &mut Bytes) {
         assert_eq!(
             out8.get()[p],
             *one,
-            "encode_u8_planar {level:?} {} {:?} N={N} pixel {p} of {n}; samples {s:?}",
+            "encode_u8_planar_to_interleaved {level:?} {} {:?} N={N} pixel {p} of {n}; samples {s:?}",
             set.display.name,
             c.mapping
         );
@@ -437,10 +437,10 @@ fn mismatches<const N: usize>(c: &Case<N>, planes: &[Placed<f32>; N]) {
     let len8 = if which == N + 2 { other } else { n };
     let mut out8 = Placed::new(&vec![[9u8; 3]; len8], c.out_leads[3], [0x5A; 3]);
     let want = expect(&[len8]);
-    let got = set.encode_u8_planar(c.mapping, samples, out8.get_mut());
+    let got = set.encode_u8_planar_to_interleaved(c.mapping, samples, out8.get_mut());
     assert_eq!(
         got, want,
-        "encode_u8_planar N={N}, {n} pixels, which {which}"
+        "encode_u8_planar_to_interleaved N={N}, {n} pixels, which {which}"
     );
     if want.is_err() {
         assert!(out8.get().iter().all(|o| *o == [9; 3]));

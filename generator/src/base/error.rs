@@ -8,8 +8,8 @@
 //! The errors sit below everything that returns them, so what they carry is defined here too:
 //! the planner's [`PlanError`] reports the best [`Candidate`] for a [`Metric`]. Two messages quote
 //! constants of the layers above and are written there, beside them: [`SetNameProblem`]'s
-//! `Display` is in the catalogue (the set-name forms, the channel names), [`DisplayProblem`]'s in
-//! the display module (the condition-number threshold).
+//! `Display` is in the catalogue (the set-name forms, the channel names). A display's problem is
+//! `spectral_quadrature_math::DisplayError`, the one type the runtime reports too.
 
 use std::boxed::Box;
 use std::fmt;
@@ -56,7 +56,7 @@ pub enum Error {
         /// The display's const name.
         name: String,
         /// What is wrong with it.
-        problem: DisplayProblem,
+        problem: spectral_quadrature_math::DisplayError,
     },
     /// A display name that is not one of the crate's displays.
     UnknownDisplay {
@@ -190,32 +190,6 @@ pub enum SetNameProblem {
         valid: Vec<String>,
         /// The lights of the scene's `[lights]` (empty outside a scene).
         scene: Vec<String>,
-    },
-}
-
-/// Why a display cannot be derived ([`crate::display::display_matrices`]).
-#[derive(Debug, Clone, PartialEq)]
-#[non_exhaustive]
-pub enum DisplayProblem {
-    /// A chromaticity outside x ≥ 0, y > 0, x + y ≤ 1, or not finite.
-    Chromaticity {
-        /// `"red primary"`, `"green primary"`, `"blue primary"` or `"white"`.
-        which: &'static str,
-        /// The chromaticity.
-        xy: [f64; 2],
-    },
-    /// The primaries are nearly collinear: the condition number exceeds
-    /// [`crate::display::MAX_CONDITION`].
-    Collinear {
-        /// The 2-norm condition number.
-        condition: f64,
-    },
-    /// The white point lies on or outside the primaries' triangle.
-    WhiteOutside {
-        /// The white.
-        white_xy: [f64; 2],
-        /// The gun drives white would need.
-        drives: [f64; 3],
     },
 }
 

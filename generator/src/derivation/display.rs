@@ -4,9 +4,7 @@
 use std::string::String;
 use std::vec::Vec;
 
-use std::fmt;
-
-use crate::base::error::{DisplayProblem, Error};
+use crate::base::error::Error;
 
 /// How a display encodes linear light.
 #[derive(Debug, Clone, PartialEq)]
@@ -52,29 +50,6 @@ pub use spectral_quadrature_math::MAX_PRIMARIES_CONDITION as MAX_CONDITION;
 /// matrices of displays made at run time with the same code).
 pub use spectral_quadrature_math::DisplayMatrices;
 
-/// The message quotes [`MAX_CONDITION`], so it is written here rather than beside the type.
-impl fmt::Display for DisplayProblem {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            DisplayProblem::Chromaticity { which, xy } => write!(
-                f,
-                "{which} chromaticity ({}, {}) is not a valid colour",
-                xy[0], xy[1]
-            ),
-            DisplayProblem::Collinear { condition } => write!(
-                f,
-                "primaries are nearly collinear (condition number {condition:.3e} > threshold {:e})",
-                MAX_CONDITION
-            ),
-            DisplayProblem::WhiteOutside { white_xy, drives } => write!(
-                f,
-                "white point ({}, {}) lies outside the primaries' triangle (gun drives for white {drives:?})",
-                white_xy[0], white_xy[1]
-            ),
-        }
-    }
-}
-
 /// The displays the crate bakes by default.
 pub fn standard_displays() -> Vec<DisplaySpec> {
     std::vec![
@@ -119,24 +94,12 @@ pub fn standard_displays() -> Vec<DisplaySpec> {
 /// (condition number above [`MAX_CONDITION`]) or when the white point lies on or outside the
 /// primaries' triangle (a gun drive of zero or less would be needed for white).
 pub fn display_matrices(spec: &DisplaySpec) -> Result<DisplayMatrices, Error> {
-    use spectral_quadrature_math::DisplayError;
-    spectral_quadrature_math::display_matrices(spec.primaries_xy, spec.white_xy).map_err(|e| {
-        let problem = match e {
-            DisplayError::Chromaticity { point, xy } => DisplayProblem::Chromaticity {
-                which: point.name(),
-                xy,
-            },
-            DisplayError::Collinear { condition } => DisplayProblem::Collinear { condition },
-            DisplayError::WhiteOutside { drives } => DisplayProblem::WhiteOutside {
-                white_xy: spec.white_xy,
-                drives,
-            },
-        };
-        Error::Display {
+    spectral_quadrature_math::display_matrices(spec.primaries_xy, spec.white_xy).map_err(
+        |problem| Error::Display {
             name: spec.name.clone(),
             problem,
-        }
-    })
+        },
+    )
 }
 
 /// The standard display called `name` ([`DisplaySpec::name`]), or [`Error::UnknownDisplay`]

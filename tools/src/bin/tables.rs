@@ -21,8 +21,8 @@ use spectral_quadrature_build as sqd;
 use spectral_quadrature_tools as tools;
 
 use clap::Parser;
-use spectral_quadrature::paper::{self, Entry};
 use spectral_quadrature::{tables, Channel, GaussRule, RuleStatus, WavelengthSet};
+use spectral_quadrature_build::paper::{self, Entry};
 use tools::csv_table::Table;
 
 /// Prints the crate's derived tables beside the paper's.
@@ -154,12 +154,12 @@ fn print_csv() -> Result<(), tools::Error> {
         for rule in rules {
             let head = [
                 tables::OBSERVER.to_string(),
-                rule.channel.name().to_string(),
-                rule.order.to_string(),
-                rule.status.as_str().to_string(),
+                rule.channel().name().to_string(),
+                rule.order().to_string(),
+                rule.status().name().to_string(),
             ];
-            if rule.status == RuleStatus::Defined {
-                for (i, (l, w)) in rule.wavelengths_nm.iter().zip(rule.weights).enumerate() {
+            if rule.status() == RuleStatus::Defined {
+                for (i, (l, w)) in rule.wavelengths_nm().iter().zip(rule.weights()).enumerate() {
                     t.row(head.iter().cloned().chain([
                         i.to_string(),
                         l.to_string(),
@@ -260,8 +260,8 @@ fn print_other_observers() {
 fn total_mass(c: usize) -> f32 {
     tables::RULES[c]
         .iter()
-        .find(|r| r.status == RuleStatus::Defined)
-        .map_or(f32::NAN, |r| r.weights.iter().sum())
+        .find(|r| r.status() == RuleStatus::Defined)
+        .map_or(f32::NAN, |r| r.weights().iter().sum())
 }
 
 fn suspect(c: usize, order: usize, i: usize, entry: Entry) -> Option<&'static paper::Suspect> {
@@ -321,12 +321,12 @@ fn print_side_by_side() {
         for order in 1..=8 {
             let rule = &tables::RULES[c][order - 1];
             let printed = paper::TABLE_1A[c][order - 1];
-            match (rule.status, printed) {
+            match (rule.status(), printed) {
                 (RuleStatus::Defined, Some(p)) => {
                     for i in 0..order {
                         let (node, w) = (
-                            f64::from(rule.wavelengths_nm[i]),
-                            f64::from(rule.weights[i]) * scale,
+                            f64::from(rule.wavelengths_nm()[i]),
+                            f64::from(rule.weights()[i]) * scale,
                         );
                         let (mut pn, mut pw) = (p.wavelengths_nm[i], p.weights[i]);
                         let mut mark = "   ";
@@ -357,12 +357,12 @@ fn print_side_by_side() {
                 (status, None) if status != RuleStatus::Defined => {
                     println!(
                         "  {order:>5}  undefined ({}), printed undefined",
-                        status.as_str()
+                        status.name()
                     )
                 }
                 (status, printed) => println!(
                     "  {order:>5}  MISMATCH: derived {}, printed {}",
-                    status.as_str(),
+                    status.name(),
                     if printed.is_some() {
                         "defined"
                     } else {
@@ -405,7 +405,7 @@ fn print_side_by_side() {
     println!();
     print_set("Table 2, row 1", &tables::TABLE2_ROW1);
     print_set("Table 2, row 2", &tables::TABLE2_ROW2);
-    let a: Vec<f64> = tables::TABLE2_ROW2.weights[0]
+    let a: Vec<f64> = tables::TABLE2_ROW2.weights()[0]
         .iter()
         .filter(|w| **w != 0.0)
         .map(|w| f64::from(*w) * paper::TABLE_1A_TOTAL_MASS[0] / f64::from(total_mass(0)))
@@ -419,17 +419,21 @@ fn print_side_by_side() {
 }
 
 fn print_rule(rule: &GaussRule) {
-    if rule.status != RuleStatus::Defined {
-        println!("  {:>5}  undefined ({})", rule.order, rule.status.as_str());
+    if rule.status() != RuleStatus::Defined {
+        println!(
+            "  {:>5}  undefined ({})",
+            rule.order(),
+            rule.status().name()
+        );
         return;
     }
     let nodes: Vec<String> = rule
-        .wavelengths_nm
+        .wavelengths_nm()
         .iter()
         .map(|l| format!("{l:.1}"))
         .collect();
-    let weights: Vec<String> = rule.weights.iter().map(|w| format!("{w:.5}")).collect();
-    println!("  {:>5}  nm: {}", rule.order, nodes.join(" "));
+    let weights: Vec<String> = rule.weights().iter().map(|w| format!("{w:.5}")).collect();
+    println!("  {:>5}  nm: {}", rule.order(), nodes.join(" "));
     println!("         w:  {}", weights.join(" "));
 }
 
@@ -437,13 +441,13 @@ fn print_set<const N: usize>(name: &str, set: &WavelengthSet<N>) {
     println!("{name}: {N} wavelengths");
     println!(
         "  nm  {}",
-        set.wavelengths_nm.map(|l| format!("{l:9.1}")).join("")
+        set.wavelengths_nm().map(|l| format!("{l:9.1}")).join("")
     );
     for (c, channel) in Channel::ALL.iter().enumerate() {
         println!(
             "  {:<3} {}",
             channel.name(),
-            set.weights[c].map(|w| format!("{w:9.4}")).join("")
+            set.weights()[c].map(|w| format!("{w:9.4}")).join("")
         );
     }
 }

@@ -540,19 +540,16 @@ fn time_set(set: &EvalSet, stimuli: &[Stimulus], runs: usize) -> Result<f64, Err
 fn time_n<const N: usize>(set: &EvalSet, stimuli: &[Stimulus], runs: usize) -> f64 {
     let m = tables::XYZ_TO_AC1C2;
     // The report times sets on radiances: the light (if any) is already in the stimuli.
-    let mut ws = WavelengthSet::<N> {
-        wavelengths_nm: [0.0; N],
-        weights: [[0.0; N]; 3],
-        samples: spectral_quadrature::Samples::Radiance,
-    };
-    for i in 0..N {
-        ws.wavelengths_nm[i] = set.wavelengths_nm[i] as f32;
-        for (c, row) in ws.weights.iter_mut().enumerate() {
-            row[i] = (0..3)
+    let wavelengths_nm = core::array::from_fn(|i| set.wavelengths_nm[i] as f32);
+    let weights = core::array::from_fn(|c| {
+        core::array::from_fn(|i| {
+            (0..3)
                 .map(|k| f64::from(m[c][k]) * set.xyz_weights[k][i])
-                .sum::<f64>() as f32;
-        }
-    }
+                .sum::<f64>() as f32
+        })
+    });
+    let radiance = spectral_quadrature::Samples::Radiance;
+    let ws = WavelengthSet::<N>::new(wavelengths_nm, weights, radiance).expect("a valid set");
     let folded: FoldedSet<N> = ws.fold(&tables::displays::SRGB, 1.0 / tables::UNIT_SPECTRUM_Y);
     const PIXELS: usize = 2048;
     let samples: Vec<[f32; N]> = (0..PIXELS)
@@ -594,7 +591,7 @@ struct Table2Row {
 fn table2_rows(d: &Derivation, stimuli: &[Stimulus], reference: &Reference) -> Vec<Table2Row> {
     d.table2
         .iter()
-        .zip(spectral_quadrature::paper::TABLE2_MEAN_DELTA_E)
+        .zip(spectral_quadrature_build::paper::TABLE2_MEAN_DELTA_E)
         .map(|(set, paper)| {
             let es = EvalSet::from_set(set, "Table 2", &d.opponent.ac1c2_to_xyz);
             Table2Row {

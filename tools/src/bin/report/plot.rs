@@ -329,7 +329,7 @@ pub fn swatches(out: &Path, cc_under_c: &[Stimulus], rows: &[Row]) -> Result<Pat
         let xyz = set.xyz(|l| s.radiance(l));
         let white = set.xyz(|l| s.white(l, 1.0));
         let rgb = srgb.linear_from_xyz(xyz.map(|v| (v / white[1]) as f32));
-        let px = srgb.encode_u8(rgb, GamutMapping::Clip);
+        let px = srgb.encode_u8(GamutMapping::Clip, rgb);
         RGBColor(px[0], px[1], px[2])
     };
     for (p, row) in chosen.iter().enumerate() {

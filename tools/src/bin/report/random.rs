@@ -174,7 +174,7 @@ pub fn section(x: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
     let sensor = SensorRgb::new(
         reference.set.wavelengths_nm[0],
         &xyz_bar,
-        tables::displays::SRGB.xyz_to_rgb,
+        tables::displays::SRGB.xyz_to_rgb(),
         1.0,
     );
     let mut randoms = Vec::new();
@@ -859,8 +859,8 @@ fn picture(out: &Path, x: &Inputs, fixed: &[Fixed]) -> Result<PathBuf, Error> {
     let srgb = tables::displays::SRGB;
     let rgb = |xyz: [f64; 3], white_y: f64| {
         let px = srgb.encode_u8(
-            srgb.linear_from_xyz(xyz.map(|v| (v / white_y) as f32)),
             GamutMapping::Clip,
+            srgb.linear_from_xyz(xyz.map(|v| (v / white_y) as f32)),
         );
         RGBColor(px[0], px[1], px[2])
     };

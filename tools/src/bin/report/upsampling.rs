@@ -74,7 +74,9 @@ fn runtime_values(b: &Baked, rgb: &[[f64; 3]]) -> Vec<Vec<f64>> {
             .map(|c| core::array::from_fn(|i| c[i]))
             .collect();
         let table: &'static [[u16; N]] = Box::leak(table.into_boxed_slice());
-        let u = Upsampling::new(b.grid, table).expect("a bake has grid³ entries");
+        let wavelengths_nm = core::array::from_fn(|i| b.wavelengths_nm[i] as f32);
+        let u = Upsampling::new("", "", "", wavelengths_nm, b.grid, table, None)
+            .expect("a bake has grid³ entries");
         rgb.iter()
             .map(|p| {
                 u.reflectance(p.map(|x| x as f32))
