@@ -27,6 +27,7 @@ use tools::csv_table::Table;
 
 /// Prints the crate's derived tables beside the paper's.
 #[derive(Parser)]
+#[command(version)]
 struct Args {
     /// Print every rule as CSV: observer,channel,order,status,index,wavelength_nm,weight
     #[arg(long)]
