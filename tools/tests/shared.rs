@@ -180,7 +180,7 @@ fn the_catalog_builds_the_same_sets_the_comparison_judged() {
     // Mistakes in a KQ name are typed, and their messages list the choices.
     let err = catalog::resolve(d, "KQ_Z9_6").unwrap_err();
     let sqd::Error::SetName {
-        problem: sqd::SetNameProblem::UnknownLight { light, valid },
+        problem: sqd::SetNameProblem::UnknownLight { light, valid, .. },
         ..
     } = &err
     else {
