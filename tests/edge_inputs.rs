@@ -519,7 +519,7 @@ fn preserve_a_clips_infinities_and_sends_huge_colours_to_white_or_black() {
 fn transfer_functions_handle_nan_signs_and_range() {
     for tf in transfers() {
         for c in Rgb::ALL {
-            for (decoding, f) in [
+            for (_decoding, f) in [
                 (
                     false,
                     TransferFunction::encode as fn(&TransferFunction, Rgb, f32) -> f32,
