@@ -57,6 +57,8 @@ mod derivation;
 mod emit;
 mod scenes;
 pub mod shared;
+#[cfg(test)]
+mod tests;
 pub mod upsampling;
 
 pub use base::error::{
