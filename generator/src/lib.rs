@@ -58,6 +58,8 @@ mod emit;
 pub mod paper;
 mod scenes;
 pub mod shared;
+#[cfg(test)]
+mod tests;
 pub mod upsampling;
 
 pub use base::error::{CalibrationProblem, DataError, Error, LightProblem, SetNameProblem};

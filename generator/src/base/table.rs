@@ -141,7 +141,7 @@ fn number(v: f64) -> String {
 
 /// How the wavelength column must be spaced.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Spacing {
+pub(crate) enum Spacing {
     /// Strictly increasing with one constant step (observer tables).
     Even,
     /// Strictly increasing, any steps (user spectra, resampled later).
@@ -150,7 +150,7 @@ pub enum Spacing {
 
 /// A parsed table: wavelengths and one row of values per wavelength.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Table {
+pub(crate) struct Table {
     /// The label errors name (a path or an embedded file's name).
     pub file: String,
     /// Column names after the wavelength column.
@@ -168,7 +168,7 @@ pub struct Table {
 
 impl Table {
     /// The constant step in nm (meaningful for [`Spacing::Even`] tables with two or more rows).
-    pub fn step(&self) -> f64 {
+    pub(crate) fn step(&self) -> f64 {
         if self.wavelengths.len() < 2 {
             return 0.0;
         }
@@ -192,7 +192,7 @@ impl Table {
 /// row with missing or extra fields, a field that is not a number or is not finite, wavelengths
 /// that are not strictly increasing, (with [`Spacing::Even`]) uneven steps, and a value below
 /// zero by more than the tolerance (naming its column too).
-pub fn parse_table(
+pub(crate) fn parse_table(
     file: &str,
     text: &str,
     columns: Option<usize>,
@@ -205,7 +205,7 @@ pub fn parse_table(
 /// [`NEGATIVE_TOLERANCE`] of zero (relative to the file's largest value) are read as 0 and
 /// counted in [`Table::zeroed`]; a more negative value is an error naming the file, its line and
 /// column with [`Negatives::Refuse`], and is read as 0 and counted with [`Negatives::Clamp`].
-pub fn parse_table_with(
+pub(crate) fn parse_table_with(
     file: &str,
     text: &str,
     columns: Option<usize>,
@@ -428,7 +428,8 @@ fn zero_negatives(table: &mut Table, negatives: Negatives) -> Result<(), DataErr
 }
 
 /// Reads and parses a file from disk ([`parse_table`]); the error names the path.
-pub fn read_table(
+#[cfg(test)]
+pub(crate) fn read_table(
     path: &std::path::Path,
     columns: Option<usize>,
     spacing: Spacing,
@@ -437,6 +438,7 @@ pub fn read_table(
 }
 
 /// [`read_table`] with the rule for negative values given ([`parse_table_with`]).
+#[cfg(test)]
 pub(crate) fn read_table_with(
     path: &std::path::Path,
     columns: Option<usize>,

@@ -6,7 +6,7 @@ use std::vec::Vec;
 use super::opponent::MEYER_EQ1_XYZ_TO_SML;
 use crate::base::error::{DataError, Error};
 use crate::base::files::{read_data_text, sha256_hex};
-use crate::base::table::{parse_table, read_text, Spacing, ZeroedNegatives};
+use crate::base::table::{parse_table, Spacing, ZeroedNegatives};
 
 /// The colour-matching functions the crate ships (all at 1 nm in `data/`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -41,7 +41,7 @@ impl ObserverId {
     }
 
     /// Looks an observer up by [`name`](Self::name).
-    pub fn from_name(name: &str) -> Option<ObserverId> {
+    pub(crate) fn from_name(name: &str) -> Option<ObserverId> {
         Self::ALL.into_iter().find(|o| o.name() == name)
     }
 
@@ -69,7 +69,7 @@ impl ObserverId {
     ///
     /// `table` is this observer's table ([`load`](Self::load)), from which the CIE 2015 scaling
     /// is computed.
-    pub fn cone_matrix(self, table: &Observer) -> [[f64; 3]; 3] {
+    pub(crate) fn cone_matrix(self, table: &Observer) -> [[f64; 3]; 3] {
         match self {
             ObserverId::Cie1931_2deg | ObserverId::Cie1964_10deg => MEYER_EQ1_XYZ_TO_SML,
             ObserverId::Cie2015_2deg => Self::scaled_by_eq21(
@@ -129,7 +129,7 @@ impl ObserverId {
 
     /// The spectral range the derivation uses by default: 380-770 nm (Eq. 2), or 390-770 nm for
     /// the CIE 2015 observers, whose tables start at 390 nm.
-    pub fn default_range_nm(self) -> [f64; 2] {
+    pub(crate) fn default_range_nm(self) -> [f64; 2] {
         match self {
             ObserverId::Cie2015_2deg | ObserverId::Cie2015_10deg => [390.0, 770.0],
             _ => [380.0, 770.0],
@@ -166,7 +166,7 @@ impl Observer {
     /// Parses an observer table: header plus rows `wavelength,x_bar,y_bar,z_bar`, evenly spaced,
     /// non-negative up to rounding noise ([`crate::table::parse_table`]). Errors name `file` and
     /// the offending line.
-    pub fn parse(name: &str, file: &str, text: &str) -> Result<Observer, DataError> {
+    pub(crate) fn parse(name: &str, file: &str, text: &str) -> Result<Observer, DataError> {
         let table = parse_table(file, text, Some(3), Spacing::Even)?;
         Ok(Observer {
             name: name.into(),
@@ -179,13 +179,14 @@ impl Observer {
     }
 
     /// Reads an observer table from a file on disk.
-    pub fn read(name: &str, path: &std::path::Path) -> Result<Observer, DataError> {
-        let (label, text) = read_text(path)?;
+    #[cfg(test)]
+    pub(crate) fn read(name: &str, path: &std::path::Path) -> Result<Observer, DataError> {
+        let (label, text) = crate::base::table::read_text(path)?;
         Self::parse(name, &label, &text)
     }
 
     /// The table's step in nm.
-    pub fn step(&self) -> f64 {
+    pub(crate) fn step(&self) -> f64 {
         if self.wavelengths.len() < 2 {
             0.0
         } else {

@@ -10,7 +10,7 @@ use crate::base::error::Error;
 
 /// Eq. 1: the fundamental spectral sensitivities s̄, m̄, l̄ as rows, from x̄, ȳ, z̄.
 /// (The transcription prints z̄ twice on the right; the columns are x̄, ȳ, z̄.)
-pub const MEYER_EQ1_XYZ_TO_SML: [[f64; 3]; 3] = [
+pub(crate) const MEYER_EQ1_XYZ_TO_SML: [[f64; 3]; 3] = [
     [0.0000, 0.0000, 0.0127],
     [-0.2606, 0.7227, 0.0562],
     [0.1150, 0.9364, -0.0203],
@@ -34,7 +34,7 @@ pub enum Covariance {
 
 impl Covariance {
     /// A short description for generated headers, e.g. `delta` or `exponential(40 nm)`.
-    pub fn describe(&self) -> String {
+    pub(crate) fn describe(&self) -> String {
         match self {
             Covariance::Delta => "delta".into(),
             Covariance::Exponential { length_nm } => std::format!("exponential({length_nm} nm)"),
@@ -44,13 +44,13 @@ impl Covariance {
 }
 
 /// Eq. 1 applied at every grid wavelength: `[s̄, m̄, l̄]` per row.
-pub fn cone_fundamentals(xyz: &[[f64; 3]], xyz_to_sml: &[[f64; 3]; 3]) -> Vec<[f64; 3]> {
+pub(crate) fn cone_fundamentals(xyz: &[[f64; 3]], xyz_to_sml: &[[f64; 3]; 3]) -> Vec<[f64; 3]> {
     xyz.iter().map(|v| apply(xyz_to_sml, v)).collect()
 }
 
 /// Eq. 4-5 on a grid of spacing `step` nm: C_ij = Σ_λ Σ_μ K(λ, μ) f_i(λ) f_j(μ) dλ dμ, with the
 /// δ covariance discretized as δ_λμ / dλ, so that C is the Gram matrix Σ f_i f_j dλ.
-pub fn covariance_matrix(
+pub(crate) fn covariance_matrix(
     cones: &[[f64; 3]],
     wavelengths: &[f64],
     step: f64,
@@ -195,7 +195,7 @@ pub(crate) fn sensitivities(opponent: &Opponent, xyz: &[[f64; 3]]) -> Vec<[f64; 
 }
 
 /// `m · v` for a 3×3 row-major matrix.
-pub fn apply(m: &[[f64; 3]; 3], v: &[f64; 3]) -> [f64; 3] {
+pub(crate) fn apply(m: &[[f64; 3]; 3], v: &[f64; 3]) -> [f64; 3] {
     [0, 1, 2].map(|r| m[r][0] * v[0] + m[r][1] * v[1] + m[r][2] * v[2])
 }
 

@@ -28,12 +28,12 @@ pub(crate) const C2_NM_K: f64 = 1.4388e7;
 
 /// CIE 015's range of integration for colorimetry, nm: the Planckian locus's (and so CCT's and
 /// Duv's) whatever the derivation's range.
-pub const CIE_015_RANGE_NM: [f64; 2] = [360.0, 830.0];
+pub(crate) const CIE_015_RANGE_NM: [f64; 2] = [360.0, 830.0];
 
 /// The range the standard locus of `observer` is integrated over: [`CIE_015_RANGE_NM`] clipped
 /// to the observer's table (390-830 nm for the CIE 2015 observers, whose tables start at
 /// 390 nm; 360-830 nm for CIE 1931 2° and CIE 1964 10°).
-pub fn standard_range_nm(observer: &Observer) -> [f64; 2] {
+pub(crate) fn standard_range_nm(observer: &Observer) -> [f64; 2] {
     let [lo, hi] = CIE_015_RANGE_NM;
     let first = observer.wavelengths.first().copied().unwrap_or(lo);
     let last = observer.wavelengths.last().copied().unwrap_or(hi);
@@ -184,19 +184,13 @@ impl PlanckianLocus {
         (xyz, dxyz)
     }
 
-    /// XYZ of the blackbody at μ mired (μ ≥ 0), scaled to Y = 1.
-    pub fn xyz(&self, mired: f64) -> [f64; 3] {
-        let (xyz, _) = self.xyz_and_derivative(mired);
-        xyz.map(|c| c / xyz[1])
-    }
-
     /// CIE 1960 (u, v) of the blackbody at μ mired (μ ≥ 0).
     pub fn uv(&self, mired: f64) -> [f64; 2] {
         self.uv_and_tangent(mired).0
     }
 
     /// (u, v) at μ mired and its derivative d(u, v)/dμ.
-    pub fn uv_and_tangent(&self, mired: f64) -> ([f64; 2], [f64; 2]) {
+    pub(crate) fn uv_and_tangent(&self, mired: f64) -> ([f64; 2], [f64; 2]) {
         let ([x, y, z], [dx, dy, dz]) = self.xyz_and_derivative(mired);
         let d = x + 15.0 * y + 3.0 * z;
         let dd = dx + 15.0 * dy + 3.0 * dz;

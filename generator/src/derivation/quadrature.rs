@@ -28,7 +28,7 @@ pub struct Measure {
 impl Measure {
     /// The measure of weight function `w` (one value per grid wavelength) for a grid of step
     /// `step` nm, scaled to the range `range_nm`.
-    pub fn new(wavelengths: &[f64], w: &[f64], step: f64, range_nm: [f64; 2]) -> Measure {
+    pub(crate) fn new(wavelengths: &[f64], w: &[f64], step: f64, range_nm: [f64; 2]) -> Measure {
         let centre = 0.5 * (range_nm[0] + range_nm[1]);
         let half_width = 0.5 * (range_nm[1] - range_nm[0]);
         Measure {
@@ -94,7 +94,7 @@ impl Recurrence {
     }
 
     /// P_0(x), ..., P_{n}(x) by the recurrence (n ≤ number of coefficients).
-    pub fn evaluate(&self, n: usize, x: f64) -> Vec<f64> {
+    pub(crate) fn evaluate(&self, n: usize, x: f64) -> Vec<f64> {
         let mut p = Vec::with_capacity(n + 1);
         p.push(1.0);
         if n == 0 {

@@ -141,7 +141,8 @@ impl WavelengthSet {
     }
 
     /// AC1C2 of a spectrum given as a function of wavelength.
-    pub fn apply(&self, spectrum: impl Fn(f64) -> f64) -> [f64; 3] {
+    #[cfg(test)]
+    pub(crate) fn apply(&self, spectrum: impl Fn(f64) -> f64) -> [f64; 3] {
         let samples: Vec<f64> = self.wavelengths_nm.iter().map(|&l| spectrum(l)).collect();
         [0, 1, 2].map(|c| {
             self.weights[c]

@@ -20,7 +20,7 @@ use crate::derivation::sets::{WavelengthSet, CHANNELS};
 use crate::scenes::scene::Resolved;
 
 /// The literal for an f64 rounded to f32 (`as f32`), which must be finite.
-pub fn f32_literal(v: f64) -> Result<String, Error> {
+pub(crate) fn f32_literal(v: f64) -> Result<String, Error> {
     let x = v as f32;
     if !x.is_finite() {
         return Err(Error::Literal {
@@ -153,7 +153,7 @@ pub(crate) fn header(d: &Derivation, inputs: &[(String, String)], scene: &Resolv
 /// It is laid out as rustfmt lays it out: at most 100 columns, one array item a line, or short
 /// numbers filling their lines. Each section has its emitter below (or in its own module), in
 /// the order the file holds them.
-pub fn tables_rs(
+pub(crate) fn tables_rs(
     d: &Derivation,
     inputs: &[(String, String)],
     scene: &Resolved,

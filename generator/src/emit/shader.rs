@@ -46,7 +46,7 @@ const SRGB_SLOPE: f32 = 12.92;
 
 impl Language {
     /// `"WGSL"` or `"GLSL"`.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             Language::Wgsl => "WGSL",
             Language::Glsl => "GLSL",
@@ -57,7 +57,7 @@ impl Language {
     /// text must give that f32 whether a compiler parses it straight to f32 or to f64 first
     /// (WGSL's abstract floats, many GLSL front ends); when the shortest text would not, the
     /// f32's exact value in shortest f64 form is used instead.
-    pub fn float(self, v: f64) -> Result<String, Error> {
+    pub(crate) fn float(self, v: f64) -> Result<String, Error> {
         let x = v as f32;
         let mut s = f32_literal(v)?;
         let same = |t: &str| {

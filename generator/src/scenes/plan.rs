@@ -33,7 +33,8 @@ use crate::derivation::derive::Derivation;
 use crate::derivation::evaluate::{self, builtin_lights, EvalSet, Reference, Stimulus};
 use crate::shared;
 
-pub use crate::base::error::{fmt_de, Candidate, Metric, PlanError};
+pub use crate::base::error::PlanError;
+pub use crate::base::error::{fmt_de, Candidate, Metric};
 
 /// The planner's answer.
 #[derive(Debug, Clone, PartialEq)]

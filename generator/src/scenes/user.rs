@@ -71,7 +71,8 @@ impl UserLight {
     /// Parses a light file's text. Errors name `file` and the line: what [`Spectra::parse`]
     /// refuses, a file with more than one spectrum, data that do not cover `range_nm`, and a
     /// light that is zero over the range.
-    pub fn parse(
+    #[cfg(test)]
+    pub(crate) fn parse(
         name: &str,
         file: &str,
         text: &str,
@@ -220,7 +221,7 @@ impl Sensor {
 
     /// Each channel's peak wavelength (the first maximum on the 1 nm grid of `range_nm`), in
     /// channel order: what a sensor set bakes in place of sampling wavelengths.
-    pub fn peaks_nm(&self, range_nm: [f64; 2]) -> Vec<f64> {
+    pub(crate) fn peaks_nm(&self, range_nm: [f64; 2]) -> Vec<f64> {
         self.channels
             .iter()
             .map(|c| {
@@ -299,7 +300,7 @@ fn invalid(name: &str, message: String) -> Error {
 /// The best 3×N weights for exactly `wavelengths_nm` (ascending, distinct, inside the
 /// derivation's range, at most [`MAX_SAMPLES`]), for reflectances under `light` or for radiances
 /// (`None`). Errors ([`Error::InSet`]) name the set and the wavelength at fault.
-pub fn fixed_set(
+pub(crate) fn fixed_set(
     d: &Derivation,
     name: &str,
     wavelengths_nm: &[f64],

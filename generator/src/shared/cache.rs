@@ -17,7 +17,7 @@ use crate::derivation::derive::Derivation;
 /// with a fingerprint of everything the search depends on.
 /// `cargo run --release -p spectral-quadrature-tools --bin tables -- --shared-cache` writes it,
 /// and a test re-runs every search and checks that it finds the same nodes (or worse ones).
-pub const CACHE_FILE: &str = "data/shared_nodes.csv";
+pub(crate) const CACHE_FILE: &str = "data/shared_nodes.csv";
 
 /// The sets whose nodes [`CACHE_FILE`] holds: radiances and the lights C, D65, A and F11, at 4, 6
 /// and 8 wavelengths (the default scene's sets and the example scenes' among them).
@@ -63,7 +63,7 @@ pub struct CacheEntry {
 /// A SHA-256 over everything the node search for `light` depends on besides its code: the
 /// observer table, the range, the training reflectances, the light's file, and the kernel and
 /// search constants. A cached entry is used only while its fingerprint matches.
-pub fn fingerprint(d: &Derivation, light: Option<&str>) -> Result<String, Error> {
+pub(crate) fn fingerprint(d: &Derivation, light: Option<&str>) -> Result<String, Error> {
     let read = |label: &str| read_data(&d.settings.data_dir, label);
     let mut text = std::format!(
         "observer {} {}\nrange {:?}\ntraining {}\nkernel matern52 {LENGTH_NM} empirical {EMPIRICAL_WEIGHT} nugget {NUGGET}\nsearch starts {RANDOM_STARTS} move {MAX_MOVE}\n",
@@ -81,7 +81,7 @@ pub fn fingerprint(d: &Derivation, light: Option<&str>) -> Result<String, Error>
 
 /// Reads [`CACHE_FILE`] from `data_dir`: no file is an empty cache; a malformed one is an error
 /// naming the file and line.
-pub fn read_cache(data_dir: &std::path::Path) -> Result<Vec<CacheEntry>, DataError> {
+pub(crate) fn read_cache(data_dir: &std::path::Path) -> Result<Vec<CacheEntry>, DataError> {
     match read_optional_text(data_dir, CACHE_FILE)? {
         Some(text) => parse_cache(CACHE_FILE, &text),
         None => Ok(Vec::new()),
@@ -89,7 +89,7 @@ pub fn read_cache(data_dir: &std::path::Path) -> Result<Vec<CacheEntry>, DataErr
 }
 
 /// Parses the text of a node cache (see [`CACHE_FILE`]); `file` labels errors.
-pub fn parse_cache(file: &str, text: &str) -> Result<Vec<CacheEntry>, DataError> {
+pub(crate) fn parse_cache(file: &str, text: &str) -> Result<Vec<CacheEntry>, DataError> {
     let err = |line: u64, message: String| DataError {
         file: file.into(),
         line,
@@ -159,7 +159,11 @@ pub fn write_cache(entries: &[CacheEntry]) -> String {
 /// The shared set of `n` wavelengths for a built-in light (`None`: radiances): the nodes from
 /// [`CACHE_FILE`] when it has the set with a matching [`fingerprint`] (only the weights are
 /// computed then), otherwise [`optimize`]'s search.
-pub fn cached_or_optimize(d: &Derivation, light: Option<&str>, n: usize) -> Result<Shared, Error> {
+pub(crate) fn cached_or_optimize(
+    d: &Derivation,
+    light: Option<&str>,
+    n: usize,
+) -> Result<Shared, Error> {
     let name = set_name(light, n);
     let cache = read_cache(&d.settings.data_dir)?;
     let Some(entry) = cache.iter().find(|e| e.name == name) else {

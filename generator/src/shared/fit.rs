@@ -31,7 +31,7 @@ pub const FIT_WEIGHTS: [f64; 11] = [
 
 /// White noise added to the kernel in [`fit`] (relative to its variance): reflectance data are
 /// given to about 1 % of their spread, so the likelihood should not chase finer detail.
-pub const FIT_NOISE: f64 = 1e-4;
+pub(crate) const FIT_NOISE: f64 = 1e-4;
 
 /// The kernel length and empirical-covariance weight that maximise the leave-one-out likelihood
 /// of `training`: each reflectance predicted by a Gaussian with the other reflectances' mean and

@@ -34,16 +34,17 @@ mod interpolatory;
 mod model;
 mod search;
 
-pub use cache::{
-    cache_entry, cached_or_optimize, fingerprint, parse_cache, read_cache, set_name, write_cache,
-    CacheEntry, CACHED, CACHE_FILE,
-};
-pub use fit::{fit, Fit, FIT_LENGTHS_NM, FIT_NOISE, FIT_WEIGHTS};
+pub use cache::{cache_entry, set_name, write_cache, CacheEntry, CACHED};
+pub(crate) use cache::{cached_or_optimize, CACHE_FILE};
+pub use fit::{fit, Fit, FIT_LENGTHS_NM, FIT_WEIGHTS};
 pub use interpolatory::interpolatory_a;
 pub use model::{
-    eval_on_radiance, problem, problem_for, Kernel, Problem, Shared, EMPIRICAL_WEIGHT, LENGTH_NM,
-    TRAINING_FILE,
+    eval_on_radiance, problem_for, Problem, Shared, EMPIRICAL_WEIGHT, LENGTH_NM, TRAINING_FILE,
 };
 pub use search::optimize;
-
+// The paths the unit tests (src/tests/) name.
+#[cfg(test)]
+pub(crate) use cache::{fingerprint, parse_cache, read_cache};
+#[cfg(test)]
+pub(crate) use model::{problem, Kernel};
 pub(crate) use search::SIZES;

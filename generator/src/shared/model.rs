@@ -19,7 +19,7 @@ use crate::derivation::sets::WavelengthSet;
 /// A stationary covariance on wavelength, `k(λ, μ) = σ² ρ(|λ − μ| / ℓ)` with unit σ² (the
 /// scale cancels in the weights and in the node choice).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Kernel {
+pub(crate) enum Kernel {
     /// Matérn ν = 5/2: `(1 + √5 d + 5d²/3) e^{−√5 d}`, d = |λ − μ| / ℓ. Twice differentiable
     /// paths, like measured reflectances.
     Matern52 {
@@ -119,7 +119,7 @@ impl Problem {
     /// into the weights (`None`: the renderer samples radiance). `training`: reflectances whose
     /// colours under the light define the CIELAB metric (for radiances, their colours under an
     /// equal-energy light).
-    pub fn new(
+    pub(crate) fn new(
         d: &Derivation,
         light_curve: Option<&Curve>,
         kernel: Kernel,
@@ -404,13 +404,13 @@ impl Problem {
     /// The expected linearised CIELAB error `tr(M Σ)` (in ΔE² per unit kernel variance) of the
     /// set at grid indices `nodes`, as [`set_at`](Self::set_at) gives it; infinite where the
     /// kriging system is singular.
-    pub fn objective(&self, nodes: &[usize]) -> f64 {
+    pub(crate) fn objective(&self, nodes: &[usize]) -> f64 {
         self.solve(nodes).map_or(f64::INFINITY, |s| s.1)
     }
 
     /// The set at grid indices `nodes` (ascending), with its weights and expected error;
     /// `None` when the kriging system is singular.
-    pub fn set_at(&self, nodes: &[usize]) -> Option<Shared> {
+    pub(crate) fn set_at(&self, nodes: &[usize]) -> Option<Shared> {
         let (xyz_weights, expected_error) = self.solve(nodes)?;
         Some(Shared {
             light: self.light_name.clone(),
@@ -425,7 +425,7 @@ impl Problem {
 /// The crate's problem for a light given by name (a built-in illuminant: `C`, `D65`, `F11`,
 /// `LED_B1`, …), or for radiances (`None`): [`Kernel::Matern52`] of [`LENGTH_NM`] plus
 /// [`EMPIRICAL_WEIGHT`] times the covariance of [`TRAINING_FILE`].
-pub fn problem(d: &Derivation, light: Option<&str>) -> Result<Problem, Error> {
+pub(crate) fn problem(d: &Derivation, light: Option<&str>) -> Result<Problem, Error> {
     let range = d.settings.range_nm;
     let curve = match light {
         Some(name) => Some(

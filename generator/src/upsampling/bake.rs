@@ -17,21 +17,21 @@ use crate::derivation::sets::WavelengthSet;
 
 /// The light a set for radiances is upsampled under: the RGB is a surface's colour under it,
 /// and the renderer multiplies the node reflectances by its own light's samples.
-pub const RADIANCE_REFERENCE_LIGHT: &str = "D65";
+pub(crate) const RADIANCE_REFERENCE_LIGHT: &str = "D65";
 
 /// Grid points per axis the crate bakes unless a scene says otherwise.
 pub const DEFAULT_GRID: usize = 9;
 
 /// The grid sizes a scene may ask for: 2 (the cube's corners alone) to 65 points per axis.
-pub const GRID_SIZES: core::ops::RangeInclusive<usize> = 2..=65;
+pub(crate) const GRID_SIZES: core::ops::RangeInclusive<usize> = 2..=65;
 
 /// The table's code for a node value of 1: node value = code / 65535.
-pub const CODE_ONE: f64 = 65535.0;
+pub(crate) const CODE_ONE: f64 = 65535.0;
 
 /// A grid point counts as reachable when its projection's colour is within this ΔE00 of it. The
 /// projection meets a reachable colour to about 1e-8 ΔE00 (the programme's ε); an unreachable
 /// one stays at least its distance from the set's gamut, far more than this.
-pub const REACHABLE_DELTA_E00: f64 = 1e-4;
+pub(crate) const REACHABLE_DELTA_E00: f64 = 1e-4;
 
 /// Encoding weights: `rgb = weights · r` for node reflectances r under the reference light,
 /// white-balanced so that r = 1 gives RGB (1, 1, 1).
@@ -39,7 +39,7 @@ pub const REACHABLE_DELTA_E00: f64 = 1e-4;
 /// `light_at_nodes`: `None` for a set with its light folded in (its folded weights take
 /// reflectances already); for a set for radiances, the reference light at the nodes (any
 /// scale). Errors if a channel of the white is not positive.
-pub fn encoding(
+pub(crate) fn encoding(
     d: &Derivation,
     set: &WavelengthSet,
     display: &DisplayMatrices,
@@ -120,7 +120,10 @@ pub fn exact_rgb(
 /// row of three per node), fitted on `(rgb, node values)` pairs with every row summing to 1,
 /// so that white gives 1 at every node and a grey g gives g (a flat spectrum). Errors if the
 /// pairs do not determine the map (fewer than three independent colours).
-pub fn least_squares_map(rgb: &[[f64; 3]], nodes: &[Vec<f64>]) -> Result<Vec<[f64; 3]>, Error> {
+pub(crate) fn least_squares_map(
+    rgb: &[[f64; 3]],
+    nodes: &[Vec<f64>],
+) -> Result<Vec<[f64; 3]>, Error> {
     let n = nodes.first().map_or(0, Vec::len);
     let mut g = [[0.0; 3]; 3];
     for x in rgb {
@@ -159,18 +162,18 @@ pub fn least_squares_map(rgb: &[[f64; 3]], nodes: &[Vec<f64>]) -> Result<Vec<[f6
 /// The training colours' CIELAB distance over which the local fit's weights fall by e^(−½):
 /// the local map at a grid point is fitted mostly on the reflectances whose colour lies within
 /// about this ΔE*ab. Chosen by the cross-validation of report section 8 (`docs/upsampling.md`).
-pub const LOCAL_BANDWIDTH: f64 = 10.0;
+pub(crate) const LOCAL_BANDWIDTH: f64 = 10.0;
 
 /// How strongly the local fit is pulled toward the global map, as a share of the local weights'
 /// sum: it keeps a local fit determined where the nearby training colours alone would not be.
-pub const LOCAL_PRIOR: f64 = 0.01;
+pub(crate) const LOCAL_PRIOR: f64 = 0.01;
 
 /// The map for colours near `rgb`: least squares on the training pairs weighted by
 /// `exp(−½ (ΔE*ab / bandwidth)²)` of their colour's distance from `rgb`, pulled toward the
 /// global map `global` with weight `prior` times the weights' sum, every row summing to 1.
 /// `bandwidth` infinite gives the global map.
 #[allow(clippy::too_many_arguments, clippy::needless_range_loop)]
-pub fn local_map(
+pub(crate) fn local_map(
     display: &DisplayMatrices,
     rgb: [f64; 3],
     training_rgb: &[[f64; 3]],
@@ -278,7 +281,7 @@ pub struct Fit {
 }
 
 /// CIELAB of display RGB with the display's white as the reference white.
-pub fn lab_of_rgb(display: &DisplayMatrices, rgb: [f64; 3]) -> [f64; 3] {
+pub(crate) fn lab_of_rgb(display: &DisplayMatrices, rgb: [f64; 3]) -> [f64; 3] {
     let xyz = mat3_vec(&display.rgb_to_xyz, rgb);
     let white = mat3_vec(&display.rgb_to_xyz, [1.0; 3]);
     lab_from_xyz(xyz, white)
@@ -369,7 +372,7 @@ pub fn bake(
 /// already computed (`training_rgb`, in the order of `training`): a scene that bakes several
 /// sets under one light computes it once.
 #[allow(clippy::too_many_arguments)]
-pub fn bake_with(
+pub(crate) fn bake_with(
     d: &Derivation,
     set: &WavelengthSet,
     display: (&str, &DisplayMatrices),
@@ -473,7 +476,7 @@ pub fn grid_point(grid: usize, idx: usize) -> [f64; 3] {
 /// of their absolute values over all tetrahedra and nodes bounds the whole cube.
 // The loops index several tables at once.
 #[allow(clippy::needless_range_loop)]
-pub fn lipschitz(grid: usize, n: usize, codes: &[Vec<u16>]) -> f64 {
+pub(crate) fn lipschitz(grid: usize, n: usize, codes: &[Vec<u16>]) -> f64 {
     let strides = [grid * grid, grid, 1];
     let orders = [
         [0, 1, 2],
@@ -548,7 +551,7 @@ impl Baked {
 /// b`), each channel of `rgb` clamped to [0, 1]: the cell's Kuhn tetrahedron that holds the
 /// point (the axes taken in decreasing order of the point's position in the cell), its four
 /// corners weighted by the point's barycentric coordinates.
-pub fn interpolate(grid: usize, values: &[Vec<f64>], rgb: [f64; 3]) -> Vec<f64> {
+pub(crate) fn interpolate(grid: usize, values: &[Vec<f64>], rgb: [f64; 3]) -> Vec<f64> {
     let cells = (grid - 1) as f64;
     let mut cell = [0usize; 3];
     let mut frac = [0.0f64; 3];

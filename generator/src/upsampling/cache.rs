@@ -24,12 +24,12 @@ use crate::derivation::sets::WavelengthSet;
 /// scene bakes, with a fingerprint of everything the fit depends on.
 /// `cargo run --release -p spectral-quadrature-tools --bin tables -- --upsampling-cache > data/upsampling_codes.csv`
 /// writes it, and a test fits every map afresh and requires the same codes.
-pub const CACHE_FILE: &str = "data/upsampling_codes.csv";
+pub(crate) const CACHE_FILE: &str = "data/upsampling_codes.csv";
 
 /// The version of the fit's code, part of every [`FitInputs::fingerprint`]: raise it whenever a
 /// change to the fit (the map, the projection, the rounding to codes) may change a code, so that
 /// every cached table is fitted again until the cache is regenerated.
-pub const FIT_VERSION: u32 = 1;
+pub(crate) const FIT_VERSION: u32 = 1;
 
 /// The header line of [`CACHE_FILE`].
 const HEADER: &str = "set,display,grid,fingerprint,lipschitz,max_round_trip_de00,reachable,codes";
@@ -97,7 +97,7 @@ impl CacheEntry {
 /// the training reflectances (their files' checksums), the fit's constants and [`FIT_VERSION`].
 /// Computed once per scene; [`FitInputs::fingerprint`] adds the rest for each map.
 #[derive(Debug, Clone, PartialEq)]
-pub struct FitInputs {
+pub(crate) struct FitInputs {
     common: String,
 }
 
@@ -125,7 +125,7 @@ impl FitInputs {
     /// ([`super::encoding`], which hold its quadrature weights and the display), whether its light
     /// is folded in, the display's matrices, the light's samples and the grid. A cached table is
     /// used only while its fingerprint matches.
-    pub fn fingerprint(
+    pub(crate) fn fingerprint(
         &self,
         set: &WavelengthSet,
         display: (&str, &DisplayMatrices),
@@ -153,7 +153,7 @@ impl FitInputs {
 
 /// Reads [`CACHE_FILE`] from `data_dir`: no file is an empty cache; a malformed one is an error
 /// naming the file and line.
-pub fn read_cache(data_dir: &std::path::Path) -> Result<Vec<CacheEntry>, DataError> {
+pub(crate) fn read_cache(data_dir: &std::path::Path) -> Result<Vec<CacheEntry>, DataError> {
     match read_optional_text(data_dir, CACHE_FILE)? {
         Some(text) => parse_cache(CACHE_FILE, &text),
         None => Ok(Vec::new()),
@@ -171,7 +171,7 @@ fn hex_digit(c: u8) -> Option<u16> {
 
 /// Parses the text of an upsampling cache (see [`CACHE_FILE`]); `file` labels errors, which name
 /// the line and the field.
-pub fn parse_cache(file: &str, text: &str) -> Result<Vec<CacheEntry>, DataError> {
+pub(crate) fn parse_cache(file: &str, text: &str) -> Result<Vec<CacheEntry>, DataError> {
     let err = |line: u64, message: String| DataError {
         file: file.into(),
         line,

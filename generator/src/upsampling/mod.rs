@@ -40,12 +40,18 @@ pub mod qp;
 mod training;
 
 pub use bake::{
-    bake, bake_with, bounded_exact_linear_residual, encode, encoding, exact_rgb, grid_point,
-    interpolate, lab_of_rgb, least_squares_map, lipschitz, local_map, project, Baked, Fit,
-    CODE_ONE, DEFAULT_GRID, GRID_SIZES, LOCAL_BANDWIDTH, LOCAL_PRIOR, RADIANCE_REFERENCE_LIGHT,
-    REACHABLE_DELTA_E00,
+    bake, bounded_exact_linear_residual, encode, exact_rgb, grid_point, project, Baked,
+    DEFAULT_GRID,
 };
-pub use cache::{
-    parse_cache, read_cache, write_cache, CacheEntry, FitInputs, CACHE_FILE, FIT_VERSION,
-};
-pub use training::{parse_training, training, TRAINING_FILES};
+pub(crate) use bake::{bake_with, encoding, GRID_SIZES, RADIANCE_REFERENCE_LIGHT};
+pub(crate) use cache::{read_cache, FitInputs, CACHE_FILE};
+pub use cache::{write_cache, CacheEntry};
+pub use training::training;
+pub(crate) use training::TRAINING_FILES;
+// The paths the unit tests (src/tests/) name.
+#[cfg(test)]
+pub(crate) use bake::{lab_of_rgb, CODE_ONE};
+#[cfg(test)]
+pub(crate) use cache::parse_cache;
+#[cfg(test)]
+pub(crate) use training::parse_training;

@@ -28,7 +28,7 @@ use crate::base::error::Error;
 /// the multipliers (far below a 16-bit table's step of 1.5e-5), and amplifies the rounding of
 /// the right-hand side (about 1e-16) to about 1e-7 in the multipliers, which [`TOLERANCE`]
 /// stays above.
-pub const EPSILON: f64 = 1e-9;
+pub(crate) const EPSILON: f64 = 1e-9;
 
 /// A fixed variable is freed only when its multiplier has the wrong sign by more than this: well
 /// above the multipliers' rounding (about 1e-16 / [`EPSILON`]), and a multiplier this small moves

@@ -11,7 +11,7 @@ use crate::base::table::NEGATIVE_TOLERANCE;
 use crate::derivation::evaluate::{Curve, Spectra};
 
 /// The training reflectances (labels relative to the runtime crate).
-pub const TRAINING_FILES: [&str; 2] = [
+pub(crate) const TRAINING_FILES: [&str; 2] = [
     "data/reflectance_cie_tcs.csv",
     "data/reflectance_rawtoaces_190.csv",
 ];
@@ -21,7 +21,11 @@ pub const TRAINING_FILES: [&str; 2] = [
 /// (`reflectance_rawtoaces_190.csv` holds 19 values such as −6.9e-18 and −2.2e-16), anything
 /// more negative is an error naming the file, the line and the column; the curves must cover
 /// `range_nm`.
-pub fn parse_training(file: &str, text: &str, range_nm: [f64; 2]) -> Result<Vec<Curve>, DataError> {
+pub(crate) fn parse_training(
+    file: &str,
+    text: &str,
+    range_nm: [f64; 2],
+) -> Result<Vec<Curve>, DataError> {
     Spectra::parse(file, text)?.curves(range_nm)
 }
 

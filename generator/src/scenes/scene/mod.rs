@@ -62,8 +62,9 @@
 mod parse;
 mod resolve;
 
+#[cfg(test)]
+pub(crate) use parse::DEFAULT_SHARED_SETS;
 pub use parse::{
-    Extras, PlanRequest, Scene, SceneFixed, SceneLight, SceneSensor, UserInputs,
-    DEFAULT_SHARED_SETS, SCENE_ENV,
+    Extras, PlanRequest, Scene, SceneFixed, SceneLight, SceneSensor, UserInputs, SCENE_ENV,
 };
 pub use resolve::{user_warnings, Resolved};

@@ -26,7 +26,7 @@ pub const SCENE_ENV: &str = "SPECTRAL_QUADRATURE_SCENE";
 
 /// The shared sets the default scene bakes besides Table 2's rows: kernel quadrature with
 /// illuminant C folded in at 4, 6 and 8 wavelengths (Table 2's light), and with F11 at 6.
-pub const DEFAULT_SHARED_SETS: [&str; 4] = ["KQ_C_4", "KQ_C_6", "KQ_C_8", "KQ_F11_6"];
+pub(crate) const DEFAULT_SHARED_SETS: [&str; 4] = ["KQ_C_4", "KQ_C_6", "KQ_C_8", "KQ_F11_6"];
 
 /// The colour sets the default scene upsamples, on every display it bakes: the shared sets and
 /// Table 2's rows.

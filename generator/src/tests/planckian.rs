@@ -1,30 +1,28 @@
 //! The Planckian locus, the exact CCT reference and the baked locus table.
 
-use spectral_quadrature_build as sqd;
-
-use sqd::planckian::{self, PlanckianLocus};
-use sqd::scene::Scene;
+use crate::planckian::{self, PlanckianLocus};
+use crate::scene::Scene;
 
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");
 
-fn locus(observer: sqd::ObserverId) -> PlanckianLocus {
-    let settings = sqd::Settings::for_observer(observer, DATA_DIR).unwrap();
-    let d = sqd::derive(&settings).unwrap();
+fn locus(observer: crate::ObserverId) -> PlanckianLocus {
+    let settings = crate::Settings::for_observer(observer, DATA_DIR).unwrap();
+    let d = crate::derive(&settings).unwrap();
     PlanckianLocus::standard(&d.observer).unwrap()
 }
 
 fn tables(text: &str) -> String {
     let scene = Scene::parse("scene.toml", text, std::path::Path::new(DATA_DIR)).unwrap();
-    let d = sqd::derive(&scene.settings).unwrap();
-    sqd::codegen::tables_rs(&d, &[], &scene.resolve(&d).unwrap()).unwrap()
+    let d = crate::derive(&scene.settings).unwrap();
+    crate::codegen::tables_rs(&d, &[], &scene.resolve(&d).unwrap()).unwrap()
 }
 
 /// Points placed at a known temperature and distance along the exact normal come back: the
 /// reference solves for the foot of the perpendicular to f64 rounding.
 #[test]
 fn the_reference_recovers_points_placed_off_the_locus() {
-    let l = locus(sqd::ObserverId::Cie1931_2deg);
+    let l = locus(crate::ObserverId::Cie1931_2deg);
     for kelvin in [
         1000.0, 1500.0, 2856.0, 4000.0, 6504.0, 10_000.0, 20_000.0, 100_000.0,
     ] {
@@ -49,7 +47,7 @@ fn the_reference_recovers_points_placed_off_the_locus() {
 /// The tangent the table bakes is the derivative of the locus: a central difference agrees.
 #[test]
 fn the_tangent_is_the_derivative() {
-    let l = locus(sqd::ObserverId::Cie1931_2deg);
+    let l = locus(crate::ObserverId::Cie1931_2deg);
     for mired in [10.0, 50.0, 153.8, 350.0, 700.0, 1000.0] {
         let (_, t) = l.uv_and_tangent(mired);
         let h = 1e-3;
@@ -71,7 +69,7 @@ fn the_tangent_is_the_derivative() {
 /// docs state; another observer gives another locus.
 #[test]
 fn the_table() {
-    let l = locus(sqd::ObserverId::Cie1931_2deg);
+    let l = locus(crate::ObserverId::Cie1931_2deg);
     let nodes = l.table();
     assert_eq!(
         nodes.len(),
@@ -81,7 +79,7 @@ fn the_table() {
     assert_eq!(nodes[0].mired, planckian::TABLE_MIRED[0]);
     assert!((nodes[nodes.len() - 1].mired - planckian::TABLE_MIRED[1]).abs() < 1e-9);
     assert!(nodes.windows(2).all(|w| w[0].mired < w[1].mired));
-    let ten = locus(sqd::ObserverId::Cie1964_10deg);
+    let ten = locus(crate::ObserverId::Cie1964_10deg);
     let (a, b) = (l.uv(153.8), ten.uv(153.8));
     // D65's neighbourhood moves by 3.5e-4 in (u, v) from the 2° to the 10° observer.
     assert!((a[0] - b[0]).hypot(a[1] - b[1]) > 1e-4, "{a:?} {b:?}");
@@ -98,7 +96,7 @@ fn the_scene_decides() {
         with.contains("\"PLANCKIAN_LOCUS.chord\","),
         "ALL_TABLES lists the table"
     );
-    let d = sqd::derive(&sqd::Settings::new(DATA_DIR)).unwrap();
+    let d = crate::derive(&crate::Settings::new(DATA_DIR)).unwrap();
     let default = Scene::default_scene(std::path::Path::new(DATA_DIR))
         .resolve(&d)
         .unwrap();
@@ -111,12 +109,12 @@ fn the_scene_decides() {
 fn the_locus_range_is_cie_015s() {
     assert_eq!(planckian::CIE_015_RANGE_NM, [360.0, 830.0]);
     for (observer, range) in [
-        (sqd::ObserverId::Cie1931_2deg, [360.0, 830.0]),
-        (sqd::ObserverId::Cie1964_10deg, [360.0, 830.0]),
-        (sqd::ObserverId::Cie2015_2deg, [390.0, 830.0]),
-        (sqd::ObserverId::Cie2015_10deg, [390.0, 830.0]),
+        (crate::ObserverId::Cie1931_2deg, [360.0, 830.0]),
+        (crate::ObserverId::Cie1964_10deg, [360.0, 830.0]),
+        (crate::ObserverId::Cie2015_2deg, [390.0, 830.0]),
+        (crate::ObserverId::Cie2015_10deg, [390.0, 830.0]),
     ] {
-        let settings = sqd::Settings::for_observer(observer, DATA_DIR).unwrap();
+        let settings = crate::Settings::for_observer(observer, DATA_DIR).unwrap();
         let o = observer.load(std::path::Path::new(DATA_DIR)).unwrap();
         assert_eq!(planckian::standard_range_nm(&o), range, "{observer:?}");
         let standard = PlanckianLocus::standard(&o).unwrap();

@@ -1,14 +1,12 @@
 //! The shared sets' node cache (data/shared_nodes.csv) cannot drift from the search: every
 //! entry is re-searched from scratch here, and its fingerprint must match the current inputs.
 
-use spectral_quadrature_build as sqd;
-
 use std::path::Path;
 use std::sync::OnceLock;
 
-use sqd::scene::{Scene, DEFAULT_SHARED_SETS};
-use sqd::shared::{self, CacheEntry, CACHED};
-use sqd::{derive, Derivation, Settings};
+use crate::scene::{Scene, DEFAULT_SHARED_SETS};
+use crate::shared::{self, CacheEntry, CACHED};
+use crate::{derive, Derivation, Settings};
 
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");

@@ -1,24 +1,22 @@
 //! Scenes: the build bakes only what a scene names, and mistakes name file, line and choices.
 
-use spectral_quadrature_build as sqd;
-
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");
 
-use sqd::scene::Scene;
-use sqd::{derive, Derivation};
+use crate::scene::Scene;
+use crate::{derive, Derivation};
 use std::sync::OnceLock;
 
 fn default_derivation() -> &'static Derivation {
     static D: OnceLock<Derivation> = OnceLock::new();
-    D.get_or_init(|| derive(&sqd::Settings::new(DATA_DIR)).unwrap())
+    D.get_or_init(|| derive(&crate::Settings::new(DATA_DIR)).unwrap())
 }
 
-fn generate(file: &str, text: &str) -> Result<String, sqd::Error> {
+fn generate(file: &str, text: &str) -> Result<String, crate::Error> {
     let scene = Scene::parse(file, text, std::path::Path::new(DATA_DIR))?;
     let d = derive(&scene.settings).unwrap();
     let resolved = scene.resolve(&d)?;
-    Ok(sqd::codegen::tables_rs(&d, &[], &resolved).unwrap())
+    Ok(crate::codegen::tables_rs(&d, &[], &resolved).unwrap())
 }
 
 fn table_bytes(source: &str) -> usize {
@@ -70,7 +68,7 @@ fn a_minimal_scene_bakes_only_its_set_and_display() {
     }
     // The default scene bakes everything; the minimal one about 4 % of its table bytes.
     let d = default_derivation();
-    let full = sqd::codegen::tables_rs(
+    let full = crate::codegen::tables_rs(
         d,
         &[],
         &Scene::default_scene(std::path::Path::new(DATA_DIR))
@@ -112,7 +110,7 @@ fn extras_transfer_and_named_rules_are_honoured() {
 struct Located {
     file: String,
     line: u64,
-    error: sqd::Error,
+    error: crate::Error,
 }
 
 impl std::fmt::Display for Located {

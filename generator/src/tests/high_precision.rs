@@ -24,15 +24,13 @@
 // the derivation itself.
 #![allow(clippy::needless_range_loop)]
 
-use spectral_quadrature_build as sqd;
-
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");
 
+use crate::quadrature::{Status, COMPLEX_TOLERANCE, VANISHING_NORM};
+use crate::{derive, Derivation, ObserverId, Settings};
 use astro_float::{BigFloat, RoundingMode, Sign, Word};
 use nalgebra::Complex;
-use sqd::quadrature::{Status, COMPLEX_TOLERANCE, VANISHING_NORM};
-use sqd::{derive, Derivation, ObserverId, Settings};
 use std::cell::Cell;
 use std::ops::{Add, Div, Mul, Neg, Sub};
 use std::sync::OnceLock;
@@ -263,7 +261,7 @@ fn inputs() -> &'static Inputs {
             grid_nm: rows.iter().map(|&r| observer.wavelengths[r]).collect(),
             xyz: rows.iter().map(|&r| observer.xyz[r]).collect(),
             fine_xyz,
-            eq1: sqd::opponent::MEYER_EQ1_XYZ_TO_SML,
+            eq1: crate::opponent::MEYER_EQ1_XYZ_TO_SML,
         }
     })
 }
@@ -893,7 +891,7 @@ fn rule_shift(other: &Rec, rule: &RefRule, n: usize) -> (f64, f64) {
 }
 
 /// The f64 recurrence as a big-float one (exactly).
-fn big_rec(rec: &sqd::Recurrence) -> Rec {
+fn big_rec(rec: &crate::Recurrence) -> Rec {
     let v = |x: &[f64]| x.iter().map(|&v| F::of(v)).collect::<Vec<F>>();
     Rec {
         alpha: v(&rec.alpha),
@@ -925,7 +923,7 @@ fn probe(c: usize, seed: u64) -> Rec {
 }
 
 /// Errors of one f64 rule against the reference: (node metric, weight relative), units of ε.
-fn rule_errors(f: &sqd::Rule, r: &RefRule) -> (f64, f64) {
+fn rule_errors(f: &crate::Rule, r: &RefRule) -> (f64, f64) {
     let mut en = 0.0f64;
     let mut ew = 0.0f64;
     for ((l64, w64), (l, w)) in f

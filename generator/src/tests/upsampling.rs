@@ -3,9 +3,8 @@
 //! for the radiance sets (what node values reach, whether a bounded exact linear map exists, the
 //! round trip on a 17³ grid).
 
-use spectral_quadrature_build as sqd;
-use sqd::upsampling::{self as up, qp::nearest_in_box};
-use sqd::{derive, Settings};
+use crate::upsampling::{self as up, qp::nearest_in_box};
+use crate::{derive, Settings};
 
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");
@@ -101,7 +100,7 @@ fn training_reader_takes_rounding_noise_and_refuses_the_rest() {
 #[test]
 fn scene_upsampling_table() {
     let data = std::path::Path::new(DATA_DIR);
-    let parse = |text: &str| sqd::scene::Scene::parse("s.toml", text, data);
+    let parse = |text: &str| crate::scene::Scene::parse("s.toml", text, data);
     let s = parse("sets = [\"KQ_4\"]\ndisplays = [\"SRGB\"]\n[upsampling]\ngrid = 5\n").unwrap();
     assert_eq!(s.upsampling.as_ref().map(|u| u.grid), Some(5));
     let e = parse("sets = [\"KQ_4\"]\n[upsampling]\ngrid = 1\n").unwrap_err();
@@ -152,7 +151,7 @@ fn radiance_sets_reach_round_trip_and_linear_maps() {
     let data = std::path::Path::new(DATA_DIR);
     let range = d.settings.range_nm;
     let training = up::training(data, range).unwrap();
-    let d65 = sqd::evaluate::builtin_illuminant(data, "D65", range).unwrap();
+    let d65 = crate::evaluate::builtin_illuminant(data, "D65", range).unwrap();
     let (_, m) = d.display("SRGB").unwrap();
     // (set, reachable share of 9³ rounded to 0.1 %, bounded exact linear map)
     for (name, share, linear) in [
@@ -160,7 +159,7 @@ fn radiance_sets_reach_round_trip_and_linear_maps() {
         ("KQ_6", 99.7, false),
         ("KQ_8", 100.0, true),
     ] {
-        let set = sqd::catalog::resolve(&d, name).unwrap();
+        let set = crate::catalog::resolve(&d, name).unwrap();
         let b9 = up::bake(&d, &set, ("SRGB", m), &d65, false, &training, 9).unwrap();
         assert_eq!(
             (1000.0 * b9.reachable_share()).round() / 10.0,
@@ -183,7 +182,7 @@ fn radiance_sets_reach_round_trip_and_linear_maps() {
                 .map(|&q| f64::from(q) / up::CODE_ONE)
                 .collect();
             let back = up::encode(&b17.encoding, &decoded);
-            worst = worst.max(sqd::evaluate::delta_e2000(
+            worst = worst.max(crate::evaluate::delta_e2000(
                 up::lab_of_rgb(m, p),
                 up::lab_of_rgb(m, back),
             ));
@@ -216,7 +215,7 @@ fn the_cache_equals_a_fresh_fit_of_every_default_map() {
     let d = derive(&Settings::new(DATA_DIR)).unwrap();
     let data = std::path::Path::new(DATA_DIR);
     let cache = up::read_cache(data).expect("data/upsampling_codes.csv parses");
-    let scene = sqd::scene::Scene::default_scene(data);
+    let scene = crate::scene::Scene::default_scene(data);
     let fitted = scene.resolve_fitting(&d).unwrap();
     let fresh = fitted.upsampling_cache(&d).unwrap();
     assert_eq!(
@@ -280,7 +279,7 @@ fn a_changed_input_is_fitted_instead_of_taken_from_the_cache() {
     // cached set on another grid, or whose inputs differ, gets a fit.
     let d = derive(&Settings::new(DATA_DIR)).unwrap();
     let data = std::path::Path::new(DATA_DIR);
-    let parse = |text: &str| sqd::scene::Scene::parse("s.toml", text, data).unwrap();
+    let parse = |text: &str| crate::scene::Scene::parse("s.toml", text, data).unwrap();
     let same = parse("sets = [\"KQ_C_6\"]\ndisplays = [\"SRGB\"]\n[upsampling]\n");
     let r = same.resolve(&d).unwrap();
     assert!(
@@ -381,7 +380,7 @@ fn a_corrupted_copy_of_the_cache_stops_the_build_with_its_file_and_line() {
         .unwrap();
     let broken = text.replacen(victim, &format!("{}z", &victim[..victim.len() - 1]), 1);
     std::fs::write(data.join("upsampling_codes.csv"), broken).unwrap();
-    let e = sqd::generate(&dir, None).unwrap_err().to_string();
+    let e = crate::generate(&dir, None).unwrap_err().to_string();
     std::fs::remove_dir_all(&dir).ok();
     assert!(
         e.contains(&format!("data/upsampling_codes.csv:{}:", n + 1))

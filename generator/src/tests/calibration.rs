@@ -2,13 +2,11 @@
 //! (`[sensors.X] calibration = "readings.csv"`): what is baked, and every mistake named by file
 //! and line.
 
-use spectral_quadrature_build as sqd;
-
 use std::path::Path;
 use std::sync::OnceLock;
 
-use sqd::calibration::{self, Readings};
-use sqd::{derive, Derivation, Error, Settings};
+use crate::calibration::{self, Readings};
+use crate::{derive, Derivation, Error, Settings};
 
 const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");
 const EXAMPLES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../examples");
@@ -35,7 +33,11 @@ fn scratch(test: &str) -> std::path::PathBuf {
 
 /// A scene with the example sensor under C and `extra` lines in its table, written to `dir`
 /// with `files` beside it, parsed and resolved.
-fn resolve(dir: &Path, extra: &str, files: &[(&str, &str)]) -> Result<sqd::scene::Resolved, Error> {
+fn resolve(
+    dir: &Path,
+    extra: &str,
+    files: &[(&str, &str)],
+) -> Result<crate::scene::Resolved, Error> {
     for (name, text) in files {
         std::fs::write(dir.join(name), text).unwrap();
     }
@@ -47,7 +49,7 @@ fn resolve(dir: &Path, extra: &str, files: &[(&str, &str)]) -> Result<sqd::scene
     let path = dir.join("scene.toml");
     std::fs::write(&path, &text).unwrap();
     let label = path.display().to_string();
-    sqd::scene::Scene::parse(&label, &text, Path::new(DATA_DIR))?.resolve(d())
+    crate::scene::Scene::parse(&label, &text, Path::new(DATA_DIR))?.resolve(d())
 }
 
 /// The error as the build script prints it.
@@ -72,15 +74,15 @@ fn a_sensor_bakes_its_white_and_a_calibration_its_fit() {
     );
     // The golden set reads its white as display white (Y = UNIT_SPECTRUM_Y): its weights are
     // exact on the light's white.
-    let sensor = sqd::user::Sensor::read(
+    let sensor = crate::user::Sensor::read(
         &Path::new(DATA_DIR).join("sensor_as7341_gaussian.csv"),
         "sensor.csv",
         d().settings.range_nm,
     )
     .unwrap();
-    let c =
-        sqd::evaluate::builtin_illuminant(Path::new(DATA_DIR), "C", d().settings.range_nm).unwrap();
-    let set = sqd::user::sensor_set(d(), "AS7341", "AS7341", &sensor, Some(&c)).unwrap();
+    let c = crate::evaluate::builtin_illuminant(Path::new(DATA_DIR), "C", d().settings.range_nm)
+        .unwrap();
+    let set = crate::user::sensor_set(d(), "AS7341", "AS7341", &sensor, Some(&c)).unwrap();
     let y: f64 = set.xyz_weights[1]
         .iter()
         .zip(white)
@@ -109,18 +111,18 @@ fn a_sensor_bakes_its_white_and_a_calibration_its_fit() {
         "{:?}",
         fit.rms_residual
     );
-    let src = sqd::codegen::tables_rs(d(), &[], &with).unwrap();
+    let src = crate::codegen::tables_rs(d(), &[], &with).unwrap();
     assert!(src.contains("pub mod sensors {"));
     assert!(src.contains("pub const AS7341_WHITE: [f32; 8] ="));
     assert!(src.contains("pub const AS7341_CALIBRATION: crate::Calibration<8> ="));
     assert!(src.contains("\"sensors::AS7341_CALIBRATION.gain\""));
-    let plain_src = sqd::codegen::tables_rs(d(), &[], &plain).unwrap();
+    let plain_src = crate::codegen::tables_rs(d(), &[], &plain).unwrap();
     assert!(plain_src.contains("pub const AS7341_WHITE") && !plain_src.contains("CALIBRATION"));
 }
 
 #[test]
 fn the_example_scene_bakes_a_calibration_and_names_its_files() {
-    let out = sqd::generate(
+    let out = crate::generate(
         Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/..")),
         Some(std::ffi::OsStr::new("examples/scenes/sensor.toml")),
     )
@@ -217,7 +219,7 @@ fn mistakes_name_the_file_and_line() {
         "[sensors.AS7341]\nfile = {:?}\ncalibration = \"device.csv\"\n",
         sensor.display().to_string()
     );
-    let m = message(&sqd::scene::Scene::parse("s.toml", &text, Path::new(DATA_DIR)).unwrap_err());
+    let m = message(&crate::scene::Scene::parse("s.toml", &text, Path::new(DATA_DIR)).unwrap_err());
     assert!(
         m.starts_with(
             "s.toml:3: calibration: the readings are of reflectances under the sensor's light"
@@ -228,7 +230,7 @@ fn mistakes_name_the_file_and_line() {
         "[sensors.AS7341]\nfile = {:?}\nlight = \"C\"\ncalibration_reflectances = \"chart.csv\"\n",
         sensor.display().to_string()
     );
-    let m = message(&sqd::scene::Scene::parse("s.toml", &text, Path::new(DATA_DIR)).unwrap_err());
+    let m = message(&crate::scene::Scene::parse("s.toml", &text, Path::new(DATA_DIR)).unwrap_err());
     assert!(
         m.starts_with("s.toml:4: calibration_reflectances without calibration"),
         "{m}"

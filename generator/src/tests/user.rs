@@ -1,14 +1,12 @@
 //! Sets for what the user has: a light by file, fixed wavelengths, a sensor. Judged on the
 //! ColorChecker (never in training), mean ΔE00 against the full 1 nm integration.
 
-use spectral_quadrature_build as sqd;
-
 use std::path::Path;
 use std::sync::OnceLock;
 
-use sqd::evaluate::{self, Curve, EvalSet, Reference, Spectra, Stimulus};
-use sqd::user::{fixed_set, least_squares, sensor_set, Sensor, UserLight};
-use sqd::{derive, Derivation, Error, Settings};
+use crate::evaluate::{self, Curve, EvalSet, Reference, Spectra, Stimulus};
+use crate::user::{fixed_set, least_squares, sensor_set, Sensor, UserLight};
+use crate::{derive, Derivation, Error, Settings};
 
 const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");
 const SENSOR_FILE: &str = "sensor_as7341_gaussian.csv";
@@ -52,11 +50,11 @@ fn scratch(test: &str) -> std::path::PathBuf {
 }
 
 /// Parses and resolves a scene written to `dir/scene.toml`.
-fn scene(dir: &Path, text: &str) -> Result<sqd::scene::Resolved, Error> {
+fn scene(dir: &Path, text: &str) -> Result<crate::scene::Resolved, Error> {
     let path = dir.join("scene.toml");
     std::fs::write(&path, text).unwrap();
     let label = path.display().to_string();
-    sqd::scene::Scene::parse(&label, text, Path::new(DATA_DIR))?.resolve(d())
+    crate::scene::Scene::parse(&label, text, Path::new(DATA_DIR))?.resolve(d())
 }
 
 #[test]
@@ -100,7 +98,7 @@ fn the_example_sensor_under_c_is_within_a_quarter_of_a_delta_e() {
     let c = light("C");
     let stimuli = colorchecker_under(&c);
     let fitted = sensor_set(d(), "AS7341", "AS7341", &s, Some(&c)).unwrap();
-    let tcs = Spectra::builtin(Path::new(DATA_DIR), sqd::shared::TRAINING_FILE)
+    let tcs = Spectra::builtin(Path::new(DATA_DIR), crate::shared::TRAINING_FILE)
         .and_then(|s| s.curves(d().settings.range_nm))
         .unwrap();
     let ls = least_squares(d(), "LS", &s, &c, &tcs).unwrap().unwrap();
@@ -132,8 +130,8 @@ fn the_example_sensor_under_c_is_within_a_quarter_of_a_delta_e() {
 fn a_light_by_file_gives_the_built_in_lights_set_to_the_last_digit() {
     let text = std::fs::read_to_string(Path::new(DATA_DIR).join("illuminant_F11.csv")).unwrap();
     let user = UserLight::parse("MY_F11", "copy.csv", &text, d().settings.range_nm).unwrap();
-    let mine = sqd::catalog::resolve_with(d(), "KQ_MY_F11_6", &[user]).unwrap();
-    let builtin = sqd::catalog::resolve(d(), "KQ_F11_6").unwrap();
+    let mine = crate::catalog::resolve_with(d(), "KQ_MY_F11_6", &[user]).unwrap();
+    let builtin = crate::catalog::resolve(d(), "KQ_F11_6").unwrap();
     assert_eq!(mine.wavelengths_nm, builtin.wavelengths_nm);
     assert_eq!(mine.weights, builtin.weights, "bit for bit");
     assert_eq!(mine.light.as_deref(), Some("MY_F11"));
@@ -174,7 +172,7 @@ fn a_scene_bakes_its_lights_fixed_wavelengths_and_sensors() {
         r.colour_sets[1].wavelengths_nm,
         [450.0, 550.0, 600.5, 650.0]
     );
-    let src = sqd::codegen::tables_rs(d(), &[], &r).unwrap();
+    let src = crate::codegen::tables_rs(d(), &[], &r).unwrap();
     assert!(src.contains("pub const CHIP: WavelengthSet<8>"), "{src}");
     // The struct literal laid out as rustfmt would, one field a line.
     let flat: String = src.split_whitespace().collect();
@@ -322,7 +320,7 @@ fn negative_values_in_a_scenes_files_follow_the_readers_rule() {
     let scene_path = dir.join("scene.toml");
     std::fs::write(&scene_path, text).unwrap();
     let crate_dir = Path::new(DATA_DIR).parent().unwrap();
-    let out = sqd::generate(crate_dir, Some(scene_path.as_os_str())).unwrap();
+    let out = crate::generate(crate_dir, Some(scene_path.as_os_str())).unwrap();
     assert_eq!(out.warnings.len(), 2, "{:?}", out.warnings);
     assert!(
         out.warnings[0].ends_with("shop.csv:2: column 2 (relative_power): 1 negative value read as 0, the first here (-3e-17); all within the tolerance (1e-6 × the file's largest value 18.87), as rounding noise"),

@@ -2,16 +2,14 @@
 //! build script and the tools print names the file and the line where a file is involved.
 //! Displays have one description, used by the derivation, scenes, code generation and shaders.
 
-use spectral_quadrature_build as sqd;
-
 use std::path::Path;
 use std::sync::OnceLock;
 
-use sqd::display::{standard_displays, Transfer};
-use sqd::plan::Metric;
-use sqd::scene::Scene;
-use sqd::shader::Language;
-use sqd::{derive, Derivation, Error, SetNameProblem, Settings};
+use crate::display::{standard_displays, Transfer};
+use crate::plan::Metric;
+use crate::scene::Scene;
+use crate::shader::Language;
+use crate::{derive, Derivation, Error, SetNameProblem, Settings};
 
 const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");
 
@@ -137,7 +135,7 @@ fn set_name_mistakes_are_typed_and_the_scene_adds_the_choices() {
         }),
     ];
     for (name, expected) in cases {
-        let e = sqd::catalog::resolve(d, name).unwrap_err();
+        let e = crate::catalog::resolve(d, name).unwrap_err();
         let Error::SetName { name: n, problem } = &e else {
             panic!("{name}: expected SetName, got {e:?}");
         };
@@ -173,7 +171,7 @@ fn at_keeps_the_first_location() {
 #[test]
 fn values_no_literal_reproduces_are_typed() {
     assert_eq!(
-        sqd::codegen::f32_literal(1e39),
+        crate::codegen::f32_literal(1e39),
         Err(Error::Literal {
             value: 1e39,
             language: "Rust"
@@ -201,7 +199,7 @@ fn displays_have_one_description() {
     assert_eq!(d.displays.len(), standard.len());
     for ((spec, m), s) in d.displays.iter().zip(&standard) {
         assert_eq!(spec, s);
-        assert_eq!(m, &sqd::display::display_matrices(s).unwrap());
+        assert_eq!(m, &crate::display::display_matrices(s).unwrap());
     }
     // A scene takes its displays from there; a transfer override changes only the transfer.
     let scene = parse(
@@ -225,13 +223,13 @@ fn displays_have_one_description() {
     }
     assert_eq!(resolved.displays[1].0.transfer, Transfer::Gamma(2.2));
     // Code generation bakes each display's label as its name, once per display.
-    let src = sqd::codegen::tables_rs(d, &[], &resolved).unwrap();
+    let src = crate::codegen::tables_rs(d, &[], &resolved).unwrap();
     for (spec, _) in &resolved.displays {
         let baked = format!("name: {:?},", spec.label);
         assert_eq!(src.matches(&baked).count(), 1, "{baked}");
     }
     // The shaders name the same displays.
-    let wgsl = sqd::shader::snippet(d, &resolved, Language::Wgsl).unwrap();
+    let wgsl = crate::shader::snippet(d, &resolved, Language::Wgsl).unwrap();
     assert!(wgsl.contains("fn display_p3_encode(") && wgsl.contains("fn srgb_encode("));
     // An unknown name is typed.
     assert!(matches!(
@@ -243,11 +241,11 @@ fn displays_have_one_description() {
 #[test]
 fn light_problems_are_typed() {
     let d = default_derivation();
-    let dark = sqd::evaluate::Curve::constant("dark", 0.0, d.settings.range_nm);
-    let e = sqd::shared::Problem::new(
+    let dark = crate::evaluate::Curve::constant("dark", 0.0, d.settings.range_nm);
+    let e = crate::shared::Problem::new(
         d,
         Some(&dark),
-        sqd::shared::Kernel::Matern52 { length_nm: 30.0 },
+        crate::shared::Kernel::Matern52 { length_nm: 30.0 },
         &[],
     )
     .map(|_| ())
@@ -256,12 +254,14 @@ fn light_problems_are_typed() {
         e,
         Error::Light {
             name: "dark".into(),
-            problem: sqd::LightProblem::NoLuminance
+            problem: crate::LightProblem::NoLuminance
         }
     );
-    let e = sqd::shared::problem(d, Some("Z9")).map(|_| ()).unwrap_err();
+    let e = crate::shared::problem(d, Some("Z9"))
+        .map(|_| ())
+        .unwrap_err();
     assert!(
-        matches!(&e, Error::Light { name, problem: sqd::LightProblem::NotBuiltIn { valid } } if name == "Z9" && valid.iter().any(|l| l == "C")),
+        matches!(&e, Error::Light { name, problem: crate::LightProblem::NotBuiltIn { valid } } if name == "Z9" && valid.iter().any(|l| l == "C")),
         "{e:?}"
     );
 }

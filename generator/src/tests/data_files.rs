@@ -1,21 +1,19 @@
 //! Reading data files: the embedded CIE observers, and every kind of malformed table, each of
 //! which must be an error naming the file, the exact line and what is wrong.
 
-use spectral_quadrature_build as sqd;
-
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");
 
 /// The text of an observer's data file.
 fn csv_text(id: ObserverId) -> String {
-    let path = sqd::data_path(std::path::Path::new(DATA_DIR), id.file());
+    let path = crate::data_path(std::path::Path::new(DATA_DIR), id.file());
     std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
-use sqd::evaluate::Spectra;
-use sqd::observer::{Observer, ObserverId};
-use sqd::table::{parse_table, parse_table_with, Negatives, Spacing};
-use sqd::DataError;
+use crate::evaluate::Spectra;
+use crate::observer::{Observer, ObserverId};
+use crate::table::{parse_table, parse_table_with, Negatives, Spacing};
+use crate::DataError;
 
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -744,7 +742,7 @@ fn the_rawtoaces_reflectances_read_with_their_rounding_noise_zeroed() {
 
 #[test]
 fn the_other_shipped_files_have_no_negative_values() {
-    for file in sqd::evaluate::BUILTIN {
+    for file in crate::evaluate::BUILTIN {
         let s = Spectra::builtin(std::path::Path::new(DATA_DIR), file).unwrap();
         if file.ends_with("rawtoaces_190.csv") {
             continue;
@@ -796,8 +794,8 @@ fn derive_error_displays_the_data_error() {
         line: 3,
         message: "bad".to_string(),
     };
-    let wrapped: sqd::Error = e.clone().into();
-    assert_eq!(wrapped, sqd::Error::Data(e));
+    let wrapped: crate::Error = e.clone().into();
+    assert_eq!(wrapped, crate::Error::Data(e));
     assert_eq!(wrapped.to_string(), "x.csv:3: bad");
 }
 
@@ -814,7 +812,7 @@ fn read_missing_file_names_the_path() {
     let shown = e.to_string();
     assert!(shown.starts_with(&format!("{label}: ")), "{shown}");
 
-    let e = sqd::table::read_table(&path, Some(3), Spacing::Even).unwrap_err();
+    let e = crate::table::read_table(&path, Some(3), Spacing::Even).unwrap_err();
     assert_error(&e, &label, 0, &["cannot read"]);
 }
 
@@ -836,7 +834,7 @@ fn read_file_with_bad_row_names_path_and_line() {
     assert_error(&e, &label, 5, &["not finite"]);
     assert!(e.to_string().starts_with(&format!("{label}:5: ")), "{e}");
 
-    let e = sqd::table::read_table(&file.0, Some(3), Spacing::Any).unwrap_err();
+    let e = crate::table::read_table(&file.0, Some(3), Spacing::Any).unwrap_err();
     assert_error(&e, &label, 5, &["not finite"]);
 }
 
@@ -912,7 +910,7 @@ fn grid_err(obs: &Observer, start: f64, end: f64, step: f64) -> String {
             rows.len()
         ),
         // Grid mistakes are settings the derivation cannot honour.
-        Err(sqd::Error::Settings(message)) => message,
+        Err(crate::Error::Settings(message)) => message,
         Err(e) => panic!("{start}-{end} step {step}: expected Error::Settings, got {e:?}"),
     }
 }

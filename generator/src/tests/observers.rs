@@ -1,18 +1,16 @@
 //! The derivation for every observer the crate ships.
 
-use spectral_quadrature_build as sqd;
-
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");
 
-use sqd::{derive, ObserverId, Settings};
+use crate::{derive, ObserverId, Settings};
 
 /// Linear interpolation of the cone fundamentals at `nm`.
-fn cones_at(obs: &sqd::Observer, m: &[[f64; 3]; 3], nm: f64) -> [f64; 3] {
+fn cones_at(obs: &crate::Observer, m: &[[f64; 3]; 3], nm: f64) -> [f64; 3] {
     let i = obs.wavelengths.partition_point(|&l| l < nm);
     let f = (nm - obs.wavelengths[i - 1]) / (obs.wavelengths[i] - obs.wavelengths[i - 1]);
-    let a = sqd::opponent::apply(m, &obs.xyz[i - 1]);
-    let b = sqd::opponent::apply(m, &obs.xyz[i]);
+    let a = crate::opponent::apply(m, &obs.xyz[i - 1]);
+    let b = crate::opponent::apply(m, &obs.xyz[i]);
     [0, 1, 2].map(|c| a[c] + f * (b[c] - a[c]))
 }
 
@@ -55,7 +53,7 @@ fn cie2015_cone_matrices_give_the_cie2006_fundamentals() {
     // 615 nm as the CIE 2006 tables define; m̄ + l̄ peaks at 1 by construction.
     for id in [ObserverId::Cie2015_2deg, ObserverId::Cie2015_10deg] {
         let obs = id.load(std::path::Path::new(DATA_DIR)).unwrap();
-        let cones = sqd::opponent::cone_fundamentals(&obs.xyz, &id.cone_matrix(&obs));
+        let cones = crate::opponent::cone_fundamentals(&obs.xyz, &id.cone_matrix(&obs));
         let ml_peak = cones.iter().map(|v| v[1] + v[2]).fold(f64::MIN, f64::max);
         assert!((ml_peak - 1.0).abs() < 1e-12, "{}: {ml_peak}", id.name());
         for c in 0..3 {
@@ -129,11 +127,11 @@ fn a_scene_can_choose_any_observer() {
             id.name()
         );
         let scene =
-            sqd::scene::Scene::parse("obs.toml", &text, std::path::Path::new(DATA_DIR)).unwrap();
+            crate::scene::Scene::parse("obs.toml", &text, std::path::Path::new(DATA_DIR)).unwrap();
         assert_eq!(scene.settings.range_nm, id.default_range_nm());
         let d = derive(&scene.settings).unwrap();
         let resolved = scene.resolve(&d).unwrap();
-        let src = sqd::codegen::tables_rs(&d, &[], &resolved).unwrap();
+        let src = crate::codegen::tables_rs(&d, &[], &resolved).unwrap();
         assert!(src.contains(&format!("pub const OBSERVER: &str = {:?};", id.name())));
     }
 }

@@ -2,13 +2,11 @@
 //! measures, the two weight formulas, settings, and Table 2's sets. Each tolerance says where it
 //! comes from.
 
-use spectral_quadrature_build as sqd;
-
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");
 
-use sqd::quadrature::{gauss_rule, interpolatory_weights, stieltjes, Measure, Recurrence};
-use sqd::{derive, Covariance, Derivation, ObserverId, Settings, Status};
+use crate::quadrature::{gauss_rule, interpolatory_weights, stieltjes, Measure, Recurrence};
+use crate::{derive, Covariance, Derivation, ObserverId, Settings, Status};
 use std::sync::OnceLock;
 
 fn default_derivation() -> &'static Derivation {
@@ -145,7 +143,7 @@ fn empirical_covariance_is_the_sample_covariance_of_sml() {
     let d = default_derivation();
     let step = d.settings.step_nm;
     let spectra = smooth_spectra(&d.grid_nm, 50, 0x5eed);
-    let c = sqd::opponent::covariance_matrix(
+    let c = crate::opponent::covariance_matrix(
         &d.cones,
         &d.grid_nm,
         step,
@@ -204,12 +202,12 @@ fn covariance_errors() {
     let n = d.grid_nm.len();
     let step = d.settings.step_nm;
     // Every covariance mistake is a setting the derivation cannot honour: its message.
-    let cov = |k: &Covariance| match sqd::opponent::covariance_matrix(&d.cones, &d.grid_nm, step, k)
-    {
-        Ok(m) => Ok(m),
-        Err(sqd::Error::Settings(message)) => Err(message),
-        Err(e) => panic!("{}: expected Error::Settings, got {e:?}", k.describe()),
-    };
+    let cov =
+        |k: &Covariance| match crate::opponent::covariance_matrix(&d.cones, &d.grid_nm, step, k) {
+            Ok(m) => Ok(m),
+            Err(crate::Error::Settings(message)) => Err(message),
+            Err(e) => panic!("{}: expected Error::Settings, got {e:?}", k.describe()),
+        };
 
     let one = Covariance::Empirical(vec![vec![1.0; n]]);
     let err = cov(&one).unwrap_err();
@@ -239,7 +237,7 @@ fn covariance_errors() {
             covariance: k,
             ..Settings::new(DATA_DIR)
         }) {
-            Err(sqd::Error::Settings(msg)) => eprintln!("{what}: {msg}"),
+            Err(crate::Error::Settings(msg)) => eprintln!("{what}: {msg}"),
             other => panic!("{what}: expected Error::Settings, got {other:?}"),
         }
     }
@@ -554,7 +552,7 @@ fn cie2015_does_not_cover_380() {
         observer: ObserverId::Cie2015_2deg,
         ..Settings::new(DATA_DIR)
     }) {
-        Err(sqd::Error::Settings(msg)) => {
+        Err(crate::Error::Settings(msg)) => {
             eprintln!("{msg}");
             assert!(msg.contains("380") && msg.contains("not covered"), "{msg}");
         }
@@ -571,7 +569,7 @@ fn max_order_bounds() {
             max_order,
             ..Settings::new(DATA_DIR)
         }) {
-            Err(sqd::Error::Settings(msg)) => eprintln!("max_order {max_order}: {msg}"),
+            Err(crate::Error::Settings(msg)) => eprintln!("max_order {max_order}: {msg}"),
             other => panic!("max_order {max_order}: expected Error::Settings, got {other:?}"),
         }
     }
@@ -729,15 +727,16 @@ fn table2_sets_integrate_constants() {
 #[test]
 fn a_nan_node_is_never_defined() {
     // A degenerate eigen solve could return NaN; such a rule must not be baked as defined.
-    let r = sqd::quadrature::real_rule(
+    let r = crate::quadrature::real_rule(
         2,
         vec![f64::NAN, 500.0],
         vec![1.0, 1.0],
         0.0,
         [380.0, 770.0],
     );
-    assert_eq!(r.status, sqd::Status::Outside);
+    assert_eq!(r.status, crate::Status::Outside);
     assert!(r.reason.contains("NaN"), "{}", r.reason);
-    let ok = sqd::quadrature::real_rule(2, vec![380.0, 770.0], vec![1.0, 1.0], 0.0, [380.0, 770.0]);
-    assert_eq!(ok.status, sqd::Status::Defined);
+    let ok =
+        crate::quadrature::real_rule(2, vec![380.0, 770.0], vec![1.0, 1.0], 0.0, [380.0, 770.0]);
+    assert_eq!(ok.status, crate::Status::Defined);
 }

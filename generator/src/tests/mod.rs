@@ -1,0 +1,19 @@
+//! The generator's unit tests: the tests that reach into its modules (the steps of the
+//! derivation, the CSV reader, the scene's parts, the caches, the upsampling's solver) through
+//! items that are `pub(crate)`, so that the crate's public surface stays what its users need.
+//! Each file is a module here; run one file's tests with its module name as the filter:
+//! `cargo test -p spectral-quadrature-build --lib -- tests::calibration::`. The tests that use
+//! the public API alone (the layout of the generated tables, the data files' provenance) are the
+//! integration tests of `tests/`.
+
+mod calibration;
+mod data_files;
+mod derivation;
+mod errors;
+mod high_precision;
+mod observers;
+mod planckian;
+mod scene;
+mod shared_cache;
+mod upsampling;
+mod user;
