@@ -132,7 +132,11 @@ fn print_display(
         }
         let mut planar = [[0u8; 3]; PIXELS];
         let ok = f
-            .encode_u8_planar_to_interleaved(mapping, planes.each_ref().map(|p| &p[..]), &mut planar)
+            .encode_u8_planar_to_interleaved(
+                mapping,
+                planes.each_ref().map(|p| &p[..]),
+                &mut planar,
+            )
             .is_ok();
         writeln!(out, "res {name} {m} planar ok {ok}")?;
         for (p, [r, g, b]) in planar.iter().enumerate() {

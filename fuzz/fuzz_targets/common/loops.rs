@@ -288,7 +288,10 @@ fn shape<const N: usize>(level: Loops, b: &mut Bytes) {
     );
     if fast {
         let ran = take_ran().expect("encode_u8_planar_to_interleaved records its loop");
-        assert_eq!(ran.loops, level, "encode_u8_planar_to_interleaved N={N}: {ran:?}");
+        assert_eq!(
+            ran.loops, level,
+            "encode_u8_planar_to_interleaved N={N}: {ran:?}"
+        );
     }
     let want8: Vec<[u8; 3]> = c
         .pixels
