@@ -68,23 +68,14 @@ pub const DUV_MAX_ERROR: f32 = 1e-7;
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct PlanckianLocus<const K: usize> {
-    /// The nodes' reciprocal temperatures μ = 10⁶ / T in mired, ascending (T descending).
-    pub mired: [f32; K],
-    /// CIE 1960 (u, v) of the blackbody at each node.
-    pub uv: [[f32; 2]; K],
-    /// d(u, v)/dμ at each node, per mired.
-    pub tangent: [[f32; 2]; K],
-    /// `uv[i + 1] − uv[i]`, computed before rounding (the difference of the rounded points
-    /// would lose the direction of short segments), and `[0, 0]` at the last node.
-    pub chord: [[f32; 2]; K],
-    /// The unit tangent at each node in 1.14 fixed point (16 384 is 1): the binary search over
-    /// the nodes runs in integers, where an f32 operation is a library call of a hundred
-    /// instructions.
-    pub unit_tangent_q14: [[i16; 2]; K],
-    /// `L · T̂` at each node, the point in 16 fractional bits times the unit tangent above (30
-    /// fractional bits): a point P (16 fractional bits) lies on the hot side of the node's
-    /// isotemperature line where `P · T̂ − L · T̂ ≥ 0`.
-    pub along_q30: [i32; K],
+    // `pub(crate)`: the baked table (`crate::tables`) sets them; users read them through the
+    // accessors of the same names.
+    pub(crate) mired: [f32; K],
+    pub(crate) uv: [[f32; 2]; K],
+    pub(crate) tangent: [[f32; 2]; K],
+    pub(crate) chord: [[f32; 2]; K],
+    pub(crate) unit_tangent_q14: [[i16; 2]; K],
+    pub(crate) along_q30: [i32; K],
 }
 
 /// At most how many Newton steps refine the foot of the perpendicular on a segment, from where
@@ -133,6 +124,49 @@ pub fn uv_from_xyz(xyz: [f32; 3]) -> Option<[f32; 2]> {
 }
 
 impl<const K: usize> PlanckianLocus<K> {
+    /// The nodes' reciprocal temperatures μ = 10⁶ / T in mired, ascending (T descending).
+    ///
+    /// The node accessors return references: a table holds a hundred nodes or more (111 in the
+    /// baked ones), which a copy per call would move through the stack.
+    pub const fn mired(&self) -> &[f32; K] {
+        &self.mired
+    }
+
+    /// CIE 1960 (u, v) of the blackbody at each node.
+    pub const fn uv(&self) -> &[[f32; 2]; K] {
+        &self.uv
+    }
+
+    /// d(u, v)/dμ at each node, per mired.
+    pub const fn tangent(&self) -> &[[f32; 2]; K] {
+        &self.tangent
+    }
+
+    /// `uv[i + 1] − uv[i]`, computed before rounding (the difference of the rounded points
+    /// would lose the direction of short segments), and `[0, 0]` at the last node. With the
+    /// points and the tangents it gives each segment's cubic Hermite interpolant, the curve
+    /// [`cct`](Self::cct) measures against: for t in 0..=1 and `h = mired[i + 1] − mired[i]`,
+    /// `uv[i] + h·tangent[i]·(t − 2t² + t³) + chord[i]·(3t² − 2t³) + h·tangent[i + 1]·(t³ − t²)`.
+    pub const fn chord(&self) -> &[[f32; 2]; K] {
+        &self.chord
+    }
+
+    /// Internal, for the crate's tests: the unit tangent at each node in 1.14 fixed point
+    /// (16 384 is 1). The binary search over the nodes runs in integers, where an f32
+    /// operation is a library call of a hundred instructions.
+    #[doc(hidden)]
+    pub const fn unit_tangent_q14(&self) -> &[[i16; 2]; K] {
+        &self.unit_tangent_q14
+    }
+
+    /// Internal, for the crate's tests: `L · T̂` at each node, the point in 16 fractional bits
+    /// times the unit tangent above (30 fractional bits): a point P (16 fractional bits) lies
+    /// on the hot side of the node's isotemperature line where `P · T̂ − L · T̂ ≥ 0`.
+    #[doc(hidden)]
+    pub const fn along_q30(&self) -> &[i32; K] {
+        &self.along_q30
+    }
+
     /// The temperatures the table covers, lowest first: `[10⁶ / mired[K − 1], 10⁶ / mired[0]]`
     /// (1000 K and 100 000 K for the baked tables).
     pub fn kelvin_range(&self) -> [f32; 2] {
@@ -292,4 +326,41 @@ fn q16(x: f32) -> Option<i32> {
         return Some(0);
     }
     Some(((mantissa + (1 << (shift - 1))) >> shift) as i32)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::tables::PLANCKIAN_LOCUS;
+
+    /// Empty and one-node tables answer None. Only the crate can build a table (its fields are
+    /// the baked table's), so the test is here.
+    #[test]
+    fn empty_and_one_node_tables_answer_none() {
+        let empty = PlanckianLocus::<0> {
+            mired: [],
+            uv: [],
+            tangent: [],
+            chord: [],
+            unit_tangent_q14: [],
+            along_q30: [],
+        };
+        assert_eq!(empty.cct([1.0, 1.0, 1.0]), None);
+        assert!(empty.kelvin_range()[0].is_nan());
+        let one = PlanckianLocus::<1> {
+            mired: [PLANCKIAN_LOCUS.mired[5]],
+            uv: [PLANCKIAN_LOCUS.uv[5]],
+            tangent: [PLANCKIAN_LOCUS.tangent[5]],
+            chord: [[0.0; 2]],
+            unit_tangent_q14: [PLANCKIAN_LOCUS.unit_tangent_q14[5]],
+            along_q30: [PLANCKIAN_LOCUS.along_q30[5]],
+        };
+        // The node's own point, on the locus (XYZ with Y = 1 from its (u, v)): the whole table
+        // answers, the one-node table does not.
+        let [u, v] = PLANCKIAN_LOCUS.uv[5];
+        let xyz = [1.5 * u / v, 1.0, (4.0 - u - 10.0 * v) / (2.0 * v)];
+        assert!(PLANCKIAN_LOCUS.cct(xyz).is_some());
+        assert_eq!(one.cct(xyz), None);
+        assert_eq!(one.cct_from_uv([u, v]), None);
+    }
 }

@@ -357,7 +357,7 @@ fn locus_inputs() -> [[f32; 3]; SPECIALS + SWEEP] {
         [0.3, 0.6, 0.1],
         [1e30, 1.1e30, 0.9e30],
     ];
-    let k = LOCUS.mired.len();
+    let k = LOCUS.mired().len();
     let mut out = [[0.0f32; 3]; SPECIALS + SWEEP];
     for (i, xyz) in out.iter_mut().enumerate() {
         *xyz = match specials.get(i) {
@@ -369,10 +369,10 @@ fn locus_inputs() -> [[f32; 3]; SPECIALS + SWEEP] {
                 let j = (p * 7) % (k - 1);
                 let t = ((p * 13) % 16) as f32 / 16.0;
                 let off = ((p * 5) % 13) as f32 / 100.0 - 0.06;
-                let [tu, tv] = LOCUS.tangent[j];
+                let [tu, tv] = LOCUS.tangent()[j];
                 let scale = off / (tu.abs() + tv.abs());
-                let u = LOCUS.uv[j][0] + t * LOCUS.chord[j][0] - scale * tv;
-                let v = LOCUS.uv[j][1] + t * LOCUS.chord[j][1] + scale * tu;
+                let u = LOCUS.uv()[j][0] + t * LOCUS.chord()[j][0] - scale * tv;
+                let v = LOCUS.uv()[j][1] + t * LOCUS.chord()[j][1] + scale * tu;
                 xyz_from_uv([u, v])
             }
         };
