@@ -112,9 +112,7 @@ impl Display {
     ) -> Result<Display, Error> {
         if let TransferFunction::Gamma(g) = transfer {
             if !(g.is_finite() && g > 0.0) {
-                return Err(Error::Display(DisplayError::Gamma {
-                    gamma: f64::from(g),
-                }));
+                return Err(Error::Display(DisplayError::Gamma { gamma: g }));
             }
         }
         let f64s = |xy: [f32; 2]| xy.map(f64::from);
@@ -140,7 +138,7 @@ impl Display {
             .chain(&a_from_rgb);
         if !all.into_iter().all(|v| v.is_finite()) {
             return Err(Error::Display(DisplayError::Collinear {
-                condition: f64::INFINITY,
+                condition: f32::INFINITY,
             }));
         }
         Ok(Display {

@@ -1108,7 +1108,7 @@ fn display_new_refuses_bad_input_with_its_error() {
             matches!(
                 new([bad, p[1], p[2]], w, TransferFunction::Srgb),
                 Err(Error::Display(DisplayError::Chromaticity { point: Point::Red, xy }))
-                    if xy.map(|v| v.to_bits()) == bad.map(|v| f64::from(v).to_bits())
+                    if xy.map(|v| v.to_bits()) == bad.map(|v| v.to_bits())
             ),
             "primary {bad:?}"
         );
@@ -1124,7 +1124,7 @@ fn display_new_refuses_bad_input_with_its_error() {
         );
     }
     // Collinear primaries (all on x = y), and two equal ones.
-    let collinear = |r| matches!(r, Err(Error::Display(DisplayError::Collinear { condition })) if condition > MAX_PRIMARIES_CONDITION);
+    let collinear = |r| matches!(r, Err(Error::Display(DisplayError::Collinear { condition })) if f64::from(condition) > MAX_PRIMARIES_CONDITION);
     assert!(collinear(new(
         [[0.2, 0.2], [0.4, 0.4], [0.3, 0.3]],
         w,
@@ -1143,7 +1143,7 @@ fn display_new_refuses_bad_input_with_its_error() {
     for g in [0.0, -2.2, NAN, INF, -0.0] {
         let e = new(p, w, TransferFunction::Gamma(g));
         assert!(
-            matches!(e, Err(Error::Display(DisplayError::Gamma { gamma })) if gamma.to_bits() == f64::from(g).to_bits()),
+            matches!(e, Err(Error::Display(DisplayError::Gamma { gamma })) if gamma.to_bits() == g.to_bits()),
             "γ = {g}: {e:?}"
         );
         // Every error prints a sentence, with the details.

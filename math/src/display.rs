@@ -57,31 +57,32 @@ pub enum DisplayError {
     Chromaticity {
         /// Which one.
         point: Point,
-        /// Its (x, y).
-        xy: [f64; 2],
+        /// Its (x, y), to f32 (the error's details are for messages: f32 keeps f64 and its
+        /// formatting out of a firmware that prints them).
+        xy: [f32; 2],
     },
     /// The primaries are collinear or nearly so: the [`condition_number`] of their matrix is
     /// above [`MAX_PRIMARIES_CONDITION`]. It is infinite where the matrix is exactly singular,
     /// an entry overflows, or the matrix (or RGB → XYZ) has no finite inverse.
     Collinear {
-        /// The condition number.
-        condition: f64,
+        /// The condition number, to f32 (+Inf above f32's range).
+        condition: f32,
     },
     /// The white is not a mix of the primaries in which every primary's share exceeds
     /// [`MIN_WHITE_SHARE`] of the largest: it lies outside their triangle or on an edge.
     WhiteOutside {
-        /// The white point's chromaticity.
-        white_xy: [f64; 2],
+        /// The white point's chromaticity, to f32.
+        white_xy: [f32; 2],
         /// The primaries' shares of the white (at Y = 1 each): what they would have to be
-        /// driven at to make it.
-        drives: [f64; 3],
+        /// driven at to make it, to f32.
+        drives: [f32; 3],
     },
     /// A power-law transfer function's γ is not finite and positive (not a
     /// [`display_matrices`] error: the runtime's `Display::new` checks its transfer function
     /// first).
     Gamma {
         /// The γ given.
-        gamma: f64,
+        gamma: f32,
     },
 }
 
@@ -170,7 +171,10 @@ pub fn display_matrices(
     white_xy: [f64; 2],
 ) -> Result<DisplayMatrices, DisplayError> {
     let point_xyz = |point: Point, xy: [f64; 2]| {
-        xyz_from_xy(xy).ok_or(DisplayError::Chromaticity { point, xy })
+        xyz_from_xy(xy).ok_or(DisplayError::Chromaticity {
+            point,
+            xy: xy.map(|v| v as f32),
+        })
     };
     let cols = [
         point_xyz(Point::Red, primaries_xy[0])?,
@@ -180,7 +184,9 @@ pub fn display_matrices(
     let white = point_xyz(Point::White, white_xy)?;
     // Row r, column c: component r of primary c.
     let p = [0, 1, 2].map(|r| [cols[0][r], cols[1][r], cols[2][r]]);
-    let collinear = |condition| DisplayError::Collinear { condition };
+    let collinear = |condition: f64| DisplayError::Collinear {
+        condition: condition as f32,
+    };
     let condition = condition_number(&p);
     if condition.is_nan() || condition > MAX_PRIMARIES_CONDITION {
         return Err(collinear(condition));
@@ -194,8 +200,8 @@ pub fn display_matrices(
         .all(|&v| v.is_finite() && v > MIN_WHITE_SHARE * largest)
     {
         return Err(DisplayError::WhiteOutside {
-            white_xy,
-            drives: s,
+            white_xy: white_xy.map(|v| v as f32),
+            drives: s.map(|v| v as f32),
         });
     }
     let rgb_to_xyz = p.map(|row| [row[0] * s[0], row[1] * s[1], row[2] * s[2]]);
