@@ -24,6 +24,16 @@ pub enum GamutMapping {
     PreserveA,
 }
 
+impl GamutMapping {
+    /// `"Clip"` or `"PreserveA"`: the variant's name, for logs and messages.
+    pub const fn name(self) -> &'static str {
+        match self {
+            GamutMapping::Clip => "Clip",
+            GamutMapping::PreserveA => "PreserveA",
+        }
+    }
+}
+
 /// A display: primaries, white point (CIE 1931 xy), the matrices between linear RGB and XYZ
 /// (white at Y = 1), and a transfer function.
 #[derive(Debug, Clone, Copy, PartialEq)]

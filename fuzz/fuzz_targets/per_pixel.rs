@@ -24,7 +24,7 @@ fuzz_target!(|data: &[u8]| {
         let s: [f32; 4] = chunk.try_into().unwrap();
         check_set("TABLE2_ROW2", &TABLE2_ROW2, &r.row2, &s);
         for (j, display) in displays::ALL.iter().enumerate() {
-            let what = format!("TABLE2_ROW2 folded for {}", display.name);
+            let what = format!("TABLE2_ROW2 folded for {}", display.name());
             check_folded(&what, &FOLDED_ROW2[j], display, &r.row2_folded[j], &s);
         }
     }
@@ -32,7 +32,7 @@ fuzz_target!(|data: &[u8]| {
         let s: [f32; 6] = chunk.try_into().unwrap();
         check_set("TABLE2_ROW1", &TABLE2_ROW1, &r.row1, &s);
         for (j, display) in displays::ALL.iter().enumerate() {
-            let what = format!("TABLE2_ROW1 folded for {}", display.name);
+            let what = format!("TABLE2_ROW1 folded for {}", display.name());
             check_folded(&what, &FOLDED_ROW1[j], display, &r.row1_folded[j], &s);
         }
     }

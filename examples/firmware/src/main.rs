@@ -70,10 +70,7 @@ fn pow2(e: i32) -> f32 {
 }
 
 fn mapping_name(m: GamutMapping) -> &'static str {
-    match m {
-        GamutMapping::Clip => "Clip",
-        GamutMapping::PreserveA => "PreserveA",
-    }
+    m.name()
 }
 
 /// An f32 as its bits in hex, or `nan` for any NaN: IEEE 754 leaves a NaN result's sign and

@@ -99,7 +99,7 @@ impl Spectra {
     }
 
     /// The file label.
-    pub(crate) fn file(&self) -> &str {
+    pub fn file(&self) -> &str {
         &self.table.file
     }
 
