@@ -270,7 +270,7 @@ pub mod tables {
     /// [`f32_budget`](crate::f32_budget)`(N, Σ|wᵢ·sᵢ|)` of the runtime's. `<display>_encode` uses
     /// the shader's f32 `pow`, whose error WGSL and Vulkan inherit from `exp2(y · log2(x))`; on the
     /// same linear input it stays within 5.7e-7 of the runtime's f64 curve (the largest value of
-    /// the bound `shaders/tests/shaders.rs` derives from those precisions). `shaders/tests/shaders.rs` runs both
+    /// the bound `shader-tests/tests/shaders.rs` derives from those precisions). `shader-tests/tests/shaders.rs` runs both
     /// snippets on a Vulkan device and checks every output against these bounds.
     ///
     /// Shaders may flush subnormal values to zero, and what they do with not-a-number values is up

@@ -8,8 +8,6 @@
 //! `cargo test --release --test integration -- calibration:: --nocapture` prints the tables of
 //! docs/colour-temperature-and-calibration.md.
 
-use spectral_quadrature_build as sqd;
-
 mod common;
 
 use proptest::prelude::*;
@@ -17,8 +15,8 @@ use spectral_quadrature::{
     xyz_from_ac1c2, Calibration, CalibrationProblem, CountCalibration, Error, Samples,
     WavelengthSet,
 };
-use sqd::calibration::{self, Readings};
-use sqd::evaluate::Curve;
+use spectral_quadrature_build::calibration::{self, Readings};
+use spectral_quadrature_build::evaluate::Curve;
 use std::sync::OnceLock;
 
 /// The data files the derivation reads (the runtime crate's `data/`).
@@ -254,16 +252,26 @@ fn bench() -> &'static Bench {
     static B: OnceLock<Bench> = OnceLock::new();
     B.get_or_init(|| {
         let data = std::path::Path::new(DATA_DIR);
-        let d = sqd::derive(&sqd::Settings::new(DATA_DIR)).unwrap();
+        let d =
+            spectral_quadrature_build::derive(&spectral_quadrature_build::Settings::new(DATA_DIR))
+                .unwrap();
         let range = d.settings.range_nm;
-        let sensor = sqd::user::Sensor::read(
+        let sensor = spectral_quadrature_build::user::Sensor::read(
             data.join("sensor_as7341_gaussian.csv").as_path(),
             "data/sensor_as7341_gaussian.csv",
             range,
         )
         .unwrap();
-        let light = sqd::evaluate::builtin_illuminant(data, "C", range).unwrap();
-        let fitted = sqd::user::sensor_set(&d, "AS7341", "AS7341", &sensor, Some(&light)).unwrap();
+        let light =
+            spectral_quadrature_build::evaluate::builtin_illuminant(data, "C", range).unwrap();
+        let fitted = spectral_quadrature_build::user::sensor_set(
+            &d,
+            "AS7341",
+            "AS7341",
+            &sensor,
+            Some(&light),
+        )
+        .unwrap();
         // AC1C2 rows = Eq. 9 · XYZ rows, rounded to f32 as the build rounds them.
         let m = d.opponent.xyz_to_ac1c2;
         let weights: [[f32; 8]; 3] = core::array::from_fn(|r| {
@@ -291,13 +299,15 @@ fn bench() -> &'static Bench {
         let white = calibration::white_readings(&d, &sensor, Some(&light)).unwrap();
         // Exact colours in the same units: the light scaled so the perfect white has
         // Y = UNIT_SPECTRUM_Y.
-        let full = sqd::evaluate::full_integration(&d.observer, range, 1.0).unwrap();
+        let full =
+            spectral_quadrature_build::evaluate::full_integration(&d.observer, range, 1.0).unwrap();
         let scale = d.unit_spectrum_y / full.xyz(|nm| light.at(nm))[1];
         let white_xyz = full.xyz(|nm| scale * light.at(nm));
         let chart = |label: &'static str| {
             // The crate's reader: the rawtoaces file's rounding-noise negatives read as 0,
             // with a warning, as every tool reports them.
-            let spectra = sqd::evaluate::Spectra::builtin(data, label).unwrap();
+            let spectra =
+                spectral_quadrature_build::evaluate::Spectra::builtin(data, label).unwrap();
             if let Some(z) = spectra.zeroed() {
                 eprintln!("calibration: warning: {z}");
             }

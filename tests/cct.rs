@@ -9,8 +9,6 @@
 //! `cargo test --release --test integration -- cct:: --nocapture` prints the accuracy tables of
 //! docs/colour-temperature-and-calibration.md.
 
-use spectral_quadrature_build as sqd;
-
 mod common;
 
 use common::cie015::{plain_light_xyz, plain_light_xyz_over, plain_xyz};
@@ -18,21 +16,23 @@ use common::cie015::{plain_light_xyz, plain_light_xyz_over, plain_xyz};
 use proptest::prelude::*;
 use spectral_quadrature::tables::PLANCKIAN_LOCUS;
 use spectral_quadrature::{uv_from_xyz, Cct, CCT_MAX_ERROR_MIRED, DUV_MAX_ERROR};
-use sqd::planckian::{self, CctDuv};
+use spectral_quadrature_build::planckian::{self, CctDuv};
 use std::sync::OnceLock;
 
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data");
 
 struct Fixture {
-    d: sqd::Derivation,
+    d: spectral_quadrature_build::Derivation,
     locus: planckian::PlanckianLocus,
 }
 
 fn fixture() -> &'static Fixture {
     static F: OnceLock<Fixture> = OnceLock::new();
     F.get_or_init(|| {
-        let d = sqd::derive(&sqd::Settings::new(DATA_DIR)).expect("default derivation");
+        let d =
+            spectral_quadrature_build::derive(&spectral_quadrature_build::Settings::new(DATA_DIR))
+                .expect("default derivation");
         let locus = planckian::PlanckianLocus::standard(&d.observer).unwrap();
         Fixture { d, locus }
     })
@@ -207,7 +207,7 @@ fn the_cie_illuminants_and_leds() {
     println!("| light | exact CCT | exact Duv | runtime CCT | runtime Duv | ΔT | ΔDuv |");
     println!("|---|---|---|---|---|---|---|");
     let mut checked = 0;
-    for name in sqd::evaluate::builtin_lights() {
+    for name in spectral_quadrature_build::evaluate::builtin_lights() {
         let xyz = plain_light_xyz(name).map(|c| c as f32);
         let e = exact(xyz).unwrap_or_else(|| panic!("{name}: no exact CCT"));
         let (got, _, dmired, dduv) = errors(xyz);

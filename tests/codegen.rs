@@ -1,13 +1,11 @@
 //! The baked tables equal a fresh derivation: every f64 value rounded to f32 exactly as the code
 //! generator does (`as f32`), so the comparisons are exact.
 
-use spectral_quadrature_build as sqd;
-
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data");
 
 use spectral_quadrature::{tables, Channel, RuleStatus, WavelengthSet};
-use sqd::{derive, Derivation, Settings};
+use spectral_quadrature_build::{derive, Derivation, Settings};
 use std::sync::OnceLock;
 
 fn fresh() -> &'static Derivation {
@@ -90,7 +88,10 @@ fn every_rule_and_its_status() {
     assert!(defined >= 30, "{defined} defined rules");
 }
 
-fn assert_set<const N: usize>(baked: &WavelengthSet<N>, fresh: &sqd::WavelengthSet) {
+fn assert_set<const N: usize>(
+    baked: &WavelengthSet<N>,
+    fresh: &spectral_quadrature_build::WavelengthSet,
+) {
     assert_eq!(baked.wavelengths_nm().to_vec(), f32s(&fresh.wavelengths_nm));
     for c in 0..3 {
         assert_eq!(baked.weights()[c].to_vec(), f32s(&fresh.weights[c]));
@@ -144,9 +145,10 @@ fn table2_sets_and_rule_sets() {
 #[test]
 fn generated_source_is_what_the_generator_writes_now() {
     // The whole file, byte for byte: nothing in it comes from anywhere but the derivation.
-    let generated = sqd::generate(std::path::Path::new(env!("CARGO_MANIFEST_DIR")), None)
-        .unwrap()
-        .tables_rs;
+    let generated =
+        spectral_quadrature_build::generate(std::path::Path::new(env!("CARGO_MANIFEST_DIR")), None)
+            .unwrap()
+            .tables_rs;
     let baked = include_str!(concat!(env!("OUT_DIR"), "/tables.rs"));
     assert_eq!(generated, baked);
     assert!(!baked.contains("NaN") && !baked.contains("inf"));
@@ -160,7 +162,11 @@ fn every_input_checksum_is_that_of_the_file_in_data() {
     for (label, sha) in tables::INPUTS {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(label);
         let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("{label}: {e}"));
-        assert_eq!(sqd::sha256_hex(&bytes), *sha, "{label}");
+        assert_eq!(
+            spectral_quadrature_build::sha256_hex(&bytes),
+            *sha,
+            "{label}"
+        );
     }
 }
 

@@ -10,8 +10,6 @@
 // Channel loops index several parallel arrays (weights, references, outputs) by channel.
 #![allow(clippy::needless_range_loop)]
 
-use spectral_quadrature_build as sqd;
-
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data");
 
@@ -31,7 +29,7 @@ use spectral_quadrature::{
     ac1c2_from_xyz, f32_budget, xyz_from_ac1c2, Display, DynamicSet, Error, FoldedSet,
     GamutMapping, GaussRule, RuleStatus, WavelengthSet,
 };
-use sqd::{derive, Derivation, Settings};
+use spectral_quadrature_build::{derive, Derivation, Settings};
 
 /// ε as f64.
 const EPS: f64 = f32::EPSILON as f64;
@@ -423,13 +421,22 @@ fn p3_xyz_ac1c2_round_trip() {
 // 4. Baked constants equal a fresh derivation
 // ---------------------------------------------------------------------------------------------
 
-fn status_matches(baked: RuleStatus, fresh: sqd::Status) -> bool {
+fn status_matches(baked: RuleStatus, fresh: spectral_quadrature_build::Status) -> bool {
     matches!(
         (baked, fresh),
-        (RuleStatus::Defined, sqd::Status::Defined)
-            | (RuleStatus::Outside, sqd::Status::Outside)
-            | (RuleStatus::Complex, sqd::Status::Complex)
-            | (RuleStatus::VanishingNorm, sqd::Status::VanishingNorm)
+        (
+            RuleStatus::Defined,
+            spectral_quadrature_build::Status::Defined
+        ) | (
+            RuleStatus::Outside,
+            spectral_quadrature_build::Status::Outside
+        ) | (
+            RuleStatus::Complex,
+            spectral_quadrature_build::Status::Complex
+        ) | (
+            RuleStatus::VanishingNorm,
+            spectral_quadrature_build::Status::VanishingNorm
+        )
     )
 }
 

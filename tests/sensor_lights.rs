@@ -5,13 +5,11 @@
 //! `cargo test --release --test integration -- sensor_lights:: --nocapture` prints the table of
 //! docs/colour-temperature-and-calibration.md.
 
-use spectral_quadrature_build as sqd;
-
 mod common;
 
 use spectral_quadrature::tables::PLANCKIAN_LOCUS;
 use spectral_quadrature::{LuxScale, Samples, WavelengthSet};
-use sqd::evaluate::Curve;
+use spectral_quadrature_build::evaluate::Curve;
 use std::path::Path;
 
 /// The data files the derivation reads (the runtime crate's `data/`).
@@ -19,11 +17,12 @@ const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data");
 
 /// The example sensor's set fitted for `light` (radiances if `None`), as the runtime bakes it.
 fn sensor_set(
-    d: &sqd::Derivation,
-    sensor: &sqd::user::Sensor,
+    d: &spectral_quadrature_build::Derivation,
+    sensor: &spectral_quadrature_build::user::Sensor,
     light: Option<&Curve>,
 ) -> WavelengthSet<8> {
-    let fitted = sqd::user::sensor_set(d, "AS7341", "AS7341", sensor, light).unwrap();
+    let fitted =
+        spectral_quadrature_build::user::sensor_set(d, "AS7341", "AS7341", sensor, light).unwrap();
     let m = d.opponent.xyz_to_ac1c2;
     WavelengthSet::new(
         core::array::from_fn(|k| fitted.wavelengths_nm[k] as f32),
@@ -47,22 +46,31 @@ fn sensor_set(
 /// bounds below.
 #[test]
 fn lux_and_cct_of_the_lights() {
-    let d = sqd::derive(&sqd::Settings::new(DATA_DIR)).unwrap();
+    let d = spectral_quadrature_build::derive(&spectral_quadrature_build::Settings::new(DATA_DIR))
+        .unwrap();
     let range = d.settings.range_nm;
-    let sensor = sqd::user::Sensor::read(
+    let sensor = spectral_quadrature_build::user::Sensor::read(
         &Path::new(DATA_DIR).join("sensor_as7341_gaussian.csv"),
         "data/sensor_as7341_gaussian.csv",
         range,
     )
     .unwrap();
-    let c = sqd::evaluate::builtin_illuminant(Path::new(DATA_DIR), "C", range).unwrap();
-    let full = sqd::evaluate::full_integration(&d.observer, range, 1.0).unwrap();
-    let lights: Vec<(&str, Curve)> = sqd::evaluate::builtin_lights()
+    let c =
+        spectral_quadrature_build::evaluate::builtin_illuminant(Path::new(DATA_DIR), "C", range)
+            .unwrap();
+    let full =
+        spectral_quadrature_build::evaluate::full_integration(&d.observer, range, 1.0).unwrap();
+    let lights: Vec<(&str, Curve)> = spectral_quadrature_build::evaluate::builtin_lights()
         .into_iter()
         .map(|n| {
             (
                 n,
-                sqd::evaluate::builtin_illuminant(Path::new(DATA_DIR), n, range).unwrap(),
+                spectral_quadrature_build::evaluate::builtin_illuminant(
+                    Path::new(DATA_DIR),
+                    n,
+                    range,
+                )
+                .unwrap(),
             )
         })
         .collect();
@@ -71,10 +79,14 @@ fn lux_and_cct_of_the_lights() {
     // Each light is scaled to the same luminance (Y = UNIT_SPECTRUM_Y): the illuminance the
     // set should report is the same for every light.
     let readings = |l: &Curve| -> [f32; 8] {
-        let r =
-            sqd::calibration::golden_readings(&d, &sensor, Some(l), std::slice::from_ref(&white))
-                .unwrap()
-                .remove(0);
+        let r = spectral_quadrature_build::calibration::golden_readings(
+            &d,
+            &sensor,
+            Some(l),
+            std::slice::from_ref(&white),
+        )
+        .unwrap()
+        .remove(0);
         core::array::from_fn(|k| r[k] as f32)
     };
     println!("| light | exact CCT | radiance fit: lux error | CCT error | Duv error | fit under C: lux error | CCT error | Duv error |");
@@ -144,12 +156,13 @@ fn lux_and_cct_of_the_lights() {
 #[test]
 fn spectral_irradiance_y_against_cie_015s_range() {
     use common::cie015::{plain_light_xyz, plain_light_xyz_over};
-    let d = sqd::derive(&sqd::Settings::new(DATA_DIR)).unwrap();
+    let d = spectral_quadrature_build::derive(&spectral_quadrature_build::Settings::new(DATA_DIR))
+        .unwrap();
     let [lo, hi] = d.settings.range_nm.map(|nm| nm as u32);
     let mut worst = (0.0f64, "");
     println!("| light | Y over {lo}-{hi} nm / Y over 360-830 nm − 1 |");
     println!("|---|---|");
-    for name in sqd::evaluate::builtin_lights() {
+    for name in spectral_quadrature_build::evaluate::builtin_lights() {
         let scene = plain_light_xyz_over([lo, hi], name)[1];
         let standard = plain_light_xyz(name)[1];
         let relative = scene / standard - 1.0;

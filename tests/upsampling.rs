@@ -8,9 +8,8 @@ use std::sync::OnceLock;
 
 use spectral_quadrature::tables::{folded, upsampling};
 use spectral_quadrature::{delta_e2000, lab_from_xyz, Error, FoldedSet, Samples, Upsampling};
-use spectral_quadrature_build as sqd;
-use sqd::scene::{Resolved, Scene};
-use sqd::upsampling::Baked;
+use spectral_quadrature_build::scene::{Resolved, Scene};
+use spectral_quadrature_build::upsampling::Baked;
 
 use common::check_property;
 use proptest::prelude::*;
@@ -20,10 +19,12 @@ const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data");
 
 /// The default scene, resolved afresh with every upsampling fitted (the cache ignored): the same
 /// bakes as the tables, in f64.
-fn fresh() -> &'static (sqd::Derivation, Resolved) {
-    static R: OnceLock<(sqd::Derivation, Resolved)> = OnceLock::new();
+fn fresh() -> &'static (spectral_quadrature_build::Derivation, Resolved) {
+    static R: OnceLock<(spectral_quadrature_build::Derivation, Resolved)> = OnceLock::new();
     R.get_or_init(|| {
-        let d = sqd::derive(&sqd::Settings::new(DATA_DIR)).unwrap();
+        let d =
+            spectral_quadrature_build::derive(&spectral_quadrature_build::Settings::new(DATA_DIR))
+                .unwrap();
         let r = Scene::default_scene(std::path::Path::new(DATA_DIR))
             .resolve_fitting(&d)
             .unwrap();
@@ -37,7 +38,7 @@ struct Fresh {
     name: &'static str,
     baked: &'static Baked,
     /// The display's matrices (f64), for the generator's functions.
-    matrices: &'static sqd::display::DisplayMatrices,
+    matrices: &'static spectral_quadrature_build::display::DisplayMatrices,
     /// The reference light at the nodes for a set for radiances (D65); `None` where the set's
     /// light is folded into its weights.
     light_at_nodes: Option<Vec<f64>>,
@@ -79,7 +80,7 @@ fn all_maps() -> Vec<(&'static (dyn Dyn + Sync), Fresh)> {
                 .1;
             let set = r.colour_sets.iter().find(|s| s.name == baked.set).unwrap();
             let light_at_nodes = set.light.is_none().then(|| {
-                let light = sqd::evaluate::builtin_illuminant(
+                let light = spectral_quadrature_build::evaluate::builtin_illuminant(
                     std::path::Path::new(DATA_DIR),
                     &baked.light,
                     d.settings.range_nm,
@@ -354,7 +355,7 @@ fn round_trip() {
             if !ok {
                 continue;
             }
-            let p = sqd::upsampling::grid_point(g, idx);
+            let p = spectral_quadrature_build::upsampling::grid_point(g, idx);
             let v = u.reflectance(p.map(|x| x as f32));
             let de = delta_e2000(lab(u, p), lab(u, encode(u, f, &v)));
             // The f32 path adds a few units of f32 rounding to the baked figure.
@@ -368,14 +369,18 @@ fn round_trip() {
         let mut edge_interpolated = 0.0f64;
         let (mut n_edge, mut n_unreachable) = (0, 0);
         for idx in 0..17 * 17 * 17 {
-            let p = sqd::upsampling::grid_point(17, idx);
+            let p = spectral_quadrature_build::upsampling::grid_point(17, idx);
             let (nearest, reachable) =
-                sqd::upsampling::project(m, &b.encoding, &fit.map, p).unwrap();
+                spectral_quadrature_build::upsampling::project(m, &b.encoding, &fit.map, p)
+                    .unwrap();
             let v = u.reflectance(p.map(|x| x as f32));
             let got = lab(u, encode(u, f, &v));
             if !reachable {
                 // Both are the colour nearest p in the same metric: one colour.
-                let want = lab(u, sqd::upsampling::encode(&b.encoding, &nearest));
+                let want = lab(
+                    u,
+                    spectral_quadrature_build::upsampling::encode(&b.encoding, &nearest),
+                );
                 unreachable = unreachable.max(delta_e2000(want, got));
                 n_unreachable += 1;
                 continue;
@@ -1139,12 +1144,16 @@ fn round_trip_at_random_points() {
                 let b = f.baked;
                 let map = &b.fit.as_ref().unwrap().map;
                 let (nearest, reachable) =
-                    sqd::upsampling::project(f.matrices, &b.encoding, map, p).unwrap();
+                    spectral_quadrature_build::upsampling::project(f.matrices, &b.encoding, map, p)
+                        .unwrap();
                 let got = lab(u, encode(u, f, &u.reflectance(rgb)));
                 let want = if reachable {
                     lab(u, p)
                 } else {
-                    lab(u, sqd::upsampling::encode(&b.encoding, &nearest))
+                    lab(
+                        u,
+                        spectral_quadrature_build::upsampling::encode(&b.encoding, &nearest),
+                    )
                 };
                 let de = delta_e2000(want, got);
                 assert!(

@@ -14,8 +14,7 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use spectral_quadrature_build as sqd;
-use sqd::evaluate::{self, Curve};
+use spectral_quadrature_build::evaluate::{self, Curve};
 
 /// The simulated device's exposure: its golden-device counts times this (a white reading
 /// leaves headroom for its gains).
@@ -87,8 +86,8 @@ fn simulate(manifest: &Path, out: &Path) -> Result<(), Box<dyn std::error::Error
     let data = root.join("data");
     let scene_path = manifest.join("scene.toml");
     let text = std::fs::read_to_string(&scene_path)?;
-    let scene = sqd::scene::Scene::parse(&scene_path.display().to_string(), &text, &data)?;
-    let d = sqd::derive(&scene.settings)?;
+    let scene = spectral_quadrature_build::scene::Scene::parse(&scene_path.display().to_string(), &text, &data)?;
+    let d = spectral_quadrature_build::derive(&scene.settings)?;
     let range = d.settings.range_nm;
     let (_, fitted) = scene.resolve_user(&d)?;
     let sensor_set = fitted
@@ -102,7 +101,7 @@ fn simulate(manifest: &Path, out: &Path) -> Result<(), Box<dyn std::error::Error
         .channels;
     // One count is what `tables::integer::AS7341_SRGB` takes it for (the generator's rule).
     let largest_white = sensor_set.white_samples.iter().copied().fold(0.0, f64::max);
-    let unit = f64::from((largest_white / sqd::fixed_point::FULL_SCALE) as f32);
+    let unit = f64::from((largest_white / spectral_quadrature_build::fixed_point::FULL_SCALE) as f32);
 
     // Illuminant C at the luminance of a spectrum of constant 1, as the set was fitted for.
     let full = evaluate::full_integration(&d.observer, range, 1.0)?;

@@ -19,7 +19,7 @@
 use std::vec::Vec;
 
 use spectral_quadrature_build::evaluate::{self, Curve, EvalSet, Reference, Spectra, Stimulus};
-use spectral_quadrature_build::{self as sqd, shared, Derivation};
+use spectral_quadrature_build::{shared, Derivation};
 
 use crate::Error;
 
@@ -81,7 +81,7 @@ pub fn interval_set(d: &Derivation, light: &Curve, step_nm: f64) -> Result<EvalS
         nm += step_nm;
     }
     let last = *nodes.last().ok_or_else(|| {
-        sqd::Error::Settings(std::format!(
+        spectral_quadrature_build::Error::Settings(std::format!(
             "no interval nodes on the range {range:?} at {step_nm} nm"
         ))
     })?;
@@ -174,9 +174,9 @@ pub fn rule_spaces(
     let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
     let sml_to_xyz = {
         let m = nalgebra::Matrix3::from_fn(|r, c| d.settings.cone_matrix[r][c]);
-        let inv = m
-            .try_inverse()
-            .ok_or_else(|| sqd::Error::Numerical("the cone matrix is singular".into()))?;
+        let inv = m.try_inverse().ok_or_else(|| {
+            spectral_quadrature_build::Error::Numerical("the cone matrix is singular".into())
+        })?;
         [0, 1, 2].map(|r| [0, 1, 2].map(|c| inv[(r, c)]))
     };
     let spaces: [Space; 3] = [

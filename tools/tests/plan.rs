@@ -2,18 +2,16 @@
 //! `tests/fixtures/plan/README.md`): the chosen set meets the budget, measured again here
 //! without the planner, and no set with fewer wavelengths does.
 
-use spectral_quadrature_build as sqd;
-
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = spectral_quadrature_tools::DATA_DIR;
 
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
-use sqd::evaluate::{self, EvalSet, Reference, Stimulus};
-use sqd::plan::{self, Candidate, Metric, PlanError};
-use sqd::table::Negatives;
-use sqd::{catalog, Derivation, Settings};
+use spectral_quadrature_build::evaluate::{self, EvalSet, Reference, Stimulus};
+use spectral_quadrature_build::plan::{self, Candidate, Metric, PlanError};
+use spectral_quadrature_build::table::Negatives;
+use spectral_quadrature_build::{catalog, Derivation, Settings};
 
 const BUDGETS: [(Metric, f64); 5] = [
     (Metric::Mean, 2.0),
@@ -41,7 +39,7 @@ struct Fixture {
 fn fixture_data() -> &'static Fixture {
     static F: OnceLock<Fixture> = OnceLock::new();
     F.get_or_init(|| {
-        let d = sqd::derive(&Settings::new(DATA_DIR)).unwrap();
+        let d = spectral_quadrature_build::derive(&Settings::new(DATA_DIR)).unwrap();
         let (stimuli, zeroed) = plan::stimuli_from_files(
             d.settings.range_nm,
             Some(&fixture("reflectances.csv")),
@@ -250,7 +248,10 @@ fn an_impossible_budget_states_the_best_achievable() {
         // plan() reports the same.
         let e = plan::plan(&f.d, &f.stimuli, 1e-9, metric).unwrap_err();
         assert!(
-            matches!(&e, sqd::Error::Plan(PlanError::Unreachable { .. })),
+            matches!(
+                &e,
+                spectral_quadrature_build::Error::Plan(PlanError::Unreachable { .. })
+            ),
             "{e:?}"
         );
         assert_eq!(e.to_string(), msg);
@@ -267,7 +268,10 @@ fn bad_budgets_are_rejected() {
         ));
         let e = plan::plan(&f.d, &f.stimuli, b, Metric::Max).unwrap_err();
         assert!(
-            matches!(&e, sqd::Error::Plan(PlanError::BadBudget(_))),
+            matches!(
+                &e,
+                spectral_quadrature_build::Error::Plan(PlanError::BadBudget(_))
+            ),
             "{e:?}"
         );
         assert!(e.to_string().starts_with("bad budget: "), "{e}");
@@ -340,8 +344,12 @@ fn the_scene_names_the_chosen_set() {
         assert!(comments.iter().any(|l| l.contains(&r.name)));
     }
     // The scene parser accepts it and bakes the chosen set.
-    let scene =
-        sqd::scene::Scene::parse("planned.toml", &text, std::path::Path::new(DATA_DIR)).unwrap();
+    let scene = spectral_quadrature_build::scene::Scene::parse(
+        "planned.toml",
+        &text,
+        std::path::Path::new(DATA_DIR),
+    )
+    .unwrap();
     let resolved = scene.resolve(&f.d).unwrap();
     let names: Vec<&str> = resolved
         .colour_sets
@@ -357,7 +365,7 @@ fn a_scene_plan_table_resolves_to_the_planners_choice() {
     let f = fixture_data();
     let scene_file = fixture("scene.toml"); // need not exist: paths are relative to it
     let text = "displays = [\"SRGB\"]\n\n[plan]\nmax_delta_e00 = 3.0\nmetric = \"max\"\nreflectances = \"reflectances.csv\"\nilluminants = \"illuminant.csv\"\n";
-    let scene = sqd::scene::Scene::parse(
+    let scene = spectral_quadrature_build::scene::Scene::parse(
         &scene_file.to_string_lossy(),
         text,
         std::path::Path::new(DATA_DIR),
@@ -408,16 +416,22 @@ fn input_errors_name_the_file() {
         Negatives::Refuse,
     )
     .unwrap_err();
-    assert_eq!(e, sqd::Error::Plan(PlanError::NoSpectra));
+    assert_eq!(
+        e,
+        spectral_quadrature_build::Error::Plan(PlanError::NoSpectra)
+    );
     assert!(e.to_string().contains("emission"), "{e}");
     let e = plan::evaluate_all(&f.d, &[]).unwrap_err();
-    assert_eq!(e, sqd::Error::Plan(PlanError::NoStimuli));
+    assert_eq!(
+        e,
+        spectral_quadrature_build::Error::Plan(PlanError::NoStimuli)
+    );
     assert!(e.to_string().contains("no stimuli"), "{e}");
     // A light that is zero everywhere has no colour to compare with.
     let dark = evaluate::Curve::constant("dark", 0.0, f.d.settings.range_nm);
     let e = plan::evaluate_all(&f.d, &evaluate::emissions(&[dark])).unwrap_err();
     assert!(
-        matches!(&e, sqd::Error::Plan(PlanError::NoReference { stimulus, .. }) if stimulus == "dark"),
+        matches!(&e, spectral_quadrature_build::Error::Plan(PlanError::NoReference { stimulus, .. }) if stimulus == "dark"),
         "{e:?}"
     );
     assert!(e.to_string().contains("\"dark\""), "{e}");

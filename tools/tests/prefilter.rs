@@ -1,25 +1,24 @@
 //! Spiky spectra and pre-filtering: band averaging (a) and exact lines (b).
 
-use spectral_quadrature_build as sqd;
 use spectral_quadrature_tools as tools;
 
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = spectral_quadrature_tools::DATA_DIR;
 
-use sqd::evaluate::{self, Curve, EvalSet, Reference, Stimulus};
-use sqd::{derive, Settings};
+use spectral_quadrature_build::evaluate::{self, Curve, EvalSet, Reference, Stimulus};
+use spectral_quadrature_build::{derive, Settings};
 use tools::prefilter::{self, BandShape, ChannelSet, LineDetection, Method, Prefiltered};
 
 const RANGE: [f64; 2] = [380.0, 770.0];
 
 fn reference_set() -> EvalSet {
-    let obs = sqd::ObserverId::Cie1931_2deg
+    let obs = spectral_quadrature_build::ObserverId::Cie1931_2deg
         .load(std::path::Path::new(DATA_DIR))
         .unwrap();
     evaluate::full_integration(&obs, RANGE, 1.0).unwrap()
 }
 
-fn table2_sets(d: &sqd::Derivation) -> Vec<ChannelSet> {
+fn table2_sets(d: &spectral_quadrature_build::Derivation) -> Vec<ChannelSet> {
     prefilter::default_sets(d)
         .unwrap()
         .into_iter()

@@ -3,13 +3,12 @@
 //! estimator is unbiased for the report's 1 nm reference integral, and the f32 path the report
 //! times computes what the f64 one does.
 
-use spectral_quadrature_build as sqd;
 use spectral_quadrature_tools::random_wavelengths::{
     pixel_rng, reach, run_trials, Cells, Config, Reach, Sampler, SensorRgb, Target, Trials,
     VISIBLE_RANGE_NM,
 };
 
-use sqd::evaluate::{self, EvalSet, Spectra, Stimulus};
+use spectral_quadrature_build::evaluate::{self, EvalSet, Spectra, Stimulus};
 
 const DATA_DIR: &str = spectral_quadrature_tools::DATA_DIR;
 const RANGE: [f64; 2] = [380.0, 770.0];
@@ -25,7 +24,8 @@ fn samplers() -> [Sampler; 3] {
 }
 
 fn reference() -> EvalSet {
-    let d = sqd::derive(&sqd::Settings::new(DATA_DIR)).unwrap();
+    let d = spectral_quadrature_build::derive(&spectral_quadrature_build::Settings::new(DATA_DIR))
+        .unwrap();
     evaluate::full_integration(&d.observer, RANGE, 1.0).unwrap()
 }
 
@@ -329,7 +329,8 @@ fn reach_interpolates_in_log_spp_and_log_error() {
 #[test]
 fn the_f32_path_computes_what_the_f64_one_does() {
     let m = spectral_quadrature::tables::displays::SRGB.xyz_to_rgb();
-    let d = sqd::derive(&sqd::Settings::new(DATA_DIR)).unwrap();
+    let d = spectral_quadrature_build::derive(&spectral_quadrature_build::Settings::new(DATA_DIR))
+        .unwrap();
     let rows = d.observer.grid_rows(RANGE[0], RANGE[1], 1.0).unwrap();
     let xyz_bar: Vec<[f64; 3]> = rows.iter().map(|&r| d.observer.xyz[r]).collect();
     let sensor = SensorRgb::new(RANGE[0], &xyz_bar, m, 1.0);

@@ -1,13 +1,11 @@
 //! The report's figures and its input reader.
 
-use spectral_quadrature_build as sqd;
-
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = spectral_quadrature_tools::DATA_DIR;
 
+use spectral_quadrature_build::evaluate::{self, EvalSet, Reference, Spectra};
 use spectral_quadrature_build::paper;
-use sqd::evaluate::{self, EvalSet, Reference, Spectra};
-use sqd::{derive, Settings};
+use spectral_quadrature_build::{derive, Settings};
 
 const RANGE: [f64; 2] = [380.0, 770.0];
 

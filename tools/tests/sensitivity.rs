@@ -1,14 +1,13 @@
 //! How far the rules move with the data and settings, and displays the derivation refuses.
 
-use spectral_quadrature_build as sqd;
 use spectral_quadrature_tools as tools;
 
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = spectral_quadrature_tools::DATA_DIR;
 
-use sqd::display::{display_matrices, DisplaySpec, Transfer, MAX_CONDITION};
-use sqd::DisplayError;
-use sqd::{Settings, Status};
+use spectral_quadrature_build::display::{display_matrices, DisplaySpec, Transfer, MAX_CONDITION};
+use spectral_quadrature_build::DisplayError;
+use spectral_quadrature_build::{Settings, Status};
 use tools::sensitivity::{shifts, standard_variants};
 
 #[test]
@@ -84,7 +83,7 @@ fn nearly_collinear_primaries_are_refused_with_condition_number_and_threshold() 
         red[1] + t * (blue[1] - red[1]) + 1e-5,
     ];
     let e = display_matrices(&spec("FLAT", [red, on_line, blue], [0.3127, 0.329])).unwrap_err();
-    let sqd::Error::Display {
+    let spectral_quadrature_build::Error::Display {
         name,
         problem: DisplayError::Collinear { condition },
     } = &e
@@ -112,7 +111,7 @@ fn white_outside_the_primaries_triangle_is_refused() {
     assert!(
         matches!(
             &e,
-            sqd::Error::Display { problem: DisplayError::WhiteOutside { drives, .. }, .. }
+            spectral_quadrature_build::Error::Display { problem: DisplayError::WhiteOutside { drives, .. }, .. }
                 if drives.iter().any(|d| *d <= 0.0)
         ),
         "{e:?}"
@@ -136,7 +135,7 @@ fn invalid_chromaticities_are_refused() {
         assert!(
             matches!(
                 &e,
-                sqd::Error::Display {
+                spectral_quadrature_build::Error::Display {
                     problem: DisplayError::Chromaticity { point, .. },
                     ..
                 } if point.name() == "red primary"
@@ -155,14 +154,16 @@ fn invalid_chromaticities_are_refused() {
 fn standard_displays_are_well_conditioned_and_balanced() {
     // Condition numbers of real displays lie far below the threshold (measured 19-23), and each
     // white balance sums to 1 (white at Y = 1; f64 rounding 1e-12).
-    for s in sqd::display::standard_displays() {
+    for s in spectral_quadrature_build::display::standard_displays() {
         let m = display_matrices(&s).unwrap();
         assert!(m.condition < 50.0, "{}: {}", s.name, m.condition);
         assert!((m.luminance.iter().sum::<f64>() - 1.0).abs() < 1e-12);
     }
     // The paper's monitor: Y_r : Y_g : Y_b ≈ 0.222 : 0.707 : 0.071
     // (docs/reproducing-the-paper.md).
-    let meyer = sqd::display::standard_displays().pop().unwrap();
+    let meyer = spectral_quadrature_build::display::standard_displays()
+        .pop()
+        .unwrap();
     let l = display_matrices(&meyer).unwrap().luminance;
     for (v, expect) in l.iter().zip([0.222, 0.707, 0.071]) {
         assert!((v - expect).abs() < 0.0006, "{l:?}");

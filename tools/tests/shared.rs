@@ -1,7 +1,6 @@
 //! Shared sets by kernel quadrature: trained on the CIE test colour samples only, judged on the
 //! ColorChecker (Ohta) under C, D65, A and F11, with the white integrated by the same set.
 
-use spectral_quadrature_build as sqd;
 use spectral_quadrature_tools as tools;
 
 /// The data files the derivation reads (the runtime crate's `data/`).
@@ -9,8 +8,8 @@ const DATA_DIR: &str = spectral_quadrature_tools::DATA_DIR;
 
 use std::sync::OnceLock;
 
-use sqd::evaluate::{self, Reference, Spectra};
-use sqd::{catalog, derive, shared, Derivation, Settings};
+use spectral_quadrature_build::evaluate::{self, Reference, Spectra};
+use spectral_quadrature_build::{catalog, derive, shared, Derivation, Settings};
 use tools::budget::{self, Entry, BUDGETS, LIGHTS, METHODS};
 
 struct Judged {
@@ -179,9 +178,9 @@ fn the_catalog_builds_the_same_sets_the_comparison_judged() {
     assert!((y - unit).abs() <= 1e-12 * unit, "{y} vs {unit}");
     // Mistakes in a KQ name are typed, and their messages list the choices.
     let err = catalog::resolve(d, "KQ_Z9_6").unwrap_err();
-    let sqd::Error::SetName {
+    let spectral_quadrature_build::Error::SetName {
         problem:
-            sqd::SetNameProblem::UnknownLight {
+            spectral_quadrature_build::SetNameProblem::UnknownLight {
                 light,
                 valid,
                 scene,
@@ -201,8 +200,8 @@ fn the_catalog_builds_the_same_sets_the_comparison_judged() {
     assert!(
         matches!(
             &err,
-            sqd::Error::SetName {
-                problem: sqd::SetNameProblem::Size { size: 2, .. },
+            spectral_quadrature_build::Error::SetName {
+                problem: spectral_quadrature_build::SetNameProblem::Size { size: 2, .. },
                 ..
             }
         ),

@@ -2,14 +2,13 @@
 //! order's classification is from flipping (`tools/src/stability.rs`). Run with `--nocapture`
 //! for the tables. Every bound below says what was measured (CIE 1931 2°, 380-770 nm, 5 nm).
 
-use spectral_quadrature_build as sqd;
 use spectral_quadrature_tools as tools;
 
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = spectral_quadrature_tools::DATA_DIR;
 
-use sqd::quadrature::{stieltjes, Measure};
-use sqd::{derive, Derivation, ObserverId, Settings, Status};
+use spectral_quadrature_build::quadrature::{stieltjes, Measure};
+use spectral_quadrature_build::{derive, Derivation, ObserverId, Settings, Status};
 use std::sync::OnceLock;
 use tools::stability::{
     breakdown_order, chosen_rules, compare, margin_table, margins, moment_residual,

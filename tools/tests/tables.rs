@@ -1,7 +1,6 @@
 //! `tables --rust`, `--wgsl` and `--glsl` print what the runtime's build script bakes for the
 //! scene named by `SPECTRAL_QUADRATURE_SCENE`, byte for byte, from any working directory.
 
-use spectral_quadrature_build as sqd;
 use spectral_quadrature_tools as tools;
 
 use std::path::{Path, PathBuf};
@@ -37,8 +36,8 @@ fn run(flag: &str, scene: Option<&str>, cwd: &Path) -> Output {
     let mut cmd = Command::new(TABLES);
     cmd.arg(flag).current_dir(cwd);
     match scene {
-        Some(s) => cmd.env(sqd::SCENE_ENV, s),
-        None => cmd.env_remove(sqd::SCENE_ENV),
+        Some(s) => cmd.env(spectral_quadrature_build::SCENE_ENV, s),
+        None => cmd.env_remove(spectral_quadrature_build::SCENE_ENV),
     };
     cmd.output().expect("tables runs")
 }
@@ -55,7 +54,7 @@ fn stdout(out: &Output) -> &str {
 
 #[test]
 fn the_default_scene_prints_what_the_build_script_writes() {
-    let expected = sqd::generate(&crate_dir(), None).unwrap();
+    let expected = spectral_quadrature_build::generate(&crate_dir(), None).unwrap();
     let here = crate_dir();
     assert_eq!(stdout(&run("--rust", None, &here)), expected.tables_rs);
     assert_eq!(stdout(&run("--wgsl", None, &here)), expected.wgsl);
@@ -69,7 +68,7 @@ fn a_relative_scene_is_read_from_the_runtime_crate_wherever_it_runs() {
     // directory.
     let elsewhere = Scratch::new("cwd");
     let scene = "examples/scenes/minimal.toml";
-    let expected = sqd::generate(&crate_dir(), Some(scene.as_ref())).unwrap();
+    let expected = spectral_quadrature_build::generate(&crate_dir(), Some(scene.as_ref())).unwrap();
     let rust = run("--rust", Some(scene), &elsewhere.0);
     assert_eq!(stdout(&rust), expected.tables_rs);
     assert!(expected
@@ -86,7 +85,9 @@ fn a_relative_scene_is_read_from_the_runtime_crate_wherever_it_runs() {
     // Another scene bakes other tables.
     assert_ne!(
         expected.tables_rs,
-        sqd::generate(&crate_dir(), None).unwrap().tables_rs
+        spectral_quadrature_build::generate(&crate_dir(), None)
+            .unwrap()
+            .tables_rs
     );
 }
 

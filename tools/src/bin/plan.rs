@@ -15,7 +15,6 @@
 //! with one warning per file on standard error; a more negative value is an error naming its
 //! line and column, unless `--clamp-negatives` reads it as 0 too. With `--out -` the scene goes to standard output and the summary to standard error.
 
-use spectral_quadrature_build as sqd;
 use spectral_quadrature_tools as tools;
 use tools::Error;
 
@@ -24,8 +23,8 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::{Parser, ValueEnum};
-use sqd::evaluate::{self, Curve, Stimulus};
-use sqd::plan::{self, fmt_de, Candidate, Metric, Plan};
+use spectral_quadrature_build::evaluate::{self, Curve, Stimulus};
+use spectral_quadrature_build::plan::{self, fmt_de, Candidate, Metric, Plan};
 
 /// Finds the set with the fewest wavelengths that meets a ΔE00 budget and writes a scene file.
 #[derive(Parser)]
@@ -81,7 +80,7 @@ fn run(args: &Args) -> Result<(), Error> {
     let budget = args.max_delta_e;
     let metric = Metric::from(args.metric);
     plan::check_budget(budget)?;
-    let d = sqd::derive(&tools::settings())?;
+    let d = spectral_quadrature_build::derive(&tools::settings())?;
     tools::warn_zeroed("plan", &d.observer.zeroed);
     let displays = check_displays(&d, &args.displays)?;
     let range = d.settings.range_nm;
@@ -100,7 +99,7 @@ fn run(args: &Args) -> Result<(), Error> {
     );
     let display_refs: Vec<&str> = displays.iter().map(String::as_str).collect();
     let scene = plan::scene_toml(&p, d.settings.observer.name(), &display_refs, &note);
-    let chosen_set = sqd::catalog::resolve(&d, &p.chosen.name)?;
+    let chosen_set = spectral_quadrature_build::catalog::resolve(&d, &p.chosen.name)?;
     let summary = summary(
         &p,
         &candidates,
@@ -124,15 +123,20 @@ fn run(args: &Args) -> Result<(), Error> {
 }
 
 /// The displays, by the names the scene uses (any case); an unknown name is
-/// [`sqd::Error::UnknownDisplay`], listing the valid ones.
-fn check_displays(d: &sqd::Derivation, names: &[String]) -> Result<Vec<String>, Error> {
+/// [`spectral_quadrature_build::Error::UnknownDisplay`], listing the valid ones.
+fn check_displays(
+    d: &spectral_quadrature_build::Derivation,
+    names: &[String],
+) -> Result<Vec<String>, Error> {
     let mut out: Vec<String> = Vec::new();
     for n in names {
         let (spec, _) = d.display(&n.to_ascii_uppercase()).map_err(|e| match e {
-            sqd::Error::UnknownDisplay { valid, .. } => sqd::Error::UnknownDisplay {
-                name: n.clone(),
-                valid,
-            },
+            spectral_quadrature_build::Error::UnknownDisplay { valid, .. } => {
+                spectral_quadrature_build::Error::UnknownDisplay {
+                    name: n.clone(),
+                    valid,
+                }
+            }
             other => other,
         })?;
         if !out.contains(&spec.name) {

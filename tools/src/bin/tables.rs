@@ -17,7 +17,6 @@
 //!   cargo run -p spectral-quadrature-tools --bin tables -- --rust         # what the scene bakes
 //! ```
 
-use spectral_quadrature_build as sqd;
 use spectral_quadrature_tools as tools;
 
 use clap::Parser;
@@ -80,17 +79,17 @@ fn main() {
 }
 
 /// Prints what the runtime's build script writes for the scene of `SPECTRAL_QUADRATURE_SCENE`:
-/// the same call ([`sqd::generate`]) on the same crate directory, so the same bytes.
-fn print_baked(args: &Args) -> Result<(), sqd::Error> {
+/// the same call ([`spectral_quadrature_build::generate`]) on the same crate directory, so the same bytes.
+fn print_baked(args: &Args) -> Result<(), spectral_quadrature_build::Error> {
     let crate_dir = std::fs::canonicalize(tools::CRATE_DIR).map_err(|e| {
-        sqd::Error::Data(sqd::DataError {
+        spectral_quadrature_build::Error::Data(spectral_quadrature_build::DataError {
             file: tools::CRATE_DIR.into(),
             line: 0,
             message: format!("cannot find the runtime crate: {e}"),
         })
     })?;
-    let scene = std::env::var_os(sqd::SCENE_ENV);
-    let out = sqd::generate(&crate_dir, scene.as_deref())?;
+    let scene = std::env::var_os(spectral_quadrature_build::SCENE_ENV);
+    let out = spectral_quadrature_build::generate(&crate_dir, scene.as_deref())?;
     let text = if args.rust {
         out.tables_rs
     } else if args.wgsl {
@@ -110,40 +109,49 @@ fn print_baked(args: &Args) -> Result<(), sqd::Error> {
 }
 
 /// The other observers, derived here in f64 with their default settings.
-fn other_observers() -> Vec<sqd::Derivation> {
-    sqd::ObserverId::ALL
+fn other_observers() -> Vec<spectral_quadrature_build::Derivation> {
+    spectral_quadrature_build::ObserverId::ALL
         .into_iter()
         .filter(|id| id.name() != tables::OBSERVER)
         .map(|id| {
-            sqd::Settings::for_observer(id, tools::DATA_DIR)
-                .and_then(|s| sqd::derive(&s))
+            spectral_quadrature_build::Settings::for_observer(id, tools::DATA_DIR)
+                .and_then(|s| spectral_quadrature_build::derive(&s))
                 .unwrap_or_else(|e| panic!("deriving {}: {e}", id.name()))
         })
         .collect()
 }
 
 /// Searches every set of `shared::CACHED` afresh and prints the cache file.
-fn print_shared_cache() -> Result<(), sqd::Error> {
-    let d = sqd::derive(&tools::settings())?;
-    let entries = sqd::shared::CACHED
+fn print_shared_cache() -> Result<(), spectral_quadrature_build::Error> {
+    let d = spectral_quadrature_build::derive(&tools::settings())?;
+    let entries = spectral_quadrature_build::shared::CACHED
         .iter()
         .map(|&(light, n)| {
-            eprintln!("searching {}", sqd::shared::set_name(light, n));
-            sqd::shared::cache_entry(&d, light, n)
+            eprintln!(
+                "searching {}",
+                spectral_quadrature_build::shared::set_name(light, n)
+            );
+            spectral_quadrature_build::shared::cache_entry(&d, light, n)
         })
         .collect::<Result<Vec<_>, _>>()?;
-    print!("{}", sqd::shared::write_cache(&entries));
+    print!(
+        "{}",
+        spectral_quadrature_build::shared::write_cache(&entries)
+    );
     Ok(())
 }
 
 /// Fits every upsampling of the default scene afresh and prints the cache file.
-fn print_upsampling_cache() -> Result<(), sqd::Error> {
+fn print_upsampling_cache() -> Result<(), spectral_quadrature_build::Error> {
     let settings = tools::settings();
-    let d = sqd::derive(&settings)?;
-    let scene = sqd::scene::Scene::default_scene(&settings.data_dir);
+    let d = spectral_quadrature_build::derive(&settings)?;
+    let scene = spectral_quadrature_build::scene::Scene::default_scene(&settings.data_dir);
     let resolved = scene.resolve_fitting(&d)?;
     let entries = resolved.upsampling_cache(&d)?;
-    print!("{}", sqd::upsampling::write_cache(&entries));
+    print!(
+        "{}",
+        spectral_quadrature_build::upsampling::write_cache(&entries)
+    );
     Ok(())
 }
 

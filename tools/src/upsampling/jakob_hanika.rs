@@ -11,9 +11,8 @@
 //! table's interpolation.
 
 use nalgebra::{Matrix3, Vector3};
-use spectral_quadrature_build as sqd;
-use sqd::evaluate::{lab_from_xyz, Curve};
-use sqd::Derivation;
+use spectral_quadrature_build::evaluate::{lab_from_xyz, Curve};
+use spectral_quadrature_build::Derivation;
 
 use crate::Error;
 

@@ -19,9 +19,8 @@
 pub mod jakob_hanika;
 pub mod smooth;
 
-use spectral_quadrature_build as sqd;
-use sqd::evaluate::{self, delta_e2000, lab_from_xyz, Curve, EvalSet};
-use sqd::Derivation;
+use spectral_quadrature_build::evaluate::{self, delta_e2000, lab_from_xyz, Curve, EvalSet};
+use spectral_quadrature_build::Derivation;
 
 use crate::Error;
 
@@ -30,7 +29,12 @@ use crate::Error;
 pub fn srgb_under_d65(d: &Derivation, reflectances: &[Curve]) -> Result<Vec<[f64; 3]>, Error> {
     let (_, m) = d.display("SRGB")?;
     let d65 = d65(d)?;
-    Ok(sqd::upsampling::exact_rgb(d, m, &d65, reflectances)?)
+    Ok(spectral_quadrature_build::upsampling::exact_rgb(
+        d,
+        m,
+        &d65,
+        reflectances,
+    )?)
 }
 
 /// White-balanced sRGB under D65 of a unit spectrum at each 1 nm: the grid and rows R, G, B.

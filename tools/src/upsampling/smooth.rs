@@ -13,9 +13,8 @@
 //!   380-720 nm (the last bin held beyond); a colour is the smallest channel's white, plus the
 //!   secondary and primary that make up the rest.
 
-use spectral_quadrature_build as sqd;
-use sqd::upsampling::qp::nearest_in_box;
-use sqd::Derivation;
+use spectral_quadrature_build::upsampling::qp::nearest_in_box;
+use spectral_quadrature_build::Derivation;
 
 use crate::Error;
 

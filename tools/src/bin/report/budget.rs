@@ -8,11 +8,11 @@ use std::path::{Path, PathBuf};
 use plotters::prelude::*;
 
 use crate::plot::plot_err;
-use crate::sqd::evaluate::{self, Curve, EvalSet};
-use crate::sqd::{shared, Derivation};
 use crate::tools::budget::{self, Entry, LIGHTS, METHODS};
 use crate::tools::csv_table::Table;
 use crate::{time_set, Error};
+use spectral_quadrature_build::evaluate::{self, Curve, EvalSet};
+use spectral_quadrature_build::{shared, Derivation};
 
 /// Text, and the files written (budget.csv, budget.svg). `shared_sizes`: the sizes of the
 /// shared sets folded for each light (every budget, or fewer for `--quick`). `spaces` and `radiance`: the rule

@@ -24,7 +24,6 @@
 mod budget;
 mod plot;
 mod random;
-use spectral_quadrature_build as sqd;
 use spectral_quadrature_tools as tools;
 use tools::Error;
 mod stability;
@@ -38,8 +37,10 @@ use std::time::Instant;
 
 use clap::Parser;
 use spectral_quadrature::{tables, FoldedSet, WavelengthSet};
-use sqd::evaluate::{self, Curve, Errors, EvalSet, Reference, Spectra, Stimulus};
-use sqd::Derivation;
+use spectral_quadrature_build::evaluate::{
+    self, Curve, Errors, EvalSet, Reference, Spectra, Stimulus,
+};
+use spectral_quadrature_build::Derivation;
 use tools::csv_table::Table;
 
 /// Error against run time for Meyer's wavelength sets and their alternatives.
@@ -183,7 +184,7 @@ fn run(args: &Args) -> Result<(), Error> {
         start: Instant::now(),
     };
     progress.next();
-    let d = sqd::derive(&tools::settings())?;
+    let d = spectral_quadrature_build::derive(&tools::settings())?;
     tools::warn_zeroed("report", &d.observer.zeroed);
     let range = d.settings.range_nm;
     let reference_set = evaluate::full_integration(&d.observer, range, 1.0)?;
@@ -274,7 +275,9 @@ fn run(args: &Args) -> Result<(), Error> {
     let radiance = tools::budget::shared_sets_sized(&d, None, work.shared_sizes.clone())?;
     sets.extend(radiance.iter().cloned());
     for n in tools::budget::BUDGETS {
-        if let Ok(a) = sqd::shared::interpolatory_a(&d, n, &format!("INTERP_A_{n}")) {
+        if let Ok(a) =
+            spectral_quadrature_build::shared::interpolatory_a(&d, n, &format!("INTERP_A_{n}"))
+        {
             sets.push(EvalSet::from_set(&a, "interp A", &d.opponent.ac1c2_to_xyz));
         }
     }

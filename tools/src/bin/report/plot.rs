@@ -8,8 +8,8 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use spectral_quadrature::{tables, GamutMapping};
 
-use crate::sqd::evaluate::{EvalSet, Stimulus};
 use crate::{Error, Fig6, Fig7, Row, K};
+use spectral_quadrature_build::evaluate::{EvalSet, Stimulus};
 
 /// A plotting library's error, as the report's.
 pub fn plot_err<E: std::fmt::Debug>(e: E) -> Error {

@@ -12,14 +12,14 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 use spectral_quadrature::{tables, GamutMapping};
 
 use crate::plot::plot_err;
-use crate::sqd::evaluate::{self, Curve, EvalSet, Reference, Spectra, Stimulus};
-use crate::sqd::Derivation;
 use crate::tools::budget;
 use crate::tools::csv_table::Table;
 use crate::tools::random_wavelengths::{
     pixel_rng, reach, run_trials, Cells, Config, Reach, Sampler, SensorRgb, Summary, Target, Trials,
 };
 use crate::{time_set, Error};
+use spectral_quadrature_build::evaluate::{self, Curve, EvalSet, Reference, Spectra, Stimulus};
+use spectral_quadrature_build::Derivation;
 
 /// The samples per pixel measured: one pixel of the last is read after each.
 pub const SPP: [usize; 6] = [1, 4, 16, 64, 256, 1024];

@@ -7,11 +7,11 @@ use std::path::{Path, PathBuf};
 use plotters::prelude::*;
 use spectral_quadrature::tables;
 
-use crate::sqd::{derive, Settings, Status};
 use crate::tools::csv_table::Table;
 use crate::tools::sensitivity::{shifts, standard_variants};
 use crate::tools::stability;
 use crate::Error;
+use spectral_quadrature_build::{derive, Settings, Status};
 
 const CHANNELS: [&str; 3] = ["A", "C1", "C2"];
 

@@ -14,11 +14,10 @@ use std::path::{Path, PathBuf};
 use crate::plot::{self, plot_err};
 use plotters::prelude::*;
 use spectral_quadrature::Upsampling;
-use spectral_quadrature_build as sqd;
+use spectral_quadrature_build::evaluate::{self, Curve, EvalSet, Spectra};
+use spectral_quadrature_build::upsampling::{self as up, Baked};
+use spectral_quadrature_build::Derivation;
 use spectral_quadrature_tools as tools;
-use sqd::evaluate::{self, Curve, EvalSet, Spectra};
-use sqd::upsampling::{self as up, Baked};
-use sqd::Derivation;
 use tools::csv_table::Table;
 use tools::upsampling::{
     jakob_hanika::JakobHanika,
@@ -145,7 +144,7 @@ pub fn section(i: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
     let mut props = String::new();
     let mut shipped_cc: Vec<(usize, f64, f64)> = Vec::new();
     for n in SIZES {
-        let set = sqd::catalog::resolve(d, &std::format!("KQ_{n}"))?;
+        let set = spectral_quadrature_build::catalog::resolve(d, &std::format!("KQ_{n}"))?;
         let eval = EvalSet::from_set(&set, "KQ radiance", &d.opponent.ac1c2_to_xyz);
         let nodes = &set.wavelengths_nm;
         // The crate's maps, fold by fold.
@@ -343,7 +342,7 @@ pub fn section(i: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
 /// linear map bounded and exact at once exists, the Lipschitz constant, the round trip at the
 /// reachable grid points and the table's bytes.
 fn default_scene_maps(d: &Derivation) -> Result<String, Error> {
-    let scene = sqd::scene::Scene::default_scene(&d.settings.data_dir);
+    let scene = spectral_quadrature_build::scene::Scene::default_scene(&d.settings.data_dir);
     let resolved = scene.resolve(d)?;
     let mut o = String::new();
     writeln!(

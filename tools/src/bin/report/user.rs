@@ -5,11 +5,11 @@
 
 use std::path::Path;
 
-use crate::sqd::evaluate::{self, Curve, EvalSet, Stimulus};
-use crate::sqd::scene::Scene;
-use crate::sqd::{self, shared, user, Derivation};
 use crate::tools::budget;
 use crate::Error;
+use spectral_quadrature_build::evaluate::{self, Curve, EvalSet, Stimulus};
+use spectral_quadrature_build::scene::Scene;
+use spectral_quadrature_build::{self, shared, user, Derivation};
 
 /// A light with the shared sets folded for it and the stimuli they are judged on.
 pub type Folded = (Curve, Vec<EvalSet>, Vec<Stimulus>);
@@ -85,14 +85,14 @@ pub fn scene_extras(
     illuminants_from: &str,
 ) -> Result<Vec<Extra>, Error> {
     let label = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| sqd::DataError {
+    let text = std::fs::read_to_string(path).map_err(|e| spectral_quadrature_build::DataError {
         file: label.clone(),
         line: 0,
         message: format!("cannot read the scene: {e}"),
     })?;
     let scene = Scene::parse(&label, &text, &d.settings.data_dir)?;
     if scene.settings != d.settings {
-        return Err(sqd::Error::Settings(format!(
+        return Err(spectral_quadrature_build::Error::Settings(format!(
             "{label}: the report runs on the default settings ({}); the scene asks for {}",
             d.settings.describe(),
             scene.settings.describe()
@@ -100,7 +100,10 @@ pub fn scene_extras(
         .into());
     }
     let (lights, fitted) = scene.resolve_user(d)?;
-    crate::tools::warn_zeroed("report", &sqd::scene::user_warnings(&lights, &fitted));
+    crate::tools::warn_zeroed(
+        "report",
+        &spectral_quadrature_build::scene::user_warnings(&lights, &fitted),
+    );
     for l in &lights {
         if let Some(other) = illuminants.iter().find(|o| o.name == l.name) {
             if !same_curve(&l.curve, other, d.settings.range_nm) {
@@ -110,7 +113,7 @@ pub fn scene_extras(
                     .iter()
                     .find(|s| s.name == l.name)
                     .map_or(0, |s| s.line as u64);
-                return Err(sqd::DataError {
+                return Err(spectral_quadrature_build::DataError {
                     file: label.clone(),
                     line,
                     message: format!(
@@ -124,7 +127,8 @@ pub fn scene_extras(
     }
     // A misspelt light in a set name: the generator's message lists the scene's lights beside
     // the built-in ones.
-    let unknown_light = |e: sqd::Error, line: usize| Error::from(e.at(&label, line as u64));
+    let unknown_light =
+        |e: spectral_quadrature_build::Error, line: usize| Error::from(e.at(&label, line as u64));
     let light_curve = |name: &str| -> Result<Curve, Error> {
         if let Some(l) = lights.iter().find(|l| l.name == name) {
             return Ok(l.curve.clone());
@@ -143,8 +147,8 @@ pub fn scene_extras(
     };
     let mut out = Vec::new();
     for (name, line) in &scene.sets {
-        let set =
-            sqd::catalog::resolve_with(d, name, &lights).map_err(|e| unknown_light(e, *line))?;
+        let set = spectral_quadrature_build::catalog::resolve_with(d, name, &lights)
+            .map_err(|e| unknown_light(e, *line))?;
         let light = set.light.as_deref().map(light_curve).transpose()?;
         let e = shared::eval_on_radiance(d, &set, "scene", light.as_ref())?;
         let eval = Extra {

@@ -1,11 +1,9 @@
 //! The generated header names every file that went into the tables, with its checksum: the
 //! observer, the scene and any file it names, and the data files behind the shared sets.
 
-use spectral_quadrature_build as sqd;
-
 use std::path::{Path, PathBuf};
 
-use sqd::generate;
+use spectral_quadrature_build::generate;
 
 /// The runtime crate (its `data/` holds the data files).
 fn crate_dir() -> PathBuf {
@@ -36,7 +34,9 @@ fn inputs(tables_rs: &str) -> Vec<(String, String)> {
 }
 
 fn sha256_of(path: &Path) -> String {
-    sqd::sha256_hex(&std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display())))
+    spectral_quadrature_build::sha256_hex(
+        &std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display())),
+    )
 }
 
 /// A scratch copy of the runtime crate's data/ (removed when dropped).
@@ -91,7 +91,10 @@ fn the_default_tables_name_every_input_with_its_checksum() {
     for (label, sha) in &inputs {
         assert_eq!(
             *sha,
-            sha256_of(&sqd::data_path(&crate_dir().join("data"), label)),
+            sha256_of(&spectral_quadrature_build::data_path(
+                &crate_dir().join("data"),
+                label
+            )),
             "{label}"
         );
     }

@@ -35,7 +35,7 @@
 //! # Layout
 //!
 //! The sources are grouped by role, each role a folder whose modules import only the roles
-//! below it (`python3 .ci/module-graph generator/src` prints the graph and fails on a cycle):
+//! below it (`python3 .ci/module-graph build/src` prints the graph and fails on a cycle):
 //!
 //! 1. `base`: the errors, the data files and their checksums, the CSV reader ([`table`]);
 //! 2. `derivation`: [`Settings`], [`derive()`] and its steps ([`observer`], [`opponent`],

@@ -2,8 +2,6 @@
 //! rustfmt lays it out: at most 100 columns, and unchanged by `rustfmt --check --edition 2021`
 //! where rustfmt is installed (the runtime's `tests/codegen.rs` checks the tables it baked).
 
-use spectral_quadrature_build as sqd;
-
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -24,10 +22,12 @@ fn every_scene() -> Vec<(String, String)> {
     assert!(scenes.len() >= 5, "{scenes:?}");
     let mut out = vec![(
         "default".to_string(),
-        sqd::generate(&crate_dir(), None).unwrap().tables_rs,
+        spectral_quadrature_build::generate(&crate_dir(), None)
+            .unwrap()
+            .tables_rs,
     )];
     for path in scenes {
-        let tables = sqd::generate(&crate_dir(), Some(path.as_os_str()))
+        let tables = spectral_quadrature_build::generate(&crate_dir(), Some(path.as_os_str()))
             .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
             .tables_rs;
         out.push((path.display().to_string(), tables));
@@ -79,7 +79,7 @@ light = "F11"
     );
     let file = dir.join("long_names.toml");
     std::fs::write(&file, text).unwrap();
-    sqd::generate(&crate_dir(), Some(file.as_os_str()))
+    spectral_quadrature_build::generate(&crate_dir(), Some(file.as_os_str()))
         .unwrap()
         .tables_rs
 }
