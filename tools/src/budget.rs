@@ -126,7 +126,7 @@ pub fn interval_set(d: &Derivation, light: &Curve, step_nm: f64) -> Result<EvalS
 
 /// The shared sets at every budget for radiances (`light` `None`, named `KQ_<n>`, method
 /// `KQ radiance`) or with a built-in light folded in (`KQ_<light>_<n>`, `KQ folded`), from
-/// one [`shared::problem`].
+/// one `shared::problem`.
 pub fn shared_sets(d: &Derivation, light: Option<&str>) -> Result<Vec<EvalSet>, Error> {
     let curve = match light {
         Some(l) => Some(evaluate::builtin_illuminant(

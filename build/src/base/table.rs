@@ -6,12 +6,12 @@
 //!
 //! Spectra (reflectances, spectral power, sensitivities, colour-matching functions) are
 //! non-negative, but measured files carry rounding noise: values such as −7e-18 where the
-//! instrument's software subtracted two nearly equal numbers. One rule, in [`parse_table_with`],
+//! instrument's software subtracted two nearly equal numbers. One rule, in `parse_table_with`,
 //! serves every reader of spectra (the observer tables, the report's and the planner's files,
 //! a scene's lights, sensors and plan spectra):
 //!
-//! - a value at or above −[`NEGATIVE_TOLERANCE`] × the file's largest value is noise: it is read
-//!   as 0, and the table's [`Table::zeroed`] counts such values and names the first one's line
+//! - a value at or above −`NEGATIVE_TOLERANCE` × the file's largest value is noise: it is read
+//!   as 0, and the table's `Table::zeroed` counts such values and names the first one's line
 //!   and column, for the caller to report once as a warning (the build script as
 //!   `cargo:warning`, the tools on standard error);
 //! - a more negative value is an error naming the file, the line and the column, unless the
@@ -38,7 +38,7 @@ pub(crate) const NEGATIVE_TOLERANCE: f64 = 1e-6;
 /// What a reader does with values below zero (see the [module docs](self)).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Negatives {
-    /// Values within [`NEGATIVE_TOLERANCE`] of zero (relative to the file's largest value) are
+    /// Values within `NEGATIVE_TOLERANCE` of zero (relative to the file's largest value) are
     /// read as 0 and reported; a more negative value is an error naming file, line and column.
     #[default]
     Refuse,

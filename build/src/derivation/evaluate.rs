@@ -35,7 +35,7 @@ pub struct Spectra {
 
 impl Spectra {
     /// Parses CSV text. Errors name `file` and the line: malformed rows (see
-    /// [`crate::table::parse_table`]), wavelengths outside (0, 100 µm], and values below zero by
+    /// `crate::table::parse_table`), wavelengths outside (0, 100 µm], and values below zero by
     /// more than the tolerance ([`crate::table::Negatives::Refuse`]: no reflectance or spectral
     /// power is negative; rounding noise is read as 0 and reported by [`zeroed`](Self::zeroed)).
     pub fn parse(file: &str, text: &str) -> Result<Spectra, DataError> {
@@ -70,7 +70,7 @@ impl Spectra {
         Self::read_with(path, Negatives::Refuse)
     }
 
-    /// Reads a CSV file ([`parse_with`](Self::parse_with)); errors name the path and line.
+    /// Reads a CSV file (`parse_with`); errors name the path and line.
     pub fn read_with(path: &std::path::Path, negatives: Negatives) -> Result<Spectra, DataError> {
         let (label, text) = read_text(path)?;
         Self::parse_with(&label, &text, negatives)

@@ -6,7 +6,7 @@
 //! range, 360-830 nm, whatever range the derivation integrates colours over (380-770 nm by
 //! default): CCT and Duv have a standard definition, and a user compares them with other
 //! instruments and software. Where the observer's table starts later or ends sooner (the CIE
-//! 2015 tables start at 390 nm), its own table clipped to 360-830 nm ([`standard_range_nm`]).
+//! 2015 tables start at 390 nm), its own table clipped to 360-830 nm (`standard_range_nm`).
 //! The second radiation constant is CIE 015's (c₂ = 1.4388 × 10⁻² m·K). The locus is
 //! parametrised by the reciprocal temperature in mired, μ = 10⁶ / T, in which it is smooth up to
 //! T = ∞ (μ = 0).
@@ -134,7 +134,7 @@ pub fn xyz_from_uv([u, v]: [f64; 2]) -> [f64; 3] {
 
 impl PlanckianLocus {
     /// The standard locus of `observer`, the one CCT and Duv are defined on: Planck's law
-    /// against its x̄ȳz̄ at 1 nm over [`standard_range_nm`] (CIE 015's 360-830 nm, clipped to the
+    /// against its x̄ȳz̄ at 1 nm over `standard_range_nm` (CIE 015's 360-830 nm, clipped to the
     /// observer's table), whatever range the derivation integrates colours over. The runtime's
     /// `tables::PLANCKIAN_LOCUS` is this locus's [`table`](Self::table). Errors: the observer's
     /// table is not at 1 nm (or a divisor of it) on whole nm.
@@ -143,7 +143,7 @@ impl PlanckianLocus {
     }
 
     /// The locus with `observer` over `range_nm` at 1 nm: not CIE 015's unless the range is
-    /// [`standard_range_nm`] ([`standard`](Self::standard)); another range serves to measure
+    /// `standard_range_nm` ([`standard`](Self::standard)); another range serves to measure
     /// what the range changes. Errors: the range is not on the observer's 1 nm table.
     pub fn new(observer: &Observer, range_nm: [f64; 2]) -> Result<PlanckianLocus, Error> {
         let full = full_integration(observer, range_nm, 1.0)?;
@@ -288,7 +288,7 @@ impl PlanckianLocus {
     /// The nodes of the runtime's locus table over [`TABLE_MIRED`]: 16 segments equal in
     /// log μ, each halved until the cubic Hermite interpolation between its ends (points and
     /// tangents) stays within [`TABLE_TOLERANCE_UV`] of the locus and moves the foot of a
-    /// perpendicular by at most [`TABLE_TOLERANCE_MIRED`], at the quarters of the segment.
+    /// perpendicular by at most `TABLE_TOLERANCE_MIRED`, at the quarters of the segment.
     pub fn table(&self) -> Vec<LocusNode> {
         let node = |mired: f64| {
             let (uv, tangent) = self.uv_and_tangent(mired);

@@ -51,8 +51,8 @@ impl Settings {
     }
 
     /// The default settings for another observer: its cone matrix
-    /// ([`ObserverId::cone_matrix`], which for some observers is computed from the table, so
-    /// this reads it) and range ([`ObserverId::default_range_nm`]).
+    /// (`ObserverId::cone_matrix`, which for some observers is computed from the table, so
+    /// this reads it) and range (`ObserverId::default_range_nm`).
     pub fn for_observer(
         observer: ObserverId,
         data_dir: impl Into<PathBuf>,

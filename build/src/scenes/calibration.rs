@@ -73,7 +73,7 @@ impl Readings {
     /// each row names a reflectance and gives one finite, non-negative reading per channel (the
     /// device's raw readings, dark offset included). Errors name `file` and the line: a header
     /// that does not list the channels, a missing or extra field, a value that is not a
-    /// finite, non-negative number, an empty line, fewer than [`MIN_READINGS`] rows.
+    /// finite, non-negative number, an empty line, fewer than `MIN_READINGS` rows.
     pub fn parse(file: &str, text: &str, channels: &[String]) -> Result<Readings, DataError> {
         let err = |line: u64, message: String| DataError {
             file: file.into(),

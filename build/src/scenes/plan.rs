@@ -151,7 +151,7 @@ pub fn evaluate_sets(
 
 /// The shared sets the planner adds to the catalogue's: `KQ_<n>` for radiances, and, when every
 /// stimulus is a surface under one light that is built in or among `lights` (by its name),
-/// `KQ_<light>_<n>` with that light folded in; n in [`SHARED_SIZES`]. Measured on radiances.
+/// `KQ_<light>_<n>` with that light folded in; n in `SHARED_SIZES`. Measured on radiances.
 pub fn shared_sets(
     d: &Derivation,
     stimuli: &[Stimulus],

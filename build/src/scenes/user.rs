@@ -8,7 +8,7 @@
 //!
 //! - a light by file ([`UserLight`]) is folded like a built-in illuminant: `KQ_<LIGHT>_<n>`
 //!   searches `n` wavelengths for it;
-//! - fixed wavelengths ([`fixed_set`]) keep the user's wavelengths and get the best 3×N weights
+//! - fixed wavelengths (`fixed_set`) keep the user's wavelengths and get the best 3×N weights
 //!   for them (no search);
 //! - a sensor ([`sensor_set`]) has no wavelengths: each sample is a channel's reading
 //!   `∫ S_k(λ) e(λ) dλ` of the radiance e, and the 3×N matrix from readings to XYZ (or AC1C2, or
@@ -203,7 +203,7 @@ impl Sensor {
 
     /// Reads a sensor file: wavelength in nm, one column of sensitivity per channel. Errors name
     /// `label` and the line: what [`Spectra::parse`] refuses (negative sensitivities beyond the
-    /// rounding noise among them), data that do not cover `range_nm`, more than [`MAX_SAMPLES`]
+    /// rounding noise among them), data that do not cover `range_nm`, more than `MAX_SAMPLES`
     /// channels, and a channel that is zero over the range.
     pub fn read(path: &std::path::Path, label: &str, range_nm: [f64; 2]) -> Result<Sensor, Error> {
         Self::read_with(path, label, range_nm, Negatives::Refuse)

@@ -19,7 +19,7 @@ use crate::derivation::derive::Derivation;
 /// and a test re-runs every search and checks that it finds the same nodes (or worse ones).
 pub(crate) const CACHE_FILE: &str = "data/shared_nodes.csv";
 
-/// The sets whose nodes [`CACHE_FILE`] holds: radiances and the lights C, D65, A and F11, at 4, 6
+/// The sets whose nodes `CACHE_FILE` holds: radiances and the lights C, D65, A and F11, at 4, 6
 /// and 8 wavelengths (the default scene's sets and the example scenes' among them).
 pub const CACHED: [(Option<&str>, usize); 15] = [
     (None, 4),
@@ -47,12 +47,12 @@ pub fn set_name(light: Option<&str>, n: usize) -> String {
     }
 }
 
-/// One line of [`CACHE_FILE`].
+/// One line of `CACHE_FILE`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CacheEntry {
     /// The set's name ([`set_name`]).
     pub name: String,
-    /// [`fingerprint`] of the inputs the nodes were found with.
+    /// `fingerprint` of the inputs the nodes were found with.
     pub fingerprint: String,
     /// The nodes in nm, ascending, on the 1 nm grid.
     pub wavelengths_nm: Vec<f64>,
@@ -133,7 +133,7 @@ pub(crate) fn parse_cache(file: &str, text: &str) -> Result<Vec<CacheEntry>, Dat
     Ok(out)
 }
 
-/// The text of [`CACHE_FILE`] for `entries`.
+/// The text of `CACHE_FILE` for `entries`.
 pub fn write_cache(entries: &[CacheEntry]) -> String {
     let rows: Vec<Vec<String>> = entries
         .iter()

@@ -35,7 +35,7 @@ pub(crate) const FIT_NOISE: f64 = 1e-4;
 
 /// The kernel length and empirical-covariance weight that maximise the leave-one-out likelihood
 /// of `training`: each reflectance predicted by a Gaussian with the other reflectances' mean and
-/// covariance `σ²(k + α S₋ₖ + ηI)` (σ² profiled, η = [`FIT_NOISE`]), on a 5 nm grid of
+/// covariance `σ²(k + α S₋ₖ + ηI)` (σ² profiled, η = `FIT_NOISE`), on a 5 nm grid of
 /// `range_nm`. `None` with fewer than 3 spectra or when no candidate is positive definite.
 pub fn fit(
     training: &[Curve],

@@ -19,7 +19,7 @@
 //! [`EMPIRICAL_WEIGHT`]) maximise the leave-one-out likelihood of the training reflectances
 //! ([`fit`]). The crate trains on the CIE test colour samples only and judges on the
 //! ColorChecker, which no set ever sees. A build takes the nodes of the sets it bakes from the
-//! node cache ([`CACHE_FILE`]) and computes only their weights.
+//! node cache (`CACHE_FILE`) and computes only their weights.
 //!
 //! Method (a) for comparison, [`interpolatory_a`]: the A channel's Gauss nodes of order N, with
 //! C1 and C2 integrated by interpolatory rules on those nodes.

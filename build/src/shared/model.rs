@@ -446,7 +446,7 @@ pub(crate) fn problem(d: &Derivation, light: Option<&str>) -> Result<Problem, Er
     problem_for(d, curve.as_ref())
 }
 
-/// [`problem`] for a light given as a curve (a user's measured light; `None`: radiances): the
+/// `problem` for a light given as a curve (a user's measured light; `None`: radiances): the
 /// same kernel, prior and training, so a light read from a copy of a built-in illuminant's
 /// file gives the built-in light's sets to the last digit.
 pub fn problem_for(d: &Derivation, light: Option<&Curve>) -> Result<Problem, Error> {
@@ -475,7 +475,7 @@ pub struct Shared {
     /// Folded XYZ weights `w[c][i]` for samples of r (reflectance under the light, or radiance).
     pub xyz_weights: [Vec<f64>; 3],
     /// The expected linearised CIELAB error `tr(M Σ)`, in ΔE² per unit kernel variance
-    /// ([`Problem::objective`]).
+    /// (`Problem::objective`).
     pub expected_error: f64,
 }
 

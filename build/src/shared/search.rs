@@ -154,12 +154,12 @@ impl Problem {
 }
 
 /// The shared set of `n` wavelengths for a built-in light (`None`: radiances). To build
-/// several sizes for one light, set up [`problem`] once and call [`Problem::shared`].
+/// several sizes for one light, set up `problem` once and call [`Problem::shared`].
 ///
 /// This runs the node search ([`Problem::optimize`]), which solves the kriging system for every
 /// node it tries: too slow for a build script at Cargo's default opt-level 0 (README, "Build
-/// cost", measures it). [`cached_or_optimize`](crate::shared::cached_or_optimize) takes the nodes
-/// from [`CACHE_FILE`](crate::shared::CACHE_FILE) where it can.
+/// cost", measures it). `cached_or_optimize` takes the nodes
+/// from `CACHE_FILE` where it can.
 pub fn optimize(d: &Derivation, light: Option<&str>, n: usize) -> Result<Shared, Error> {
     problem(d, light)?.shared(n)
 }

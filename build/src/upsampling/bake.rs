@@ -249,20 +249,20 @@ pub struct Baked {
     pub set: String,
     /// The display's name (`SRGB`).
     pub display: String,
-    /// The reference light: the set's folded light, or [`RADIANCE_REFERENCE_LIGHT`].
+    /// The reference light: the set's folded light, or `RADIANCE_REFERENCE_LIGHT`.
     pub light: String,
     /// The set's wavelengths, nm.
     pub wavelengths_nm: Vec<f64>,
     /// Grid points per axis.
     pub grid: usize,
-    /// The encoding weights ([`encoding`]).
+    /// The encoding weights (`encoding`).
     pub encoding: [Vec<f64>; 3],
     /// The fit behind the codes; `None` when they came from the cache
-    /// ([`CACHE_FILE`](super::CACHE_FILE)), which holds the codes and not the fit.
+    /// (`CACHE_FILE`), which holds the codes and not the fit.
     pub fit: Option<Fit>,
     /// Whether each grid point's colour is reachable by node values in [0, 1].
     pub reachable: Vec<bool>,
-    /// The values as the runtime's 16-bit codes ([`CODE_ONE`] is 1).
+    /// The values as the runtime's 16-bit codes (`CODE_ONE` is 1).
     pub codes: Vec<Vec<u16>>,
     /// The largest ΔE00 between a reachable grid point and the colour its codes encode to.
     pub max_round_trip_de00: f64,
@@ -352,7 +352,7 @@ pub fn encode(encoding: &[Vec<f64>; 3], values: &[f64]) -> [f64; 3] {
 
 /// Bakes the upsampling of `set` for `display` with `grid` points per axis.
 ///
-/// `light`: the reference light (the set's folded light, or [`RADIANCE_REFERENCE_LIGHT`] for a
+/// `light`: the reference light (the set's folded light, or `RADIANCE_REFERENCE_LIGHT` for a
 /// set for radiances); `folded`: whether the set's weights already hold it. `training`: the
 /// reflectances the least-squares map is fitted on.
 pub fn bake(

@@ -34,7 +34,7 @@ pub(crate) const FIT_VERSION: u32 = 1;
 /// The header line of [`CACHE_FILE`].
 const HEADER: &str = "set,display,grid,fingerprint,lipschitz,max_round_trip_de00,reachable,codes";
 
-/// One line of [`CACHE_FILE`]: one baked upsampling.
+/// One line of `CACHE_FILE`: one baked upsampling.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CacheEntry {
     /// The set's name.
@@ -43,7 +43,7 @@ pub struct CacheEntry {
     pub display: String,
     /// Grid points per axis.
     pub grid: usize,
-    /// [`FitInputs::fingerprint`] of the inputs the table was fitted from.
+    /// `FitInputs::fingerprint` of the inputs the table was fitted from.
     pub fingerprint: String,
     /// [`Baked::lipschitz`].
     pub lipschitz: f64,
@@ -299,7 +299,7 @@ pub(crate) fn parse_cache(file: &str, text: &str) -> Result<Vec<CacheEntry>, Dat
     Ok(out)
 }
 
-/// The text of [`CACHE_FILE`] for `entries`.
+/// The text of `CACHE_FILE` for `entries`.
 pub fn write_cache(entries: &[CacheEntry]) -> String {
     use std::fmt::Write as _;
     let rows: Vec<Vec<String>> = entries

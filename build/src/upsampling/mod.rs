@@ -5,16 +5,16 @@
 //! it needs each colour's reflectance at those wavelengths. The map from RGB to node
 //! reflectances is built in three steps:
 //!
-//! 1. **The set's encoding under its reference light** ([`encoding`]): the set's folded weights
+//! 1. **The set's encoding under its reference light** (`encoding`): the set's folded weights
 //!    for the display, times the reference light at the nodes for a set for radiances
-//!    ([`RADIANCE_REFERENCE_LIGHT`]; a set with a light folded in has it in its weights), each
+//!    (`RADIANCE_REFERENCE_LIGHT`; a set with a light folded in has it in its weights), each
 //!    row divided by its sum, so that node values of 1 give RGB (1, 1, 1): white-balanced RGB.
-//! 2. **A least-squares map** ([`least_squares_map`]): `r ≈ M · rgb`, fitted on the training
-//!    reflectances ([`TRAINING_FILES`]: the CIE test colours and the rawtoaces patches; never
+//! 2. **A least-squares map** (`least_squares_map`): `r ≈ M · rgb`, fitted on the training
+//!    reflectances (`TRAINING_FILES`: the CIE test colours and the rawtoaces patches; never
 //!    the ColorChecker), their exact RGB under the reference light (1 nm) against their values at
 //!    the nodes, with each row of M summing to 1 (white and greys exact). At each grid point the
-//!    fit is local ([`local_map`]): the training pairs weighted by how near their colour lies
-//!    in CIELAB ([`LOCAL_BANDWIDTH`]), pulled a little toward the global map ([`LOCAL_PRIOR`]).
+//!    fit is local (`local_map`): the training pairs weighted by how near their colour lies
+//!    in CIELAB (`LOCAL_BANDWIDTH`), pulled a little toward the global map (`LOCAL_PRIOR`).
 //! 3. **A projection per grid point** ([`project`]): `M · rgb` moved to the nearest node values
 //!    in [0, 1] that encode back to `rgb` exactly, or, where no node values in [0, 1] reach
 //!    `rgb`, to those that reach the nearest colour in CIELAB (linearised at `rgb`), and among
@@ -28,8 +28,8 @@
 //! constant, the share of the grid that is reachable.
 //!
 //! The fit takes seconds at Cargo's default build-script opt-level, so the build takes the
-//! default scene's tables from a cache ([`CACHE_FILE`]) while their inputs' fingerprint
-//! ([`FitInputs::fingerprint`]) matches, and fits the rest.
+//! default scene's tables from a cache (`CACHE_FILE`) while their inputs' fingerprint
+//! (`FitInputs::fingerprint`) matches, and fits the rest.
 //!
 //! The files, each importing only those before it: `qp` (the box programme), `training` (the
 //! training reflectances), `bake` (encoding, map, projection, grid), `cache` (the cache file).

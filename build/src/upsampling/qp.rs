@@ -5,7 +5,7 @@
 //! minimise ½‖x − u‖² + ½ρ‖B x − d‖²   subject to 0 ≤ x ≤ 1
 //! ```
 //!
-//! with ρ = 1 / [`EPSILON`] (after `B` and `d` are scaled to unit norm). Where `B x = d` has
+//! with ρ = 1 / `EPSILON` (after `B` and `d` are scaled to unit norm). Where `B x = d` has
 //! solutions in the box, the minimiser is, to within `EPSILON` times its multipliers, the
 //! Euclidean projection of `u` onto them; where it has none, the rows are matched as closely as
 //! the box allows first (in the least-squares sense of `B`'s rows), and `u` only breaks the tie.
@@ -17,7 +17,7 @@
 //! free set F is the m × m system `(B_F B_Fᵀ + ε I) λ = B_F u_F − (d − B_A x_A)`, then
 //! `x_F = u_F − B_Fᵀ λ`: no quantity of size ρ is ever formed, so ρ may be as large as f64
 //! allows, and `λ` is the rows' multipliers. The objective is strictly convex, so the method ends
-//! in finitely many steps; [`MAX_STEPS`] bounds them.
+//! in finitely many steps; `MAX_STEPS` bounds them.
 
 use std::vec::Vec;
 

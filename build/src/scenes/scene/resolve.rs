@@ -52,7 +52,7 @@ pub struct Resolved {
 }
 
 impl Resolved {
-    /// The cache entries ([`crate::upsampling::CACHE_FILE`]) of the scene's upsamplings: each
+    /// The cache entries (`crate::upsampling::CACHE_FILE`) of the scene's upsamplings: each
     /// one's codes and figures, with the fingerprint of its inputs. For the default scene after
     /// [`Scene::resolve_fitting`], the text of the cache is
     /// [`write_cache`](crate::upsampling::write_cache) of these. The lights are looked up among
@@ -74,7 +74,7 @@ impl Scene {
     /// ([`crate::Derivation::displays`]), with the scene's transfer functions. Errors name the
     /// file, the line and the valid choices ([`Error::At`]).
     ///
-    /// The upsamplings come from the cache ([`crate::upsampling::CACHE_FILE`]) where their
+    /// The upsamplings come from the cache (`crate::upsampling::CACHE_FILE`) where their
     /// inputs match an entry; [`Scene::resolve_fitting`] fits every one instead.
     pub fn resolve(&self, d: &Derivation) -> Result<Resolved, Error> {
         self.resolve_with(d, true)
