@@ -45,7 +45,7 @@ impl Spectra {
     /// [`parse`](Self::parse) with the rule for negative values given: [`Negatives::Clamp`]
     /// reads every negative value as 0 (and reports it), for measured data whose noise is larger
     /// than the tolerance.
-    pub(crate) fn parse_with(
+    pub fn parse_with(
         file: &str,
         text: &str,
         negatives: Negatives,
