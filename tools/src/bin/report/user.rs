@@ -125,10 +125,6 @@ pub fn scene_extras(
             }
         }
     }
-    // A misspelt light in a set name: the generator's message lists the scene's lights beside
-    // the built-in ones.
-    let unknown_light =
-        |e: spectral_quadrature_build::Error, line: usize| Error::from(e.at(&label, line as u64));
     let light_curve = |name: &str| -> Result<Curve, Error> {
         if let Some(l) = lights.iter().find(|l| l.name == name) {
             return Ok(l.curve.clone());
@@ -148,7 +144,8 @@ pub fn scene_extras(
     let mut out = Vec::new();
     for (name, line) in &scene.sets {
         let set = spectral_quadrature_build::catalog::resolve_with(d, name, &lights)
-            .map_err(|e| unknown_light(e, *line))?;
+            // At the scene's line (a misspelt light's message lists the scene's lights too).
+            .map_err(|e| Error::from(e.at(&label, *line as u64)))?;
         let light = set.light.as_deref().map(light_curve).transpose()?;
         let e = shared::eval_on_radiance(d, &set, "scene", light.as_ref())?;
         let eval = Extra {
