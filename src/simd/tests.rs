@@ -71,7 +71,7 @@ fn x86_loops<const N: usize>() -> [X86Loops<N>; 2] {
     [
         X86Loops {
             name: "AVX-512",
-            capability: "avx512",
+            capability: capability(Loops::Avx512),
             available: avx512::available(),
             group: avx512::LANES,
             planar: avx512::encode_srgb8_planar::<N>,
@@ -81,7 +81,7 @@ fn x86_loops<const N: usize>() -> [X86Loops<N>; 2] {
         },
         X86Loops {
             name: "AVX2",
-            capability: "avx2",
+            capability: capability(Loops::Avx2),
             available: avx2::available(),
             group: avx2::LANES,
             planar: avx2::encode_srgb8_planar::<N>,
