@@ -30,6 +30,7 @@
 
 mod cache;
 mod fit;
+mod group;
 mod interpolatory;
 mod model;
 mod search;
@@ -37,6 +38,7 @@ mod search;
 pub use cache::{cache_entry, set_name, write_cache, CacheEntry, CACHED};
 pub(crate) use cache::{cached_or_optimize, CACHE_FILE};
 pub use fit::{fit, Fit, FIT_LENGTHS_NM, FIT_WEIGHTS};
+pub use group::{nodes_of, Group, GroupFit, GroupObjective, Member, Weights};
 pub use interpolatory::interpolatory_a;
 pub use model::{
     eval_on_radiance, problem_for, Problem, Shared, EMPIRICAL_WEIGHT, LENGTH_NM, TRAINING_FILE,

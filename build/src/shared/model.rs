@@ -203,6 +203,17 @@ impl Problem {
         Ok(p)
     }
 
+    /// `x̄ȳz̄ · L · dλ` on the grid: XYZ of a reflectance under this problem's light is
+    /// `Σ_g f[c][g] r(λ_g)`.
+    pub(super) fn folded_cmfs(&self) -> &[Vec<f64>; 3] {
+        &self.f
+    }
+
+    /// XYZ of a perfect white under this problem's light (`F 1`).
+    pub(super) fn white(&self) -> [f64; 3] {
+        self.f1
+    }
+
     /// Recomputes `K Fᵀ` and `F K Fᵀ` after the covariance changed.
     fn update(&mut self) {
         let g = self.g;

@@ -45,7 +45,7 @@ impl Problem {
 
     /// Coordinate descent: moves one node at a time by up to ±[`MAX_MOVE`] grid steps while that
     /// lowers `objective`. Returns the nodes (ascending) and their error.
-    fn refine_with(
+    pub(super) fn refine_with(
         &self,
         mut nodes: Vec<usize>,
         objective: &dyn Fn(&[usize]) -> f64,
@@ -86,7 +86,7 @@ impl Problem {
     }
 
     /// Evenly spaced allowed grid indices (a start for coordinate descent).
-    fn spread(&self, n: usize, offset: f64) -> Vec<usize> {
+    pub(super) fn spread(&self, n: usize, offset: f64) -> Vec<usize> {
         let allowed: Vec<usize> = (0..self.g).filter(|&c| self.allowed[c]).collect();
         let mut nodes: Vec<usize> = (0..n)
             .map(|i| {
@@ -105,7 +105,11 @@ impl Problem {
     }
 
     /// [`optimize`](Self::optimize) for any objective.
-    fn optimize_with(&self, n: usize, objective: &dyn Fn(&[usize]) -> f64) -> (Vec<usize>, f64) {
+    pub(super) fn optimize_with(
+        &self,
+        n: usize,
+        objective: &dyn Fn(&[usize]) -> f64,
+    ) -> (Vec<usize>, f64) {
         let mut starts = std::vec![self.greedy_with(n, objective)];
         for offset in [0.5, 0.25, 0.75] {
             let s = self.spread(n, offset);

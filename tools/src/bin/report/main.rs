@@ -13,7 +13,8 @@
 //! Section 7 measures random wavelengths per sample (pbrt-v4's sampler, hero, uniform) against
 //! the fixed sets; `--trials` and `--seed` set its trials (see `docs/random-wavelengths.md`).
 //! Section 8 relights RGB materials upsampled to a set's nodes: the crate's map beside
-//! Jakob-Hanika, Mallett-Yuksel and Smits (see `docs/upsampling.md`).
+//! Jakob-Hanika, Mallett-Yuksel and Smits (see `docs/upsampling.md`). Section 9 judges light
+//! groups, one node set shared by several lights (see `docs/light-groups.md`).
 //!
 //! Spectra files: CSV, first column wavelength in nm, one column per spectrum, any spacing;
 //! they are interpolated linearly and must cover the observer's 380-770 nm. Errors name the file
@@ -22,6 +23,7 @@
 //! is an error naming its line and column, unless `--clamp-negatives` reads it as 0 too.
 
 mod budget;
+mod groups;
 mod plot;
 mod random;
 use spectral_quadrature_tools as tools;
@@ -93,7 +95,7 @@ fn main() {
 }
 
 /// The report's steps, in order: the progress line counts these.
-const STEPS: [&str; 10] = [
+const STEPS: [&str; 11] = [
     "deriving the rules (CIE 1931 2°, 380-770 nm, 5 nm)",
     "reading spectra",
     "section 1: Table 2 (ColorChecker under C)",
@@ -104,6 +106,7 @@ const STEPS: [&str; 10] = [
     "section 6: stability",
     "section 7: against random wavelengths (seeded trials, timing)",
     "section 8: RGB materials under another light (fitting and relighting)",
+    "section 9: several lights in one scene (light groups, cross-validated)",
 ];
 
 /// The steps of `--csv`: section 4 alone.
@@ -142,6 +145,8 @@ struct Work {
     /// The sizes of the shared sets in sections 4 and 5 (for radiances, and folded for each
     /// light).
     shared_sizes: Vec<usize>,
+    /// The sizes of section 9's light groups.
+    group_sizes: Vec<usize>,
 }
 
 impl Work {
@@ -152,6 +157,7 @@ impl Work {
                 max_order: 4,
                 trials: Some(2),
                 shared_sizes: vec![4, 8],
+                group_sizes: vec![8],
             }
         } else {
             Work {
@@ -159,6 +165,7 @@ impl Work {
                 max_order: args.max_order as usize,
                 trials: args.trials.map(|t| t as usize),
                 shared_sizes: tools::budget::BUDGETS.collect(),
+                group_sizes: vec![4, 6, 8],
             }
         }
     }
@@ -422,6 +429,26 @@ fn run(args: &Args) -> Result<(), Error> {
     )?;
     files.extend(upsampling_files);
 
+    progress.next();
+    let (groups_text, groups_files) = groups::section(
+        &groups::Inputs {
+            d: &d,
+            reflectances: args
+                .spectra
+                .reflectances
+                .as_ref()
+                .map(|_| (inputs.surfaces.as_slice(), inputs.surfaces_from.as_str())),
+            lights: args
+                .spectra
+                .illuminants
+                .as_ref()
+                .map(|_| inputs.user_lights.as_slice()),
+            sizes: &work.group_sizes,
+        },
+        out,
+    )?;
+    files.extend(groups_files);
+
     let mut rest = String::new();
     print_sections_2_to_4(&mut rest, fig_stimuli, &fig6, &fig7, &rows);
     rest.push('\n');
@@ -432,6 +459,8 @@ fn run(args: &Args) -> Result<(), Error> {
     rest.push_str(&random_text);
     rest.push('\n');
     rest.push_str(&upsampling_text);
+    rest.push('\n');
+    rest.push_str(&groups_text);
     print!("{rest}");
     text.push_str(&rest);
     files.push(write(out, "report.txt", &text)?);

@@ -1,0 +1,195 @@
+//! Light groups judged on reflectances no fit saw: five-fold cross-validation of a group of
+//! lights against each light's own folded set and against one radiance set fitted on the same
+//! lights (the report's light-group section, `docs/light-groups.md`).
+//!
+//! Each fold fits the group and the radiance set on the other four folds, and judges every
+//! method on the fold's reflectances that none of the fits saw: a reflectance of the crate's
+//! own training file (the CIE test colours, on which the folded sets' model is trained) is
+//! trained on in every fold and judged in none.
+
+use spectral_quadrature_build::evaluate::{self, Curve, Reference};
+use spectral_quadrature_build::shared::{
+    nodes_of, problem_for, GroupFit, GroupObjective, Shared, Weights,
+};
+use spectral_quadrature_build::{Derivation, Error};
+
+/// The number of folds.
+pub const FOLDS: usize = 5;
+
+/// The lights of the crate's light group: daylight, tungsten, a spiky fluorescent and a
+/// phosphor LED.
+pub const LIGHTS: [&str; 4] = ["D65", "A", "F11", "LED_B2"];
+
+/// One method's cross-validated errors at one size.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Method {
+    /// `own folded set`, `light group (mean)`, ….
+    pub name: String,
+    /// Per light (in [`Comparison::lights`]' order): mean CIEDE2000 over the held-out
+    /// reflectances of every fold.
+    pub mean_de00: Vec<f64>,
+    /// Per light: the 95th percentile of CIEDE2000 over the same.
+    pub p95_de00: Vec<f64>,
+    /// Per fold: the nodes, nm.
+    pub nodes_nm: Vec<Vec<f64>>,
+}
+
+/// The methods at one size.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Comparison {
+    /// N.
+    pub n: usize,
+    /// The lights' names.
+    pub lights: Vec<String>,
+    /// How many reflectances were judged (each once, in its fold).
+    pub judged: usize,
+    /// Each light's own folded set, then the light groups (mean and worst objective), then one
+    /// radiance set fitted on the lights.
+    pub methods: Vec<Method>,
+}
+
+impl Comparison {
+    /// The method called `name`.
+    pub fn method(&self, name: &str) -> Option<&Method> {
+        self.methods.iter().find(|m| m.name == name)
+    }
+}
+
+/// The name of each light's own folded set in [`Comparison::methods`].
+pub const OWN: &str = "own folded sets";
+/// The name of the light group searched for the mean ratio.
+pub const GROUP_MEAN: &str = "light group (mean)";
+/// The name of the light group searched for the worst ratio.
+pub const GROUP_WORST: &str = "light group (worst)";
+/// The name of the radiance set fitted on the lights.
+pub const RADIANCE: &str = "radiance set fitted on the lights";
+
+/// The fold of reflectance `k` of `count`: a fixed interleaving (k mod 5), so that the folds
+/// are the same in every run and mix the files.
+fn fold_of(k: usize) -> usize {
+    k % FOLDS
+}
+
+/// Cross-validates the light group of `lights` at each of `sizes` on `training` (trained on in
+/// every fold, judged in none) and `judged` (split into folds).
+pub fn compare(
+    d: &Derivation,
+    lights: &[Curve],
+    training: &[Curve],
+    judged: &[Curve],
+    sizes: &[usize],
+) -> Result<Vec<Comparison>, Error> {
+    let range = d.settings.range_nm;
+    let full = evaluate::full_integration(&d.observer, range, 1.0)?;
+    let problems = lights
+        .iter()
+        .map(|l| problem_for(d, Some(l)))
+        .collect::<Result<Vec<_>, Error>>()?;
+    let mut out = Vec::new();
+    for &n in sizes {
+        let own: Vec<Shared> = crate::par_map(&problems, |p| p.shared(n))
+            .into_iter()
+            .collect::<Result<_, Error>>()?;
+        let own_nodes: Vec<Vec<usize>> = problems
+            .iter()
+            .zip(&own)
+            .map(|(p, s)| nodes_of(p, s))
+            .collect();
+        let folds: Vec<usize> = (0..FOLDS).collect();
+        // Per fold: (method, light) → the held-out reflectances' CIEDE2000, and the nodes.
+        type FoldResult = Vec<(Vec<Vec<f64>>, Vec<f64>)>;
+        let per_fold: Vec<Result<FoldResult, Error>> = crate::par_map(&folds, |&f| {
+            let mut train: Vec<Curve> = training.to_vec();
+            let mut test: Vec<Curve> = Vec::new();
+            for (k, c) in judged.iter().enumerate() {
+                if fold_of(k) == f {
+                    test.push(c.clone());
+                } else {
+                    train.push(c.clone());
+                }
+            }
+            let fit = GroupFit::new(problems.clone(), &train)?;
+            let mut methods: Vec<(Vec<Vec<f64>>, Vec<f64>)> = Vec::new();
+            // Own folded sets.
+            let own_sets: Vec<_> = own.iter().map(|s| s.eval_set("own", "own")).collect();
+            methods.push((
+                judge(&full, lights, &test, &own_sets),
+                own[0].wavelengths_nm.clone(),
+            ));
+            for (objective, kind) in [
+                (GroupObjective::Mean, Weights::PerLight),
+                (GroupObjective::Worst, Weights::PerLight),
+                (GroupObjective::Mean, Weights::Radiance),
+            ] {
+                let g = fit.optimize(n, &own_nodes, objective, kind)?;
+                let sets: Vec<_> = g
+                    .members
+                    .iter()
+                    .map(|m| m.eval_set(&g.wavelengths_nm, "group", "group"))
+                    .collect();
+                methods.push((judge(&full, lights, &test, &sets), g.wavelengths_nm));
+            }
+            Ok(methods)
+        });
+        let per_fold = per_fold.into_iter().collect::<Result<Vec<_>, Error>>()?;
+        let names = [OWN, GROUP_MEAN, GROUP_WORST, RADIANCE];
+        let methods = names
+            .iter()
+            .enumerate()
+            .map(|(m, name)| {
+                let mut mean = Vec::new();
+                let mut p95 = Vec::new();
+                for l in 0..lights.len() {
+                    let mut all: Vec<f64> = per_fold
+                        .iter()
+                        .flat_map(|f| f[m].0[l].iter().copied())
+                        .collect();
+                    mean.push(all.iter().sum::<f64>() / all.len() as f64);
+                    all.sort_by(f64::total_cmp);
+                    p95.push(percentile(&all, 0.95));
+                }
+                Method {
+                    name: (*name).into(),
+                    mean_de00: mean,
+                    p95_de00: p95,
+                    nodes_nm: per_fold.iter().map(|f| f[m].1.clone()).collect(),
+                }
+            })
+            .collect();
+        out.push(Comparison {
+            n,
+            lights: lights.iter().map(|l| l.name.clone()).collect(),
+            judged: judged.len(),
+            methods,
+        });
+    }
+    Ok(out)
+}
+
+/// Per light: the CIEDE2000 of each test reflectance under that light by `sets[l]`.
+fn judge(
+    full: &evaluate::EvalSet,
+    lights: &[Curve],
+    test: &[Curve],
+    sets: &[evaluate::EvalSet],
+) -> Vec<Vec<f64>> {
+    lights
+        .iter()
+        .zip(sets)
+        .map(|(l, s)| {
+            let stimuli = evaluate::surfaces_under_lights(test, std::slice::from_ref(l));
+            Reference::new(full.clone(), &stimuli)
+                .errors(s, &stimuli)
+                .de00
+        })
+        .collect()
+}
+
+/// The `q` quantile of sorted values (nearest rank).
+fn percentile(sorted: &[f64], q: f64) -> f64 {
+    if sorted.is_empty() {
+        return f64::NAN;
+    }
+    let k = ((q * sorted.len() as f64).ceil() as usize).clamp(1, sorted.len());
+    sorted[k - 1]
+}
