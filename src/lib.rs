@@ -185,9 +185,9 @@ extern crate std;
 // - integer (the integer path, on set and encode's thresholds);
 // - dynamic and fast, on the types; upsample (RGB → node reflectances, on error).
 // simd::target (whether the target has f32 vector units) is a leaf that both simd::forced (the
-// test and fuzz builds' loop caps) and planar read, so that neither imports the other. The
-// `tables` below name the types they instantiate, and `error` names `Channel`, `Rgb` and
-// `CalibrationProblem` in its variants: those imports point up the list.
+// test and fuzz builds' loop caps) and planar read, so that neither imports the other. `tables`
+// (tables.rs, the generated constants) names the types it instantiates, and `error` names
+// `Channel`, `Rgb` and `CalibrationProblem` in its variants: those imports point up the list.
 mod batch;
 mod calibration;
 mod cct;
@@ -209,6 +209,8 @@ mod upsample;
 
 #[cfg(feature = "micromath")]
 mod fast;
+
+pub mod tables;
 
 pub use calibration::{Calibration, CalibrationProblem, CountCalibration};
 pub use cct::{uv_from_xyz, Cct, PlanckianLocus, CCT_MAX_ERROR_MIRED, DUV_MAX_ERROR, MAX_DUV};
@@ -236,54 +238,6 @@ pub use upsample::{RoundTrip, Upsampling, UPSAMPLING_CODE_ONE};
 #[doc(hidden)]
 pub mod __fuzzing {
     pub use crate::simd::forced::{force, take_ran, Loops, Ran};
-}
-
-/// The tables baked at compile time by `build.rs` from `data/` (see the header of the generated
-/// file for the inputs and their checksums).
-pub mod tables {
-    include!(concat!(env!("OUT_DIR"), "/tables.rs"));
-
-    /// Shader source for the scene the tables were baked for: its colour sets and displays in WGSL
-    /// and GLSL. `build.rs` writes it from the same f64 values as the Rust tables and rounds them
-    /// the same way, so every shader constant is the same f32 as its Rust counterpart.
-    ///
-    /// For each colour set `<SET>` (lower case `<set>`) and display `<DISPLAY>` (`<display>`) the
-    /// scene bakes:
-    ///
-    /// | WGSL item | what | Rust counterpart |
-    /// |---|---|---|
-    /// | `<SET>_WL: array<f32, N>` | wavelengths in nm: the samples' order | `<SET>.wavelengths_nm()` |
-    /// | `<SET>_AC1C2: array<vec3<f32>, N>` | weights for A, C1, C2, one column per wavelength | `<SET>.weights()` |
-    /// | `<SET>_<DISPLAY>: array<vec3<f32>, N>` | weights for linear RGB, one column per wavelength | `folded::<SET>_<DISPLAY>.weights()` |
-    /// | `<set>_ac1c2(s: array<f32, N>) -> vec3<f32>` | samples → `[A, C1, C2]` | [`WavelengthSet::ac1c2`](crate::WavelengthSet::ac1c2) |
-    /// | `<set>_<display>_linear(s: array<f32, N>) -> vec3<f32>` | samples → linear RGB | [`FoldedSet::linear_rgb`](crate::FoldedSet::linear_rgb) |
-    /// | `<display>_encode(rgb: vec3<f32>) -> vec3<f32>` | linear RGB → clipped, encoded 0..=1 | [`Display::encode`](crate::Display::encode) with [`GamutMapping::Clip`](crate::GamutMapping::Clip) |
-    ///
-    /// GLSL has the same names with `float[N]`, `vec3[N]`, `vec3 <set>_ac1c2(float s[N])` and so
-    /// on. Helpers start with `sq_`. Per-channel rule sets are left out (alone they give no
-    /// colour), and so are run-time lookup-table transfer functions, which a scene cannot name.
-    ///
-    /// # Accuracy
-    ///
-    /// The products are summed in the runtime's order. Whether the shader compiler fuses them into
-    /// FMA or not, each channel of `<set>_ac1c2` and `<set>_<display>_linear` is within
-    /// [`f32_budget`](crate::f32_budget)`(N, Σ|wᵢ·sᵢ|)` of the runtime's. `<display>_encode` uses
-    /// the shader's f32 `pow`, whose error WGSL and Vulkan inherit from `exp2(y · log2(x))`; on the
-    /// same linear input it stays within 5.7e-7 of the runtime's f64 curve (the largest value of
-    /// the bound `shader-tests/tests/shaders.rs` derives from those precisions). `shader-tests/tests/shaders.rs` runs both
-    /// snippets on a Vulkan device and checks every output against these bounds.
-    ///
-    /// Shaders may flush subnormal values to zero, and what they do with not-a-number values is up
-    /// to the implementation: the runtime's rule that such a pixel turns black does not carry over.
-    pub mod shaders {
-        /// The WGSL snippet: module-scope `const` declarations and functions. Put it before your
-        /// own code, e.g. `format!("{}\n{}", WGSL, my_shader)`.
-        pub const WGSL: &str = include_str!(concat!(env!("OUT_DIR"), "/shaders.wgsl"));
-        /// The GLSL snippet: `const` arrays and functions, without a `#version` line. Put it
-        /// after your `#version` (3.30, ES 3.00 or later) and, in GLSL ES, after
-        /// `precision highp float;`.
-        pub const GLSL: &str = include_str!(concat!(env!("OUT_DIR"), "/shaders.glsl"));
-    }
 }
 
 /// The README's examples, compiled and run as doctests.
