@@ -5,8 +5,8 @@
 use spectral_quadrature_math::{display_matrices, DisplayError, DisplayMatrices};
 
 use crate::encode::{clamp01, srgb8_not_nan};
-use crate::transfer::{gamma_encoder, gamma_f32, quantize_u8, Rgb, TransferFunction};
-use crate::Error;
+use crate::transfer::{gamma_encoder, gamma_f32, quantize_u8, TransferFunction};
+use crate::{Error, Rgb};
 
 /// What to do with colours the display cannot show (a linear channel below 0 or above 1).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]

@@ -176,7 +176,8 @@ extern crate std;
 
 // The modules, each importing only from those in the lines above it (and from `tables`, the
 // generated constants, which name the types they instantiate):
-// - error; encode (the 8-bit encoders' tables, clamping); matrix (3×3 products);
+// - channel (the channel selectors); error (on channel); encode (the 8-bit encoders' tables,
+//   clamping); matrix (3×3 products);
 // - transfer (transfer functions, on encode); display (on transfer, encode and the math crate);
 // - set (the set types, with their display); simd (the x86-64 loops, on encode);
 // - pixel (the per-pixel path, on set, display and simd);
@@ -186,11 +187,12 @@ extern crate std;
 // - dynamic and fast, on the types; upsample (RGB → node reflectances, on error).
 // simd::target (whether the target has f32 vector units) is a leaf that both simd::forced (the
 // test and fuzz builds' loop caps) and planar read, so that neither imports the other. `tables`
-// (tables.rs, the generated constants) names the types it instantiates, and `error` names
-// `Channel`, `Rgb` and `CalibrationProblem` in its variants: those imports point up the list.
+// (tables.rs, the generated constants) names the types it instantiates: those references point
+// up the list.
 mod batch;
 mod calibration;
 mod cct;
+mod channel;
 mod display;
 mod dynamic;
 mod encode;
@@ -212,23 +214,24 @@ mod fast;
 
 pub mod tables;
 
-pub use calibration::{Calibration, CalibrationProblem, CountCalibration};
+pub use calibration::{Calibration, CountCalibration};
 pub use cct::{uv_from_xyz, Cct, PlanckianLocus, CCT_MAX_ERROR_MIRED, DUV_MAX_ERROR, MAX_DUV};
+pub use channel::{Channel, Rgb};
 pub use display::{Display, GamutMapping};
 pub use dynamic::DynamicSet;
 pub use encode::{srgb8_from_linear, SRGB8_MAX_ERROR, SRGB8_MAX_ERROR_DE76};
-pub use error::{DisplayError, Error};
+pub use error::{CalibrationProblem, DisplayError, Error};
 #[cfg(feature = "micromath")]
 pub use fast::ENCODE_FAST_MAX_ERROR;
 pub use integer::{IntegerSet, INTEGER_MAX_ERROR_CODES};
 pub use lux::LuxScale;
 pub use matrix::{ac1c2_from_xyz, xyz_from_ac1c2};
 pub use pixel::f32_budget;
-pub use set::{Channel, FoldedSet, GaussRule, RuleStatus, Samples, WavelengthSet, MAX_WAVELENGTHS};
+pub use set::{FoldedSet, GaussRule, RuleStatus, Samples, WavelengthSet, MAX_WAVELENGTHS};
 pub use spectral_quadrature_math::{
     delta_e2000, delta_e76, lab_from_xyz, Point, MAX_PRIMARIES_CONDITION, MIN_WHITE_SHARE,
 };
-pub use transfer::{quantize_u16, quantize_u8, ChannelLuts, Rgb, TransferFunction, U16_MAX_ERROR};
+pub use transfer::{quantize_u16, quantize_u8, ChannelLuts, TransferFunction, U16_MAX_ERROR};
 pub use upsample::{RoundTrip, Upsampling, UPSAMPLING_CODE_ONE};
 
 /// Internal, for the fuzz targets in `fuzz/` alone: caps the loops the batch and planar paths

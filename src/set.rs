@@ -2,40 +2,7 @@
 
 #![forbid(unsafe_code)]
 
-/// One of the three opponent channels of AC1C2 space.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum Channel {
-    /// The achromatic channel, close to luminance ȳ.
-    A,
-    /// The red–green channel: positive in the green, negative in the red.
-    C1,
-    /// The yellow–blue channel: positive in the blue.
-    C2,
-}
-
-impl Channel {
-    /// The channels in row order.
-    pub const ALL: [Channel; 3] = [Channel::A, Channel::C1, Channel::C2];
-
-    /// The row of this channel in a weight matrix: 0, 1 or 2.
-    pub const fn index(self) -> usize {
-        match self {
-            Channel::A => 0,
-            Channel::C1 => 1,
-            Channel::C2 => 2,
-        }
-    }
-
-    /// `"A"`, `"C1"` or `"C2"`.
-    pub const fn name(self) -> &'static str {
-        match self {
-            Channel::A => "A",
-            Channel::C1 => "C1",
-            Channel::C2 => "C2",
-        }
-    }
-}
+use crate::Channel;
 
 /// Whether a Gauss rule of some order exists, and if not, why.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
