@@ -99,12 +99,12 @@
 //! differences, [`f32_budget`]).
 //!
 //! **Integer counts** (`src/integer/`), for microcontrollers without an FPU:
-//! [`IntegerSet::encode_u8`] takes u16 counts, sums each channel's fixed-point weights times the
-//! counts in 32 bits (`fixed_point.rs`: the weights' top bits; on Armv7E-M two samples an
-//! instruction, with the DSP extension's `SMLAD`, `dsp.rs`), settles most codes with one
-//! look-up in a table of limits on the transfer curve's thresholds (an entry per 2⁻¹² of linear
-//! light) and one comparison, and only where a threshold lies within the coarse sum's margin
-//! forms the exact sum and compares it (`curve.rs`).
+//! [`IntegerSet::encode_u8`] (`set.rs`) takes u16 counts, sums each channel's fixed-point
+//! weights times the counts in 32 bits (the weights' top bits, `fixed_point.rs`; on Armv7E-M two
+//! samples an instruction, with the DSP extension's `SMLAD`, `dsp.rs`), settles most codes with
+//! one look-up in a table of limits on the transfer curve's thresholds (an entry per 2⁻¹² of
+//! linear light, `curve.rs`) and one comparison, and only where a threshold lies within the
+//! coarse sum's margin forms the exact sum and compares it.
 //! [`IntegerSet::encode_u8_batch`] runs the same steps in one loop over the pixels. No f32 and
 //! no f64: the baked [`tables::integer`] sets are the folded sets in fixed point.
 //!
