@@ -174,39 +174,36 @@
 #[cfg(any(test, fuzzing))]
 extern crate std;
 
-// The modules, each importing only from those in the lines above it (and from `tables`, the
-// generated constants, which name the types they instantiate):
-// - channel (the channel selectors); error (on channel); encode (the 8-bit encoders' tables,
-//   clamping); matrix (3×3 products);
-// - transfer (transfer functions, on encode); display (on transfer, encode and the math crate);
-// - set (the set types, with their display); simd (the x86-64 loops, on encode);
-// - pixel (the per-pixel path, on set, display and simd);
-// - planar (the planar path and the portable loops, on pixel and simd); batch (the interleaved
-//   path, on pixel, planar's portable loops and simd);
-// - integer (the integer path, on set and encode's thresholds);
-// - dynamic and fast, on the types; upsample (RGB → node reflectances, on error).
+// The modules by role, each importing only from the roles above it in this list; no module
+// imports one that imports it back (`python3 .ci/module-graph src` checks both, in CI):
+// 1. encode (the 8-bit encoders' tables, clamping); tables (tables.rs, the generated
+//    constants); cct (CCT and Duv); lux;
+// 2. model (the value types and their own arithmetic: the channel selectors, the error type,
+//    3×3 products, transfer functions, displays, sets), on encode and tables; simd (the x86-64
+//    loops), on encode;
+// 3. pixel (the per-pixel path), planar (the planar path and the portable loops), integer (the
+//    integer path), dynamic and fast, on model and simd; calibration and upsample (RGB → node
+//    reflectances), on model's error;
+// 4. batch (the interleaved path, on planar's portable loops).
 // simd::target (whether the target has f32 vector units) is a leaf that both simd::forced (the
-// test and fuzz builds' loop caps) and planar read, so that neither imports the other. `tables`
-// (tables.rs, the generated constants) names the types it instantiates: those references point
-// up the list.
+// test and fuzz builds' loop caps) and planar read, so that neither imports the other. The
+// generated constants in `tables` also name the types they instantiate (model's, cct's,
+// upsample's, integer's, encode's): references down this list, which the module graph cannot
+// see (it does not read the generated file); tables.rs says how they meet the reads of
+// `tables` by model and integer.
 mod batch;
 mod calibration;
 mod cct;
-mod channel;
-mod display;
 mod dynamic;
 mod encode;
-mod error;
 mod integer;
 mod lux;
-mod matrix;
+mod model;
 mod pixel;
 mod planar;
-mod set;
 mod simd;
 #[cfg(test)]
 mod test_inputs;
-mod transfer;
 mod upsample;
 
 #[cfg(feature = "micromath")]
@@ -216,22 +213,24 @@ pub mod tables;
 
 pub use calibration::{Calibration, CountCalibration};
 pub use cct::{uv_from_xyz, Cct, PlanckianLocus, CCT_MAX_ERROR_MIRED, DUV_MAX_ERROR, MAX_DUV};
-pub use channel::{Channel, Rgb};
-pub use display::{Display, GamutMapping};
 pub use dynamic::DynamicSet;
 pub use encode::{srgb8_from_linear, SRGB8_MAX_ERROR, SRGB8_MAX_ERROR_DE76};
-pub use error::{CalibrationProblem, DisplayError, Error};
 #[cfg(feature = "micromath")]
 pub use fast::ENCODE_FAST_MAX_ERROR;
 pub use integer::{IntegerSet, INTEGER_MAX_ERROR_CODES};
 pub use lux::LuxScale;
-pub use matrix::{ac1c2_from_xyz, xyz_from_ac1c2};
+pub use model::channel::{Channel, Rgb};
+pub use model::display::{Display, GamutMapping};
+pub use model::error::{CalibrationProblem, DisplayError, Error};
+pub use model::matrix::{ac1c2_from_xyz, xyz_from_ac1c2};
+pub use model::set::{FoldedSet, GaussRule, RuleStatus, Samples, WavelengthSet, MAX_WAVELENGTHS};
+pub use model::transfer::{
+    quantize_u16, quantize_u8, ChannelLuts, TransferFunction, U16_MAX_ERROR,
+};
 pub use pixel::f32_budget;
-pub use set::{FoldedSet, GaussRule, RuleStatus, Samples, WavelengthSet, MAX_WAVELENGTHS};
 pub use spectral_quadrature_math::{
     delta_e2000, delta_e76, lab_from_xyz, Point, MAX_PRIMARIES_CONDITION, MIN_WHITE_SHARE,
 };
-pub use transfer::{quantize_u16, quantize_u8, ChannelLuts, TransferFunction, U16_MAX_ERROR};
 pub use upsample::{RoundTrip, Upsampling, UPSAMPLING_CODE_ONE};
 
 /// Internal, for the fuzz targets in `fuzz/` alone: caps the loops the batch and planar paths

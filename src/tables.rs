@@ -1,14 +1,15 @@
 //! The tables baked at compile time by `build.rs` from `data/` (see the header of the generated
 //! file for the inputs and their checksums).
-//!
-//! A module of its own, so that lib.rs is a facade. The generated code instantiates the crate's
-//! types, naming them at the crate's root (`crate::WavelengthSet`, `crate::Display`, ...), and a
-//! few of those types' functions read numbers from it: the observer's matrices
-//! (`xyz_from_ac1c2`, `ac1c2_from_xyz`, `Display::new`, `WavelengthSet::fold`) and the 8-bit
-//! encoders of the baked power laws (`TransferFunction::encode_u8`, `Display::encode_u8`,
-//! `IntegerSet::new`). The two directions meet item by item, never in a loop (constant
-//! evaluation would reject one). `.ci/module-graph` does not read the generated file: it sees
-//! only the modules that read the tables.
+
+// A module of its own, so that lib.rs is a facade. The generated code instantiates the crate's
+// types, naming them at the crate's root (`crate::WavelengthSet`, `crate::Display`, ...), and a
+// few functions of those types read numbers from it: the observer's matrices (`xyz_from_ac1c2`,
+// `ac1c2_from_xyz`, `Display::new`, `WavelengthSet::fold`) and the 8-bit encoders of the baked
+// power laws (`TransferFunction::encode_u8`, `Display::encode_u8`, `IntegerSet::new`, which the
+// baked integer sets call at compile time). Item by item the two directions form no loop
+// (constant evaluation would reject one); module by module they meet here, as they must while
+// one generated file holds both the numbers and the constants. `.ci/module-graph` does not read
+// the generated file: it counts the reads, so `tables` is at the bottom of its layers.
 
 include!(concat!(env!("OUT_DIR"), "/tables.rs"));
 

@@ -355,7 +355,7 @@ impl<const N: usize> WavelengthSet<N> {
     /// `scale = 1 / UNIT_SPECTRUM_Y`. Non-finite weights or scale propagate into the result; with
     /// N = 0 the folded set has no weights either.
     pub fn fold(&self, display: &crate::Display, scale: f32) -> FoldedSet<N> {
-        let m = crate::matrix::mat3_mul(&display.xyz_to_rgb, &crate::tables::AC1C2_TO_XYZ);
+        let m = super::matrix::mat3_mul(&display.xyz_to_rgb, &crate::tables::AC1C2_TO_XYZ);
         let mut weights = [[0.0f32; N]; 3];
         for (r, row) in weights.iter_mut().enumerate() {
             for (i, w) in row.iter_mut().enumerate() {
