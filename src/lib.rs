@@ -181,10 +181,11 @@ extern crate std;
 // 2. model (the value types and their own arithmetic: the channel selectors, the error type,
 //    3×3 products, transfer functions, displays, sets), on encode and tables; simd (the x86-64
 //    loops), on encode;
-// 3. pixel (the per-pixel path), planar (the planar path and the portable loops), integer (the
-//    integer path), dynamic and fast, on model and simd; calibration and upsample (RGB → node
+// 3. pixel (the per-pixel path, on model and simd), planar (the planar path and the portable
+//    loops, on model, simd and encode), integer (the integer path, on model, encode and tables),
+//    dynamic (on model), fast (on model and encode); calibration and upsample (RGB → node
 //    reflectances), on model's error;
-// 4. batch (the interleaved path, on planar's portable loops).
+// 4. batch (the interleaved path, on model, simd and planar's portable loops).
 // simd::target (whether the target has f32 vector units) is a leaf that both simd::forced (the
 // test and fuzz builds' loop caps) and planar read, so that neither imports the other. The
 // generated constants in `tables` also name the types they instantiate (model's, cct's,
