@@ -66,7 +66,7 @@ impl<const N: usize> FoldedSet<N> {
         samples: &[[f32; N]],
         out: &mut [[u8; 3]],
     ) -> Result<(), Error> {
-        crate::set::assert_width::<N>();
+        crate::model::set::assert_width::<N>();
         check(samples.len(), out.len())?;
         let srgb_clip = self.display.is_srgb_clip(mapping);
         let vector_units = crate::planar::portable::VECTOR_UNITS && crate::simd::allowed!(Portable);

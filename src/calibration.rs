@@ -10,33 +10,7 @@
 
 #![forbid(unsafe_code)]
 
-use crate::Error;
-
-/// What is wrong with one channel of a calibration (see [`Error::Calibration`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[non_exhaustive]
-pub enum CalibrationProblem {
-    /// The white reading is not above the dark one (or one of them is not finite): there is no
-    /// signal to scale. Longer integration, more light, or a wrong channel order.
-    NoSignal,
-    /// The reference (what the golden device reads on the white) is not finite and positive.
-    Reference,
-    /// The gain or the dark offset is not finite, or does not fit the integer form (a dark
-    /// offset outside 0..=65 535 counts, a gain of 65 536 or more).
-    OutOfRange,
-}
-
-impl CalibrationProblem {
-    /// A short description, for messages.
-    pub const fn name(self) -> &'static str {
-        match self {
-            CalibrationProblem::NoSignal => "the white reading is not above the dark one",
-            CalibrationProblem::Reference => "the reference reading is not finite and positive",
-            CalibrationProblem::OutOfRange => "the gain or dark offset is out of range",
-        }
-    }
-}
+use crate::{CalibrationProblem, Error};
 
 /// A device's dark offsets and gains: `apply` gives `(reading − dark) · gain` per channel, the
 /// readings the golden device would have given, in the units of the reference it was formed

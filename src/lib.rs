@@ -99,12 +99,12 @@
 //! differences, [`f32_budget`]).
 //!
 //! **Integer counts** (`src/integer/`), for microcontrollers without an FPU:
-//! [`IntegerSet::encode_u8`] takes u16 counts, sums each channel's fixed-point weights times the
-//! counts in 32 bits (`fixed_point.rs`: the weights' top bits; on Armv7E-M two samples an
-//! instruction, with the DSP extension's `SMLAD`, `dsp.rs`), settles most codes with one
-//! look-up in a table of limits on the transfer curve's thresholds (an entry per 2⁻¹² of linear
-//! light) and one comparison, and only where a threshold lies within the coarse sum's margin
-//! forms the exact sum and compares it (`curve.rs`).
+//! [`IntegerSet::encode_u8`] (`set.rs`) takes u16 counts, sums each channel's fixed-point
+//! weights times the counts in 32 bits (the weights' top bits, `fixed_point.rs`; on Armv7E-M two
+//! samples an instruction, with the DSP extension's `SMLAD`, `dsp.rs`), settles most codes with
+//! one look-up in a table of limits on the transfer curve's thresholds (an entry per 2⁻¹² of
+//! linear light, `curve.rs`) and one comparison, and only where a threshold lies within the
+//! coarse sum's margin forms the exact sum and compares it.
 //! [`IntegerSet::encode_u8_batch`] runs the same steps in one loop over the pixels. No f32 and
 //! no f64: the baked [`tables::integer`] sets are the folded sets in fixed point.
 //!
@@ -174,59 +174,64 @@
 #[cfg(any(test, fuzzing))]
 extern crate std;
 
-// The modules, each importing only from those in the lines above it (and from `tables`, the
-// generated constants, which name the types they instantiate):
-// - error; encode (the 8-bit encoders' tables, clamping); matrix (3×3 products);
-// - transfer (transfer functions, on encode); display (on transfer, encode and the math crate);
-// - set (the set types, with their display); simd (the x86-64 loops, on encode);
-// - pixel (the per-pixel path, on set, display and simd);
-// - planar (the planar path and the portable loops, on pixel and simd); batch (the interleaved
-//   path, on pixel, planar's portable loops and simd);
-// - integer (the integer path, on set and encode's thresholds);
-// - dynamic and fast, on the types; upsample (RGB → node reflectances, on error).
+// The modules by role, each importing only from the roles above it in this list; no module
+// imports one that imports it back (`python3 .ci/module-graph src` checks both, in CI):
+// 1. encode (the 8-bit encoders' tables, clamping); tables (tables.rs, the generated
+//    constants); cct (CCT and Duv); lux;
+// 2. model (the value types and their own arithmetic: the channel selectors, the error type,
+//    3×3 products, transfer functions, displays, sets), on encode and tables; simd (the x86-64
+//    loops), on encode;
+// 3. pixel (the per-pixel path, on model and simd), planar (the planar path and the portable
+//    loops, on model, simd and encode), integer (the integer path, on model, encode and tables),
+//    dynamic (on model), fast (on model and encode); calibration and upsample (RGB → node
+//    reflectances), on model's error;
+// 4. batch (the interleaved path, on model, simd and planar's portable loops).
 // simd::target (whether the target has f32 vector units) is a leaf that both simd::forced (the
 // test and fuzz builds' loop caps) and planar read, so that neither imports the other. The
-// `tables` below name the types they instantiate, and `error` names `Channel`, `Rgb` and
-// `CalibrationProblem` in its variants: those imports point up the list.
+// generated constants in `tables` also name the types they instantiate (model's, cct's,
+// upsample's, integer's, encode's): references down this list, which the module graph cannot
+// see (it does not read the generated file); tables.rs says how they meet the reads of
+// `tables` by model and integer.
 mod batch;
 mod calibration;
 mod cct;
-mod display;
 mod dynamic;
 mod encode;
-mod error;
 mod integer;
 mod lux;
-mod matrix;
+mod model;
 mod pixel;
 mod planar;
-mod set;
 mod simd;
 #[cfg(test)]
 mod test_inputs;
-mod transfer;
 mod upsample;
 
 #[cfg(feature = "micromath")]
 mod fast;
 
-pub use calibration::{Calibration, CalibrationProblem, CountCalibration};
+pub mod tables;
+
+pub use calibration::{Calibration, CountCalibration};
 pub use cct::{uv_from_xyz, Cct, PlanckianLocus, CCT_MAX_ERROR_MIRED, DUV_MAX_ERROR, MAX_DUV};
-pub use display::{Display, GamutMapping};
 pub use dynamic::DynamicSet;
 pub use encode::{srgb8_from_linear, SRGB8_MAX_ERROR, SRGB8_MAX_ERROR_DE76};
-pub use error::{DisplayError, Error};
 #[cfg(feature = "micromath")]
 pub use fast::ENCODE_FAST_MAX_ERROR;
 pub use integer::{IntegerSet, INTEGER_MAX_ERROR_CODES};
 pub use lux::LuxScale;
-pub use matrix::{ac1c2_from_xyz, xyz_from_ac1c2};
+pub use model::channel::{Channel, Rgb};
+pub use model::display::{Display, GamutMapping};
+pub use model::error::{CalibrationProblem, DisplayError, Error};
+pub use model::matrix::{ac1c2_from_xyz, xyz_from_ac1c2};
+pub use model::set::{FoldedSet, GaussRule, RuleStatus, Samples, WavelengthSet, MAX_WAVELENGTHS};
+pub use model::transfer::{
+    quantize_u16, quantize_u8, ChannelLuts, TransferFunction, U16_MAX_ERROR,
+};
 pub use pixel::f32_budget;
-pub use set::{Channel, FoldedSet, GaussRule, RuleStatus, Samples, WavelengthSet, MAX_WAVELENGTHS};
 pub use spectral_quadrature_math::{
     delta_e2000, delta_e76, lab_from_xyz, Point, MAX_PRIMARIES_CONDITION, MIN_WHITE_SHARE,
 };
-pub use transfer::{quantize_u16, quantize_u8, ChannelLuts, Rgb, TransferFunction, U16_MAX_ERROR};
 pub use upsample::{RoundTrip, Upsampling, UPSAMPLING_CODE_ONE};
 
 /// Internal, for the fuzz targets in `fuzz/` alone: caps the loops the batch and planar paths
@@ -236,54 +241,6 @@ pub use upsample::{RoundTrip, Upsampling, UPSAMPLING_CODE_ONE};
 #[doc(hidden)]
 pub mod __fuzzing {
     pub use crate::simd::forced::{force, take_ran, Loops, Ran};
-}
-
-/// The tables baked at compile time by `build.rs` from `data/` (see the header of the generated
-/// file for the inputs and their checksums).
-pub mod tables {
-    include!(concat!(env!("OUT_DIR"), "/tables.rs"));
-
-    /// Shader source for the scene the tables were baked for: its colour sets and displays in WGSL
-    /// and GLSL. `build.rs` writes it from the same f64 values as the Rust tables and rounds them
-    /// the same way, so every shader constant is the same f32 as its Rust counterpart.
-    ///
-    /// For each colour set `<SET>` (lower case `<set>`) and display `<DISPLAY>` (`<display>`) the
-    /// scene bakes:
-    ///
-    /// | WGSL item | what | Rust counterpart |
-    /// |---|---|---|
-    /// | `<SET>_WL: array<f32, N>` | wavelengths in nm: the samples' order | `<SET>.wavelengths_nm()` |
-    /// | `<SET>_AC1C2: array<vec3<f32>, N>` | weights for A, C1, C2, one column per wavelength | `<SET>.weights()` |
-    /// | `<SET>_<DISPLAY>: array<vec3<f32>, N>` | weights for linear RGB, one column per wavelength | `folded::<SET>_<DISPLAY>.weights()` |
-    /// | `<set>_ac1c2(s: array<f32, N>) -> vec3<f32>` | samples → `[A, C1, C2]` | [`WavelengthSet::ac1c2`](crate::WavelengthSet::ac1c2) |
-    /// | `<set>_<display>_linear(s: array<f32, N>) -> vec3<f32>` | samples → linear RGB | [`FoldedSet::linear_rgb`](crate::FoldedSet::linear_rgb) |
-    /// | `<display>_encode(rgb: vec3<f32>) -> vec3<f32>` | linear RGB → clipped, encoded 0..=1 | [`Display::encode`](crate::Display::encode) with [`GamutMapping::Clip`](crate::GamutMapping::Clip) |
-    ///
-    /// GLSL has the same names with `float[N]`, `vec3[N]`, `vec3 <set>_ac1c2(float s[N])` and so
-    /// on. Helpers start with `sq_`. Per-channel rule sets are left out (alone they give no
-    /// colour), and so are run-time lookup-table transfer functions, which a scene cannot name.
-    ///
-    /// # Accuracy
-    ///
-    /// The products are summed in the runtime's order. Whether the shader compiler fuses them into
-    /// FMA or not, each channel of `<set>_ac1c2` and `<set>_<display>_linear` is within
-    /// [`f32_budget`](crate::f32_budget)`(N, Σ|wᵢ·sᵢ|)` of the runtime's. `<display>_encode` uses
-    /// the shader's f32 `pow`, whose error WGSL and Vulkan inherit from `exp2(y · log2(x))`; on the
-    /// same linear input it stays within 5.7e-7 of the runtime's f64 curve (the largest value of
-    /// the bound `shader-tests/tests/shaders.rs` derives from those precisions). `shader-tests/tests/shaders.rs` runs both
-    /// snippets on a Vulkan device and checks every output against these bounds.
-    ///
-    /// Shaders may flush subnormal values to zero, and what they do with not-a-number values is up
-    /// to the implementation: the runtime's rule that such a pixel turns black does not carry over.
-    pub mod shaders {
-        /// The WGSL snippet: module-scope `const` declarations and functions. Put it before your
-        /// own code, e.g. `format!("{}\n{}", WGSL, my_shader)`.
-        pub const WGSL: &str = include_str!(concat!(env!("OUT_DIR"), "/shaders.wgsl"));
-        /// The GLSL snippet: `const` arrays and functions, without a `#version` line. Put it
-        /// after your `#version` (3.30, ES 3.00 or later) and, in GLSL ES, after
-        /// `precision highp float;`.
-        pub const GLSL: &str = include_str!(concat!(env!("OUT_DIR"), "/shaders.glsl"));
-    }
 }
 
 /// The README's examples, compiled and run as doctests.

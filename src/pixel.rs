@@ -50,7 +50,7 @@ impl<const N: usize> WavelengthSet<N> {
     /// IEEE arithmetic, as [`ac1c2`](Self::ac1c2); `[0.0, 0.0, 0.0]` with N = 0.
     #[inline]
     pub fn xyz(&self, samples: &[f32; N]) -> [f32; 3] {
-        crate::matrix::xyz_from_ac1c2(self.ac1c2(samples))
+        crate::xyz_from_ac1c2(self.ac1c2(samples))
     }
 }
 

@@ -1,13 +1,10 @@
 //! The transfer curve on the integer scales: the f32 encoder's thresholds rounded up to 2³¹ and
-//! 2⁶³, the table of limits that settles most codes with one look-up and one comparison, and
-//! the settling of a channel's code from its coarse sum (refined by the exact sum where a
-//! threshold lies within the margin).
+//! 2⁶³, and the table of limits that settles most codes with one look-up and one comparison;
+//! the curve of each transfer function an integer set can encode. `set` settles a channel's
+//! code on it.
 
 #![forbid(unsafe_code)]
 
-#[cfg(arm_dsp)]
-use super::dsp;
-use super::IntegerSet;
 use crate::TransferFunction;
 
 /// An integer encoder of one transfer function: its f32 thresholds (those of the f32 8-bit
@@ -22,7 +19,7 @@ pub(crate) struct IntegerCurve {
     /// it the next threshold after S on the 2³⁰ scale, rounded down far enough that the low
     /// byte cannot lift it. A value v on the 2³⁰ scale at or above S with `v < limit` (as i32)
     /// is below that threshold, so its code is the low byte. Without a next threshold the
-    /// entry is `i32::MAX` (code 255), as [`IntegerSet::new`] requires of the last stretch.
+    /// entry is `i32::MAX` (code 255), as [`IntegerSet::new`](crate::IntegerSet::new) requires of the last stretch.
     pub(super) limits: [i32; INDEX_LEN],
     /// `⌈θₖ · 2³¹⌉` for k = 1..=255 (θₖ ≤ 1); entry 0 is 0, entry 256 is `u32::MAX`, above
     /// every key, so that a search needs no bounds test.
@@ -76,7 +73,7 @@ impl IntegerCurve {
     /// the last): the code at the start of the key's stretch, then one step per threshold
     /// inside the stretch.
     #[inline(always)]
-    fn count_q31(&self, key: u32) -> (usize, u32) {
+    pub(super) fn count_q31(&self, key: u32) -> (usize, u32) {
         let mut code = self.limits[(key >> INDEX_SHIFT) as usize & (INDEX_LEN - 1)] as u8;
         loop {
             // code ≤ 255, so the index is in range: the sentinel at 256 ends the search.
@@ -90,7 +87,7 @@ impl IntegerCurve {
 
     /// `⌈θₖ · 2⁶³⌉` (θₖ ≤ 1, so at most 2⁶³).
     #[inline]
-    fn q63(&self, k: usize) -> u64 {
+    pub(super) fn q63(&self, k: usize) -> u64 {
         scaled_ceil(self.f32_bits[k & 255], 63)
     }
 }
@@ -186,196 +183,9 @@ pub(super) const fn curve_for(transfer: TransferFunction) -> Option<&'static Int
     }
 }
 
-impl<const N: usize> IntegerSet<N> {
-    /// The code value of channel `c` from its coarse sum `h` and `total = Σᵢ xᵢ`.
-    #[inline(always)]
-    pub(super) fn encode_channel<const S: u32>(
-        &self,
-        c: usize,
-        h: i32,
-        total: i32,
-        x: &[u16; N],
-    ) -> u8 {
-        // F / 2^16 = h + Σᵢ (Vᵢ mod 2¹⁶) · xᵢ / 2¹⁶, and the low halves are below 2¹⁶: F / 2^16
-        // is at least h and, unless every count is 0 (then F = h = 0), below h + Σᵢ xᵢ, `top`.
-        // No overflow: new() bounded |h| + N · 65535 by i32::MAX.
-        let top = h.wrapping_add(total);
-        // h clamped to 0..1.0 on the 2³¹ scale: below 0 it has code 0 (the first threshold is
-        // above 0), from 1.0 − 2^(16−P) up code 255 (new() checked that the last threshold is
-        // not above it, nor in the last stretch).
-        let key = (h.clamp(0, self.one - 1) as u32) << self.shift;
-        let limit = self.limit::<S>(h, key);
-        // top on the 2³⁰ scale, as i32. For 0 ≤ h < 1.0 it is exact: top is below 1.0 plus
-        // the margin, less than 2 · 1.0 (new() made 1.0 exceed the margin). Then below the
-        // limit it is below the next threshold after the stretch's start, and so is F: the
-        // code is the low byte. For h < 0 the entry is the first (code 0, right for any F
-        // below top, which is then below the first threshold or negative), and for h ≥ 1.0
-        // the last (code 255, `i32::MAX`): there a wrapped value is wrong only in which path
-        // it takes, never in the code.
-        let top30 = (top as u32).wrapping_shl(self.shift - 1) as i32;
-        if top30 < limit {
-            return limit as u8;
-        }
-        // Most often the stretch holds one threshold, at or below h: then the code is one
-        // more, if the threshold after it is above top. (code + 1 ≤ 256 is in range; code + 2
-        // is masked, and entry 0 for code 254 only sends the value on to `settle`.)
-        let code = usize::from(limit as u8);
-        if key >= self.curve.q31[code + 1] {
-            let key_top = (top.max(0) as u32) << self.shift;
-            if key_top < self.curve.q31[(code + 2) & 255] {
-                return code as u8 + 1;
-            }
-        }
-        self.settle(c, h, total, x)
-    }
-
-    /// The limit of the stretch of `h`, whose key (h clamped to 0..1.0 on the 2³¹ scale) is
-    /// `key`. `S` is 0, or on Armv7E-M `P − 28`: then the shift is a constant in the code.
-    #[inline(always)]
-    fn limit<const S: u32>(&self, h: i32, key: u32) -> i32 {
-        // (h clamped) >> (P − 28) is key >> 19: see `dsp::limit`.
-        #[cfg(arm_dsp)]
-        if S != 0 {
-            return dsp::limit::<S>(&self.curve.limits, h);
-        }
-        let _ = h;
-        self.curve.limits[(key >> INDEX_SHIFT) as usize & (INDEX_LEN - 1)]
-    }
-
-    /// The code value of channel `c` when neither the limit nor the threshold after it
-    /// settles it: a threshold lies in the margin, between h and `top`, or the stretch holds
-    /// more than one. From the stretch's code, one step per threshold up to h; if the next one
-    /// is above `h + total`, that is the code, else the exact sum's.
-    #[cold]
-    #[inline(never)]
-    fn settle(&self, c: usize, h: i32, total: i32, x: &[u16; N]) -> u8 {
-        let top = h.wrapping_add(total);
-        let key = (h.clamp(0, self.one - 1) as u32) << self.shift;
-        let (code, next) = self.curve.count_q31(key);
-        // If the next threshold is above top, F is below it too. For h < 1.0, top is below
-        // 2 · 1.0 and fits u32 on the 2³¹ scale; for h ≥ 1.0 the code is 255 and `next` is
-        // u32::MAX, above any shifted value (its lowest bit is 0).
-        let key_top = (top.max(0) as u32) << self.shift;
-        if key_top < next {
-            return code as u8;
-        }
-        self.refine(c, h, x, code)
-    }
-
-    /// The code value of channel `c` from the exact sum, for the few values whose coarse
-    /// estimate has a threshold within its margin. `code` is the coarse code, at most the
-    /// exact one (the coarse sum `h` is never above F / 2^16).
-    #[inline]
-    fn refine(&self, c: usize, h: i32, x: &[u16; N], code: usize) -> u8 {
-        // Armv7E-M multiplies 32 × 32 → 64 bits in one instruction: the exact sum directly.
-        #[cfg(arm_dsp)]
-        let f = {
-            let _ = h;
-            self.exact_sum(c, x)
-        };
-        // F = h · 2¹⁶ + Σᵢ (Vᵢ mod 2¹⁶) · xᵢ: products of two u16, summed in u64 (an Armv6-M
-        // has no 32 × 32 → 64 multiply, but adds with carry).
-        #[cfg(not(arm_dsp))]
-        let f = {
-            let mut low = 0u64;
-            for (&v, &x) in self.weights[c % 3].iter().zip(x) {
-                low += u64::from((v as u32 & 0xffff) * u32::from(x));
-            }
-            (i64::from(h) << 16) + low as i64
-        };
-        if f <= 0 {
-            return 0;
-        }
-        let p = self.frac_bits;
-        if f >= 1i64 << p {
-            return 255;
-        }
-        // 0 < F < 2^P. On the 2³¹ scale, floored, it is `a` (exact for P ≤ 31), and
-        // t = ⌈θ · 2³¹⌉: a ≥ t puts F at or above θ, a + 1 < t below it (t − 1 < θ · 2³¹).
-        // Only a = t − 1 needs the 2⁶³ scale, where F fits u64 and compares exactly with
-        // ⌈θ · 2⁶³⌉.
-        let a = if p >= 31 {
-            (f >> (p - 31)) as u32
-        } else {
-            (f << (31 - p)) as u32
-        };
-        let mut code = code;
-        while code < 255 {
-            let t = self.curve.q31[code + 1];
-            let above = if a >= t {
-                true
-            } else if a < t - 1 {
-                false
-            } else {
-                ((f as u64) << (63 - p)) >= self.curve.q63(code + 1)
-            };
-            if !above {
-                break;
-            }
-            code += 1;
-        }
-        code as u8
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::tables::integer::{KQ_C_8_MEYER_1987, KQ_C_8_SRGB};
-
-    /// The exact code by a full search of the 2⁶³-scale thresholds: what `refine` must give.
-    fn exact_code<const N: usize>(set: &IntegerSet<N>, c: usize, x: &[u16; N]) -> u8 {
-        let f = set.linear_fixed(x)[c];
-        if f <= 0 {
-            return 0;
-        }
-        if f >= 1i64 << set.frac_bits {
-            return 255;
-        }
-        let scaled = (f as u64) << (63 - set.frac_bits);
-        (1..256).filter(|&k| set.curve.q63(k) <= scaled).count() as u8
-    }
-
-    /// Without the refinement the coarse sums would be off by a code on some inputs; with it
-    /// every code is the exact one, on both sides of the refinement's test.
-    #[test]
-    fn the_refinement_runs_where_the_coarse_sum_is_ambiguous() {
-        fn run<const N: usize>(set: &IntegerSet<N>) -> (usize, usize) {
-            let (mut refined, mut coarse_off) = (0, 0);
-            let mut state = 0x9e37_79b9_7f4a_7c15u64;
-            for _ in 0..20_000 {
-                let x: [u16; N] = core::array::from_fn(|_| {
-                    state ^= state << 13;
-                    state ^= state >> 7;
-                    state ^= state << 17;
-                    // Dark pixels too, where the thresholds are closest.
-                    (state >> 48) as u16 >> (state % 7)
-                });
-                let (h, total) = set.coarse_sums(&x);
-                let got = set.encode_u8(&x);
-                for c in 0..3 {
-                    assert_eq!(got[c], exact_code(set, c, &x), "{x:?} channel {c}");
-                    if h[c] > 0 && h[c] < set.one {
-                        let key = (h[c] as u32) << set.shift;
-                        let key_top = ((h[c] + total) as u32) << set.shift;
-                        let (code, next) = set.curve.count_q31(key);
-                        assert_eq!(code, (1..256).filter(|&k| set.curve.q31[k] <= key).count());
-                        assert_eq!(next, set.curve.q31[code + 1]);
-                        if code < 255 && key_top >= next {
-                            refined += 1;
-                            assert_eq!(got[c], set.refine(c, h[c], &x, code));
-                        }
-                        coarse_off += usize::from(code as u8 != got[c]);
-                    }
-                }
-            }
-            (refined, coarse_off)
-        }
-        for (refined, coarse_off) in [run(&KQ_C_8_SRGB), run(&KQ_C_8_MEYER_1987)] {
-            assert!(refined > 0 && coarse_off > 0, "{refined} {coarse_off}");
-            assert!(coarse_off <= refined);
-        }
-    }
 
     /// The limits' low bytes give the code at the start of each stretch, and from there the
     /// search finds every threshold: every key at and next to each threshold, for each curve.

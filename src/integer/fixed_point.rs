@@ -1,12 +1,9 @@
 //! The fixed-point weights (each f32 weight times the sample unit, rounded once to P
-//! fractional bits) and the sums of counts times them: the coarse sums in 32 bits (portably, a
-//! few samples a step; on Armv7E-M through `dsp`) and the exact sum in 64.
+//! fractional bits), and the portable steps of the coarse sums of counts times them (one sample
+//! into the sums, and a few samples a step), which `set` runs; on Armv7E-M it runs `dsp`'s
+//! instead.
 
 #![forbid(unsafe_code)]
-
-#[cfg(arm_dsp)]
-use super::dsp;
-use super::IntegerSet;
 
 /// A value `x` as `(negative, m, e)` with |x| = m · 2^e exactly; `None` for ±Inf and NaN.
 const fn decompose(x: f32) -> Option<(bool, u64, i32)> {
@@ -98,7 +95,11 @@ pub(super) fn mac(acc: &mut [i32; 4], x: u16, w0: i32, w1: i32, w2: i32) {
 /// [`mac`] over the samples four at a time; returns how many it took.
 #[cfg(not(arm_dsp))]
 #[inline(always)]
-fn mac_steps_of_4<const N: usize>(w: &[[i32; N]; 3], x: &[u16; N], acc: &mut [i32; 4]) -> usize {
+pub(super) fn mac_steps_of_4<const N: usize>(
+    w: &[[i32; N]; 3],
+    x: &[u16; N],
+    acc: &mut [i32; 4],
+) -> usize {
     let (x4, _) = x.as_chunks::<4>();
     let (w0, w1, w2) = (
         w[0].as_chunks::<4>().0,
@@ -117,7 +118,11 @@ fn mac_steps_of_4<const N: usize>(w: &[[i32; N]; 3], x: &[u16; N], acc: &mut [i3
 /// [`mac`] over the samples two at a time; returns how many it took.
 #[cfg(not(arm_dsp))]
 #[inline(always)]
-fn mac_steps_of_2<const N: usize>(w: &[[i32; N]; 3], x: &[u16; N], acc: &mut [i32; 4]) -> usize {
+pub(super) fn mac_steps_of_2<const N: usize>(
+    w: &[[i32; N]; 3],
+    x: &[u16; N],
+    acc: &mut [i32; 4],
+) -> usize {
     let (x2, _) = x.as_chunks::<2>();
     let (w0, w1, w2) = (
         w[0].as_chunks::<2>().0,
@@ -129,54 +134,6 @@ fn mac_steps_of_2<const N: usize>(w: &[[i32; N]; 3], x: &[u16; N], acc: &mut [i3
         mac(acc, x[1], w0[1], w1[1], w2[1]);
     }
     N / 2 * 2
-}
-
-impl<const N: usize> IntegerSet<N> {
-    /// `Σᵢ (Vᵢ >> 16) · xᵢ` per channel, in i32, and `Σᵢ xᵢ`: no overflow for any u16 input,
-    /// by the bound [`new`](Self::new) checked (wrapping operations only so that no overflow
-    /// check is compiled in). The samples go a few at a time, written out: at opt-level "s"
-    /// the compiler keeps loops rolled, and a Cortex-M0, with eight registers for a loop's
-    /// sums, pointers and counter, spills them. Four a step suits N = 4 (one step, no loop),
-    /// two a step larger N (fewer values live at once).
-    #[inline(always)]
-    pub(super) fn coarse_sums(&self, x: &[u16; N]) -> ([i32; 3], i32) {
-        #[cfg(arm_dsp)]
-        {
-            let [h0, h1, h2, t] = dsp::pair_sums(&self.packed, x);
-            let mut acc = [h0, h1, h2, t];
-            if N % 2 == 1 {
-                let [w0, w1, w2] = &self.coarse;
-                let i = N - 1;
-                mac(&mut acc, x[i], w0[i], w1[i], w2[i]);
-            }
-            ([acc[0], acc[1], acc[2]], acc[3])
-        }
-        #[cfg(not(arm_dsp))]
-        {
-            let mut acc = [0i32; 4];
-            let done = if N <= 4 {
-                mac_steps_of_4(&self.coarse, x, &mut acc)
-            } else {
-                mac_steps_of_2(&self.coarse, x, &mut acc)
-            };
-            let [w0, w1, w2] = &self.coarse;
-            for (i, &s) in x.iter().enumerate().skip(done) {
-                mac(&mut acc, s, w0[i], w1[i], w2[i]);
-            }
-            ([acc[0], acc[1], acc[2]], acc[3])
-        }
-    }
-
-    /// `F = Σᵢ Vᵢ · xᵢ` for channel `c`, in i64 (each term below 2⁴⁷).
-    #[inline]
-    pub(super) fn exact_sum(&self, c: usize, x: &[u16; N]) -> i64 {
-        let w = &self.weights[c % 3];
-        let mut sum = 0i64;
-        for i in 0..N {
-            sum += i64::from(w[i]) * i64::from(x[i]);
-        }
-        sum
-    }
 }
 
 #[cfg(test)]

@@ -82,7 +82,7 @@ impl<const N: usize> FoldedSet<N> {
         samples: [&[f32]; N],
         out: [&mut [f32]; 3],
     ) -> Result<(), Error> {
-        crate::set::assert_width::<N>();
+        crate::model::set::assert_width::<N>();
         check_planes(&samples, &[out[0].len(), out[1].len(), out[2].len()])?;
         let [r, g, b] = out;
         // The AVX-512 or AVX2 loop where the CPU has one (the same bits; see `simd`), then the
@@ -157,7 +157,7 @@ impl<const N: usize> FoldedSet<N> {
         samples: [&[f32]; N],
         out: &mut [[u8; 3]],
     ) -> Result<(), Error> {
-        crate::set::assert_width::<N>();
+        crate::model::set::assert_width::<N>();
         let pixels = check_planes(&samples, &[out.len()])?;
         let srgb_clip = self.display.is_srgb_clip(mapping);
         let vector_units = VECTOR_UNITS && crate::simd::allowed!(Portable);
@@ -214,7 +214,7 @@ impl<const N: usize> FoldedSet<N> {
         samples: [&[f32]; N],
         out: [&mut [u8]; 3],
     ) -> Result<(), Error> {
-        crate::set::assert_width::<N>();
+        crate::model::set::assert_width::<N>();
         let pixels = check_planes(&samples, &[out[0].len(), out[1].len(), out[2].len()])?;
         let [r, g, b] = out;
         let mut buf = [[0u8; 3]; CHUNK];
@@ -258,7 +258,7 @@ impl<const N: usize> FoldedSet<N> {
         samples: [&[f32]; N],
         out: &mut [[u16; 3]],
     ) -> Result<(), Error> {
-        crate::set::assert_width::<N>();
+        crate::model::set::assert_width::<N>();
         let pixels = check_planes(&samples, &[out.len()])?;
         let planes: [&[f32]; N] = samples.map(|plane| &plane[..pixels]);
         for (p, o) in out[..pixels].iter_mut().enumerate() {
@@ -292,7 +292,7 @@ impl<const N: usize> FoldedSet<N> {
         samples: [&[f32]; N],
         out: [&mut [u16]; 3],
     ) -> Result<(), Error> {
-        crate::set::assert_width::<N>();
+        crate::model::set::assert_width::<N>();
         let pixels = check_planes(&samples, &[out[0].len(), out[1].len(), out[2].len()])?;
         let planes: [&[f32]; N] = samples.map(|plane| &plane[..pixels]);
         let [r, g, b] = out;

@@ -13,6 +13,7 @@
 
 use core::arch::x86_64::*;
 
+use super::loops::{linear_from_lines, srgb8_from_lines, StoreFence};
 use crate::encode::{entry_at_top, LO};
 
 cpufeatures::new!(cpu_avx2, "avx2");
@@ -367,7 +368,7 @@ macro_rules! with_last_pass {
 
 /// The planar sRGB 8-bit loop: `planes[i]` and `out` (3 bytes per pixel). Returns how
 /// many pixels it wrote (8 or more, or 0 below 8); the caller encodes the rest. Its groups
-/// start where most planes start a 32-byte boundary ([`on_lines`](super::on_lines)), so
+/// start where most planes start a 32-byte boundary ([`on_lines`](super::loops::on_lines)), so
 /// that no group's samples straddle two 64-byte lines, after one group at the planes'
 /// start.
 #[target_feature(enable = "avx2")]
@@ -376,7 +377,7 @@ pub(crate) fn encode_srgb8_planar<const N: usize>(
     planes: [&[f32]; N],
     out: &mut [u8],
 ) -> usize {
-    super::srgb8_from_lines(planes, out, LANES, 32, |planes, out| {
+    srgb8_from_lines(planes, out, LANES, 32, |planes, out| {
         encode_srgb8_groups(weights, planes, out)
     })
 }
@@ -604,8 +605,8 @@ fn add_pass<const N: usize>(
 /// The output is then not in the caches, hence the caller's threshold.
 ///
 /// Its pairs of groups start where most planes start a 32-byte boundary
-/// ([`on_lines`](super::on_lines)), after one pair at the planes' start. Returns how many
-/// pixels it wrote (16 or more, or 0 below 16).
+/// ([`on_lines`](super::loops::on_lines)), after one pair at the planes' start. Returns how
+/// many pixels it wrote (16 or more, or 0 below 16).
 #[target_feature(enable = "avx2")]
 pub(crate) fn linear_planar<const N: usize>(
     weights: &[[f32; N]; 3],
@@ -613,7 +614,7 @@ pub(crate) fn linear_planar<const N: usize>(
     out: [&mut [f32]; 3],
     stream: bool,
 ) -> usize {
-    super::linear_from_lines(planes, out, 2 * LANES, 32, |planes, out, first| {
+    linear_from_lines(planes, out, 2 * LANES, 32, |planes, out, first| {
         linear_pairs(weights, planes, out, stream && !first)
     })
 }
@@ -639,7 +640,7 @@ fn linear_pairs<const N: usize>(
     }
     // From here on the output may be written with non-temporal stores: the fence follows them
     // on every way out.
-    let _fence = stream.then_some(super::StoreFence);
+    let _fence = stream.then_some(StoreFence);
     let mut sums = Sums::ZERO;
     let block = BLOCK_GROUPS / 2;
     let blocks = r

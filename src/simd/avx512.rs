@@ -44,11 +44,13 @@
 //! The planar loops ask for each plane's samples [`NEAR`] groups ahead into the first-level
 //! cache and [`FAR`] groups ahead into the second, and read every plane at once at every width
 //! (the AVX2 loops go four planes at a time above four planes). The planar loops start their
-//! groups where most planes start a 64-byte line ([`on_lines`](super::on_lines)), so that
-//! each line is read once.
+//! groups where most planes start a 64-byte line ([`on_lines`](super::loops::on_lines)), so
+//! that each line is read once.
 
 use core::arch::x86_64::*;
 use core::hint::black_box;
+
+use super::loops::{linear_from_lines, srgb8_from_lines, StoreFence};
 
 cpufeatures::new!(cpu_avx512, "avx512f", "avx512bw", "avx512vbmi");
 
@@ -479,14 +481,14 @@ fn load_group<const N: usize>(planes: &[&[[f32; LANES]]; N], j: usize) -> [__m51
 /// pixels it wrote (16 or more, or 0 below 16); the caller encodes the rest.
 ///
 /// The groups of sixteen pixels start where most planes start a 64-byte line
-/// ([`on_lines`](super::on_lines)), after one group at the planes' start.
+/// ([`on_lines`](super::loops::on_lines)), after one group at the planes' start.
 #[target_feature(enable = "avx512f,avx512bw,avx512vbmi")]
 pub(crate) fn encode_srgb8_planar<const N: usize>(
     weights: &[[f32; N]; 3],
     planes: [&[f32]; N],
     out: &mut [u8],
 ) -> usize {
-    super::srgb8_from_lines(planes, out, LANES, 64, |planes, out| {
+    srgb8_from_lines(planes, out, LANES, 64, |planes, out| {
         encode_srgb8_groups(weights, planes, out)
     })
 }
@@ -606,9 +608,9 @@ const NEAR_LINEAR_PLANES: usize = 8;
 
 /// The planar linear f32 loop: `planes[i]` and the three output planes. Returns how many
 /// pixels it wrote (16 or more, or 0 below 16), its groups starting where most planes start
-/// a 64-byte line ([`on_lines`](super::on_lines)), after one group at the planes' start. Each
-/// channel is summed from 0.0 in index order, as `pixel::mat_vec`, so the bits are
-/// those of [`FoldedSet::linear_rgb`](crate::FoldedSet::linear_rgb).
+/// a 64-byte line ([`on_lines`](super::loops::on_lines)), after one group at the planes'
+/// start. Each channel is summed from 0.0 in index order, as `pixel::mat_vec`, so the bits
+/// are those of [`FoldedSet::linear_rgb`](crate::FoldedSet::linear_rgb).
 ///
 /// One pass over all planes, the samples asked for ahead as in the sRGB loop, but above
 /// [`NEAR_LINEAR_PLANES`] planes only into the second-level cache. With `stream`,
@@ -625,7 +627,7 @@ pub(crate) fn linear_planar<const N: usize>(
     out: [&mut [f32]; 3],
     stream: bool,
 ) -> usize {
-    super::linear_from_lines(planes, out, LANES, 64, |planes, out, first| {
+    linear_from_lines(planes, out, LANES, 64, |planes, out, first| {
         linear_groups(weights, planes, out, stream && !first)
     })
 }
@@ -660,7 +662,7 @@ fn linear_groups<const N: usize>(
     };
     if stream {
         // The fence follows the non-temporal stores on every way out of this block.
-        let _fence = super::StoreFence;
+        let _fence = StoreFence;
         let mut out = [r, g, b].map(|o| StreamedPlane::new(o));
         for j in 0..groups {
             for (o, v) in out.iter_mut().zip(rgb(j)) {

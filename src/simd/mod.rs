@@ -40,6 +40,8 @@ pub(crate) mod avx512;
 #[cfg(any(test, fuzzing))]
 pub(crate) mod forced;
 #[cfg(target_arch = "x86_64")]
+mod loops;
+#[cfg(target_arch = "x86_64")]
 pub(crate) mod sse2;
 mod target;
 #[cfg(test)]
@@ -67,106 +69,6 @@ macro_rules! note {
     };
 }
 pub(crate) use note;
-
-/// Orders the non-temporal stores made before it is dropped (`sfence`), on every way out of
-/// the scope that holds it, a panic's unwinding included. The streaming loops hold one from
-/// their first non-temporal store on: nothing between that store and the end of the loop is
-/// meant to panic (the only panics there are `debug_assert!`s of invariants), and the guard
-/// makes that matter not at all, so that no store is left unordered whatever happens.
-#[cfg(target_arch = "x86_64")]
-pub(crate) struct StoreFence;
-
-#[cfg(target_arch = "x86_64")]
-impl Drop for StoreFence {
-    #[inline]
-    fn drop(&mut self) {
-        // Non-temporal stores are weakly ordered: this orders them before every store that
-        // follows, as ordinary stores are (another thread that synchronizes with this one
-        // afterwards sees the output).
-        // SAFETY: `sfence` is an SSE instruction, and SSE is part of x86-64.
-        unsafe { core::arch::x86_64::_mm_sfence() };
-    }
-}
-
-/// Runs an accelerated planar sRGB 8-bit loop, `steps` (whole steps of `unit` pixels from the
-/// start of the planes and output it is given; it returns how many pixels it wrote), once at
-/// the planes' start and then from [`on_lines`]. Returns how many pixels were written in all:
-/// all but fewer than `unit`, or 0 below `unit`. The pixels in between are computed twice, to
-/// the same values.
-#[cfg(target_arch = "x86_64")]
-#[inline]
-fn srgb8_from_lines<const N: usize>(
-    planes: [&[f32]; N],
-    out: &mut [u8],
-    unit: usize,
-    line: usize,
-    mut steps: impl FnMut([&[f32]; N], &mut [u8]) -> usize,
-) -> usize {
-    let pixels = planes
-        .iter()
-        .map(|p| p.len())
-        .fold(out.len() / 3, usize::min);
-    let head = on_lines(&planes, pixels, unit, line);
-    if head > 0 {
-        steps(planes.map(|p| &p[..unit]), &mut out[..3 * unit]);
-    }
-    head + steps(planes.map(|p| &p[head..]), &mut out[3 * head..])
-}
-
-/// As [`srgb8_from_lines`], for a planar linear loop: `steps`' last argument is whether it
-/// runs the step at the planes' start (which is not worth streaming).
-#[cfg(target_arch = "x86_64")]
-#[inline]
-fn linear_from_lines<const N: usize>(
-    planes: [&[f32]; N],
-    out: [&mut [f32]; 3],
-    unit: usize,
-    line: usize,
-    mut steps: impl FnMut([&[f32]; N], [&mut [f32]; 3], bool) -> usize,
-) -> usize {
-    let pixels = planes
-        .iter()
-        .map(|p| p.len())
-        .fold(out.iter().map(|o| o.len()).min().unwrap_or(0), usize::min);
-    let head = on_lines(&planes, pixels, unit, line);
-    let [r, g, b] = out;
-    if head > 0 {
-        let first = [&mut r[..unit], &mut g[..unit], &mut b[..unit]];
-        steps(planes.map(|p| &p[..unit]), first, true);
-    }
-    let rest = [&mut r[head..], &mut g[head..], &mut b[head..]];
-    head + steps(planes.map(|p| &p[head..]), rest, false)
-}
-
-/// Where an accelerated planar loop starts its steps of `unit` pixels: the pixel from which
-/// the most planes start a `line`-byte boundary (0, or the first such pixel in plane order,
-/// where several tie), where that is below `unit` and `pixels` holds a step after it; else 0.
-///
-/// A 64-byte line of a plane read from such a boundary is read by one group of pixels, not
-/// two. Planes in separate allocations (which start 16 bytes past a page with glibc) are read
-/// faster that way from memory at every width, while the streaming bound over the same bytes
-/// does not change (`soa/srgb_u8_aligned` in the bench; docs/performance.md has the figures).
-#[cfg(target_arch = "x86_64")]
-#[inline]
-fn on_lines<const N: usize>(
-    planes: &[&[f32]; N],
-    pixels: usize,
-    unit: usize,
-    line: usize,
-) -> usize {
-    // Pixels to each plane's first boundary (f32 are 4-byte aligned: 0..line / 4).
-    let to_line = planes.map(|p| p.as_ptr().align_offset(line));
-    let votes = |h: usize| to_line.iter().filter(|&&t| t == h).count();
-    let head = to_line
-        .iter()
-        .copied()
-        .fold(0, |best, h| if votes(h) > votes(best) { h } else { best });
-    if head < unit && pixels >= head + unit {
-        head
-    } else {
-        0
-    }
-}
 
 /// The accelerated planar sRGB 8-bit loop, where the CPU has one: encodes the first pixels
 /// of `planes` into `out` (3 bytes per pixel), all but fewer than one of its groups (8 or 16

@@ -1,4 +1,7 @@
-//! The runtime's error type.
+//! The runtime's error type, with the detail it carries of its own: [`CalibrationProblem`], what
+//! is wrong with a calibration's channel ([`DisplayError`] comes from the math crate). The
+//! channel selectors its variants name are in `channel`, below it, so that the modules that
+//! return an `Error` import this one and nothing here imports them.
 
 #![forbid(unsafe_code)]
 
@@ -47,7 +50,7 @@ pub enum Error {
         /// The sensor channel's index, counted from 0 in the sensor's order.
         channel_index: usize,
         /// What is wrong with it.
-        problem: crate::CalibrationProblem,
+        problem: CalibrationProblem,
     },
     /// A set's or rule's constructor ([`WavelengthSet::new`](crate::WavelengthSet::new),
     /// [`FoldedSet::new`](crate::FoldedSet::new), [`GaussRule::new`](crate::GaussRule::new)) got
@@ -141,5 +144,31 @@ impl core::error::Error for Error {
 impl From<DisplayError> for Error {
     fn from(e: DisplayError) -> Error {
         Error::Display(e)
+    }
+}
+
+/// What is wrong with one channel of a calibration (see [`Error::Calibration`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum CalibrationProblem {
+    /// The white reading is not above the dark one (or one of them is not finite): there is no
+    /// signal to scale. Longer integration, more light, or a wrong channel order.
+    NoSignal,
+    /// The reference (what the golden device reads on the white) is not finite and positive.
+    Reference,
+    /// The gain or the dark offset is not finite, or does not fit the integer form (a dark
+    /// offset outside 0..=65 535 counts, a gain of 65 536 or more).
+    OutOfRange,
+}
+
+impl CalibrationProblem {
+    /// A short description, for messages.
+    pub const fn name(self) -> &'static str {
+        match self {
+            CalibrationProblem::NoSignal => "the white reading is not above the dark one",
+            CalibrationProblem::Reference => "the reference reading is not finite and positive",
+            CalibrationProblem::OutOfRange => "the gain or dark offset is out of range",
+        }
     }
 }

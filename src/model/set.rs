@@ -2,40 +2,7 @@
 
 #![forbid(unsafe_code)]
 
-/// One of the three opponent channels of AC1C2 space.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum Channel {
-    /// The achromatic channel, close to luminance ȳ.
-    A,
-    /// The red–green channel: positive in the green, negative in the red.
-    C1,
-    /// The yellow–blue channel: positive in the blue.
-    C2,
-}
-
-impl Channel {
-    /// The channels in row order.
-    pub const ALL: [Channel; 3] = [Channel::A, Channel::C1, Channel::C2];
-
-    /// The row of this channel in a weight matrix: 0, 1 or 2.
-    pub const fn index(self) -> usize {
-        match self {
-            Channel::A => 0,
-            Channel::C1 => 1,
-            Channel::C2 => 2,
-        }
-    }
-
-    /// `"A"`, `"C1"` or `"C2"`.
-    pub const fn name(self) -> &'static str {
-        match self {
-            Channel::A => "A",
-            Channel::C1 => "C1",
-            Channel::C2 => "C2",
-        }
-    }
-}
+use crate::Channel;
 
 /// Whether a Gauss rule of some order exists, and if not, why.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -388,7 +355,7 @@ impl<const N: usize> WavelengthSet<N> {
     /// `scale = 1 / UNIT_SPECTRUM_Y`. Non-finite weights or scale propagate into the result; with
     /// N = 0 the folded set has no weights either.
     pub fn fold(&self, display: &crate::Display, scale: f32) -> FoldedSet<N> {
-        let m = crate::matrix::mat3_mul(&display.xyz_to_rgb, &crate::tables::AC1C2_TO_XYZ);
+        let m = super::matrix::mat3_mul(&display.xyz_to_rgb, &crate::tables::AC1C2_TO_XYZ);
         let mut weights = [[0.0f32; N]; 3];
         for (r, row) in weights.iter_mut().enumerate() {
             for (i, w) in row.iter_mut().enumerate() {

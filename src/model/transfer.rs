@@ -4,43 +4,7 @@
 #![forbid(unsafe_code)]
 
 use crate::encode::{clamp01, GammaEncoder8};
-use crate::Error;
-
-/// One of a display's three channels. Lookup tables and transfer functions take it instead of a
-/// bare index, so an index out of range cannot be written.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum Rgb {
-    /// Red.
-    R,
-    /// Green.
-    G,
-    /// Blue.
-    B,
-}
-
-impl Rgb {
-    /// The channels in order.
-    pub const ALL: [Rgb; 3] = [Rgb::R, Rgb::G, Rgb::B];
-
-    /// 0, 1 or 2.
-    pub const fn index(self) -> usize {
-        match self {
-            Rgb::R => 0,
-            Rgb::G => 1,
-            Rgb::B => 2,
-        }
-    }
-
-    /// `"R"`, `"G"` or `"B"`.
-    pub const fn name(self) -> &'static str {
-        match self {
-            Rgb::R => "R",
-            Rgb::G => "G",
-            Rgb::B => "B",
-        }
-    }
-}
+use crate::{Error, Rgb};
 
 /// Per-channel lookup tables for a measured display: `tables[c][i]` is the encoded drive
 /// (0..=1) that produces the linear light `i / (len − 1)` on channel c (R, G, B). Values

@@ -4,9 +4,9 @@
 
 use spectral_quadrature_math::{display_matrices, DisplayError, DisplayMatrices};
 
+use super::transfer::{gamma_encoder, gamma_f32, quantize_u8, TransferFunction};
 use crate::encode::{clamp01, srgb8_not_nan};
-use crate::transfer::{gamma_encoder, gamma_f32, quantize_u8, Rgb, TransferFunction};
-use crate::Error;
+use crate::{Error, Rgb};
 
 /// What to do with colours the display cannot show (a linear channel below 0 or above 1).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -171,12 +171,12 @@ impl Display {
     /// Linear RGB of an XYZ colour (Y = 1 is the display's white). IEEE arithmetic: NaN and
     /// ±Inf propagate, out-of-gamut colours give components below 0 or above 1.
     pub fn linear_from_xyz(&self, xyz: [f32; 3]) -> [f32; 3] {
-        crate::matrix::mat3_vec(&self.xyz_to_rgb, xyz)
+        super::matrix::mat3_vec(&self.xyz_to_rgb, xyz)
     }
 
     /// XYZ of a linear RGB colour. IEEE arithmetic, as [`linear_from_xyz`](Self::linear_from_xyz).
     pub fn xyz_from_linear(&self, rgb: [f32; 3]) -> [f32; 3] {
-        crate::matrix::mat3_vec(&self.rgb_to_xyz, rgb)
+        super::matrix::mat3_vec(&self.rgb_to_xyz, rgb)
     }
 
     /// Brings a linear colour into 0..=1 per channel.
