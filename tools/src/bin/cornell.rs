@@ -126,7 +126,7 @@ fn run(args: &Args) -> Result<(), Error> {
     let (_, srgb) = d.display("SRGB")?;
     let painted = scene.view.painted();
     let mut rows: Vec<Row> = Vec::new();
-    let mut spp_rows: Vec<[String; 5]> = Vec::new();
+    let mut spp_rows: Vec<Vec<String>> = Vec::new();
     let mut legends: Vec<String> = Vec::new();
     let levels: Vec<usize> = std::iter::successors(Some(1usize), |s| Some(s * 2))
         .take_while(|&s| s <= args.max_spp.max(1))
@@ -230,7 +230,7 @@ fn run(args: &Args) -> Result<(), Error> {
                 range_nm: m::CELL_SPAN_NM,
             },
         ];
-        let mut curves: Vec<Vec<f64>> = Vec::new();
+        let mut curves: Vec<(String, Vec<f64>)> = Vec::new();
         for (si, sampler) in samplers.iter().enumerate() {
             for n in SIZES {
                 let stream = stream_seed(0, &[li as u64, si as u64, n as u64]);
@@ -257,38 +257,37 @@ fn run(args: &Args) -> Result<(), Error> {
                     }
                 }
             }
-            // ×4 a sample, up to max_spp: the spp at which it reaches each fixed set.
-            let stream = stream_seed(1, &[li as u64, si as u64]);
-            let (imgs, _) =
-                m::random_image(&scene, &cells_all, *sampler, 4, &levels, args.seed, stream);
-            curves.push(
-                imgs.iter()
-                    .map(|img| mean_p95(&m::de00(img, &ref_all, &painted, white_all)).0)
-                    .collect(),
-            );
+            // 4 and 8 a sample, up to max_spp: the spp at which each reaches each fixed set.
+            for per_sample in [4usize, 8] {
+                let stream = if per_sample == 4 {
+                    stream_seed(1, &[li as u64, si as u64])
+                } else {
+                    stream_seed(1, &[li as u64, si as u64, per_sample as u64])
+                };
+                let (imgs, _) = m::random_image(
+                    &scene, &cells_all, *sampler, per_sample, &levels, args.seed, stream,
+                );
+                curves.push((
+                    format!("{} ×{per_sample}", sampler.name()),
+                    imgs.iter()
+                        .map(|img| mean_p95(&m::de00(img, &ref_all, &painted, white_all)).0)
+                        .collect(),
+                ));
+            }
         }
         for (set, mean) in &fixed_means {
-            spp_rows.push([
-                name.to_string(),
-                set.clone(),
-                format!("{mean:.3}"),
-                spp_to_reach(&levels, &curves[0], *mean),
-                spp_to_reach(&levels, &curves[1], *mean),
-            ]);
+            let mut row = vec![name.to_string(), set.clone(), format!("{mean:.3}")];
+            row.extend(curves.iter().map(|c| spp_to_reach(&levels, &c.1, *mean)));
+            spp_rows.push(row);
         }
-        let curve_text = |c: &[f64]| {
-            levels
+        for (label, c) in &curves {
+            let text: Vec<String> = levels
                 .iter()
                 .zip(c)
                 .map(|(s, v)| format!("{s}: {v:.3}"))
-                .collect::<Vec<_>>()
-                .join(", ")
-        };
-        println!(
-            "\n{name}: pbrt-v4 ×4 mean ΔE00 by spp: {}\n{name}: hero ×4 mean ΔE00 by spp: {}",
-            curve_text(&curves[0]),
-            curve_text(&curves[1])
-        );
+                .collect();
+            println!("{name}: {label} mean ΔE00 by spp: {}", text.join(", "));
+        }
 
         // The picture: the reference and the shown methods, their ΔE00 maps below.
         let order = [
@@ -350,12 +349,13 @@ fn run(args: &Args) -> Result<(), Error> {
         }
     }
     let csv_path = csv.write(&args.out, "cornell.csv")?;
-    let mut spp_csv =
-        tools::csv_table::Table::new("light,fixed_set,mean_de00,pbrt_v4_x4_spp,hero_x4_spp");
-    println!("\nSamples per pixel at which random wavelengths (4 a sample) reach each fixed set's mean ΔE00 on the box (~: extended along the −1/2 slope past {} spp):\n\n| light | fixed set | mean ΔE00 | pbrt-v4 ×4 | hero ×4 |\n|---|---|---|---|---|", levels.last().copied().unwrap_or(1));
+    let mut spp_csv = tools::csv_table::Table::new(
+        "light,fixed_set,mean_de00,pbrt_v4_x4_spp,pbrt_v4_x8_spp,hero_x4_spp,hero_x8_spp",
+    );
+    println!("\nSamples per pixel at which random wavelengths (4 or 8 a sample) reach each fixed set's mean ΔE00 on the box (~: extended along the −1/2 slope past {} spp):\n\n| light | fixed set | mean ΔE00 | pbrt-v4 ×4 | pbrt-v4 ×8 | hero ×4 | hero ×8 |\n|---|---|---|---|---|---|---|", levels.last().copied().unwrap_or(1));
     for r in &spp_rows {
         spp_csv.row(r.iter());
-        println!("| {} | {} | {} | {} | {} |", r[0], r[1], r[2], r[3], r[4]);
+        println!("| {} |", r.join(" | "));
     }
     let spp_path = spp_csv.write(&args.out, "cornell_spp.csv")?;
     println!("\nColumns of the pictures (top: display images; bottom: ΔE00 maps, 0 black to {} yellow, white beyond {}; scale in {}):", picture::DE_SCALE_MAX, 1.5 * picture::DE_SCALE_MAX, scale_path.display());
