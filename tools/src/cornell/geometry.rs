@@ -192,8 +192,9 @@ pub struct Mesh {
 /// ceiling is cut into the eight rectangles around the light (the light is coplanar with it
 /// in the data: cut out, nothing is counted twice); normals point toward the room's centre for
 /// the room's surfaces and the light, away from its box's centre for a box's faces. With
-/// `closed`, a front wall (white) closes the open side the camera looks through: the enclosure
-/// the tests check form factors in.
+/// `closed`, a front wall (white) closes the open side the camera looks through, at the corners
+/// where the data's floor, side walls and ceiling end at z = 0: the enclosure the tests check
+/// form factors in.
 pub fn read_quads(text: &str, closed: bool) -> Result<Vec<Quad>, Error> {
     let bad = |line: usize, m: &str| {
         Error::Derive(spectral_quadrature_build::Error::Numerical(format!(
