@@ -23,6 +23,7 @@ use tools::Error;
 use std::path::PathBuf;
 use std::time::Instant;
 
+use clap::builder::TypedValueParser as _;
 use clap::Parser;
 
 /// Renders the Cornell box by radiosity with each spectral method and compares them.
@@ -32,18 +33,18 @@ struct Args {
     /// The folder the pictures and CSV files go to.
     #[arg(long, value_name = "DIR", default_value = "docs/cornell")]
     out: PathBuf,
-    /// Image width and height, pixels.
-    #[arg(long, default_value_t = 128)]
+    /// Image width and height, pixels (8 to 1024).
+    #[arg(long, default_value_t = 128, value_parser = clap::value_parser!(u16).range(8..=1024).map(usize::from))]
     size: usize,
     /// Mesh resolution: patches along the back wall's width (556 mm); every quad is cut into
-    /// patches no longer than 556 mm / this along either edge.
-    #[arg(long, default_value_t = 12)]
+    /// patches no longer than 556 mm / this along either edge (1 to 64).
+    #[arg(long, default_value_t = 12, value_parser = clap::value_parser!(u16).range(1..=64).map(usize::from))]
     patches: usize,
     /// The light (repeatable): `box` (the box's own), `F11`, `LED_B2`. Default: all three.
     #[arg(long = "light", value_enum)]
     lights: Vec<Light>,
-    /// Samples per pixel the random-wavelength curves go up to (powers of 2 from 1).
-    #[arg(long, default_value_t = 1024)]
+    /// Samples per pixel the random-wavelength curves go up to (powers of 2 from 1; 1 to 65536).
+    #[arg(long, default_value_t = 1024, value_parser = clap::value_parser!(u32).range(1..=65536).map(|v| v as usize))]
     max_spp: usize,
     /// The seed of the random wavelengths.
     #[arg(long, default_value_t = 1988)]
