@@ -1,10 +1,11 @@
 //! What only people at a desk need, on top of `spectral-quadrature-build`: the analysis behind
 //! the report and the planner. The programs are `report` (error against run time, the crate's
-//! main job), `plan` (a scene for an error budget) and `tables` (the derived tables beside the
-//! paper's).
+//! main job), `plan` (a scene for an error budget), `tables` (the derived tables beside the
+//! paper's) and `cornell` (the Cornell box rendered once per spectral method).
 //!
 //! - [`budget`]: every method at each wavelength budget (report section 5).
 //! - [`cli`]: the command-line arguments the programs share.
+//! - [`cornell`]: the Cornell box rendered by radiosity, once per spectral method (`cornell`).
 //! - [`csv_table`]: every CSV the programs write, through the `csv` crate's writer.
 //! - [`prefilter`]: spiky lamps, band-averaged and exact-line pre-filtering (section 6d).
 //! - [`stability`]: unstable alternatives to the crate's quadrature (section 6b).
@@ -18,6 +19,7 @@ use std::path::PathBuf;
 
 pub mod budget;
 pub mod cli;
+pub mod cornell;
 pub mod csv_table;
 pub mod light_groups;
 pub mod prefilter;
