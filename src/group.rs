@@ -282,9 +282,17 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
     /// Light 0's product starts each channel's sum from its first product instead of 0.0, as
     /// [`FoldedSet::encode_u8`] does, so with L = 1 this is that member's `encode_u8` exactly;
     /// the value differs from [`linear_rgb`](Self::linear_rgb)'s only where it is an exact
-    /// zero (−0.0 for +0.0, and both encode to 0).
+    /// zero (−0.0 for +0.0, and both encode to 0). On x86-64, the sRGB curve with `Clip` runs
+    /// with the three channels in one SSE2 register, as [`FoldedSet::encode_u8`] does: the
+    /// same sums up to the sign of an exact zero, so the same bytes.
     #[inline]
     pub fn encode_u8(&self, mapping: GamutMapping, groups: &[[f32; N]; L]) -> [u8; 3] {
+        // x86-64: each light's product and the encoder with the channels in the lanes of one
+        // SSE2 register, as `FoldedSet::encode_u8` (the same bytes; see `simd`).
+        #[cfg(target_arch = "x86_64")]
+        if self.display.is_srgb_clip(mapping) {
+            return crate::simd::sse2::encode_srgb8_groups(&self.weights, groups);
+        }
         self.display
             .encode_u8(mapping, self.linear_rgb_for_encoding(groups))
     }
