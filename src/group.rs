@@ -28,9 +28,10 @@ use crate::{
 /// Light l alone is [`member(l)`](Self::member), the [`FoldedSet`] of its weights; with one
 /// light (L = 1) every function gives that folded set's bits and bytes exactly. The cost per
 /// pixel is L · 3 · N multiply-adds and 3 · (L − 1) additions, then one encoding: L times a
-/// folded set's product, one encoder. The relative error of a light's contribution is that of
-/// its folded set (see docs/light-groups.md for when a folded set, a light-group set or a set
-/// for radiances is the right tool).
+/// folded set's product, one encoder. Each light's contribution is computed exactly as its
+/// folded set computes it, so it has that set's accuracy under that light; the lights' sum
+/// adds L − 1 roundings (see [`linear_rgb`](Self::linear_rgb), and docs/light-groups.md for
+/// when a folded set, a light-group set or a set for radiances is the right tool).
 ///
 /// Build one from folded sets that share their wavelengths and display
 /// ([`from_members`](Self::from_members)), or from the arrays
