@@ -80,6 +80,13 @@
 //! [`FoldedSet::encode_u16_planar`] and [`FoldedSet::encode_u16_planar_to_interleaved`] go pixel
 //! by pixel through [`FoldedSet::encode_u16`].
 //!
+//! **Several lights** (`src/group.rs`): [`LightGroupSet`] holds one folded weight matrix per
+//! light at shared nodes; its per-pixel functions run [`FoldedSet::linear_rgb`]'s product for
+//! each light's accumulator (light 0's as [`FoldedSet::encode_u8`] starts it), add them in light
+//! order, and encode the sum with [`Display::encode_u8`] or [`Display::encode_u16`] (on x86-64,
+//! the sRGB curve with `Clip` in one SSE2 register, as [`FoldedSet::encode_u8`]); its batch and
+//! planar functions call the per-pixel ones on each pixel (see `docs/light-groups.md`).
+//!
 //! **RGB materials** (`src/upsample.rs`): [`Upsampling::reflectance`] takes a linear RGB colour
 //! to a set's N node reflectances: each channel clamped to [0, 1] (NaN to 0), the cell of the
 //! baked grid and one of its six tetrahedra, then four table entries weighted and summed per node
@@ -185,7 +192,8 @@ extern crate std;
 //    loops, on model, simd and encode), integer (the integer path, on model, encode and tables),
 //    dynamic (on model), fast (on model and encode); calibration and upsample (RGB → node
 //    reflectances), on model's error;
-// 4. batch (the interleaved path, on model, simd and planar's portable loops).
+// 4. batch (the interleaved path, on model, simd and planar's portable loops); group
+//    (light-group sets: one folded matrix per light, on model, simd and pixel's products).
 // simd::target (whether the target has f32 vector units) is a leaf that both simd::forced (the
 // test and fuzz builds' loop caps) and planar read, so that neither imports the other. The
 // generated constants in `tables` also name the types they instantiate (model's, cct's,
@@ -197,6 +205,7 @@ mod calibration;
 mod cct;
 mod dynamic;
 mod encode;
+mod group;
 mod integer;
 mod lux;
 mod model;
@@ -218,11 +227,12 @@ pub use dynamic::DynamicSet;
 pub use encode::{srgb8_from_linear, SRGB8_MAX_ERROR, SRGB8_MAX_ERROR_DE76};
 #[cfg(feature = "micromath")]
 pub use fast::ENCODE_FAST_MAX_ERROR;
+pub use group::LightGroupSet;
 pub use integer::{IntegerSet, INTEGER_MAX_ERROR_CODES};
 pub use lux::LuxScale;
 pub use model::channel::{Channel, Rgb};
 pub use model::display::{Display, GamutMapping};
-pub use model::error::{CalibrationProblem, DisplayError, Error};
+pub use model::error::{CalibrationProblem, DisplayError, Error, LightGroupProblem};
 pub use model::matrix::{ac1c2_from_xyz, xyz_from_ac1c2};
 pub use model::set::{FoldedSet, GaussRule, RuleStatus, Samples, WavelengthSet, MAX_WAVELENGTHS};
 pub use model::transfer::{
@@ -256,6 +266,10 @@ struct UsingTheTablesDoctests;
 #[cfg(doctest)]
 #[doc = include_str!("../docs/shared-sets.md")]
 struct SharedSetsDoctests;
+
+#[cfg(doctest)]
+#[doc = include_str!("../docs/light-groups.md")]
+struct LightGroupsDoctests;
 
 #[cfg(doctest)]
 #[doc = include_str!("../docs/performance.md")]

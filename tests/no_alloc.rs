@@ -529,3 +529,72 @@ fn upsampling_does_not_allocate() {
         },
     );
 }
+
+#[test]
+fn light_group_sets_do_not_allocate() {
+    let c = folded::KQ_C_8_SRGB;
+    let warm = FoldedSet::new(
+        c.wavelengths_nm(),
+        c.weights().map(|row| row.map(|w| 0.7 * w)),
+        spectral_quadrature::Samples::Reflectance { light: "A" },
+        c.display(),
+    )
+    .unwrap();
+    let groups = black_box([
+        [0.3f32; 8],
+        [f32::NAN, 1e-45, -1.0, f32::INFINITY, 0.5, 0.5, 0.5, 2.0],
+    ]);
+    let pixels = black_box(vec![[[0.4f32; 8]; 2]; 20]);
+    let planes: Vec<Vec<f32>> = (0..16).map(|k| vec![0.1 * k as f32; 20]).collect();
+    let plane_refs: [[&[f32]; 8]; 2] =
+        std::array::from_fn(|l| std::array::from_fn(|i| &planes[l * 8 + i][..]));
+    let mut f = vec![[0f32; 3]; 20];
+    let mut b8 = vec![[0u8; 3]; 20];
+    let mut b16 = vec![[0u16; 3]; 20];
+    let (mut r, mut g, mut b) = (vec![0f32; 20], vec![0f32; 20], vec![0f32; 20]);
+    let (mut r8, mut g8, mut b8p) = (vec![0u8; 20], vec![0u8; 20], vec![0u8; 20]);
+    let (mut r16, mut g16, mut b16p) = (vec![0u16; 20], vec![0u16; 20], vec![0u16; 20]);
+    for display in all_displays() {
+        let c = FoldedSet::new(c.wavelengths_nm(), c.weights(), c.samples(), display).unwrap();
+        let w =
+            FoldedSet::new(c.wavelengths_nm(), warm.weights(), warm.samples(), display).unwrap();
+        assert_no_alloc(
+            "LightGroupSet construction, per pixel, batch and planar",
+            || {
+                let set =
+                    spectral_quadrature::LightGroupSet::from_members(black_box([c, w])).unwrap();
+                black_box(set.member(1));
+                black_box(set.linear_rgb(&groups));
+                black_box(set.linear_rgb_batch(&pixels, &mut f)).unwrap();
+                black_box(set.linear_rgb_planar(plane_refs, [&mut r, &mut g, &mut b])).unwrap();
+                for mapping in MAPPINGS {
+                    black_box(set.encode_u8(mapping, &groups));
+                    black_box(set.encode_u16(mapping, &groups));
+                    black_box(set.encode_u8_batch(mapping, &pixels, &mut b8)).unwrap();
+                    black_box(set.encode_u16_batch(mapping, &pixels, &mut b16)).unwrap();
+                    black_box(set.encode_u8_planar_to_interleaved(mapping, plane_refs, &mut b8))
+                        .unwrap();
+                    black_box(set.encode_u8_planar(
+                        mapping,
+                        plane_refs,
+                        [&mut r8, &mut g8, &mut b8p],
+                    ))
+                    .unwrap();
+                    black_box(set.encode_u16_planar_to_interleaved(mapping, plane_refs, &mut b16))
+                        .unwrap();
+                    black_box(set.encode_u16_planar(
+                        mapping,
+                        plane_refs,
+                        [&mut r16, &mut g16, &mut b16p],
+                    ))
+                    .unwrap();
+                }
+                // Errors too: no message is formatted.
+                black_box(
+                    set.encode_u8_batch(GamutMapping::Clip, &pixels, &mut b8[..3])
+                        .unwrap_err(),
+                );
+            },
+        );
+    }
+}

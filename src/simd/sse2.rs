@@ -15,6 +15,27 @@ pub(crate) fn encode_srgb8<const N: usize>(weights: &[[f32; N]; 3], samples: &[f
     unsafe { srgb8(mat_vec(weights, samples)) }
 }
 
+/// The per-pixel sRGB 8-bit encode with `Clip` of a light-group set
+/// ([`LightGroupSet::encode_u8`](crate::LightGroupSet::encode_u8)): each light's [`mat_vec`],
+/// added in light order, then [`srgb8`]. Each lane's sum differs from the scalar path's
+/// (light 0 started from its first product, the others from 0.0) only where a term is an
+/// exact zero, in its sign, which `srgb8` encodes as 0 either way: the same bytes.
+#[inline]
+pub(crate) fn encode_srgb8_groups<const N: usize, const L: usize>(
+    weights: &[[[f32; N]; 3]; L],
+    groups: &[[f32; N]; L],
+) -> [u8; 3] {
+    // SAFETY: SSE2 is part of x86-64: every x86-64 CPU has it.
+    unsafe {
+        let mut acc = _mm_setzero_ps();
+        for (l, (w, s)) in weights.iter().zip(groups).enumerate() {
+            let p = mat_vec(w, s);
+            acc = if l == 0 { p } else { _mm_add_ps(acc, p) };
+        }
+        srgb8(acc)
+    }
+}
+
 /// `weights · samples` with the channels in lanes 0, 1, 2 (lane 3 is 0): each lane is the
 /// first product, then the others added in index order, exactly as
 /// `pixel::mat_vec_for_encoding`. Column by column: column i of the weights times sample i
