@@ -38,7 +38,11 @@ mod search;
 pub use cache::{cache_entry, set_name, write_cache, CacheEntry, CACHED};
 pub(crate) use cache::{cached_or_optimize, CACHE_FILE};
 pub use fit::{fit, Fit, FIT_LENGTHS_NM, FIT_WEIGHTS};
-pub use group::{nodes_of, Group, GroupFit, GroupObjective, Member, Weights};
+pub use group::{
+    nodes_of, Group, GroupFit, GroupObjective, Member, Weights, GROUP_SIZES, GROUP_TRAINING_FILES,
+};
+pub use cache::{group_cache_entry, CACHED_GROUPS};
+pub(crate) use cache::cached_or_optimize_group;
 pub use interpolatory::interpolatory_a;
 pub use model::{
     eval_on_radiance, problem_for, Problem, Shared, EMPIRICAL_WEIGHT, LENGTH_NM, TRAINING_FILE,
