@@ -59,7 +59,9 @@ pub enum Error {
     },
     /// A set's or rule's constructor got a weight that is not finite.
     InvalidWeight {
-        /// The weight's row (the channel: A, C1, C2 or R, G, B, from 0).
+        /// The weight's row (the channel: A, C1, C2 or R, G, B, from 0; for a
+        /// [`LightGroupSet`](crate::LightGroupSet), `3 · light + channel`, the rows of every
+        /// light in order).
         row: usize,
         /// Its index in the row.
         index: usize,
@@ -79,6 +81,50 @@ pub enum Error {
     /// [`IntegerSet::new`](crate::IntegerSet::new) got a display whose transfer function has no
     /// integer encoder: a lookup table, or a γ that no baked display has.
     IntegerTransfer,
+    /// [`LightGroupSet::new`](crate::LightGroupSet::new) or
+    /// [`LightGroupSet::from_members`](crate::LightGroupSet::from_members) cannot form a set
+    /// from its lights.
+    LightGroup {
+        /// The light's index (the member's, for `from_members`), from 0; 0 where there are no
+        /// lights.
+        light: usize,
+        /// What is wrong with it.
+        problem: LightGroupProblem,
+    },
+}
+
+/// Why a [`LightGroupSet`](crate::LightGroupSet) cannot be formed, in
+/// [`Error::LightGroup`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum LightGroupProblem {
+    /// The set has no lights (L = 0): it would give black for every pixel.
+    NoLights,
+    /// A member is not a set for reflectances under a light folded into its weights
+    /// ([`Samples::Reflectance`](crate::Samples::Reflectance)): radiances or a sensor's
+    /// readings have no light to group by.
+    NotReflectance,
+    /// A member's wavelengths are not member 0's, bit for bit: the lights must share the nodes
+    /// the renderer samples at.
+    Wavelengths,
+    /// A member's display is not member 0's (every field the same bits): one set encodes with
+    /// one display.
+    Display,
+}
+
+impl LightGroupProblem {
+    /// A short description, for messages.
+    pub const fn name(self) -> &'static str {
+        match self {
+            LightGroupProblem::NoLights => "a light-group set needs at least one light",
+            LightGroupProblem::NotReflectance => {
+                "the member is not a set for reflectances under a folded light"
+            }
+            LightGroupProblem::Wavelengths => "the member's wavelengths are not member 0's",
+            LightGroupProblem::Display => "the member's display is not member 0's",
+        }
+    }
 }
 
 impl fmt::Display for Error {
@@ -125,6 +171,9 @@ impl fmt::Display for Error {
                 "the weights or the sample unit have no fixed-point form for u16 counts",
             ),
             Error::IntegerTransfer => f.write_str("the transfer function has no integer encoder"),
+            Error::LightGroup { light, problem } => {
+                write!(f, "light group {light}: {}", problem.name())
+            }
         }
     }
 }

@@ -80,6 +80,12 @@
 //! [`FoldedSet::encode_u16_planar`] and [`FoldedSet::encode_u16_planar_to_interleaved`] go pixel
 //! by pixel through [`FoldedSet::encode_u16`].
 //!
+//! **Several lights** (`src/group.rs`): [`LightGroupSet`] holds one folded weight matrix per
+//! light at shared nodes; its per-pixel functions run [`FoldedSet::linear_rgb`]'s product for
+//! each light's accumulator (light 0's as [`FoldedSet::encode_u8`] starts it), add them in light
+//! order, and encode the sum with [`Display::encode_u8`] or [`Display::encode_u16`]; its batch
+//! and planar functions call the per-pixel ones on each pixel (see `docs/light-groups.md`).
+//!
 //! **RGB materials** (`src/upsample.rs`): [`Upsampling::reflectance`] takes a linear RGB colour
 //! to a set's N node reflectances: each channel clamped to [0, 1] (NaN to 0), the cell of the
 //! baked grid and one of its six tetrahedra, then four table entries weighted and summed per node
@@ -184,6 +190,7 @@ extern crate std;
 //   path, on pixel, planar's portable loops and simd);
 // - integer (the integer path, on set and encode's thresholds);
 // - dynamic and fast, on the types; upsample (RGB → node reflectances, on error).
+// - group (light-group sets: one folded matrix per light, on pixel's products, set and display).
 // simd::target (whether the target has f32 vector units) is a leaf that both simd::forced (the
 // test and fuzz builds' loop caps) and planar read, so that neither imports the other. The
 // `tables` below name the types they instantiate, and `error` names `Channel`, `Rgb` and
@@ -195,6 +202,7 @@ mod display;
 mod dynamic;
 mod encode;
 mod error;
+mod group;
 mod integer;
 mod lux;
 mod matrix;
@@ -215,9 +223,10 @@ pub use cct::{uv_from_xyz, Cct, PlanckianLocus, CCT_MAX_ERROR_MIRED, DUV_MAX_ERR
 pub use display::{Display, GamutMapping};
 pub use dynamic::DynamicSet;
 pub use encode::{srgb8_from_linear, SRGB8_MAX_ERROR, SRGB8_MAX_ERROR_DE76};
-pub use error::{DisplayError, Error};
+pub use error::{DisplayError, Error, LightGroupProblem};
 #[cfg(feature = "micromath")]
 pub use fast::ENCODE_FAST_MAX_ERROR;
+pub use group::LightGroupSet;
 pub use integer::{IntegerSet, INTEGER_MAX_ERROR_CODES};
 pub use lux::LuxScale;
 pub use matrix::{ac1c2_from_xyz, xyz_from_ac1c2};
@@ -299,6 +308,10 @@ struct UsingTheTablesDoctests;
 #[cfg(doctest)]
 #[doc = include_str!("../docs/shared-sets.md")]
 struct SharedSetsDoctests;
+
+#[cfg(doctest)]
+#[doc = include_str!("../docs/light-groups.md")]
+struct LightGroupsDoctests;
 
 #[cfg(doctest)]
 #[doc = include_str!("../docs/performance.md")]

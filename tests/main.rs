@@ -25,6 +25,8 @@ mod edge_inputs;
 mod extremes;
 #[path = "integer.rs"]
 mod integer;
+#[path = "light_groups.rs"]
+mod light_groups;
 #[path = "no_alloc.rs"]
 mod no_alloc;
 #[path = "planar.rs"]
