@@ -214,14 +214,11 @@ pub fn cache_entry(d: &Derivation, light: Option<&str>, n: usize) -> Result<Cach
 /// The light groups whose nodes `CACHE_FILE` holds (by their lights, size and objective): the
 /// default scene's (daylight, tungsten, a spiky fluorescent and a phosphor LED at 8
 /// wavelengths).
-pub const CACHED_GROUPS: [(&[&str], usize, GroupObjective); 1] = [(
-    &["D65", "A", "F11", "LED_B2"],
-    8,
-    GroupObjective::Mean,
-)];
+pub const CACHED_GROUPS: [(&[&str], usize, GroupObjective); 1] =
+    [(&["D65", "A", "F11", "LED_B2"], 8, GroupObjective::Mean)];
 
 /// The cache name of a light group: `GROUP_<light>+<light>…_<n>_<objective>`.
-fn group_cache_name(lights: &[Curve], n: usize, objective: GroupObjective) -> String {
+pub(crate) fn group_cache_name(lights: &[Curve], n: usize, objective: GroupObjective) -> String {
     let names: Vec<&str> = lights.iter().map(|l| l.name.as_str()).collect();
     std::format!("GROUP_{}_{n}_{}", names.join("+"), objective.name())
 }
@@ -230,7 +227,7 @@ fn group_cache_name(lights: &[Curve], n: usize, objective: GroupObjective) -> St
 /// single light's search reads (observer, range, the kernel model's training and constants,
 /// the search constants), the group's training files, and each light's values on the 1 nm grid
 /// (a built-in illuminant and a scene's own light alike).
-fn group_fingerprint(
+pub(crate) fn group_fingerprint(
     d: &Derivation,
     problems: &[Problem],
     objective: GroupObjective,
@@ -256,7 +253,7 @@ fn group_fingerprint(
 
 /// The group's fit on the crate's training reflectances ([`GROUP_TRAINING_FILES`]), and each
 /// light's problem.
-fn group_fit(d: &Derivation, lights: &[Curve]) -> Result<GroupFit, Error> {
+pub(crate) fn group_fit(d: &Derivation, lights: &[Curve]) -> Result<GroupFit, Error> {
     let problems = lights
         .iter()
         .map(|l| problem_for(d, Some(l)))
@@ -270,7 +267,7 @@ fn group_fit(d: &Derivation, lights: &[Curve]) -> Result<GroupFit, Error> {
 
 /// Searches a light group's nodes: each light's own folded set (from the cache where it has
 /// it), then [`GroupFit::optimize`].
-fn optimize_group(
+pub(crate) fn optimize_group(
     d: &Derivation,
     fit: &GroupFit,
     lights: &[Curve],
@@ -318,13 +315,15 @@ pub(crate) fn cached_or_optimize_group(
         .wavelengths_nm
         .iter()
         .map(|&nm| {
-            grid.iter().position(|&g| (g - nm).abs() < 1e-9).ok_or_else(|| {
-                Error::Data(DataError {
-                    file: CACHE_FILE.into(),
-                    line: entry.line,
-                    message: std::format!("{name}: {nm} nm is not a grid wavelength"),
+            grid.iter()
+                .position(|&g| (g - nm).abs() < 1e-9)
+                .ok_or_else(|| {
+                    Error::Data(DataError {
+                        file: CACHE_FILE.into(),
+                        line: entry.line,
+                        message: std::format!("{name}: {nm} nm is not a grid wavelength"),
+                    })
                 })
-            })
         })
         .collect::<Result<Vec<usize>, Error>>()?;
     fit.group_at(&nodes, objective, Weights::PerLight)

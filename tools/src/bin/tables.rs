@@ -134,14 +134,12 @@ fn print_shared_cache() -> Result<(), spectral_quadrature_build::Error> {
             );
             spectral_quadrature_build::shared::cache_entry(&d, light, n)
         })
-        .chain(
-            spectral_quadrature_build::shared::CACHED_GROUPS
-                .iter()
-                .map(|&(lights, n, objective)| {
-                    eprintln!("searching the light group of {} at {n}", lights.join(", "));
-                    spectral_quadrature_build::shared::group_cache_entry(&d, lights, n, objective)
-                }),
-        )
+        .chain(spectral_quadrature_build::shared::CACHED_GROUPS.iter().map(
+            |&(lights, n, objective)| {
+                eprintln!("searching the light group of {} at {n}", lights.join(", "));
+                spectral_quadrature_build::shared::group_cache_entry(&d, lights, n, objective)
+            },
+        ))
         .collect::<Result<Vec<_>, _>>()?;
     print!(
         "{}",
