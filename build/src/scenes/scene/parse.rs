@@ -470,11 +470,16 @@ impl Scene {
             Some(u) => Some(UpsamplingRequest::parse(file, u, &at)?),
             None => None,
         };
-        if sets.is_empty() && plan.is_none() && user.fixed.is_empty() && user.sensors.is_empty() {
+        if sets.is_empty()
+            && plan.is_none()
+            && user.fixed.is_empty()
+            && user.sensors.is_empty()
+            && user.groups.is_empty()
+        {
             return Err(err(
                 0,
                 std::format!(
-                    "the scene names no sets (sets = [...], a [plan], [fixed.*] or [sensors.*]); valid forms: {}",
+                    "the scene names no sets (sets = [...], a [plan], [fixed.*], [sensors.*] or [groups.*]); valid forms: {}",
                     catalog::NAME_FORMS
                 ),
             ));
