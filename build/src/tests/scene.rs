@@ -299,12 +299,18 @@ fn a_scenes_light_group_is_baked_for_each_display_and_its_mistakes_name_their_li
         ("lights = [\"D65\", \"A\"]\n", 2, "wavelengths"),
     ] {
         let e = error(&group(body));
-        assert_eq!((e.file.as_str(), e.line), ("scene.toml", line), "{body}: {e}");
+        assert_eq!(
+            (e.file.as_str(), e.line),
+            ("scene.toml", line),
+            "{body}: {e}"
+        );
         assert!(e.to_string().contains(message), "{body}: {e}");
     }
     // A group's name is a scene's own name: not twice, not a catalogue form.
     let e = error("displays = [\"SRGB\"]\n[lights]\nROOM = \"x.csv\"\n[groups.ROOM]\nlights = [\"D65\", \"A\"]\nwavelengths = 8\n");
     assert!(e.to_string().contains("declared twice"), "{e}");
-    let e = error("displays = [\"SRGB\"]\n[groups.KQ_ROOM]\nlights = [\"D65\", \"A\"]\nwavelengths = 8\n");
+    let e = error(
+        "displays = [\"SRGB\"]\n[groups.KQ_ROOM]\nlights = [\"D65\", \"A\"]\nwavelengths = 8\n",
+    );
     assert!(e.to_string().contains("catalogue form"), "{e}");
 }
