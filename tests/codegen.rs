@@ -27,7 +27,8 @@ fn header_constants() {
     assert_eq!(tables::MAX_ORDER, d.settings.max_order);
     // The observer, then what the default scene's shared sets (KQ_C_*, KQ_F11_6) were made from,
     // then what the upsamplings add (the other training file, the upsampling cache, and D65, the
-    // reference light of Table 2's rows, sets for radiances).
+    // reference light of Table 2's rows, sets for radiances), then what the light group adds (the
+    // ColorChecker, its third training file, and its lights A and LED_B2).
     let labels: Vec<&str> = tables::INPUTS.iter().map(|(l, _)| *l).collect();
     assert_eq!(
         labels,
@@ -39,7 +40,10 @@ fn header_constants() {
             "data/illuminant_F11.csv",
             "data/reflectance_rawtoaces_190.csv",
             "data/upsampling_codes.csv",
-            "data/illuminant_D65.csv"
+            "data/illuminant_D65.csv",
+            "data/reflectance_colorchecker_ohta.csv",
+            "data/illuminant_A.csv",
+            "data/illuminant_LED_B2.csv",
         ]
     );
     assert_eq!(tables::INPUTS[0].1, d.observer.sha256);

@@ -74,7 +74,8 @@ fn the_default_tables_name_every_input_with_its_checksum() {
     let labels: Vec<&str> = inputs.iter().map(|(l, _)| l.as_str()).collect();
     // The default scene bakes KQ_C_4/6/8 and KQ_F11_6: their training set, lights and cache;
     // then the upsamplings' other training file, the upsampling cache, and D65, the reference
-    // light of Table 2's rows (sets for radiances).
+    // light of Table 2's rows (sets for radiances); then what the light group adds (the
+    // ColorChecker, its third training file, and its lights A and LED_B2).
     assert_eq!(
         labels,
         [
@@ -86,6 +87,9 @@ fn the_default_tables_name_every_input_with_its_checksum() {
             "data/reflectance_rawtoaces_190.csv",
             "data/upsampling_codes.csv",
             "data/illuminant_D65.csv",
+            "data/reflectance_colorchecker_ohta.csv",
+            "data/illuminant_A.csv",
+            "data/illuminant_LED_B2.csv",
         ]
     );
     for (label, sha) in &inputs {

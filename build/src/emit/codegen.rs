@@ -177,6 +177,7 @@ pub(crate) fn tables_rs(
     colour_sets_rs(&mut t, scene)?;
     displays_rs(&mut t, d, scene)?;
     folded_rs(&mut t, d, scene)?;
+    groups_rs(&mut t, d, scene)?;
     let (upsampling, upsampling_bytes) = super::upsampling::upsampling_rs(scene, &f32_literal)?;
     t.o.push_str(&upsampling);
     let (sensors, sensor_tables, n) = super::sensors::sensors_rs(&scene.sensors, f32_literal)?;
@@ -553,6 +554,68 @@ fn folded_rs(t: &mut Tables, d: &Derivation, scene: &Resolved) -> Result<(), Err
         }
     }
     o.push_str(&names_rs("folded", "folded set", &names));
+    writeln!(o, "}}\n").ok();
+    Ok(())
+}
+
+/// `pub mod groups`: each light group folded for each display, and their list (`lists`).
+fn groups_rs(t: &mut Tables, d: &Derivation, scene: &Resolved) -> Result<(), Error> {
+    if scene.groups.is_empty() || scene.displays.is_empty() {
+        return Ok(());
+    }
+    let o = &mut t.o;
+    o.push_str(&layout::comment(0, "///", "Each light group folded for each display: one node set shared by several lights, a weight matrix per light (samples: the reflectance products a path carries from that light; the light is in its weights), summed into linear RGB, a reflectance of 1 under every light at Y = 1 per light. Named `<GROUP>_<DISPLAY>`.", 0));
+    writeln!(o, "pub mod groups {{\n    use crate::LightGroupSet;").ok();
+    let mut names = Vec::new();
+    for (name, group) in &scene.groups {
+        let n = group.wavelengths_nm.len();
+        let lights: Vec<&str> = group.members.iter().map(|m| m.light.as_str()).collect();
+        for (spec, m) in &scene.displays {
+            let members = group
+                .members
+                .iter()
+                .map(|member| {
+                    let set = member.wavelength_set(d, name, &group.wavelengths_nm);
+                    weights(&d.folded(&set, m))
+                })
+                .collect::<Result<Vec<Expr>, Error>>()?;
+            let value = Expr::Struct(
+                "LightGroupSet".into(),
+                std::vec![
+                    ("wavelengths_nm".into(), f32s(&group.wavelengths_nm)?),
+                    ("weights".into(), Expr::Array(members)),
+                    (
+                        "lights".into(),
+                        Expr::Array(lights.iter().map(|l| quoted(l)).collect()),
+                    ),
+                    (
+                        "display".into(),
+                        Expr::atom(std::format!("super::displays::{}", spec.name)),
+                    ),
+                ],
+            );
+            item(
+                o,
+                4,
+                &std::format!(
+                    "Light group of {} sharing {n} wavelengths (nodes searched for the {} ratio to each light's own folded set; each light's weights fitted by least squares on the crate's reflectances, white pinned), folded for [`{}`](super::displays::{}). Accumulators in this order.",
+                    lights.join(", "),
+                    group.objective.name(),
+                    spec.name,
+                    spec.name
+                ),
+                &std::format!(
+                    "pub const {name}_{}: LightGroupSet<{n}, {}> =",
+                    spec.name,
+                    lights.len()
+                ),
+                &value,
+            );
+            t.floats += n + 3 * n * lights.len();
+            names.push(std::format!("{name}_{}", spec.name));
+        }
+    }
+    o.push_str(&names_rs("groups", "light group", &names));
     writeln!(o, "}}\n").ok();
     Ok(())
 }

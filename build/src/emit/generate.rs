@@ -101,8 +101,9 @@ pub fn generate(crate_dir: &Path, scene: Option<&OsStr>) -> Result<Output, Error
     let sets = resolved.colour_sets.iter().chain(&resolved.rule_sets);
     let own = scene.user.data_files();
     let upsampling = super::upsampling::input_files(&resolved);
+    let groups = group_input_files(&resolved);
     let sets = sets.flat_map(|s| catalog::input_files(&s.name));
-    for label in sets.chain(own).chain(upsampling) {
+    for label in sets.chain(own).chain(upsampling).chain(groups) {
         if inputs.iter().any(|(l, _)| *l == label) {
             continue;
         }
@@ -139,6 +140,26 @@ fn shaders(d: &Derivation, scene: &Resolved) -> Result<[String; 2], Error> {
         snippet(d, scene, Language::Wgsl)?,
         snippet(d, scene, Language::Glsl)?,
     ])
+}
+
+/// The data files the scene's light groups were made from: the kernel model's and the groups'
+/// training reflectances, the node cache, and the built-in lights they fold in.
+fn group_input_files(scene: &Resolved) -> Vec<String> {
+    if scene.groups.is_empty() {
+        return Vec::new();
+    }
+    let mut files = std::vec![shared::TRAINING_FILE.to_string()];
+    files.extend(shared::GROUP_TRAINING_FILES.iter().map(|f| f.to_string()));
+    files.push(shared::CACHE_FILE.to_string());
+    let builtin = crate::derivation::evaluate::builtin_lights();
+    for (_, g) in &scene.groups {
+        for m in &g.members {
+            if builtin.contains(&m.light.as_str()) {
+                files.push(std::format!("data/illuminant_{}.csv", m.light));
+            }
+        }
+    }
+    files
 }
 
 fn relative_label(crate_dir: &Path, path: &Path) -> String {

@@ -12,6 +12,10 @@
 //! - `<display>_encode(rgb)`: the runtime's `Display::encode` with `GamutMapping::Clip`: clip to
 //!   0..=1, then the display's transfer function;
 //!
+//! For each light group `<GROUP>` of L lights and N wavelengths: `<GROUP>_WL`, `<GROUP>_<DISPLAY>`
+//! (each light's folded weights in turn, L·N `vec3`s) and `<group>_<display>_linear(s)`, the
+//! runtime's `LightGroupSet::linear_rgb` of the L·N samples, light k's at `s[k·N + i]`.
+//!
 //! The upsamplings' functions are not here: each reads its table from a storage buffer the
 //! shader declares, and comes as its own text (`tables::upsampling::<SET>_<DISPLAY>_WGSL`,
 //! `emit/upsampling.rs`).
@@ -356,6 +360,72 @@ pub fn snippet(d: &Derivation, scene: &Resolved, lang: Language) -> Result<Strin
                 v3,
             ));
             o.push_str(&product_body(lang, &folded, n));
+            o.push('\n');
+        }
+    }
+    for (name, group) in &scene.groups {
+        let n = group.wavelengths_nm.len();
+        let l = group.members.len();
+        let lights: Vec<&str> = group.members.iter().map(|m| m.light.as_str()).collect();
+        writeln!(
+            o,
+            "// {name}: a light group of {} sharing {n} wavelengths. Sample each light's path products at {name}_WL; pass light k's samples at s[k * {n} + i].",
+            ascii(&lights.join(", "))
+        )
+        .ok();
+        let wl: Result<Vec<String>, Error> = group
+            .wavelengths_nm
+            .iter()
+            .map(|&v| lang.float(v))
+            .collect();
+        o.push_str(&lang.const_array(&std::format!("{name}_WL"), lang.scalar(), &wl?));
+        for (spec, m) in &scene.displays {
+            let folded = std::format!("{name}_{}", spec.name);
+            writeln!(
+                o,
+                "// {name} folded for {}: each light's linear RGB weights in turn, one vector per wavelength.",
+                spec.name
+            )
+            .ok();
+            let mut columns_all = Vec::with_capacity(n * l);
+            for member in &group.members {
+                let set = member.wavelength_set(d, name, &group.wavelengths_nm);
+                columns_all.extend(columns(lang, &d.folded(&set, m))?);
+            }
+            o.push_str(&lang.const_array(&folded, v3, &columns_all));
+            writeln!(
+                o,
+                "// Linear RGB for {} of the light groups' samples (LightGroupSet::linear_rgb: each light's products summed in index order, the lights added in order).",
+                spec.name
+            )
+            .ok();
+            o.push_str(&lang.function(
+                &std::format!("{}_linear", folded.to_ascii_lowercase()),
+                &[samples_arg(n * l)],
+                v3,
+            ));
+            let mut b = lang.let_var("acc", &std::format!("{folded}[0] * s[0]"));
+            for i in 1..n {
+                writeln!(b, "    acc = acc + {folded}[{i}] * s[{i}];").ok();
+            }
+            for k in 1..l {
+                let base = k * n;
+                b.push_str(&lang.let_var(
+                    &std::format!("light{k}"),
+                    &std::format!("{folded}[{base}] * s[{base}]"),
+                ));
+                for i in 1..n {
+                    writeln!(
+                        b,
+                        "    light{k} = light{k} + {folded}[{j}] * s[{j}];",
+                        j = base + i
+                    )
+                    .ok();
+                }
+                writeln!(b, "    acc = acc + light{k};").ok();
+            }
+            b.push_str("    return acc;\n}\n");
+            o.push_str(&b);
             o.push('\n');
         }
     }

@@ -6,11 +6,15 @@
 use std::string::String;
 use std::vec::Vec;
 
-use super::model::{problem, Shared, EMPIRICAL_WEIGHT, LENGTH_NM, NUGGET, TRAINING_FILE};
+use super::group::{Group, GroupFit, GroupObjective, Weights, GROUP_TRAINING_FILES};
+use super::model::{
+    problem, problem_for, Problem, Shared, EMPIRICAL_WEIGHT, LENGTH_NM, NUGGET, TRAINING_FILE,
+};
 use super::search::{optimize, MAX_MOVE, RANDOM_STARTS};
 use crate::base::error::{DataError, Error};
 use crate::base::files::{cache_rows, read_data, read_optional_text, sha256_hex};
 use crate::derivation::derive::Derivation;
+use crate::derivation::evaluate::{self, Curve, Spectra};
 
 /// The shared sets' node cache, a file in the data directory: the nodes
 /// [`Problem::optimize`](crate::shared::Problem::optimize) found for each set in [`CACHED`],
@@ -203,6 +207,146 @@ pub fn cache_entry(d: &Derivation, light: Option<&str>, n: usize) -> Result<Cach
         name: set_name(light, n),
         fingerprint: fingerprint(d, light)?,
         wavelengths_nm: s.wavelengths_nm,
+        line: 0,
+    })
+}
+
+/// The light groups whose nodes `CACHE_FILE` holds (by their lights, size and objective): the
+/// default scene's (daylight, tungsten, a spiky fluorescent and a phosphor LED at 8
+/// wavelengths).
+pub const CACHED_GROUPS: [(&[&str], usize, GroupObjective); 1] =
+    [(&["D65", "A", "F11", "LED_B2"], 8, GroupObjective::Mean)];
+
+/// The cache name of a light group: `GROUP_<light>+<light>…_<n>_<objective>`.
+pub(crate) fn group_cache_name(lights: &[Curve], n: usize, objective: GroupObjective) -> String {
+    let names: Vec<&str> = lights.iter().map(|l| l.name.as_str()).collect();
+    std::format!("GROUP_{}_{n}_{}", names.join("+"), objective.name())
+}
+
+/// A SHA-256 over everything a light group's node search depends on besides its code: what a
+/// single light's search reads (observer, range, the kernel model's training and constants,
+/// the search constants), the group's training files, and each light's values on the 1 nm grid
+/// (a built-in illuminant and a scene's own light alike).
+pub(crate) fn group_fingerprint(
+    d: &Derivation,
+    problems: &[Problem],
+    objective: GroupObjective,
+) -> Result<String, Error> {
+    let mut text = fingerprint(d, None)?;
+    text += &std::format!("\ngroup objective {}\n", objective.name());
+    for f in GROUP_TRAINING_FILES {
+        text += &std::format!(
+            "training {f} {}\n",
+            sha256_hex(&read_data(&d.settings.data_dir, f)?)
+        );
+    }
+    for p in problems {
+        let values: Vec<String> = p.light.iter().map(|v| std::format!("{v:e}")).collect();
+        text += &std::format!(
+            "light {} {}\n",
+            p.light_name.as_deref().unwrap_or(""),
+            sha256_hex(values.join(" ").as_bytes())
+        );
+    }
+    Ok(sha256_hex(text.as_bytes()))
+}
+
+/// The group's fit on the crate's training reflectances ([`GROUP_TRAINING_FILES`]), and each
+/// light's problem.
+pub(crate) fn group_fit(d: &Derivation, lights: &[Curve]) -> Result<GroupFit, Error> {
+    let problems = lights
+        .iter()
+        .map(|l| problem_for(d, Some(l)))
+        .collect::<Result<Vec<_>, Error>>()?;
+    let mut training = Vec::new();
+    for f in GROUP_TRAINING_FILES {
+        training.extend(Spectra::builtin(&d.settings.data_dir, f)?.curves(d.settings.range_nm)?);
+    }
+    GroupFit::new(problems, &training)
+}
+
+/// Searches a light group's nodes: each light's own folded set (from the cache where it has
+/// it), then [`GroupFit::optimize`].
+pub(crate) fn optimize_group(
+    d: &Derivation,
+    fit: &GroupFit,
+    lights: &[Curve],
+    n: usize,
+    objective: GroupObjective,
+) -> Result<Group, Error> {
+    let own = fit
+        .problems()
+        .iter()
+        .zip(lights)
+        .map(|(p, l)| {
+            let set = if evaluate::builtin_lights().contains(&l.name.as_str()) {
+                cached_or_optimize(d, Some(&l.name), n)?
+            } else {
+                p.shared(n)?
+            };
+            Ok(super::group::nodes_of(p, &set))
+        })
+        .collect::<Result<Vec<_>, Error>>()?;
+    fit.optimize(n, &own, objective, Weights::PerLight)
+}
+
+/// A light group of `n` wavelengths for `lights` (curves named as the scene names them): the
+/// nodes from [`CACHE_FILE`] when it holds the group with a matching fingerprint (only the
+/// weights are fitted then), otherwise the search.
+pub(crate) fn cached_or_optimize_group(
+    d: &Derivation,
+    lights: &[Curve],
+    n: usize,
+    objective: GroupObjective,
+) -> Result<Group, Error> {
+    let fit = group_fit(d, lights)?;
+    let name = group_cache_name(lights, n, objective);
+    let cache = read_cache(&d.settings.data_dir)?;
+    let Some(entry) = cache.iter().find(|e| e.name == name) else {
+        return optimize_group(d, &fit, lights, n, objective);
+    };
+    if entry.fingerprint != group_fingerprint(d, fit.problems(), objective)?
+        || entry.wavelengths_nm.len() != n
+    {
+        return optimize_group(d, &fit, lights, n, objective);
+    }
+    let grid = &fit.problems()[0].grid_nm;
+    let nodes = entry
+        .wavelengths_nm
+        .iter()
+        .map(|&nm| {
+            grid.iter()
+                .position(|&g| (g - nm).abs() < 1e-9)
+                .ok_or_else(|| {
+                    Error::Data(DataError {
+                        file: CACHE_FILE.into(),
+                        line: entry.line,
+                        message: std::format!("{name}: {nm} nm is not a grid wavelength"),
+                    })
+                })
+        })
+        .collect::<Result<Vec<usize>, Error>>()?;
+    fit.group_at(&nodes, objective, Weights::PerLight)
+        .map_err(|e| e.at(CACHE_FILE, entry.line))
+}
+
+/// The cache entry for one light group of built-in lights, by a fresh search.
+pub fn group_cache_entry(
+    d: &Derivation,
+    lights: &[&str],
+    n: usize,
+    objective: GroupObjective,
+) -> Result<CacheEntry, Error> {
+    let curves = lights
+        .iter()
+        .map(|l| evaluate::builtin_illuminant(&d.settings.data_dir, l, d.settings.range_nm))
+        .collect::<Result<Vec<_>, _>>()?;
+    let fit = group_fit(d, &curves)?;
+    let g = optimize_group(d, &fit, &curves, n, objective)?;
+    Ok(CacheEntry {
+        name: group_cache_name(&curves, n, objective),
+        fingerprint: group_fingerprint(d, fit.problems(), objective)?,
+        wavelengths_nm: g.wavelengths_nm,
         line: 0,
     })
 }

@@ -31,6 +31,18 @@ use super::model::{Problem, Shared};
 use crate::base::error::Error;
 use crate::derivation::evaluate::{Curve, EvalSet};
 
+/// The training reflectances of the crate's light groups: every reflectance file of the crate
+/// (the CIE test colours, the ColorChecker, the 190 rawtoaces patches). The report judges the
+/// fit by cross-validation over the last two instead (section 9).
+pub const GROUP_TRAINING_FILES: [&str; 3] = [
+    "data/reflectance_cie_tcs.csv",
+    "data/reflectance_colorchecker_ohta.csv",
+    "data/reflectance_rawtoaces_190.csv",
+];
+
+/// The sizes a scene's light group may have.
+pub const GROUP_SIZES: core::ops::RangeInclusive<i64> = 3..=16;
+
 /// What the node search of a light group minimises, from each light's mean CIEDE2000 `e_l` on
 /// the training reflectances at the group's nodes and `own_l`, that of the light's own folded
 /// set of the same size.
@@ -81,6 +93,28 @@ pub struct Member {
 }
 
 impl Member {
+    /// The member as the runtime bakes it: AC1C2 rows (Eq. 9 applied to the folded XYZ
+    /// weights), named `name`, on the group's nodes.
+    pub(crate) fn wavelength_set(
+        &self,
+        d: &crate::derivation::derive::Derivation,
+        name: &str,
+        wavelengths_nm: &[f64],
+    ) -> crate::derivation::sets::WavelengthSet {
+        crate::derivation::sets::WavelengthSet {
+            name: name.into(),
+            doc: std::format!("{}'s member of a light group", self.light),
+            wavelengths_nm: wavelengths_nm.to_vec(),
+            weights: crate::derivation::display::fold(
+                &d.opponent.xyz_to_ac1c2,
+                &self.xyz_weights,
+                1.0,
+            ),
+            light: Some(self.light.clone()),
+            sensor: None,
+        }
+    }
+
     /// The member as the report measures it, on radiances `r · L` (as
     /// [`Shared::eval_set`](crate::shared::Shared::eval_set)).
     pub fn eval_set(&self, wavelengths_nm: &[f64], name: &str, family: &str) -> EvalSet {
@@ -306,6 +340,11 @@ impl GroupFit {
                 .collect(),
             None => std::vec![f64::INFINITY; self.problems.len()],
         }
+    }
+
+    /// The lights' kernel-model problems, in the group's order.
+    pub(crate) fn problems(&self) -> &[Problem] {
+        &self.problems
     }
 
     /// The mean CIEDE2000 on the training reflectances of each light's own folded set: `own[l]`

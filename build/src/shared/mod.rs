@@ -35,10 +35,14 @@ mod interpolatory;
 mod model;
 mod search;
 
+pub(crate) use cache::cached_or_optimize_group;
 pub use cache::{cache_entry, set_name, write_cache, CacheEntry, CACHED};
 pub(crate) use cache::{cached_or_optimize, CACHE_FILE};
+pub use cache::{group_cache_entry, CACHED_GROUPS};
 pub use fit::{fit, Fit, FIT_LENGTHS_NM, FIT_WEIGHTS};
-pub use group::{nodes_of, Group, GroupFit, GroupObjective, Member, Weights};
+pub use group::{
+    nodes_of, Group, GroupFit, GroupObjective, Member, Weights, GROUP_SIZES, GROUP_TRAINING_FILES,
+};
 pub use interpolatory::interpolatory_a;
 pub use model::{
     eval_on_radiance, problem_for, Problem, Shared, EMPIRICAL_WEIGHT, LENGTH_NM, TRAINING_FILE,
@@ -46,7 +50,10 @@ pub use model::{
 pub use search::optimize;
 // The paths the unit tests (src/tests/) name.
 #[cfg(test)]
-pub(crate) use cache::{fingerprint, parse_cache, read_cache};
+pub(crate) use cache::{
+    fingerprint, group_cache_name, group_fingerprint, group_fit, optimize_group, parse_cache,
+    read_cache,
+};
 #[cfg(test)]
 pub(crate) use model::{problem, Kernel};
 pub(crate) use search::SIZES;

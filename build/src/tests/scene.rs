@@ -251,3 +251,66 @@ fn every_scene_in_examples_parses_and_resolves() {
     }
     assert!(n >= 3, "{n} scenes");
 }
+
+#[test]
+fn a_scenes_light_group_is_baked_for_each_display_and_its_mistakes_name_their_line() {
+    // The default scene's group (D65, A, F11, LED_B2 at 8, cached), under another name, with
+    // its lights in the scene's order.
+    let source = generate(
+        "scene.toml",
+        "displays = [\"SRGB\", \"REC2020\"]\n[groups.ROOM]\nlights = [\"D65\", \"A\", \"F11\", \"LED_B2\"]\nwavelengths = 8\n",
+    )
+    .unwrap();
+    for display in ["SRGB", "REC2020"] {
+        assert!(
+            source.contains(&format!("pub const ROOM_{display}: LightGroupSet<8, 4> =")),
+            "{display}"
+        );
+    }
+    assert!(source.contains("lights: [\"D65\", \"A\", \"F11\", \"LED_B2\"]"));
+    assert!(source.contains("pub const NAMES: [&str; 2] = [\"ROOM_SRGB\", \"ROOM_REC2020\"];"));
+    let group = |body: &str| format!("displays = [\"SRGB\"]\n[groups.ROOM]\n{body}");
+    for (body, line, message) in [
+        (
+            "lights = [\"D65\"]\nwavelengths = 8\n",
+            3,
+            "a group has two or more",
+        ),
+        (
+            "lights = [\"D65\", \"NOPE\"]\nwavelengths = 8\n",
+            3,
+            "unknown light \"NOPE\"",
+        ),
+        (
+            "lights = [\"D65\", \"D65\"]\nwavelengths = 8\n",
+            3,
+            "D65 is named twice",
+        ),
+        (
+            "lights = [\"D65\", \"A\"]\nwavelengths = 40\n",
+            4,
+            "a light group has 3 to 16",
+        ),
+        (
+            "lights = [\"D65\", \"A\"]\nwavelengths = 8\nobjective = \"median\"\n",
+            5,
+            "valid: \"mean\", \"worst\"",
+        ),
+        ("lights = [\"D65\", \"A\"]\n", 2, "wavelengths"),
+    ] {
+        let e = error(&group(body));
+        assert_eq!(
+            (e.file.as_str(), e.line),
+            ("scene.toml", line),
+            "{body}: {e}"
+        );
+        assert!(e.to_string().contains(message), "{body}: {e}");
+    }
+    // A group's name is a scene's own name: not twice, not a catalogue form.
+    let e = error("displays = [\"SRGB\"]\n[lights]\nROOM = \"x.csv\"\n[groups.ROOM]\nlights = [\"D65\", \"A\"]\nwavelengths = 8\n");
+    assert!(e.to_string().contains("declared twice"), "{e}");
+    let e = error(
+        "displays = [\"SRGB\"]\n[groups.KQ_ROOM]\nlights = [\"D65\", \"A\"]\nwavelengths = 8\n",
+    );
+    assert!(e.to_string().contains("catalogue form"), "{e}");
+}

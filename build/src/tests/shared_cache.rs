@@ -4,8 +4,9 @@
 use std::path::Path;
 use std::sync::OnceLock;
 
+use crate::evaluate;
 use crate::scene::{Scene, DEFAULT_SHARED_SETS};
-use crate::shared::{self, CacheEntry, CACHED};
+use crate::shared::{self, CacheEntry, CACHED, CACHED_GROUPS};
 use crate::{derive, Derivation, Settings};
 
 /// The data files the derivation reads (the runtime crate's `data/`).
@@ -35,7 +36,11 @@ fn the_cache_file_round_trips_through_the_writer() {
 fn the_cache_holds_every_cached_set_with_current_fingerprints() {
     let d = derivation();
     let cache = cache();
-    assert_eq!(cache.len(), CACHED.len(), "one entry per shared::CACHED");
+    assert_eq!(
+        cache.len(),
+        CACHED.len() + CACHED_GROUPS.len(),
+        "one entry per shared::CACHED and shared::CACHED_GROUPS"
+    );
     for &(light, n) in &CACHED {
         let name = shared::set_name(light, n);
         let e = cache
@@ -188,4 +193,90 @@ fn the_cache_file_round_trips() {
     let text = std::fs::read_to_string(Path::new(DATA_DIR).join("shared_nodes.csv")).unwrap();
     let entries = shared::parse_cache("data/shared_nodes.csv", &text).unwrap();
     assert_eq!(shared::write_cache(&entries), text);
+}
+
+/// The built-in lights of a cached group, as curves named as a scene names them.
+fn group_lights(d: &Derivation, lights: &[&str]) -> Vec<evaluate::Curve> {
+    lights
+        .iter()
+        .map(|l| {
+            evaluate::builtin_illuminant(&d.settings.data_dir, l, d.settings.range_nm).unwrap()
+        })
+        .collect()
+}
+
+#[test]
+fn the_cache_holds_every_cached_group_and_a_fresh_search_finds_it_or_worse() {
+    let d = derivation();
+    let cache = cache();
+    for &(lights, n, objective) in &CACHED_GROUPS {
+        let curves = group_lights(d, lights);
+        let fit = shared::group_fit(d, &curves).unwrap();
+        let name = shared::group_cache_name(&curves, n, objective);
+        let e = cache
+            .iter()
+            .find(|e| e.name == name)
+            .unwrap_or_else(|| panic!("{name} is not in data/shared_nodes.csv"));
+        assert_eq!(
+            e.fingerprint,
+            shared::group_fingerprint(d, fit.problems(), objective).unwrap(),
+            "{name}: stale fingerprint; regenerate with `cargo run --release -p spectral-quadrature-tools --bin tables -- --shared-cache > data/shared_nodes.csv`"
+        );
+        let fresh = shared::optimize_group(d, &fit, &curves, n, objective).unwrap();
+        if fresh.wavelengths_nm == e.wavelengths_nm {
+            continue;
+        }
+        // A different answer is acceptable only if the cached nodes are at least as good on
+        // the search's own objective (the mean of the lights' training errors here, each
+        // light's own set fixed).
+        let nodes: Vec<usize> = e
+            .wavelengths_nm
+            .iter()
+            .map(|nm| {
+                fit.problems()[0]
+                    .grid_nm
+                    .iter()
+                    .position(|g| g == nm)
+                    .unwrap()
+            })
+            .collect();
+        let cached = fit
+            .group_at(&nodes, objective, shared::Weights::PerLight)
+            .unwrap();
+        let mean = |g: &shared::Group| {
+            g.members.iter().map(|m| m.training_de00).sum::<f64>() / g.members.len() as f64
+        };
+        assert!(
+            mean(&cached) <= mean(&fresh) * (1.0 + 1e-9),
+            "{name}: the search now finds {:?}, better than the cached {:?}; regenerate the cache",
+            fresh.wavelengths_nm,
+            e.wavelengths_nm
+        );
+    }
+}
+
+#[test]
+fn a_cached_group_equals_the_searched_group() {
+    // The weights come from the same least squares whichever way the nodes were found.
+    let d = derivation();
+    let &(lights, n, objective) = &CACHED_GROUPS[0];
+    let curves = group_lights(d, lights);
+    let cached = shared::cached_or_optimize_group(d, &curves, n, objective).unwrap();
+    let fit = shared::group_fit(d, &curves).unwrap();
+    let nodes: Vec<usize> = cached
+        .wavelengths_nm
+        .iter()
+        .map(|nm| {
+            fit.problems()[0]
+                .grid_nm
+                .iter()
+                .position(|g| g == nm)
+                .unwrap()
+        })
+        .collect();
+    assert_eq!(
+        fit.group_at(&nodes, objective, shared::Weights::PerLight)
+            .unwrap(),
+        cached
+    );
 }

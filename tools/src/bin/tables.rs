@@ -121,7 +121,8 @@ fn other_observers() -> Vec<spectral_quadrature_build::Derivation> {
         .collect()
 }
 
-/// Searches every set of `shared::CACHED` afresh and prints the cache file.
+/// Searches every set of `shared::CACHED` and light group of `shared::CACHED_GROUPS` afresh and
+/// prints the cache file.
 fn print_shared_cache() -> Result<(), spectral_quadrature_build::Error> {
     let d = spectral_quadrature_build::derive(&tools::settings())?;
     let entries = spectral_quadrature_build::shared::CACHED
@@ -133,6 +134,12 @@ fn print_shared_cache() -> Result<(), spectral_quadrature_build::Error> {
             );
             spectral_quadrature_build::shared::cache_entry(&d, light, n)
         })
+        .chain(spectral_quadrature_build::shared::CACHED_GROUPS.iter().map(
+            |&(lights, n, objective)| {
+                eprintln!("searching the light group of {} at {n}", lights.join(", "));
+                spectral_quadrature_build::shared::group_cache_entry(&d, lights, n, objective)
+            },
+        ))
         .collect::<Result<Vec<_>, _>>()?;
     print!(
         "{}",

@@ -38,13 +38,19 @@
 //! calibration = "device.csv"       # optional: a device's readings of known reflectances
 //! calibration_reflectances = "chart.csv"  # optional: their spectra (else the ColorChecker)
 //!
+//! [groups.STUDIO]                  # optional: one node set for several lights
+//! lights = ["D65", "A", "SHOP_LED"] # built-in illuminants or [lights] names, two or more
+//! wavelengths = 8                  # 3 to 16
+//! objective = "mean"               # optional: or "worst" (the largest ratio to a light's own set)
+//!
 //! [upsampling]                     # optional: RGB → node reflectances (crate::upsampling)
 //! sets = ["KQ_C_8"]                # default: every colour set (sensor sets excepted)
 //! displays = ["SRGB"]              # default: every display of the scene
 //! grid = 9                         # points per axis, 2..=65
 //! ```
 //!
-//! `[fixed.*]` and `[sensors.*]` sets are baked whenever declared ([`crate::user`]).
+//! `[fixed.*]` and `[sensors.*]` sets are baked whenever declared ([`crate::user`]), and so are
+//! `[groups.*]` (`tables::groups`, [`crate::shared::GroupFit`]).
 //!
 //! The spectra files a scene names follow the readers' rule for negative values
 //! ([`crate::table::Negatives`]): rounding noise (at or above −1e-6 of the file's largest value)
@@ -65,6 +71,7 @@ mod resolve;
 #[cfg(test)]
 pub(crate) use parse::DEFAULT_SHARED_SETS;
 pub use parse::{
-    Extras, PlanRequest, Scene, SceneFixed, SceneLight, SceneSensor, UserInputs, SCENE_ENV,
+    Extras, PlanRequest, Scene, SceneFixed, SceneGroup, SceneLight, SceneSensor, UserInputs,
+    SCENE_ENV,
 };
 pub use resolve::{user_warnings, Resolved};

@@ -28,6 +28,12 @@ pub const SCENE_ENV: &str = "SPECTRAL_QUADRATURE_SCENE";
 /// illuminant C folded in at 4, 6 and 8 wavelengths (Table 2's light), and with F11 at 6.
 pub(crate) const DEFAULT_SHARED_SETS: [&str; 4] = ["KQ_C_4", "KQ_C_6", "KQ_C_8", "KQ_F11_6"];
 
+/// The light groups the default scene bakes, by name, lights and size: daylight, tungsten, a
+/// spiky fluorescent and a phosphor LED sharing 8 wavelengths (nodes in the node cache,
+/// `crate::shared::CACHED_GROUPS`).
+pub(crate) const DEFAULT_GROUPS: [(&str, &[&str], usize); 1] =
+    [("D65_A_F11_LED_B2_8", &["D65", "A", "F11", "LED_B2"], 8)];
+
 /// The colour sets the default scene upsamples, on every display it bakes: the shared sets and
 /// Table 2's rows.
 const DEFAULT_UPSAMPLED_SETS: [&str; 6] = [
@@ -54,7 +60,16 @@ struct RawScene {
     lights: Option<BTreeMap<Spanned<String>, Spanned<String>>>,
     fixed: Option<BTreeMap<Spanned<String>, Spanned<RawFixed>>>,
     sensors: Option<BTreeMap<Spanned<String>, Spanned<RawSensor>>>,
+    groups: Option<BTreeMap<Spanned<String>, Spanned<RawGroup>>>,
     upsampling: Option<Spanned<RawUpsampling>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawGroup {
+    lights: Spanned<Vec<Spanned<String>>>,
+    wavelengths: Spanned<i64>,
+    objective: Option<Spanned<String>>,
 }
 
 #[derive(Deserialize)]
@@ -117,6 +132,23 @@ pub struct SceneSensor {
     pub calibration_reflectances: Option<std::path::PathBuf>,
 }
 
+/// A light group (`[groups.NAME]`): one node set shared by several lights, each light folded
+/// into its own weights ([`crate::shared::GroupFit`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneGroup {
+    /// The group's name: its sets are `tables::groups::<NAME>_<DISPLAY>`.
+    pub name: String,
+    /// The lights (built-in illuminants or `[lights]` names), two or more, in the order the
+    /// renderer's accumulators follow.
+    pub lights: Vec<String>,
+    /// The number of shared wavelengths.
+    pub wavelengths: usize,
+    /// What the node search minimises.
+    pub objective: shared::GroupObjective,
+    /// The line of its table.
+    pub line: usize,
+}
+
 /// What a scene brings of the user's own: lights, fixed wavelengths, sensors.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct UserInputs {
@@ -126,16 +158,25 @@ pub struct UserInputs {
     pub fixed: Vec<SceneFixed>,
     /// Sets for sensors, baked whenever declared.
     pub sensors: Vec<SceneSensor>,
+    /// Light groups, baked whenever declared.
+    pub groups: Vec<SceneGroup>,
 }
 
 impl UserInputs {
     /// The crate's data files the fixed and sensor sets are made from: the training
     /// reflectances of the prior, and the built-in lights they name.
     pub(crate) fn data_files(&self) -> Vec<String> {
-        if self.fixed.is_empty() && self.sensors.is_empty() {
+        if self.fixed.is_empty() && self.sensors.is_empty() && self.groups.is_empty() {
             return Vec::new();
         }
         let mut files = std::vec![shared::TRAINING_FILE.to_string()];
+        if !self.groups.is_empty() {
+            for f in shared::GROUP_TRAINING_FILES {
+                if !files.iter().any(|g| g == f) {
+                    files.push(f.to_string());
+                }
+            }
+        }
         let default_chart = self
             .sensors
             .iter()
@@ -148,7 +189,8 @@ impl UserInputs {
             .iter()
             .map(|f| &f.light)
             .chain(self.sensors.iter().map(|s| &s.light))
-            .flatten();
+            .flatten()
+            .chain(self.groups.iter().flat_map(|g| &g.lights));
         for l in lights {
             if builtin_lights().contains(&l.as_str()) {
                 let file = std::format!("data/illuminant_{l}.csv");
@@ -301,7 +343,12 @@ impl Scene {
             err(line, e.message().trim().to_string())
         })?;
         let at = |span: core::ops::Range<usize>| line_of(text, span.start);
-        let own = (raw.lights.take(), raw.fixed.take(), raw.sensors.take());
+        let own = (
+            raw.lights.take(),
+            raw.fixed.take(),
+            raw.sensors.take(),
+            raw.groups.take(),
+        );
         let mut settings = Settings::new(data_dir);
         if let Some(o) = &raw.observer {
             let id = ObserverId::from_name(o.get_ref()).ok_or_else(|| {
@@ -423,11 +470,16 @@ impl Scene {
             Some(u) => Some(UpsamplingRequest::parse(file, u, &at)?),
             None => None,
         };
-        if sets.is_empty() && plan.is_none() && user.fixed.is_empty() && user.sensors.is_empty() {
+        if sets.is_empty()
+            && plan.is_none()
+            && user.fixed.is_empty()
+            && user.sensors.is_empty()
+            && user.groups.is_empty()
+        {
             return Err(err(
                 0,
                 std::format!(
-                    "the scene names no sets (sets = [...], a [plan], [fixed.*] or [sensors.*]); valid forms: {}",
+                    "the scene names no sets (sets = [...], a [plan], [fixed.*], [sensors.*] or [groups.*]); valid forms: {}",
                     catalog::NAME_FORMS
                 ),
             ));
@@ -458,10 +510,11 @@ type OwnTables = (
     Option<BTreeMap<Spanned<String>, Spanned<String>>>,
     Option<BTreeMap<Spanned<String>, Spanned<RawFixed>>>,
     Option<BTreeMap<Spanned<String>, Spanned<RawSensor>>>,
+    Option<BTreeMap<Spanned<String>, Spanned<RawGroup>>>,
 );
 
 fn parse_user(
-    (lights, fixed, sensors): OwnTables,
+    (lights, fixed, sensors, groups): OwnTables,
     dir: &std::path::Path,
     at: &dyn Fn(core::ops::Range<usize>) -> usize,
     err: &dyn Fn(usize, String) -> Error,
@@ -481,7 +534,9 @@ fn parse_user(
         if seen.contains(n) {
             return Err(err(
                 line,
-                std::format!("{n} is declared twice among [lights], [fixed.*] and [sensors.*]"),
+                std::format!(
+                    "{n} is declared twice among [lights], [fixed.*], [sensors.*] and [groups.*]"
+                ),
             ));
         }
         seen.push(n.clone());
@@ -574,6 +629,63 @@ fn parse_user(
                 .calibration_reflectances
                 .as_ref()
                 .map(|r| dir.join(r.get_ref())),
+        });
+    }
+    for (name, table) in groups.iter().flatten() {
+        check_name(name, "group")?;
+        check_set_name(name)?;
+        let t = table.get_ref();
+        let mut group_lights: Vec<String> = Vec::new();
+        for l in t.lights.get_ref() {
+            let light = check_light(&Some(l.clone()))?.unwrap_or_default();
+            if group_lights.contains(&light) {
+                return Err(err(
+                    at(l.span()),
+                    std::format!("{light} is named twice in [groups.{}]", name.get_ref()),
+                ));
+            }
+            group_lights.push(light);
+        }
+        if group_lights.len() < 2 {
+            return Err(err(
+                at(t.lights.span()),
+                std::format!(
+                    "[groups.{}] has {} light(s): a group has two or more (one light is its folded set, KQ_<light>_<n>)",
+                    name.get_ref(),
+                    group_lights.len()
+                ),
+            ));
+        }
+        let n = *t.wavelengths.get_ref();
+        if !shared::GROUP_SIZES.contains(&n) {
+            return Err(err(
+                at(t.wavelengths.span()),
+                std::format!(
+                    "wavelengths = {n}; a light group has {} to {}",
+                    shared::GROUP_SIZES.start(),
+                    shared::GROUP_SIZES.end()
+                ),
+            ));
+        }
+        let objective = match &t.objective {
+            None => shared::GroupObjective::Mean,
+            Some(o) => match o.get_ref().as_str() {
+                "mean" => shared::GroupObjective::Mean,
+                "worst" => shared::GroupObjective::Worst,
+                other => {
+                    return Err(err(
+                        at(o.span()),
+                        std::format!("objective = {other:?}; valid: \"mean\", \"worst\""),
+                    ))
+                }
+            },
+        };
+        user.groups.push(SceneGroup {
+            name: name.get_ref().clone(),
+            lights: group_lights,
+            wavelengths: n as usize,
+            objective,
+            line: at(name.span()),
         });
     }
     Ok(user)

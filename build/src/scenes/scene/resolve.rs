@@ -6,7 +6,7 @@
 use std::string::{String, ToString};
 use std::vec::Vec;
 
-use super::parse::{Extras, PlanRequest, Scene, DEFAULT_SHARED_SETS};
+use super::parse::{Extras, PlanRequest, Scene, DEFAULT_GROUPS, DEFAULT_SHARED_SETS};
 use crate::base::error::Error;
 use crate::base::files::read_error;
 use crate::base::table::{Negatives, ZeroedNegatives};
@@ -18,6 +18,7 @@ use crate::scenes::calibration::{self, SensorTables};
 use crate::scenes::catalog;
 use crate::scenes::plan;
 use crate::scenes::user::{fixed_set, sensor_set, Fitted, Sensor, UserLight};
+use crate::shared::{cached_or_optimize_group, Group, GroupObjective};
 use crate::upsampling::{Baked, CacheEntry};
 
 /// A scene resolved against a derivation: the very sets and displays to bake.
@@ -49,6 +50,9 @@ pub struct Resolved {
     /// [`calibration::white_readings`]: for a sensor, the same numbers as its [`SensorTables`]'s
     /// `white`).
     pub white_samples: Vec<(String, Vec<f64>)>,
+    /// The light groups, by name (`[groups.NAME]`, and the default scene's), baked in
+    /// `tables::groups` for each display.
+    pub groups: Vec<(String, Group)>,
 }
 
 impl Resolved {
@@ -118,6 +122,7 @@ impl Scene {
                 warnings: Vec::new(),
                 sensors: Vec::new(),
                 white_samples: Vec::new(),
+                groups: self.default_groups(d).map_err(err(0))?,
             });
         }
         let user = self.resolve_user(d)?;
@@ -162,6 +167,7 @@ impl Scene {
         }
         let upsamplings = self.upsamplings(d, &colour_sets, &displays, &user.0, cached)?;
         let sensors = self.resolve_sensors(d, &user.0)?;
+        let groups = self.resolve_groups(d, &user.0)?;
         Ok(Resolved {
             file: self.file.clone(),
             colour_sets,
@@ -173,7 +179,55 @@ impl Scene {
             warnings,
             sensors,
             white_samples,
+            groups,
         })
+    }
+
+    /// The default scene's light groups ([`DEFAULT_GROUPS`]), nodes from the cache.
+    fn default_groups(&self, d: &Derivation) -> Result<Vec<(String, Group)>, Error> {
+        DEFAULT_GROUPS
+            .iter()
+            .map(|(name, lights, n)| {
+                let curves = lights
+                    .iter()
+                    .map(|l| {
+                        evaluate::builtin_illuminant(&d.settings.data_dir, l, d.settings.range_nm)
+                    })
+                    .collect::<Result<Vec<_>, _>>()?;
+                let group = cached_or_optimize_group(d, &curves, *n, GroupObjective::Mean)?;
+                Ok(((*name).to_string(), group))
+            })
+            .collect()
+    }
+
+    /// The scene's `[groups.*]`: each light read (a scene's own or built in), the nodes from
+    /// the cache where it holds the group, else searched. Errors name the group's line.
+    fn resolve_groups(
+        &self,
+        d: &Derivation,
+        lights: &[UserLight],
+    ) -> Result<Vec<(String, Group)>, Error> {
+        let range = d.settings.range_nm;
+        self.user
+            .groups
+            .iter()
+            .map(|g| {
+                let within = |e: Error| e.at(&self.file, g.line as u64);
+                let curves = g
+                    .lights
+                    .iter()
+                    .map(|n| match lights.iter().find(|l| &l.name == n) {
+                        Some(l) => Ok(l.curve.clone()),
+                        None => evaluate::builtin_illuminant(&d.settings.data_dir, n, range)
+                            .map_err(Error::from),
+                    })
+                    .collect::<Result<Vec<_>, Error>>()
+                    .map_err(within)?;
+                let group = cached_or_optimize_group(d, &curves, g.wavelengths, g.objective)
+                    .map_err(within)?;
+                Ok((g.name.clone(), group))
+            })
+            .collect()
     }
 
     /// Bakes the `[upsampling]` table's maps, if any.
