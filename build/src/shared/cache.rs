@@ -213,9 +213,11 @@ pub fn cache_entry(d: &Derivation, light: Option<&str>, n: usize) -> Result<Cach
 
 /// The light groups whose nodes `CACHE_FILE` holds (by their lights, size and objective): the
 /// default scene's (daylight, tungsten, a spiky fluorescent and a phosphor LED at 8
-/// wavelengths).
-pub const CACHED_GROUPS: [(&[&str], usize, GroupObjective); 1] =
-    [(&["D65", "A", "F11", "LED_B2"], 8, GroupObjective::Mean)];
+/// wavelengths) and `examples/scenes/window_and_lamp.toml`'s (daylight and tungsten at 8).
+pub const CACHED_GROUPS: [(&[&str], usize, GroupObjective); 2] = [
+    (&["D65", "A", "F11", "LED_B2"], 8, GroupObjective::Mean),
+    (&["D65", "A"], 8, GroupObjective::Mean),
+];
 
 /// The cache name of a light group: `GROUP_<light>+<light>…_<n>_<objective>`.
 pub(crate) fn group_cache_name(lights: &[Curve], n: usize, objective: GroupObjective) -> String {

@@ -138,6 +138,37 @@ fn the_default_and_example_scenes_name_only_cached_shared_sets() {
 }
 
 #[test]
+fn the_example_scenes_light_groups_are_cached() {
+    // So that building them never searches: every group of built-in lights in examples/scenes
+    // is in shared::CACHED_GROUPS (a group with a scene's own light is searched at build time).
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/scenes");
+    let mut groups = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        let text = std::fs::read_to_string(&path).unwrap();
+        let scene = Scene::parse(&path.display().to_string(), &text, Path::new(DATA_DIR)).unwrap();
+        let builtin = evaluate::builtin_lights();
+        for g in scene
+            .user
+            .groups
+            .iter()
+            .filter(|g| g.lights.iter().all(|l| builtin.contains(&l.as_str())))
+        {
+            groups += 1;
+            assert!(
+                CACHED_GROUPS.iter().any(|&(lights, n, objective)| {
+                    lights == g.lights.as_slice() && n == g.wavelengths && objective == g.objective
+                }),
+                "{}: group {} is not in shared::CACHED_GROUPS",
+                path.display(),
+                g.name
+            );
+        }
+    }
+    assert!(groups >= 2, "{groups} groups in the example scenes");
+}
+
+#[test]
 fn a_stale_or_foreign_entry_is_not_used() {
     // A changed input changes the fingerprint, so the build searches instead of trusting the
     // cache: here, another light's fingerprint differs from C's.
