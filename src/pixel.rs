@@ -73,6 +73,25 @@ impl<const N: usize> FoldedSet<N> {
         mat_vec(&self.weights, samples)
     }
 
+    /// Linear RGB of a reflectance under a light, for a set for radiances
+    /// ([`Samples::Radiance`](crate::Samples::Radiance)): [`linear_rgb`](Self::linear_rgb) of
+    /// the products `reflectance[i] · light[i]`. `light` is a light's samples at this set's nodes
+    /// as the scene bakes them, `tables::lights::<LIGHT>_AT_<SET>`: fitted so that a reflectance
+    /// of 1 gives the light's own white at Y = 1 (the white a folded set for that light gives),
+    /// and so that a spiky light's lines between the nodes are accounted for, which the light's
+    /// values at the nodes would miss. Relighting one material under several lights is one call
+    /// per light with the same `reflectance` (for example an RGB texel upsampled by the set's
+    /// map, [`Upsampling::reflectance`](crate::Upsampling::reflectance)).
+    ///
+    /// For a set with a light folded in, the product is a reflectance under two lights: not a
+    /// meaningful colour. Never panics; IEEE arithmetic as [`linear_rgb`](Self::linear_rgb)
+    /// (a NaN in either argument makes every channel NaN, an infinity ±Inf or NaN, a product
+    /// beyond `f32::MAX` overflows).
+    #[inline]
+    pub fn linear_rgb_under(&self, light: &[f32; N], reflectance: &[f32; N]) -> [f32; 3] {
+        self.linear_rgb(&core::array::from_fn(|i| reflectance[i] * light[i]))
+    }
+
     /// Samples → gamut-mapped, encoded 8-bit RGB with the set's [`display`](Self::display).
     /// NaN anywhere → black; see [`Display::encode_u8`](crate::Display::encode_u8). With N = 0,
     /// the display's encoding of black (`[0, 0, 0]` for every built-in transfer function).

@@ -33,6 +33,8 @@ mod no_alloc;
 mod planar;
 #[path = "properties.rs"]
 mod properties;
+#[path = "relight.rs"]
+mod relight;
 #[path = "reproduction.rs"]
 mod reproduction;
 #[path = "sensor_lights.rs"]

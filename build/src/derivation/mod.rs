@@ -5,7 +5,8 @@
 //! [`settings`]. Beside them: the display matrices ([`display`], from `spectral-quadrature-math`),
 //! and spectra with their exact integration, by which every set is measured in CIELAB with the
 //! colour differences of `spectral-quadrature-math` ([`evaluate`]); the Planckian locus, the exact
-//! correlated colour temperature and the locus table the runtime interpolates ([`planckian`]).
+//! correlated colour temperature and the locus table the runtime interpolates ([`planckian`]);
+//! a light's fitted samples at a radiance set's nodes, for relighting (`relight`).
 
 pub(crate) mod derive;
 pub mod display;
@@ -14,5 +15,6 @@ pub mod observer;
 pub mod opponent;
 pub mod planckian;
 pub mod quadrature;
+pub(crate) mod relight;
 pub mod sets;
 pub(crate) mod settings;

@@ -178,6 +178,7 @@ pub(crate) fn tables_rs(
     displays_rs(&mut t, d, scene)?;
     folded_rs(&mut t, d, scene)?;
     groups_rs(&mut t, d, scene)?;
+    lights_rs(&mut t, d, scene)?;
     let (upsampling, upsampling_bytes) = super::upsampling::upsampling_rs(scene, &f32_literal)?;
     t.o.push_str(&upsampling);
     let (sensors, sensor_tables, n) = super::sensors::sensors_rs(&scene.sensors, f32_literal)?;
@@ -616,6 +617,50 @@ fn groups_rs(t: &mut Tables, d: &Derivation, scene: &Resolved) -> Result<(), Err
         }
     }
     o.push_str(&names_rs("groups", "light group", &names));
+    writeln!(o, "}}\n").ok();
+    Ok(())
+}
+
+/// `pub mod lights`: each scene light's fitted samples at each colour set for radiances
+/// (`crate::derivation::relight`), for relighting a material's node values under it.
+fn lights_rs(t: &mut Tables, d: &Derivation, scene: &Resolved) -> Result<(), Error> {
+    let radiance: Vec<&WavelengthSet> = scene
+        .colour_sets
+        .iter()
+        .filter(|s| s.light.is_none() && s.sensor.is_none())
+        .collect();
+    if radiance.is_empty() || scene.lights.is_empty() {
+        return Ok(());
+    }
+    let training = crate::derivation::evaluate::Spectra::builtin(
+        &d.settings.data_dir,
+        crate::shared::TRAINING_FILE,
+    )?
+    .curves(d.settings.range_nm)?;
+    let o = &mut t.o;
+    o.push_str(&layout::comment(0, "///", "Each scene light at each set for radiances, for relighting a material: `<LIGHT>_AT_<SET>`, the values `l` with which samples `r ⊙ l` of a reflectance r at the set's nodes give, through the set ([`FoldedSet::linear_rgb_under`](crate::FoldedSet::linear_rgb_under)), r's colour under the light. Fitted, not the light's values at the nodes: the least-squares fit on the CIE test colours of their colours under the light, with a reflectance of 1 pinned to the light's own white at Y = 1.", 0));
+    writeln!(o, "pub mod lights {{").ok();
+    for set in &radiance {
+        for light in &scene.lights {
+            let l = crate::derivation::relight::light_at_nodes(d, set, light, &training)?;
+            item(
+                o,
+                4,
+                &std::format!(
+                    "Light {} at [`{}`](super::{})'s nodes: a reflectance of 1 gives the light's white, Y = 1.",
+                    light.name, set.name, set.name
+                ),
+                &std::format!(
+                    "pub const {}_AT_{}: [f32; {}] =",
+                    light.name,
+                    set.name,
+                    set.len()
+                ),
+                &f32s(&l)?,
+            );
+            t.floats += set.len();
+        }
+    }
     writeln!(o, "}}\n").ok();
     Ok(())
 }

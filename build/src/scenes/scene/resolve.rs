@@ -53,9 +53,39 @@ pub struct Resolved {
     /// The light groups, by name (`[groups.NAME]`, and the default scene's), baked in
     /// `tables::groups` for each display.
     pub groups: Vec<(String, Group)>,
+    /// The scene's lights: the built-in ones its sets and groups fold in, then its own
+    /// (`[lights]`), each named as the scene names it. `tables::lights` bakes each one's samples
+    /// at each set for radiances.
+    pub lights: Vec<Curve>,
 }
 
 impl Resolved {
+    /// Fills [`Resolved::lights`]: the built-in lights the colour sets and groups fold in, in
+    /// their order, then `own`, the scene's `[lights]`.
+    fn with_lights(mut self, d: &Derivation, own: &[Curve]) -> Result<Resolved, Error> {
+        let mut names: Vec<String> = Vec::new();
+        let folded = self.colour_sets.iter().filter_map(|s| s.light.clone());
+        let grouped = self
+            .groups
+            .iter()
+            .flat_map(|(_, g)| g.members.iter().map(|m| m.light.clone()));
+        for n in folded.chain(grouped) {
+            if !names.contains(&n) && !own.iter().any(|l| l.name == n) {
+                names.push(n);
+            }
+        }
+        let range = d.settings.range_nm;
+        for n in names {
+            self.lights.push(evaluate::builtin_illuminant(
+                &d.settings.data_dir,
+                &n,
+                range,
+            )?);
+        }
+        self.lights.extend(own.iter().cloned());
+        Ok(self)
+    }
+
     /// The cache entries (`crate::upsampling::CACHE_FILE`) of the scene's upsamplings: each
     /// one's codes and figures, with the fingerprint of its inputs. For the default scene after
     /// [`Scene::resolve_fitting`], the text of the cache is
@@ -111,7 +141,7 @@ impl Scene {
                 colour_sets.push(catalog::resolve(d, name).map_err(err(0))?);
             }
             let upsamplings = self.upsamplings(d, &colour_sets, &displays, &[], cached)?;
-            return Ok(Resolved {
+            return Resolved {
                 file: self.file.clone(),
                 colour_sets,
                 rule_sets,
@@ -123,7 +153,10 @@ impl Scene {
                 sensors: Vec::new(),
                 white_samples: Vec::new(),
                 groups: self.default_groups(d).map_err(err(0))?,
-            });
+                lights: Vec::new(),
+            }
+            .with_lights(d, &[])
+            .map_err(err(0));
         }
         let user = self.resolve_user(d)?;
         let lights = &user.0;
@@ -168,7 +201,7 @@ impl Scene {
         let upsamplings = self.upsamplings(d, &colour_sets, &displays, &user.0, cached)?;
         let sensors = self.resolve_sensors(d, &user.0)?;
         let groups = self.resolve_groups(d, &user.0)?;
-        Ok(Resolved {
+        Resolved {
             file: self.file.clone(),
             colour_sets,
             rule_sets,
@@ -180,7 +213,13 @@ impl Scene {
             sensors,
             white_samples,
             groups,
-        })
+            lights: Vec::new(),
+        }
+        .with_lights(
+            d,
+            &user.0.iter().map(|l| l.curve.clone()).collect::<Vec<_>>(),
+        )
+        .map_err(err(0))
     }
 
     /// The default scene's light groups ([`DEFAULT_GROUPS`]), nodes from the cache.
