@@ -19,6 +19,7 @@ use std::path::PathBuf;
 pub mod budget;
 pub mod cli;
 pub mod csv_table;
+pub mod interreflection;
 pub mod light_groups;
 pub mod prefilter;
 pub mod random_wavelengths;

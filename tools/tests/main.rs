@@ -2,6 +2,7 @@
 //! is a module here, so that a test build compiles and links one binary instead of one per file.
 //! Run one file's tests with its module name as the filter, `--test integration -- plan::`.
 
+mod interreflection;
 mod light_groups;
 mod plan;
 mod prefilter;
