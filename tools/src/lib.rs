@@ -21,6 +21,7 @@ pub mod budget;
 pub mod cli;
 pub mod cornell;
 pub mod csv_table;
+pub mod interreflection;
 pub mod light_groups;
 pub mod prefilter;
 pub mod random_wavelengths;

@@ -216,12 +216,13 @@ const REPORT: &str = env!("CARGO_BIN_EXE_report");
 /// run writes them all: the test below parses every CSV it finds, and checks that these are
 /// the ones found, so a file added to the report is parsed at once and one that goes missing
 /// fails here.
-const REPORT_CSV: [&str; 13] = [
+const REPORT_CSV: [&str; 14] = [
     "breakdown.csv",
     "budget.csv",
     "error_vs_time.csv",
     "fig6.csv",
     "fig7.csv",
+    "interreflection.csv",
     "light_groups.csv",
     "margins.csv",
     "random_vs_fixed.csv",

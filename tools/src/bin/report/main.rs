@@ -14,7 +14,8 @@
 //! the fixed sets; `--trials` and `--seed` set its trials (see `docs/random-wavelengths.md`).
 //! Section 8 relights RGB materials upsampled to a set's nodes: the crate's map beside
 //! Jakob-Hanika, Mallett-Yuksel and Smits (see `docs/upsampling.md`). Section 9 judges light
-//! groups, one node set shared by several lights (see `docs/light-groups.md`).
+//! groups, one node set shared by several lights (see `docs/light-groups.md`). Section 10 judges
+//! the sets on light that bounces off several surfaces (see `docs/interreflection.md`).
 //!
 //! Spectra files: CSV, first column wavelength in nm, one column per spectrum, any spacing;
 //! they are interpolated linearly and must cover the observer's 380-770 nm. Errors name the file
@@ -24,6 +25,7 @@
 
 mod budget;
 mod groups;
+mod interreflection;
 mod plot;
 mod random;
 use spectral_quadrature_tools as tools;
@@ -95,7 +97,7 @@ fn main() {
 }
 
 /// The report's steps, in order: the progress line counts these.
-const STEPS: [&str; 11] = [
+const STEPS: [&str; 12] = [
     "deriving the rules (CIE 1931 2°, 380-770 nm, 5 nm)",
     "reading spectra",
     "section 1: Table 2 (ColorChecker under C)",
@@ -107,6 +109,7 @@ const STEPS: [&str; 11] = [
     "section 7: against random wavelengths (seeded trials, timing)",
     "section 8: RGB materials under another light (fitting and relighting)",
     "section 9: several lights in one scene (light groups, cross-validated)",
+    "section 10: light that bounces (bounce forms, fixed sets, seeded trials)",
 ];
 
 /// The steps of `--csv`: section 4 alone.
@@ -449,6 +452,24 @@ fn run(args: &Args) -> Result<(), Error> {
     )?;
     files.extend(groups_files);
 
+    progress.next();
+    let (bounce_text, bounce_files) = interreflection::section(
+        &interreflection::Inputs {
+            d: &d,
+            reflectances: args
+                .spectra
+                .reflectances
+                .as_ref()
+                .map(|_| (inputs.surfaces.as_slice(), inputs.surfaces_from.as_str())),
+            sizes: &work.group_sizes,
+            trials: work.trials,
+            seed: args.seed,
+            quick: args.quick,
+        },
+        out,
+    )?;
+    files.extend(bounce_files);
+
     let mut rest = String::new();
     print_sections_2_to_4(&mut rest, fig_stimuli, &fig6, &fig7, &rows);
     rest.push('\n');
@@ -461,6 +482,8 @@ fn run(args: &Args) -> Result<(), Error> {
     rest.push_str(&upsampling_text);
     rest.push('\n');
     rest.push_str(&groups_text);
+    rest.push('\n');
+    rest.push_str(&bounce_text);
     print!("{rest}");
     text.push_str(&rest);
     files.push(write(out, "report.txt", &text)?);
