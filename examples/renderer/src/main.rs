@@ -522,7 +522,7 @@ fn main() -> ExitCode {
         return ExitCode::from(2);
     }
     println!(
-        "{} × {} pixels, {} paths each, {} threads: {seconds:.1} s; wrote {}",
+        "{} × {} pixels, {} paths a pixel, threads: {}; {seconds:.1} s; wrote {}",
         args.size,
         args.size,
         args.spp,
