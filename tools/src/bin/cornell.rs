@@ -9,7 +9,9 @@
 //! Writes `<out>/<light>.png` (the images over their ΔE00 maps), `<out>/scale.png` (the maps'
 //! colour scale), `<out>/cornell.csv` (every method's errors and time) and
 //! `<out>/cornell_spp.csv` (the samples per pixel at which random wavelengths reach each fixed
-//! set), and prints the tables.
+//! set), and prints the tables. `--reference-xyz FILE` writes only the 1 nm reference under the
+//! box's light, per-pixel XYZ, the reference the path tracer `examples/renderer` checks itself
+//! against.
 
 use spectral_quadrature_tools as tools;
 use tools::cornell::methods::{self as m, Albedo, Spectral, Upsampler};
@@ -49,6 +51,10 @@ struct Args {
     /// The seed of the random wavelengths.
     #[arg(long, default_value_t = 1988)]
     seed: u64,
+    /// Only write the 1 nm reference image under the box's light to FILE, per-pixel XYZ as text
+    /// (for the path tracer's check, `examples/renderer`), and nothing else.
+    #[arg(long, value_name = "FILE")]
+    reference_xyz: Option<PathBuf>,
 }
 
 const SIZES: [usize; 3] = [4, 6, 8];
@@ -100,7 +106,71 @@ fn round_sig(x: f64) -> String {
     format!("{:.0}", (x / p).round() * p)
 }
 
+/// The reference under the box's light as text: a header of `#` lines (the size; the white
+/// every image is judged against, [`m::white`]; the paints' white-balanced linear sRGB under the
+/// light, the input of the crate's upsampling map), then `seen,x,y,z` for each pixel row by row
+/// from the top, `seen` one of `paint`, `light`, `miss`. XYZ in units where the light's own XYZ
+/// (1 nm, 400-700 nm) has Y = 1: a folded set's units, where a reflectance of 1 at every node
+/// under the light has Y = 1.
+fn write_reference(args: &Args, path: &std::path::Path) -> Result<(), Error> {
+    use std::fmt::Write as _;
+    let d = spectral_quadrature_build::derive(&tools::settings())?;
+    let data = cb::read_data(std::path::Path::new(tools::DATA_DIR))?;
+    let scene = m::Scene::new(&data.quads, 556.0 / args.patches.max(1) as f64, args.size);
+    let curve = cb::light_curve(&data, &d, Light::Box)?;
+    let reference = m::reference(&d, &curve, &data.paints)?;
+    let b = reference.solve(&scene, Bounces::All);
+    let image = scene.view.shade(&reference.patch_xyz(&b));
+    let painted = scene.view.painted();
+    let white = m::white(&d, &curve, &image, &painted)?;
+    let light_y = m::xyz_1nm(&d, |l| curve.at(l))?[1];
+    let (_, srgb) = d.display("SRGB")?;
+    let rgb = spectral_quadrature_build::upsampling::exact_rgb(&d, srgb, &curve, &data.paints)?;
+    let mut text = format!(
+        "# The cornell tool's 1 nm reference under the box's light (--patches {}), XYZ with the light's Y = 1\n# size {}\n# white {:.9} {:.9} {:.9}\n",
+        args.patches,
+        args.size,
+        white[0] / light_y,
+        white[1] / light_y,
+        white[2] / light_y
+    );
+    for (name, c) in ["white", "red", "green"].iter().zip(&rgb) {
+        let _ = writeln!(text, "# paint {name} {:.6} {:.6} {:.6}", c[0], c[1], c[2]);
+    }
+    text.push_str("seen,x,y,z\n");
+    for (p, v) in scene.view.pixels.iter().zip(&image) {
+        let seen = match p.seen {
+            cb::camera::Seen::Paint => "paint",
+            cb::camera::Seen::Light => "light",
+            cb::camera::Seen::Miss => "miss",
+        };
+        let _ = writeln!(
+            text,
+            "{seen},{:.7e},{:.7e},{:.7e}",
+            v[0] / light_y,
+            v[1] / light_y,
+            v[2] / light_y
+        );
+    }
+    std::fs::write(path, text).map_err(|e| Error::Write {
+        path: path.to_path_buf(),
+        source: e,
+    })?;
+    println!(
+        "Wrote {}: {} × {} pixels, {} painted; the brightest painted pixel has Y = {:.6} of the light's.",
+        path.display(),
+        args.size,
+        args.size,
+        painted.len(),
+        white[1] / light_y
+    );
+    Ok(())
+}
+
 fn run(args: &Args) -> Result<(), Error> {
+    if let Some(path) = &args.reference_xyz {
+        return write_reference(args, path);
+    }
     let start = Instant::now();
     let lights = if args.lights.is_empty() {
         vec![Light::Box, Light::F11, Light::LedB2]
