@@ -154,8 +154,10 @@ pub struct GroupFit {
     search: Problem,
     /// The training reflectances on the grid, one row each.
     samples: Vec<Vec<f64>>,
-    /// `Σ_r r(λ_a) r(λ_b)` over the training reflectances, row-major G×G.
-    gram: Vec<f64>,
+    /// `Σ_r r(λ_a) r(λ_b)` over the training reflectances, row-major G×G: computed on the first
+    /// search ([`GroupFit::optimize`]); a group at given nodes (from the node cache, in a build
+    /// script at opt-level 0) sums only the N² entries it needs.
+    gram: std::sync::OnceLock<Vec<f64>>,
     /// Per light and grid point: `Σ_r r(λ_a) XYZ_l(r)`.
     cross: Vec<Vec<[f64; 3]>>,
     /// Per light: each training reflectance's reference CIELAB (1 nm grid).
@@ -192,15 +194,6 @@ impl GroupFit {
             .iter()
             .map(|c| first.grid_nm.iter().map(|&nm| c.at(nm)).collect())
             .collect();
-        let mut gram = std::vec![0.0; g * g];
-        for s in &samples {
-            for a in 0..g {
-                let sa = s[a];
-                for (b, v) in gram[a * g..(a + 1) * g].iter_mut().enumerate() {
-                    *v += sa * s[b];
-                }
-            }
-        }
         let mut cross = Vec::with_capacity(problems.len());
         let mut labs = Vec::with_capacity(problems.len());
         for p in &problems {
@@ -225,22 +218,46 @@ impl GroupFit {
             problems,
             search,
             samples,
-            gram,
+            gram: std::sync::OnceLock::new(),
             cross,
             labs,
         })
+    }
+
+    /// The full Gram matrix (computed once).
+    fn full_gram(&self) -> &[f64] {
+        self.gram.get_or_init(|| {
+            let g = self.search.g;
+            let mut gram = std::vec![0.0; g * g];
+            for s in &self.samples {
+                for a in 0..g {
+                    let sa = s[a];
+                    for (b, v) in gram[a * g..(a + 1) * g].iter_mut().enumerate() {
+                        *v += sa * s[b];
+                    }
+                }
+            }
+            gram
+        })
+    }
+
+    /// `Σ_r r(λ_a) r(λ_b)`: from the Gram matrix once a search computed it, else summed.
+    fn gram_at(&self, a: usize, b: usize) -> f64 {
+        match self.gram.get() {
+            Some(gram) => gram[a * self.search.g + b],
+            None => self.samples.iter().map(|s| s[a] * s[b]).sum(),
+        }
     }
 
     /// The least-squares weights of light `l` at grid indices `nodes`, white pinned; `None`
     /// when the system is singular.
     fn weights(&self, l: usize, nodes: &[usize]) -> Option<[Vec<f64>; 3]> {
         let n = nodes.len();
-        let g = self.search.g;
         let mut a = DMatrix::<f64>::zeros(n + 1, n + 1);
         let mut b = DMatrix::<f64>::zeros(n + 1, 3);
         for (i, &ni) in nodes.iter().enumerate() {
             for (j, &nj) in nodes.iter().enumerate() {
-                a[(i, j)] = self.gram[ni * g + nj];
+                a[(i, j)] = self.gram_at(ni, nj);
             }
             a[(i, n)] = 1.0;
             a[(n, i)] = 1.0;
@@ -288,13 +305,12 @@ impl GroupFit {
     fn radiance_weights(&self, nodes: &[usize]) -> Option<[Vec<f64>; 3]> {
         let n = nodes.len();
         let k = self.problems.len();
-        let g = self.search.g;
         let mut a = DMatrix::<f64>::zeros(n + k, n + k);
         let mut b = DMatrix::<f64>::zeros(n + k, 3);
         for (l, p) in self.problems.iter().enumerate() {
             for (i, &ni) in nodes.iter().enumerate() {
                 for (j, &nj) in nodes.iter().enumerate() {
-                    a[(i, j)] += p.light[ni] * self.gram[ni * g + nj] * p.light[nj];
+                    a[(i, j)] += p.light[ni] * self.gram_at(ni, nj) * p.light[nj];
                 }
                 a[(i, n + l)] = p.light[ni];
                 a[(n + l, i)] = p.light[ni];
@@ -370,6 +386,7 @@ impl GroupFit {
         objective: GroupObjective,
         kind: Weights,
     ) -> Result<Group, Error> {
+        self.full_gram();
         let own_de = self.own_errors(own);
         let score = |nodes: &[usize]| {
             let ratios = self
