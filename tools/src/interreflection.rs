@@ -28,10 +28,6 @@ pub const POWERS: std::ops::RangeInclusive<u32> = 1..=8;
 /// The albedos of the enclosures measured.
 pub const ENCLOSURE_ALBEDOS: [f64; 2] = [0.5, 0.9];
 
-/// The bounce forms of the training reflectances the bounced group fit is trained on: `ρ`, `ρ²`,
-/// `ρ³` and the enclosures of [`ENCLOSURE_ALBEDOS`].
-pub const TRAINING_POWERS: [u32; 3] = [1, 2, 3];
-
 /// One form of reflectance a path carries.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Form {
@@ -149,25 +145,11 @@ pub fn forms(form: Form, reflectances: &[Curve], seed: u64, range_nm: [f64; 2]) 
         .collect()
 }
 
-/// The bounce forms a fit for bounced light trains on: each reflectance as it is, squared,
-/// cubed ([`TRAINING_POWERS`]) and in the enclosures of [`ENCLOSURE_ALBEDOS`].
+/// The bounce forms a fit for bounced light trains on: the generator's own, which a scene's
+/// `[groups.*] training = "bounces"` bakes ([`spectral_quadrature_build::shared::bounce_forms`]:
+/// each reflectance as it is, squared, cubed, and in the enclosures of albedo 0.5 and 0.9).
 pub fn training_forms(training: &[Curve], range_nm: [f64; 2]) -> Vec<Curve> {
-    let mut v = Vec::new();
-    for k in TRAINING_POWERS {
-        v.extend(
-            training
-                .iter()
-                .map(|r| form_curve(Form::Power(k), &[r], range_nm)),
-        );
-    }
-    for a in ENCLOSURE_ALBEDOS {
-        v.extend(
-            training
-                .iter()
-                .map(|r| form_curve(Form::Enclosure(a), &[r], range_nm)),
-        );
-    }
-    v
+    spectral_quadrature_build::shared::bounce_forms(training, range_nm)
 }
 
 /// The names of the fixed sets' methods, in [`Sets::methods`]' order.

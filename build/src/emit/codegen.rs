@@ -599,9 +599,13 @@ fn groups_rs(t: &mut Tables, d: &Derivation, scene: &Resolved) -> Result<(), Err
                 o,
                 4,
                 &std::format!(
-                    "Light group of {} sharing {n} wavelengths (nodes searched for the {} ratio to each light's own folded set; each light's weights fitted by least squares on the crate's reflectances, white pinned), folded for [`{}`](super::displays::{}). Accumulators in this order.",
+                    "Light group of {} sharing {n} wavelengths (nodes searched for the {} ratio to each light's own folded set; each light's weights fitted by least squares on the crate's reflectances{}, white pinned), folded for [`{}`](super::displays::{}). Accumulators in this order.",
                     lights.join(", "),
                     group.objective.name(),
+                    match group.training {
+                        crate::shared::GroupTraining::Bounces => " and their bounce forms",
+                        _ => "",
+                    },
                     spec.name,
                     spec.name
                 ),

@@ -6,7 +6,9 @@
 use std::string::String;
 use std::vec::Vec;
 
-use super::group::{Group, GroupFit, GroupObjective, Weights, GROUP_TRAINING_FILES};
+use super::group::{
+    bounce_forms, Group, GroupFit, GroupObjective, GroupTraining, Weights, GROUP_TRAINING_FILES,
+};
 use super::model::{
     problem, problem_for, Problem, Shared, EMPIRICAL_WEIGHT, LENGTH_NM, NUGGET, TRAINING_FILE,
 };
@@ -220,9 +222,18 @@ pub const CACHED_GROUPS: [(&[&str], usize, GroupObjective); 2] = [
 ];
 
 /// The cache name of a light group: `GROUP_<light>+<light>…_<n>_<objective>`.
-pub(crate) fn group_cache_name(lights: &[Curve], n: usize, objective: GroupObjective) -> String {
+pub(crate) fn group_cache_name(
+    lights: &[Curve],
+    n: usize,
+    objective: GroupObjective,
+    training: GroupTraining,
+) -> String {
     let names: Vec<&str> = lights.iter().map(|l| l.name.as_str()).collect();
-    std::format!("GROUP_{}_{n}_{}", names.join("+"), objective.name())
+    let suffix = match training {
+        GroupTraining::Reflectances => "",
+        GroupTraining::Bounces => "_bounces",
+    };
+    std::format!("GROUP_{}_{n}_{}{suffix}", names.join("+"), objective.name())
 }
 
 /// A SHA-256 over everything a light group's node search depends on besides its code: what a
@@ -233,9 +244,13 @@ pub(crate) fn group_fingerprint(
     d: &Derivation,
     problems: &[Problem],
     objective: GroupObjective,
+    training: GroupTraining,
 ) -> Result<String, Error> {
     let mut text = fingerprint(d, None)?;
     text += &std::format!("\ngroup objective {}\n", objective.name());
+    if training != GroupTraining::Reflectances {
+        text += &std::format!("group training {}\n", training.name());
+    }
     for f in GROUP_TRAINING_FILES {
         text += &std::format!(
             "training {f} {}\n",
@@ -255,7 +270,11 @@ pub(crate) fn group_fingerprint(
 
 /// The group's fit on the crate's training reflectances ([`GROUP_TRAINING_FILES`]), and each
 /// light's problem.
-pub(crate) fn group_fit(d: &Derivation, lights: &[Curve]) -> Result<GroupFit, Error> {
+pub(crate) fn group_fit(
+    d: &Derivation,
+    lights: &[Curve],
+    training_kind: GroupTraining,
+) -> Result<GroupFit, Error> {
     let problems = lights
         .iter()
         .map(|l| problem_for(d, Some(l)))
@@ -263,6 +282,9 @@ pub(crate) fn group_fit(d: &Derivation, lights: &[Curve]) -> Result<GroupFit, Er
     let mut training = Vec::new();
     for f in GROUP_TRAINING_FILES {
         training.extend(Spectra::builtin(&d.settings.data_dir, f)?.curves(d.settings.range_nm)?);
+    }
+    if training_kind == GroupTraining::Bounces {
+        training = bounce_forms(&training, d.settings.range_nm);
     }
     GroupFit::new(problems, &training)
 }
@@ -300,17 +322,18 @@ pub(crate) fn cached_or_optimize_group(
     lights: &[Curve],
     n: usize,
     objective: GroupObjective,
+    training: GroupTraining,
 ) -> Result<Group, Error> {
-    let fit = group_fit(d, lights)?;
-    let name = group_cache_name(lights, n, objective);
+    let fit = group_fit(d, lights, training)?;
+    let name = group_cache_name(lights, n, objective, training);
     let cache = read_cache(&d.settings.data_dir)?;
     let Some(entry) = cache.iter().find(|e| e.name == name) else {
-        return optimize_group(d, &fit, lights, n, objective);
+        return optimize_group(d, &fit, lights, n, objective).map(|g| Group { training, ..g });
     };
-    if entry.fingerprint != group_fingerprint(d, fit.problems(), objective)?
+    if entry.fingerprint != group_fingerprint(d, fit.problems(), objective, training)?
         || entry.wavelengths_nm.len() != n
     {
-        return optimize_group(d, &fit, lights, n, objective);
+        return optimize_group(d, &fit, lights, n, objective).map(|g| Group { training, ..g });
     }
     let grid = &fit.problems()[0].grid_nm;
     let nodes = entry
@@ -329,6 +352,7 @@ pub(crate) fn cached_or_optimize_group(
         })
         .collect::<Result<Vec<usize>, Error>>()?;
     fit.group_at(&nodes, objective, Weights::PerLight)
+        .map(|g| Group { training, ..g })
         .map_err(|e| e.at(CACHE_FILE, entry.line))
 }
 
@@ -343,11 +367,12 @@ pub fn group_cache_entry(
         .iter()
         .map(|l| evaluate::builtin_illuminant(&d.settings.data_dir, l, d.settings.range_nm))
         .collect::<Result<Vec<_>, _>>()?;
-    let fit = group_fit(d, &curves)?;
+    let training = GroupTraining::Reflectances;
+    let fit = group_fit(d, &curves, training)?;
     let g = optimize_group(d, &fit, &curves, n, objective)?;
     Ok(CacheEntry {
-        name: group_cache_name(&curves, n, objective),
-        fingerprint: group_fingerprint(d, fit.problems(), objective)?,
+        name: group_cache_name(&curves, n, objective, training),
+        fingerprint: group_fingerprint(d, fit.problems(), objective, training)?,
         wavelengths_nm: g.wavelengths_nm,
         line: 0,
     })

@@ -40,6 +40,61 @@ pub const GROUP_TRAINING_FILES: [&str; 3] = [
     "data/reflectance_rawtoaces_190.csv",
 ];
 
+/// What a light group's weights and nodes are fitted on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum GroupTraining {
+    /// The training reflectances as they are: light reflected once (the default; report
+    /// section 10d measures the other on reflectances no fit saw, and it does no better on
+    /// average).
+    Reflectances,
+    /// Their bounce forms too ([`bounce_forms`]): `ρ`, `ρ²`, `ρ³` and two enclosures.
+    Bounces,
+}
+
+impl GroupTraining {
+    /// `"reflectances"` or `"bounces"`, as a scene writes it.
+    pub const fn name(self) -> &'static str {
+        match self {
+            GroupTraining::Reflectances => "reflectances",
+            GroupTraining::Bounces => "bounces",
+        }
+    }
+}
+
+/// The enclosures' albedos of [`bounce_forms`].
+const BOUNCE_ALBEDOS: [f64; 2] = [0.5, 0.9];
+
+/// The bounce forms a fit for bounced light trains on, each reflectance on the 1 nm grid of
+/// `range_nm`: as it is, squared and cubed (one, two and three bounces off one material), then
+/// in an enclosure of albedo 0.5 and 0.9, `ρ (1 − a) / (1 − a ρ)` (the integrating-sphere sum
+/// over every bounce, a perfect reflector giving 1).
+pub fn bounce_forms(training: &[Curve], range_nm: [f64; 2]) -> Vec<Curve> {
+    let (lo, hi) = (range_nm[0].ceil() as i64, range_nm[1].floor() as i64);
+    let grid: Vec<f64> = (lo..=hi).map(|v| v as f64).collect();
+    let form = |r: &Curve, label: &str, f: &dyn Fn(f64) -> f64| Curve {
+        name: std::format!("{label} of {}", r.name),
+        wavelengths: grid.clone(),
+        values: grid.iter().map(|&nm| f(r.at(nm))).collect(),
+    };
+    let mut out = Vec::new();
+    for k in 1..=3 {
+        out.extend(
+            training
+                .iter()
+                .map(|r| form(r, &std::format!("ρ^{k}"), &|v| v.powi(k))),
+        );
+    }
+    for a in BOUNCE_ALBEDOS {
+        out.extend(training.iter().map(|r| {
+            form(r, &std::format!("sphere a={a}"), &|v| {
+                v * (1.0 - a) / (1.0 - a * v)
+            })
+        }));
+    }
+    out
+}
+
 /// The sizes a scene's light group may have.
 pub const GROUP_SIZES: core::ops::RangeInclusive<i64> = 3..=16;
 
@@ -144,6 +199,9 @@ pub struct Group {
     pub objective: GroupObjective,
     /// How the weights are tied across the lights.
     pub weights: Weights,
+    /// What the fit trained on (as the caller built the [`GroupFit`]; set by the scene's
+    /// resolution, [`GroupTraining::Reflectances`] otherwise).
+    pub training: GroupTraining,
 }
 
 /// Everything the fit reads, computed once for a group's lights and training reflectances.
@@ -471,6 +529,7 @@ impl GroupFit {
             members,
             objective,
             weights: kind,
+            training: GroupTraining::Reflectances,
         })
     }
 }

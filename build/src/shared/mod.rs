@@ -41,7 +41,8 @@ pub(crate) use cache::{cached_or_optimize, CACHE_FILE};
 pub use cache::{group_cache_entry, CACHED_GROUPS};
 pub use fit::{fit, Fit, FIT_LENGTHS_NM, FIT_WEIGHTS};
 pub use group::{
-    nodes_of, Group, GroupFit, GroupObjective, Member, Weights, GROUP_SIZES, GROUP_TRAINING_FILES,
+    bounce_forms, nodes_of, Group, GroupFit, GroupObjective, GroupTraining, Member, Weights,
+    GROUP_SIZES, GROUP_TRAINING_FILES,
 };
 pub use interpolatory::interpolatory_a;
 pub use model::{

@@ -297,6 +297,11 @@ fn a_scenes_light_group_is_baked_for_each_display_and_its_mistakes_name_their_li
             "valid: \"mean\", \"worst\"",
         ),
         ("lights = [\"D65\", \"A\"]\n", 2, "wavelengths"),
+        (
+            "lights = [\"D65\", \"A\"]\nwavelengths = 8\ntraining = \"twice\"\n",
+            5,
+            "valid: \"reflectances\", \"bounces\"",
+        ),
     ] {
         let e = error(&group(body));
         assert_eq!(
@@ -313,4 +318,20 @@ fn a_scenes_light_group_is_baked_for_each_display_and_its_mistakes_name_their_li
         "displays = [\"SRGB\"]\n[groups.KQ_ROOM]\nlights = [\"D65\", \"A\"]\nwavelengths = 8\n",
     );
     assert!(e.to_string().contains("catalogue form"), "{e}");
+}
+
+#[test]
+fn a_group_fitted_for_bounced_light_is_searched_and_baked_as_such() {
+    // Not in the node cache (the default fit is on reflectances as they are): searched here, on
+    // the crate's reflectances and their bounce forms.
+    let source = generate(
+        "scene.toml",
+        "displays = [\"SRGB\"]\n[groups.BOUNCED]\nlights = [\"D65\", \"A\"]\nwavelengths = 4\ntraining = \"bounces\"\n",
+    )
+    .unwrap();
+    assert!(source.contains("pub const BOUNCED_SRGB: LightGroupSet<4, 2> ="));
+    // The doc comment, its lines joined.
+    assert!(source
+        .replace("\n    /// ", " ")
+        .contains("on the crate's reflectances and their bounce forms"));
 }

@@ -157,7 +157,10 @@ fn the_example_scenes_light_groups_are_cached() {
             groups += 1;
             assert!(
                 CACHED_GROUPS.iter().any(|&(lights, n, objective)| {
-                    lights == g.lights.as_slice() && n == g.wavelengths && objective == g.objective
+                    lights == g.lights.as_slice()
+                        && n == g.wavelengths
+                        && objective == g.objective
+                        && g.training == shared::GroupTraining::Reflectances
                 }),
                 "{}: group {} is not in shared::CACHED_GROUPS",
                 path.display(),
@@ -242,15 +245,22 @@ fn the_cache_holds_every_cached_group_and_a_fresh_search_finds_it_or_worse() {
     let cache = cache();
     for &(lights, n, objective) in &CACHED_GROUPS {
         let curves = group_lights(d, lights);
-        let fit = shared::group_fit(d, &curves).unwrap();
-        let name = shared::group_cache_name(&curves, n, objective);
+        let fit = shared::group_fit(d, &curves, shared::GroupTraining::Reflectances).unwrap();
+        let name =
+            shared::group_cache_name(&curves, n, objective, shared::GroupTraining::Reflectances);
         let e = cache
             .iter()
             .find(|e| e.name == name)
             .unwrap_or_else(|| panic!("{name} is not in data/shared_nodes.csv"));
         assert_eq!(
             e.fingerprint,
-            shared::group_fingerprint(d, fit.problems(), objective).unwrap(),
+            shared::group_fingerprint(
+                d,
+                fit.problems(),
+                objective,
+                shared::GroupTraining::Reflectances,
+            )
+            .unwrap(),
             "{name}: stale fingerprint; regenerate with `cargo run --release -p spectral-quadrature-tools --bin tables -- --shared-cache > data/shared_nodes.csv`"
         );
         let fresh = shared::optimize_group(d, &fit, &curves, n, objective).unwrap();
@@ -292,8 +302,15 @@ fn a_cached_group_equals_the_searched_group() {
     let d = derivation();
     let &(lights, n, objective) = &CACHED_GROUPS[0];
     let curves = group_lights(d, lights);
-    let cached = shared::cached_or_optimize_group(d, &curves, n, objective).unwrap();
-    let fit = shared::group_fit(d, &curves).unwrap();
+    let cached = shared::cached_or_optimize_group(
+        d,
+        &curves,
+        n,
+        objective,
+        shared::GroupTraining::Reflectances,
+    )
+    .unwrap();
+    let fit = shared::group_fit(d, &curves, shared::GroupTraining::Reflectances).unwrap();
     let nodes: Vec<usize> = cached
         .wavelengths_nm
         .iter()

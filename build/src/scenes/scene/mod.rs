@@ -42,6 +42,7 @@
 //! lights = ["D65", "A", "SHOP_LED"] # built-in illuminants or [lights] names, two or more
 //! wavelengths = 8                  # 3 to 16
 //! objective = "mean"               # optional: or "worst" (the largest ratio to a light's own set)
+//! training = "reflectances"        # optional: or "bounces" (ρ, ρ², ρ³ and two enclosures)
 //!
 //! [upsampling]                     # optional: RGB → node reflectances (crate::upsampling)
 //! sets = ["KQ_C_8"]                # default: every colour set (sensor sets excepted)

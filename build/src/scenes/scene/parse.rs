@@ -70,6 +70,7 @@ struct RawGroup {
     lights: Spanned<Vec<Spanned<String>>>,
     wavelengths: Spanned<i64>,
     objective: Option<Spanned<String>>,
+    training: Option<Spanned<String>>,
 }
 
 #[derive(Deserialize)]
@@ -145,6 +146,8 @@ pub struct SceneGroup {
     pub wavelengths: usize,
     /// What the node search minimises.
     pub objective: shared::GroupObjective,
+    /// What the nodes and weights are fitted on.
+    pub training: shared::GroupTraining,
     /// The line of its table.
     pub line: usize,
 }
@@ -680,11 +683,25 @@ fn parse_user(
                 }
             },
         };
+        let training = match &t.training {
+            None => shared::GroupTraining::Reflectances,
+            Some(o) => match o.get_ref().as_str() {
+                "reflectances" => shared::GroupTraining::Reflectances,
+                "bounces" => shared::GroupTraining::Bounces,
+                other => {
+                    return Err(err(
+                        at(o.span()),
+                        std::format!("training = {other:?}; valid: \"reflectances\", \"bounces\""),
+                    ))
+                }
+            },
+        };
         user.groups.push(SceneGroup {
             name: name.get_ref().clone(),
             lights: group_lights,
             wavelengths: n as usize,
             objective,
+            training,
             line: at(name.span()),
         });
     }

@@ -18,7 +18,7 @@ use crate::scenes::calibration::{self, SensorTables};
 use crate::scenes::catalog;
 use crate::scenes::plan;
 use crate::scenes::user::{fixed_set, sensor_set, Fitted, Sensor, UserLight};
-use crate::shared::{cached_or_optimize_group, Group, GroupObjective};
+use crate::shared::{cached_or_optimize_group, Group, GroupObjective, GroupTraining};
 use crate::upsampling::{Baked, CacheEntry};
 
 /// A scene resolved against a derivation: the very sets and displays to bake.
@@ -233,7 +233,13 @@ impl Scene {
                         evaluate::builtin_illuminant(&d.settings.data_dir, l, d.settings.range_nm)
                     })
                     .collect::<Result<Vec<_>, _>>()?;
-                let group = cached_or_optimize_group(d, &curves, *n, GroupObjective::Mean)?;
+                let group = cached_or_optimize_group(
+                    d,
+                    &curves,
+                    *n,
+                    GroupObjective::Mean,
+                    GroupTraining::Reflectances,
+                )?;
                 Ok(((*name).to_string(), group))
             })
             .collect()
@@ -262,8 +268,9 @@ impl Scene {
                     })
                     .collect::<Result<Vec<_>, Error>>()
                     .map_err(within)?;
-                let group = cached_or_optimize_group(d, &curves, g.wavelengths, g.objective)
-                    .map_err(within)?;
+                let group =
+                    cached_or_optimize_group(d, &curves, g.wavelengths, g.objective, g.training)
+                        .map_err(within)?;
                 Ok((g.name.clone(), group))
             })
             .collect()
