@@ -43,7 +43,7 @@ pub struct ChannelFit {
 /// What the build bakes for one sensor besides its sets: the white reference and, where the
 /// scene gives readings, the fitted calibration.
 #[derive(Debug, Clone, PartialEq)]
-pub struct SensorTables {
+pub(crate) struct SensorTables {
     /// The sensor's name.
     pub name: String,
     /// The golden device's readings of a perfect white under the sensor's light (illuminant E

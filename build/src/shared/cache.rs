@@ -13,7 +13,7 @@ use crate::base::files::{cache_rows, read_data, read_optional_text, sha256_hex};
 use crate::derivation::derive::Derivation;
 
 /// The shared sets' node cache, a file in the data directory: the nodes
-/// [`Problem::optimize`](crate::shared::Problem::optimize) found for each set in [`CACHED`],
+/// `Problem::optimize` found for each set in [`CACHED`],
 /// with a fingerprint of everything the search depends on.
 /// `cargo run --release -p spectral-quadrature-tools --bin tables -- --shared-cache` writes it,
 /// and a test re-runs every search and checks that it finds the same nodes (or worse ones).
@@ -196,7 +196,7 @@ pub(crate) fn cached_or_optimize(
 }
 
 /// The cache entry for one set, by a fresh search
-/// ([`Problem::optimize`](crate::shared::Problem::optimize)).
+/// (`Problem::optimize`).
 pub fn cache_entry(d: &Derivation, light: Option<&str>, n: usize) -> Result<CacheEntry, Error> {
     let s = optimize(d, light, n)?;
     Ok(CacheEntry {

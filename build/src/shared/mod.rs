@@ -10,7 +10,7 @@
 //! reflectances' empirical covariance. For given nodes, W is the best linear unbiased estimate of
 //! `F r` (universal kriging with a constant trend): it minimises the expected squared error of
 //! every linear functional of XYZ, and it integrates a constant spectrum exactly, so the white of
-//! a surface under L is exact. The node search ([`Problem::optimize`]) minimises the expected
+//! a surface under L is exact. The node search (`Problem::optimize`) minimises the expected
 //! linearised CIELAB error `tr(M Σ)`, Σ the 3×3 covariance of XYZ's error and `M = mean JᵀJ` over
 //! the training colours (J = ∂Lab/∂XYZ at each, its white exact): greedy selection on the 1 nm
 //! grid, evenly spaced and random starts, each refined by coordinate descent, the best kept.

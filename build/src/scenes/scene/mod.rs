@@ -64,7 +64,5 @@ mod resolve;
 
 #[cfg(test)]
 pub(crate) use parse::DEFAULT_SHARED_SETS;
-pub use parse::{
-    Extras, PlanRequest, Scene, SceneFixed, SceneLight, SceneSensor, UserInputs, SCENE_ENV,
-};
+pub use parse::{PlanRequest, Scene, SceneFixed, SceneLight, SceneSensor, UserInputs, SCENE_ENV};
 pub use resolve::{user_warnings, Resolved};

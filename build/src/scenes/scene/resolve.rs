@@ -33,7 +33,7 @@ pub struct Resolved {
     /// Displays and their matrices.
     pub displays: Vec<(DisplaySpec, DisplayMatrices)>,
     /// Optional tables.
-    pub extras: Extras,
+    pub(crate) extras: Extras,
     /// What the planner chose, as a sentence for the generated header, if it ran.
     pub planned: Option<String>,
     /// The upsamplings the scene asks for, baked.
@@ -42,11 +42,11 @@ pub struct Resolved {
     /// spectra), one entry per file that has any: the build prints each as a warning.
     pub warnings: Vec<ZeroedNegatives>,
     /// Each sensor's white reference and fitted calibration, baked in `tables::sensors`.
-    pub sensors: Vec<SensorTables>,
+    pub(crate) sensors: Vec<SensorTables>,
     /// The samples of white of the scene's own sets, by name, where they are not all 1: a
     /// sensor set's readings of a reflectance of 1 under its light (or of a radiance of 1), at
     /// the luminance of a spectrum of constant 1 (`Fitted::white_samples`, from
-    /// [`calibration::white_readings`]: for a sensor, the same numbers as its [`SensorTables`]'s
+    /// [`calibration::white_readings`]: for a sensor, the same numbers as its `SensorTables`'s
     /// `white`).
     pub white_samples: Vec<(String, Vec<f64>)>,
 }
