@@ -31,8 +31,6 @@ mod no_alloc;
 mod planar;
 #[path = "properties.rs"]
 mod properties;
-#[path = "reproduction.rs"]
-mod reproduction;
 #[path = "sensor_lights.rs"]
 mod sensor_lights;
 #[path = "transfer.rs"]

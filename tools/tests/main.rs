@@ -6,6 +6,7 @@ mod plan;
 mod prefilter;
 mod random_wavelengths;
 mod report;
+mod reproduction;
 mod sensitivity;
 mod shared;
 mod stability;

@@ -4,8 +4,8 @@
 const DATA_DIR: &str = spectral_quadrature_tools::DATA_DIR;
 
 use spectral_quadrature_build::evaluate::{self, EvalSet, Reference, Spectra};
-use spectral_quadrature_build::paper;
 use spectral_quadrature_build::{derive, Settings};
+use spectral_quadrature_tools::paper;
 
 const RANGE: [f64; 2] = [380.0, 770.0];
 

@@ -21,8 +21,8 @@ use spectral_quadrature_tools as tools;
 
 use clap::Parser;
 use spectral_quadrature::{tables, Channel, GaussRule, RuleStatus, WavelengthSet};
-use spectral_quadrature_build::paper::{self, Entry};
 use tools::csv_table::Table;
+use tools::paper::{self, Entry};
 
 /// Prints the crate's derived tables beside the paper's.
 #[derive(Parser)]

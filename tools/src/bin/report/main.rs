@@ -594,7 +594,7 @@ struct Table2Row {
 fn table2_rows(d: &Derivation, stimuli: &[Stimulus], reference: &Reference) -> Vec<Table2Row> {
     d.table2
         .iter()
-        .zip(spectral_quadrature_build::paper::TABLE2_MEAN_DELTA_E)
+        .zip(tools::paper::TABLE2_MEAN_DELTA_E)
         .map(|(set, paper)| {
             let es = EvalSet::from_set(set, "Table 2", &d.opponent.ac1c2_to_xyz);
             Table2Row {
