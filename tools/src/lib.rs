@@ -11,6 +11,7 @@
 //! - [`stability`]: unstable alternatives to the crate's quadrature (section 6b).
 //! - [`sensitivity`]: how rules move with the grid, the range and the observer (section 6c).
 //! - [`random_wavelengths`]: what renderers do instead, random wavelengths per sample (section 7).
+//! - [`scene_file`]: the scene file `plan` writes for the set it chose.
 //! - [`upsampling`]: RGB materials under another light, the crate's upsampling beside
 //!   Jakob-Hanika, Mallett-Yuksel and Smits (section 8).
 #![deny(missing_docs)]
@@ -23,6 +24,7 @@ pub mod csv_table;
 pub mod paper;
 pub mod prefilter;
 pub mod random_wavelengths;
+pub mod scene_file;
 pub mod sensitivity;
 pub mod stability;
 pub mod upsampling;

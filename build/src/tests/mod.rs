@@ -12,6 +12,7 @@ mod derivation;
 mod errors;
 mod high_precision;
 mod observers;
+mod plan;
 mod planckian;
 mod scene;
 mod shared_cache;

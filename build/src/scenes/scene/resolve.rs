@@ -344,7 +344,7 @@ impl PlanRequest {
             own.iter()
                 .map(|f| (f.name.clone(), f.wavelengths_nm.len(), f.eval.clone())),
         );
-        let plan = plan::plan_with(d, &stimuli, self.max_delta_e00, self.metric, &extra)?;
+        let plan = plan::plan(d, &stimuli, &extra, self.max_delta_e00, self.metric)?;
         let c = &plan.chosen;
         Ok((
             c.name.clone(),
