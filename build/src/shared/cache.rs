@@ -21,7 +21,7 @@ pub(crate) const CACHE_FILE: &str = "data/shared_nodes.csv";
 
 /// The sets whose nodes `CACHE_FILE` holds: radiances and the lights C, D65, A and F11, at 4, 6
 /// and 8 wavelengths (the default scene's sets and the example scenes' among them).
-pub const CACHED: [(Option<&str>, usize); 15] = [
+pub(crate) const CACHED: [(Option<&str>, usize); 15] = [
     (None, 4),
     (None, 6),
     (None, 8),
@@ -40,7 +40,7 @@ pub const CACHED: [(Option<&str>, usize); 15] = [
 ];
 
 /// The catalog name of a shared set: `KQ_<n>` or `KQ_<light>_<n>`.
-pub fn set_name(light: Option<&str>, n: usize) -> String {
+pub(crate) fn set_name(light: Option<&str>, n: usize) -> String {
     match light {
         Some(l) => std::format!("KQ_{l}_{n}"),
         None => std::format!("KQ_{n}"),
@@ -49,8 +49,8 @@ pub fn set_name(light: Option<&str>, n: usize) -> String {
 
 /// One line of `CACHE_FILE`.
 #[derive(Debug, Clone, PartialEq)]
-pub struct CacheEntry {
-    /// The set's name ([`set_name`]).
+pub(crate) struct CacheEntry {
+    /// The set's name (`set_name`).
     pub name: String,
     /// `fingerprint` of the inputs the nodes were found with.
     pub fingerprint: String,
@@ -134,7 +134,7 @@ pub(crate) fn parse_cache(file: &str, text: &str) -> Result<Vec<CacheEntry>, Dat
 }
 
 /// The text of `CACHE_FILE` for `entries`.
-pub fn write_cache(entries: &[CacheEntry]) -> String {
+pub(crate) fn write_cache(entries: &[CacheEntry]) -> String {
     let rows: Vec<Vec<String>> = entries
         .iter()
         .map(|e| {
@@ -195,9 +195,12 @@ pub(crate) fn cached_or_optimize(
     })
 }
 
-/// The cache entry for one set, by a fresh search
-/// (`Problem::optimize`).
-pub fn cache_entry(d: &Derivation, light: Option<&str>, n: usize) -> Result<CacheEntry, Error> {
+/// The cache entry for one set, by a fresh search (`Problem::optimize`).
+pub(crate) fn cache_entry(
+    d: &Derivation,
+    light: Option<&str>,
+    n: usize,
+) -> Result<CacheEntry, Error> {
     let s = optimize(d, light, n)?;
     Ok(CacheEntry {
         name: set_name(light, n),
@@ -205,4 +208,19 @@ pub fn cache_entry(d: &Derivation, light: Option<&str>, n: usize) -> Result<Cach
         wavelengths_nm: s.wavelengths_nm,
         line: 0,
     })
+}
+
+/// The text of the node cache (`data/shared_nodes.csv`) with every set it holds (radiances and
+/// the lights C, D65, A and F11, at 4, 6 and 8 wavelengths) searched afresh: what the build
+/// reuses instead of searching. `searching` is told each set's name (`KQ_<n>`,
+/// `KQ_<light>_<n>`) before its search, which takes seconds.
+pub fn cache_file(d: &Derivation, mut searching: impl FnMut(&str)) -> Result<String, Error> {
+    let entries = CACHED
+        .iter()
+        .map(|&(light, n)| {
+            searching(&set_name(light, n));
+            cache_entry(d, light, n)
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(write_cache(&entries))
 }

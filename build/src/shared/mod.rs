@@ -34,7 +34,7 @@ mod interpolatory;
 mod model;
 mod search;
 
-pub use cache::{cache_entry, set_name, write_cache, CacheEntry, CACHED};
+pub use cache::cache_file;
 pub(crate) use cache::{cached_or_optimize, CACHE_FILE};
 pub use fit::{fit, Fit, FIT_LENGTHS_NM, FIT_WEIGHTS};
 pub use interpolatory::interpolatory_a;
@@ -44,7 +44,9 @@ pub use model::{
 pub use search::optimize;
 // The paths the unit tests (src/tests/) name.
 #[cfg(test)]
-pub(crate) use cache::{fingerprint, parse_cache, read_cache};
+pub(crate) use cache::{
+    fingerprint, parse_cache, read_cache, set_name, write_cache, CacheEntry, CACHED,
+};
 #[cfg(test)]
 pub(crate) use model::{problem, Kernel};
 pub(crate) use search::SIZES;

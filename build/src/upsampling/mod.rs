@@ -44,8 +44,7 @@ pub use bake::{
     DEFAULT_GRID,
 };
 pub(crate) use bake::{bake_with, encoding, GRID_SIZES, RADIANCE_REFERENCE_LIGHT};
-pub(crate) use cache::{read_cache, FitInputs, CACHE_FILE};
-pub use cache::{write_cache, CacheEntry};
+pub(crate) use cache::{read_cache, write_cache, CacheEntry, FitInputs, CACHE_FILE};
 pub use training::training;
 pub(crate) use training::TRAINING_FILES;
 // The paths the unit tests (src/tests/) name.

@@ -52,12 +52,18 @@ pub struct Resolved {
 }
 
 impl Resolved {
-    /// The cache entries (`crate::upsampling::CACHE_FILE`) of the scene's upsamplings: each
-    /// one's codes and figures, with the fingerprint of its inputs. For the default scene after
-    /// [`Scene::resolve_fitting`], the text of the cache is
-    /// [`write_cache`](crate::upsampling::write_cache) of these. The lights are looked up among
-    /// the built-in ones: for a set that folds in a scene's own light, this is an error.
-    pub fn upsampling_cache(&self, d: &Derivation) -> Result<Vec<CacheEntry>, Error> {
+    /// The text of the upsampling cache (`data/upsampling_codes.csv`) for the scene's
+    /// upsamplings: each one's codes and figures, with the fingerprint of its inputs. For the
+    /// default scene after [`Scene::resolve_fitting`], this is the file the build reuses
+    /// instead of fitting. The lights are looked up among the built-in ones: for a set that
+    /// folds in a scene's own light, this is an error.
+    pub fn upsampling_cache_file(&self, d: &Derivation) -> Result<String, Error> {
+        Ok(crate::upsampling::write_cache(&self.upsampling_cache(d)?))
+    }
+
+    /// The entries of [`upsampling_cache_file`](Self::upsampling_cache_file), one per
+    /// upsampling.
+    pub(crate) fn upsampling_cache(&self, d: &Derivation) -> Result<Vec<CacheEntry>, Error> {
         crate::scenes::upsampling::cache_entries(
             d,
             &self.upsamplings,
