@@ -41,13 +41,13 @@ pub(crate) fn standard_range_nm(observer: &Observer) -> [f64; 2] {
 }
 
 /// The locus table's ends in mired: 10 (100 000 K) to 1000 (1000 K).
-pub const TABLE_MIRED: [f64; 2] = [10.0, 1000.0];
+pub(crate) const TABLE_MIRED: [f64; 2] = [10.0, 1000.0];
 
 /// How far (in u, v) the cubic Hermite interpolation between two table nodes may stray from the
 /// locus: about the rounding of u and v to f32 (half a unit in the last place of 0.2-0.4 is
 /// 0.7-1.5 × 10⁻⁸), so that the table's interpolation adds no more error to Duv than its storage
 /// in f32 does.
-pub const TABLE_TOLERANCE_UV: f64 = 5e-9;
+pub(crate) const TABLE_TOLERANCE_UV: f64 = 5e-9;
 
 /// How far (in mired) the interpolation may move the foot of the perpendicular from a point up
 /// to 0.05 from the locus (the largest |Duv| with a CCT): its error in position plus 0.05 times
@@ -67,7 +67,7 @@ const SCAN_STEP_MIRED: f64 = 0.25;
 
 /// One node of the locus table: the point and its tangent at μ mired.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct LocusNode {
+pub(crate) struct LocusNode {
     /// μ = 10⁶ / T, mired.
     pub mired: f64,
     /// CIE 1960 (u, v) of the blackbody at μ.
@@ -81,7 +81,7 @@ impl LocusNode {
     /// fractional bits times that tangent (so 30 fractional bits): what the runtime's binary
     /// search computes the slope's sign from in integers, `(P · T̂) − L · T̂` for a point P in
     /// 16 fractional bits.
-    pub fn fixed_point(&self) -> ([i16; 2], i32) {
+    pub(crate) fn fixed_point(&self) -> ([i16; 2], i32) {
         let norm = self.tangent[0].hypot(self.tangent[1]);
         let unit = self.tangent.map(|t| (t / norm * 16_384.0).round() as i16);
         let along =
@@ -136,7 +136,7 @@ impl PlanckianLocus {
     /// The standard locus of `observer`, the one CCT and Duv are defined on: Planck's law
     /// against its x̄ȳz̄ at 1 nm over `standard_range_nm` (CIE 015's 360-830 nm, clipped to the
     /// observer's table), whatever range the derivation integrates colours over. The runtime's
-    /// `tables::PLANCKIAN_LOCUS` is this locus's [`table`](Self::table). Errors: the observer's
+    /// `tables::PLANCKIAN_LOCUS` is this locus's table of nodes. Errors: the observer's
     /// table is not at 1 nm (or a divisor of it) on whole nm.
     pub fn standard(observer: &Observer) -> Result<PlanckianLocus, Error> {
         PlanckianLocus::new(observer, standard_range_nm(observer))
@@ -289,7 +289,7 @@ impl PlanckianLocus {
     /// log μ, each halved until the cubic Hermite interpolation between its ends (points and
     /// tangents) stays within [`TABLE_TOLERANCE_UV`] of the locus and moves the foot of a
     /// perpendicular by at most `TABLE_TOLERANCE_MIRED`, at the quarters of the segment.
-    pub fn table(&self) -> Vec<LocusNode> {
+    pub(crate) fn table(&self) -> Vec<LocusNode> {
         let node = |mired: f64| {
             let (uv, tangent) = self.uv_and_tangent(mired);
             LocusNode { mired, uv, tangent }
@@ -339,7 +339,7 @@ pub(crate) fn hermite_tangent(a: &LocusNode, b: &LocusNode, t: f64) -> [f64; 2] 
 }
 
 /// The cubic Hermite interpolant between two nodes at t in [0, 1] (t = 0 at `a`).
-pub fn hermite(a: &LocusNode, b: &LocusNode, t: f64) -> [f64; 2] {
+pub(crate) fn hermite(a: &LocusNode, b: &LocusNode, t: f64) -> [f64; 2] {
     let h = b.mired - a.mired;
     let (t2, t3) = (t * t, t * t * t);
     let (h00, h10, h01, h11) = (

@@ -79,10 +79,85 @@ fn the_table() {
     assert_eq!(nodes[0].mired, planckian::TABLE_MIRED[0]);
     assert!((nodes[nodes.len() - 1].mired - planckian::TABLE_MIRED[1]).abs() < 1e-9);
     assert!(nodes.windows(2).all(|w| w[0].mired < w[1].mired));
+    // Every segment's cubic Hermite interpolant stays within the tolerance of the locus, checked
+    // here at odd sixteenths, between the quarters the table's construction checks.
+    for w in nodes.windows(2) {
+        for k in (1..16).step_by(2) {
+            let t = k as f64 / 16.0;
+            let h = planckian::hermite(&w[0], &w[1], t);
+            let e = l.uv(w[0].mired + t * (w[1].mired - w[0].mired));
+            let dist = (h[0] - e[0]).hypot(h[1] - e[1]);
+            // A cubic Hermite's error is ∝ t²(1 − t)² to leading order, largest at the half,
+            // which the construction checks: elsewhere it stays under the same bound.
+            assert!(
+                dist <= planckian::TABLE_TOLERANCE_UV,
+                "segment at {} mired, t = {t}: {dist:e}",
+                w[0].mired
+            );
+        }
+    }
     let ten = locus(crate::ObserverId::Cie1964_10deg);
     let (a, b) = (l.uv(153.8), ten.uv(153.8));
     // D65's neighbourhood moves by 3.5e-4 in (u, v) from the 2° to the 10° observer.
     assert!((a[0] - b[0]).hypot(a[1] - b[1]) > 1e-4, "{a:?} {b:?}");
+}
+
+/// The numbers of one field of the baked `PLANCKIAN_LOCUS` in `tables`, in order (pairs
+/// flattened).
+fn baked_field(tables: &str, field: &str) -> Vec<f64> {
+    let start = tables.find("pub const PLANCKIAN_LOCUS").unwrap();
+    let from = start + tables[start..].find(&format!("    {field}: [")).unwrap();
+    let text = &tables[from + field.len() + 7..];
+    let mut depth = 1;
+    let end = text
+        .char_indices()
+        .find(|&(_, c)| {
+            depth += match c {
+                '[' => 1,
+                ']' => -1,
+                _ => 0,
+            };
+            depth == 0
+        })
+        .unwrap()
+        .0;
+    text[..end]
+        .split(|c: char| c == ',' || c == '[' || c == ']' || c.is_whitespace())
+        .filter(|t| !t.is_empty())
+        .map(|t| t.parse().unwrap())
+        .collect()
+}
+
+/// The baked table holds the table's nodes: each one's μ, point and tangent rounded to f32,
+/// the chord to the next, and the tangent's direction and `L · T̂` in fixed point.
+#[test]
+fn the_baked_table_holds_the_nodes() {
+    let text = tables("sets = [\"TABLE2_ROW2\"]\ndisplays = [\"SRGB\"]\n[extras]\ncct = true\n");
+    let nodes = locus(crate::ObserverId::Cie1931_2deg).table();
+    let f32s = |v: Vec<f64>| -> Vec<f32> { v.into_iter().map(|x| x as f32).collect() };
+    let chords: Vec<[f64; 2]> = (0..nodes.len())
+        .map(|i| match nodes.get(i + 1) {
+            Some(next) => [0, 1].map(|c| next.uv[c] - nodes[i].uv[c]),
+            None => [0.0; 2],
+        })
+        .collect();
+    let fixed: Vec<([i16; 2], i32)> = nodes.iter().map(|n| n.fixed_point()).collect();
+    for (field, expected) in [
+        ("mired", nodes.iter().map(|n| n.mired).collect::<Vec<_>>()),
+        ("uv", nodes.iter().flat_map(|n| n.uv).collect()),
+        ("tangent", nodes.iter().flat_map(|n| n.tangent).collect()),
+        ("chord", chords.into_iter().flatten().collect()),
+    ] {
+        let baked: Vec<f32> = baked_field(&text, field)
+            .into_iter()
+            .map(|x| x as f32)
+            .collect();
+        assert_eq!(baked, f32s(expected), "{field}");
+    }
+    let unit: Vec<f64> = fixed.iter().flat_map(|(u, _)| u.map(f64::from)).collect();
+    assert_eq!(baked_field(&text, "unit_tangent_q14"), unit);
+    let along: Vec<f64> = fixed.iter().map(|&(_, a)| f64::from(a)).collect();
+    assert_eq!(baked_field(&text, "along_q30"), along);
 }
 
 /// `[extras] cct = true` bakes the locus; a scene without it does not; the default scene does.
