@@ -6,6 +6,8 @@
 //! - [`budget`]: every method at each wavelength budget (report section 5).
 //! - [`cli`]: the command-line arguments the programs share.
 //! - [`csv_table`]: every CSV the programs write, through the `csv` crate's writer.
+//! - [`evaluate`]: the sets the report builds to measure beside the crate's (every combination
+//!   of per-channel rules, a shared set on radiances).
 //! - [`paper`]: the numbers the paper prints, which `tables` and the tests compare with.
 //! - [`prefilter`]: spiky lamps, band-averaged and exact-line pre-filtering (section 6d).
 //! - [`stability`]: unstable alternatives to the crate's quadrature (section 6b).
@@ -21,6 +23,7 @@ use std::path::PathBuf;
 pub mod budget;
 pub mod cli;
 pub mod csv_table;
+pub mod evaluate;
 pub mod paper;
 pub mod prefilter;
 pub mod random_wavelengths;

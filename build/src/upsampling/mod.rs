@@ -39,10 +39,7 @@ mod cache;
 pub mod qp;
 mod training;
 
-pub use bake::{
-    bake, bounded_exact_linear_residual, encode, exact_rgb, grid_point, project, Baked,
-    DEFAULT_GRID,
-};
+pub use bake::{bake, encode, exact_rgb, grid_point, project, Baked, DEFAULT_GRID};
 pub(crate) use bake::{bake_with, encoding, GRID_SIZES, RADIANCE_REFERENCE_LIGHT};
 pub(crate) use cache::{read_cache, write_cache, CacheEntry, FitInputs, CACHE_FILE};
 pub use training::training;
