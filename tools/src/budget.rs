@@ -209,7 +209,8 @@ pub fn other_sets(
             "uniform",
             evaluate::uniform(&d.observer, d.settings.range_nm, n),
         ));
-        if let Ok(s) = shared::interpolatory_a(d, n, &std::format!("INTERP_A_{n}")) {
+        if let Ok(s) = spectral_quadrature_build::catalog::resolve(d, &std::format!("INTERP_A_{n}"))
+        {
             out.push((
                 "interp A",
                 EvalSet::from_set(&s, "interp A", &d.opponent.ac1c2_to_xyz),

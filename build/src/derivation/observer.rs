@@ -196,7 +196,7 @@ impl Observer {
 
     /// Indices of the rows on the grid `start, start + step, ..., end` (inclusive), or an error
     /// saying why that grid is not a subset of this table.
-    pub fn grid_rows(&self, start: f64, end: f64, step: f64) -> Result<Vec<usize>, Error> {
+    pub(crate) fn grid_rows(&self, start: f64, end: f64, step: f64) -> Result<Vec<usize>, Error> {
         let own = self.step();
         let first = *self
             .wavelengths

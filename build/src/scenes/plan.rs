@@ -1,5 +1,7 @@
 //! The planner: the set with the fewest distinct wavelengths whose CIEDE2000 error on given
-//! spectra meets a budget, among every set the crate can build ([`catalog::colour_set_names`]).
+//! spectra meets a budget, among every set the catalogue can build for all three channels
+//! (Table 2's rows, every defined `AC1C2_<a>_<c1>_<c2>` up to the derivation's maximum order,
+//! the `UNIFORM_<n>` sets; [`catalog`]) and the shared sets ([`shared_sets`]).
 //!
 //! ```
 //! use spectral_quadrature_build::{derive, evaluate, plan, Settings};
@@ -43,8 +45,8 @@ pub struct Plan {
     /// The set with the lowest error among those with fewer wavelengths than the chosen one:
     /// it misses the budget, and shows by how much. `None` when no set has fewer wavelengths.
     pub runner_up_with_fewer: Option<Candidate>,
-    /// Every set measured: the catalogue's ([`catalog::colour_set_names`], in its order), then
-    /// the extra ones given to [`plan`].
+    /// Every set measured: the catalogue's (Table 2's rows, the `AC1C2_<a>_<c1>_<c2>` in
+    /// ascending orders, the `UNIFORM_<n>`), then the extra ones given to [`plan`].
     pub candidates: Vec<Candidate>,
     /// The budget on ΔE00.
     pub budget: f64,
@@ -63,7 +65,7 @@ pub(crate) fn check_budget(budget: f64) -> Result<(), PlanError> {
     }
 }
 
-/// Measures every set of [`catalog::colour_set_names`] on `stimuli`, in the catalogue's order,
+/// Measures every set of `catalog::colour_set_names` on `stimuli`, in the catalogue's order,
 /// against the full 1 nm integration of `d`'s observer over its range. The sets are built and
 /// measured on every available core (scoped threads; no other dependency, so build scripts can
 /// call it too).
@@ -306,7 +308,7 @@ pub(crate) fn plan_from(
 }
 
 /// The set with the fewest distinct wavelengths whose ΔE00 (`metric`) on `stimuli` meets
-/// `budget`, among every set the crate can build ([`catalog::colour_set_names`]) and the
+/// `budget`, among every colour set the catalogue can build (see [`Plan::candidates`]) and the
 /// `extra` ones (`(name, samples per pixel, set)`: [`shared_sets`], or a scene's own sets),
 /// each measured against the full 1 nm integration of `d`'s observer over its range (on every
 /// available core). The budget is checked first ("bad budget: ..." unless finite and greater

@@ -17,18 +17,20 @@
 //!
 //! The kernel's length and the empirical covariance's weight ([`LENGTH_NM`],
 //! [`EMPIRICAL_WEIGHT`]) maximise the leave-one-out likelihood of the training reflectances
-//! ([`fit`]). The crate trains on the CIE test colour samples only and judges on the
+//! (`fit`, which the unit tests re-run). The crate trains on the CIE test colour samples only and judges on the
 //! ColorChecker, which no set ever sees. A build takes the nodes of the sets it bakes from the
 //! node cache (`CACHE_FILE`) and computes only their weights.
 //!
-//! Method (a) for comparison, [`interpolatory_a`]: the A channel's Gauss nodes of order N, with
-//! C1 and C2 integrated by interpolatory rules on those nodes.
+//! Method (a) for comparison, the catalogue's `INTERP_A_<n>` (`interpolatory_a`): the A
+//! channel's Gauss nodes of order N, with C1 and C2 integrated by interpolatory rules on those
+//! nodes.
 //!
 //! The files, each importing only those before it: `model` (the prior, the light, the metric and
 //! the solve), `fit` (the prior's parameters), `search` (the nodes), `cache` (the node cache),
 //! `interpolatory` (method (a)).
 
 mod cache;
+#[cfg(test)]
 mod fit;
 mod interpolatory;
 mod model;
@@ -36,17 +38,17 @@ mod search;
 
 pub use cache::cache_file;
 pub(crate) use cache::{cached_or_optimize, CACHE_FILE};
-pub use fit::{fit, Fit, FIT_LENGTHS_NM, FIT_WEIGHTS};
-pub use interpolatory::interpolatory_a;
+pub(crate) use interpolatory::interpolatory_a;
 pub use model::{
     eval_on_radiance, problem_for, Problem, Shared, EMPIRICAL_WEIGHT, LENGTH_NM, TRAINING_FILE,
 };
-pub use search::optimize;
 // The paths the unit tests (src/tests/) name.
 #[cfg(test)]
 pub(crate) use cache::{
     fingerprint, parse_cache, read_cache, set_name, write_cache, CacheEntry, CACHED,
 };
+#[cfg(test)]
+pub(crate) use fit::{fit, FIT_LENGTHS_NM, FIT_WEIGHTS};
 #[cfg(test)]
 pub(crate) use model::{problem, Kernel};
 pub(crate) use search::SIZES;

@@ -45,9 +45,9 @@ impl Kernel {
 /// reflectance measurement noise of the data (about 1e-3) and far above f64 rounding.
 pub(crate) const NUGGET: f64 = 1e-6;
 
-/// The Matérn length of the crate's sets, nm: [`fit`](crate::shared::fit) on the CIE test colour
-/// samples over [`FIT_LENGTHS_NM`](crate::shared::FIT_LENGTHS_NM) ×
-/// [`FIT_WEIGHTS`](crate::shared::FIT_WEIGHTS) (the tests re-run the fit).
+/// The Matérn length of the crate's sets, nm: the maximum of the leave-one-out likelihood of the
+/// CIE test colour samples over a grid of lengths and empirical-covariance weights (the unit
+/// tests re-run the fit).
 pub const LENGTH_NM: f64 = 60.0;
 
 /// The empirical-covariance weight of the crate's sets, fitted with [`LENGTH_NM`].

@@ -160,6 +160,6 @@ impl Problem {
 /// node it tries: too slow for a build script at Cargo's default opt-level 0 (README, "Build
 /// cost", measures it). `cached_or_optimize` takes the nodes
 /// from `CACHE_FILE` where it can.
-pub fn optimize(d: &Derivation, light: Option<&str>, n: usize) -> Result<Shared, Error> {
+pub(crate) fn optimize(d: &Derivation, light: Option<&str>, n: usize) -> Result<Shared, Error> {
     problem(d, light)?.shared(n)
 }

@@ -15,6 +15,7 @@ mod observers;
 mod plan;
 mod planckian;
 mod scene;
+mod shared;
 mod shared_cache;
 mod upsampling;
 mod user;

@@ -46,3 +46,32 @@ fn ties_go_to_the_lower_error_then_the_name() {
     assert_eq!("MAX".parse::<Metric>(), Ok(Metric::Max));
     assert!("median".parse::<Metric>().is_err());
 }
+
+/// The planner measures every colour set of the catalogue, in its order, then the extra sets it
+/// is given (here the shared sets), on a few ColorChecker patches under D65.
+#[test]
+fn every_catalogue_set_is_measured_once_in_order() {
+    let data = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");
+    let d = crate::derive(&crate::Settings::new(data)).unwrap();
+    let range = d.settings.range_nm;
+    let patches = crate::evaluate::Spectra::builtin(
+        std::path::Path::new(data),
+        "data/reflectance_colorchecker_ohta.csv",
+    )
+    .and_then(|s| s.curves(range))
+    .unwrap();
+    let d65 =
+        crate::evaluate::builtin_illuminant(std::path::Path::new(data), "D65", range).unwrap();
+    let stimuli = crate::evaluate::surfaces_under_lights(&patches[..6], &[d65]);
+    let extra = plan::shared_sets(&d, &stimuli, &[]).unwrap();
+    let p = plan::plan(&d, &stimuli, &extra, f64::MAX, Metric::Max).unwrap();
+    let names = crate::catalog::colour_set_names(&d);
+    assert!(names.len() > 100, "{} sets", names.len());
+    let expected: Vec<&str> = names
+        .iter()
+        .chain(extra.iter().map(|(name, _, _)| name))
+        .map(String::as_str)
+        .collect();
+    let got: Vec<&str> = p.candidates.iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(got, expected);
+}

@@ -275,9 +275,7 @@ fn run(args: &Args) -> Result<(), Error> {
     let radiance = tools::budget::shared_sets_sized(&d, None, work.shared_sizes.clone())?;
     sets.extend(radiance.iter().cloned());
     for n in tools::budget::BUDGETS {
-        if let Ok(a) =
-            spectral_quadrature_build::shared::interpolatory_a(&d, n, &format!("INTERP_A_{n}"))
-        {
+        if let Ok(a) = spectral_quadrature_build::catalog::resolve(&d, &format!("INTERP_A_{n}")) {
             sets.push(EvalSet::from_set(&a, "interp A", &d.opponent.ac1c2_to_xyz));
         }
     }
