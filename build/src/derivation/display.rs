@@ -93,7 +93,7 @@ pub fn standard_displays() -> Vec<DisplaySpec> {
 /// naming the display) when a chromaticity is invalid, when the primaries are nearly collinear
 /// (condition number above [`MAX_CONDITION`]) or when the white point lies on or outside the
 /// primaries' triangle (a gun drive of zero or less would be needed for white).
-pub fn display_matrices(spec: &DisplaySpec) -> Result<DisplayMatrices, Error> {
+pub(crate) fn display_matrices(spec: &DisplaySpec) -> Result<DisplayMatrices, Error> {
     spectral_quadrature_math::display_matrices(spec.primaries_xy, spec.white_xy).map_err(
         |problem| Error::Display {
             name: spec.name.clone(),

@@ -520,7 +520,7 @@ impl Baked {
     /// One bit per cell, index `(r · (grid − 1) + g) · (grid − 1) + b`, bit `i % 32` of word
     /// `i / 32`: set where a corner of the cell is not reachable. The runtime checks the round
     /// trip only in those cells.
-    pub fn edge_cells(&self) -> Vec<u32> {
+    pub(crate) fn edge_cells(&self) -> Vec<u32> {
         let g = self.grid;
         let c = g - 1;
         let mut words = std::vec![0u32; (c * c * c).div_ceil(32)];
