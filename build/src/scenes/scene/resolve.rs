@@ -46,7 +46,7 @@ pub struct Resolved {
     /// The samples of white of the scene's own sets, by name, where they are not all 1: a
     /// sensor set's readings of a reflectance of 1 under its light (or of a radiance of 1), at
     /// the luminance of a spectrum of constant 1 (`Fitted::white_samples`, from
-    /// [`calibration::white_readings`]: for a sensor, the same numbers as its `SensorTables`'s
+    /// `calibration::white_readings`: for a sensor, the same numbers as its `SensorTables`'s
     /// `white`).
     pub white_samples: Vec<(String, Vec<f64>)>,
 }
