@@ -19,8 +19,8 @@ pub enum Transfer {
 
 /// A display: three primaries and a white point (CIE 1931 xy), and a transfer function.
 ///
-/// [`standard_displays`] is the one description of each display the crate knows: the derivation
-/// derives its matrices once ([`crate::Derivation::displays`]), and code generation, shaders,
+/// The standard displays (`SRGB`, `DISPLAY_P3`, `REC2020`, `MEYER_1987`) have one description
+/// each, here (`standard_displays`): the derivation derives their matrices once ([`crate::Derivation::displays`]), and code generation, shaders,
 /// scenes and the tools take name, label, primaries, white and transfer from there.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DisplaySpec {
@@ -51,7 +51,7 @@ pub use spectral_quadrature_math::MAX_PRIMARIES_CONDITION as MAX_CONDITION;
 pub use spectral_quadrature_math::DisplayMatrices;
 
 /// The displays the crate bakes by default.
-pub fn standard_displays() -> Vec<DisplaySpec> {
+pub(crate) fn standard_displays() -> Vec<DisplaySpec> {
     std::vec![
         DisplaySpec {
             name: "SRGB".into(),

@@ -33,7 +33,7 @@ pub(crate) const MAX_SAMPLES: usize = 64;
 
 /// Whether `name` can be a set or light name in generated code: upper snake case, starting with
 /// a letter (`SHOP_LED`, `AS7341`).
-pub fn is_const_name(name: &str) -> bool {
+pub(crate) fn is_const_name(name: &str) -> bool {
     let mut chars = name.chars();
     chars.next().is_some_and(|c| c.is_ascii_uppercase())
         && chars.all(|c| c.is_ascii_uppercase() || c.is_ascii_digit() || c == '_')
