@@ -89,14 +89,18 @@ impl Exact {
     fn new(locus: PlanckianLocus) -> Exact {
         let n = ((SCAN_MIRED[1] - SCAN_MIRED[0]) / SCAN_STEP_MIRED).round() as usize;
         let scan = (0..=n)
-            .map(|i| locus.uv(SCAN_MIRED[0] + i as f64 * SCAN_STEP_MIRED))
+            .map(|i| {
+                locus
+                    .uv_and_tangent(SCAN_MIRED[0] + i as f64 * SCAN_STEP_MIRED)
+                    .0
+            })
             .collect();
         Exact { locus, scan }
     }
 
     /// CIE 1960 (u, v) of the blackbody at μ mired.
     fn uv(&self, mired: f64) -> [f64; 2] {
-        self.locus.uv(mired)
+        self.locus.uv_and_tangent(mired).0
     }
 
     /// The point at a signed distance `duv` from the locus at μ mired, along the normal (the

@@ -151,12 +151,7 @@ impl PlanckianLocus {
         (xyz, dxyz)
     }
 
-    /// CIE 1960 (u, v) of the blackbody at μ mired (μ ≥ 0).
-    pub fn uv(&self, mired: f64) -> [f64; 2] {
-        self.uv_and_tangent(mired).0
-    }
-
-    /// (u, v) at μ mired and its derivative d(u, v)/dμ.
+    /// CIE 1960 (u, v) of the blackbody at μ mired (μ ≥ 0), and its derivative d(u, v)/dμ.
     pub fn uv_and_tangent(&self, mired: f64) -> ([f64; 2], [f64; 2]) {
         let ([x, y, z], [dx, dy, dz]) = self.xyz_and_derivative(mired);
         let d = x + 15.0 * y + 3.0 * z;

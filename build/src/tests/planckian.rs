@@ -25,7 +25,7 @@ fn the_tangent_is_the_derivative() {
     for mired in [10.0, 50.0, 153.8, 350.0, 700.0, 1000.0] {
         let (_, t) = l.uv_and_tangent(mired);
         let h = 1e-3;
-        let (a, b) = (l.uv(mired - h), l.uv(mired + h));
+        let (a, b) = (l.uv_and_tangent(mired - h).0, l.uv_and_tangent(mired + h).0);
         for c in 0..2 {
             let fd = (b[c] - a[c]) / (2.0 * h);
             // A central difference errs by h²/6 · L‴ (below 1e-12 here) plus rounding
@@ -59,7 +59,9 @@ fn the_table() {
         for k in (1..16).step_by(2) {
             let t = k as f64 / 16.0;
             let h = planckian::hermite(&w[0], &w[1], t);
-            let e = l.uv(w[0].mired + t * (w[1].mired - w[0].mired));
+            let e = l
+                .uv_and_tangent(w[0].mired + t * (w[1].mired - w[0].mired))
+                .0;
             let dist = (h[0] - e[0]).hypot(h[1] - e[1]);
             // A cubic Hermite's error is ∝ t²(1 − t)² to leading order, largest at the half,
             // which the construction checks: elsewhere it stays under the same bound.
@@ -71,7 +73,7 @@ fn the_table() {
         }
     }
     let ten = locus(crate::ObserverId::Cie1964_10deg);
-    let (a, b) = (l.uv(153.8), ten.uv(153.8));
+    let (a, b) = (l.uv_and_tangent(153.8).0, ten.uv_and_tangent(153.8).0);
     // D65's neighbourhood moves by 3.5e-4 in (u, v) from the 2° to the 10° observer.
     assert!((a[0] - b[0]).hypot(a[1] - b[1]) > 1e-4, "{a:?} {b:?}");
 }
@@ -170,7 +172,11 @@ fn the_locus_range_is_cie_015s() {
         assert_eq!(standard, PlanckianLocus::new(&o, range).unwrap());
         // The derivation's own range (380-770 or 390-770 nm) is another locus.
         let scene = PlanckianLocus::new(&o, settings.range_nm).unwrap();
-        assert_ne!(standard.uv(153.8), scene.uv(153.8), "{observer:?}");
+        assert_ne!(
+            standard.uv_and_tangent(153.8).0,
+            scene.uv_and_tangent(153.8).0,
+            "{observer:?}"
+        );
     }
     // A scene integrating over another range bakes the same locus, and its doc says the range.
     let default = tables("sets = [\"TABLE2_ROW2\"]\ndisplays = [\"SRGB\"]\n[extras]\ncct = true\n");
