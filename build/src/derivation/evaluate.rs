@@ -105,13 +105,8 @@ impl Spectra {
     }
 
     /// The number of spectra.
-    pub fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         self.table.columns.len()
-    }
-
-    /// Whether there are no spectra (never true for a parsed file).
-    pub fn is_empty(&self) -> bool {
-        self.table.columns.is_empty()
     }
 
     /// Spectrum `k` as a curve, after checking that it covers `range_nm`; the error names the
