@@ -256,22 +256,10 @@ fn bench() -> &'static Bench {
             spectral_quadrature_build::derive(&spectral_quadrature_build::Settings::new(DATA_DIR))
                 .unwrap();
         let range = d.settings.range_nm;
-        let sensor = spectral_quadrature_build::user::Sensor::read(
-            data.join("sensor_as7341_gaussian.csv").as_path(),
-            "data/sensor_as7341_gaussian.csv",
-            range,
-        )
-        .unwrap();
+        let fitted = common::example_sensor(&d, Some("C"));
+        let sensor = fitted.channels.as_ref().unwrap();
         let light =
             spectral_quadrature_build::evaluate::builtin_illuminant(data, "C", range).unwrap();
-        let fitted = spectral_quadrature_build::user::sensor_set(
-            &d,
-            "AS7341",
-            "AS7341",
-            &sensor,
-            Some(&light),
-        )
-        .unwrap();
         // AC1C2 rows = Eq. 9 · XYZ rows, rounded to f32 as the build rounds them.
         let m = d.opponent.xyz_to_ac1c2;
         let weights: [[f32; 8]; 3] = core::array::from_fn(|r| {
@@ -296,7 +284,8 @@ fn bench() -> &'static Bench {
             },
         )
         .unwrap();
-        let white = calibration::white_readings(&d, &sensor, Some(&light)).unwrap();
+        // The golden device's reading of a perfect white under C: the white reference.
+        let white = fitted.white_samples.clone();
         // Exact colours in the same units: the light scaled so the perfect white has
         // Y = UNIT_SPECTRUM_Y.
         let full =
@@ -312,7 +301,7 @@ fn bench() -> &'static Bench {
                 eprintln!("calibration: warning: {z}");
             }
             let patches: Vec<Curve> = spectra.curves(range).unwrap();
-            let golden = calibration::golden_readings(&d, &sensor, Some(&light), &patches).unwrap();
+            let golden = calibration::golden_readings(&d, sensor, Some(&light), &patches).unwrap();
             let labs = patches
                 .iter()
                 .map(|p| {

@@ -1,8 +1,8 @@
 //! Correlated colour temperature and Duv against the exact reference: the nearest point of the
 //! standard Planckian locus (CIE 015: 360-830 nm at 1 nm) in CIE 1960 (u, v), computed in f64
-//! with the crate's observer by `spectral_quadrature_build::planckian` (a scan, then false
-//! position on the distance's derivative), for the same f32 XYZ the runtime gets; that checks
-//! the table and its interpolation. Against references independent of the crate's code: the
+//! on the generator's locus (`spectral_quadrature_build::planckian`) with the crate's observer
+//! by a scan, then false position on the distance's derivative (`Exact`, below), for the same
+//! f32 XYZ the runtime gets; that checks the table and its interpolation. Against references independent of the crate's code: the
 //! locus by a plain sum of Planck's law here, and colour-science's CCT of the CIE illuminants
 //! (the end of the file).
 //!
@@ -16,7 +16,7 @@ use common::cie015::{plain_light_xyz, plain_light_xyz_over, plain_xyz};
 use proptest::prelude::*;
 use spectral_quadrature::tables::PLANCKIAN_LOCUS;
 use spectral_quadrature::{uv_from_xyz, Cct, CCT_MAX_ERROR_MIRED, DUV_MAX_ERROR};
-use spectral_quadrature_build::planckian::{self, CctDuv};
+use spectral_quadrature_build::planckian::PlanckianLocus;
 use std::sync::OnceLock;
 
 /// The data files the derivation reads (the runtime crate's `data/`).
@@ -24,7 +24,8 @@ const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data");
 
 struct Fixture {
     d: spectral_quadrature_build::Derivation,
-    locus: planckian::PlanckianLocus,
+    /// The exact reference on the standard locus.
+    locus: Exact,
 }
 
 fn fixture() -> &'static Fixture {
@@ -33,19 +34,19 @@ fn fixture() -> &'static Fixture {
         let d =
             spectral_quadrature_build::derive(&spectral_quadrature_build::Settings::new(DATA_DIR))
                 .expect("default derivation");
-        let locus = planckian::PlanckianLocus::standard(&d.observer).unwrap();
+        let locus = Exact::new(PlanckianLocus::standard(&d.observer).unwrap());
         Fixture { d, locus }
     })
 }
 
 /// The f32 XYZ (Y = 1) of the point at `duv` from the locus at μ mired.
 fn xyz_at(mired: f64, duv: f64) -> [f32; 3] {
-    planckian::xyz_from_uv(fixture().locus.offset(mired, duv)).map(|c| c as f32)
+    xyz_from_uv(fixture().locus.offset(mired, duv)).map(|c| c as f32)
 }
 
 /// The exact CCT and Duv of an f32 XYZ, from its chromaticity in f64.
 fn exact(xyz: [f32; 3]) -> Option<CctDuv> {
-    let uv = planckian::uv_from_xyz(xyz.map(f64::from))?;
+    let uv = uv_from_xyz64(xyz.map(f64::from))?;
     fixture().locus.cct_duv(uv)
 }
 
@@ -60,46 +61,181 @@ fn errors(xyz: [f32; 3]) -> (Cct, CctDuv, f64, f64) {
     (got, e, dmired, dduv)
 }
 
-/// The table's temperature range, 1000-100 000 K, in mired.
-const TABLE_MIRED: [f64; 2] = planckian::TABLE_MIRED;
+/// The exact CCT and Duv of a chromaticity, and where on the locus it lies.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct CctDuv {
+    /// The correlated colour temperature, K.
+    kelvin: f64,
+    /// The nearest point's μ = 10⁶ / T, mired.
+    mired: f64,
+    /// The signed distance from the locus in (u, v): positive above (toward green).
+    duv: f64,
+}
 
-#[test]
-fn the_baked_table_is_a_fresh_derivations() {
-    let nodes = fixture().locus.table();
-    assert_eq!(nodes.len(), PLANCKIAN_LOCUS.mired().len());
-    for (i, n) in nodes.iter().enumerate() {
-        assert_eq!(PLANCKIAN_LOCUS.mired()[i], n.mired as f32);
-        assert_eq!(PLANCKIAN_LOCUS.uv()[i], n.uv.map(|c| c as f32));
-        assert_eq!(PLANCKIAN_LOCUS.tangent()[i], n.tangent.map(|c| c as f32));
-        let (unit, along) = n.fixed_point();
-        assert_eq!(PLANCKIAN_LOCUS.unit_tangent_q14()[i], unit);
-        assert_eq!(PLANCKIAN_LOCUS.along_q30()[i], along);
-        let chord = match nodes.get(i + 1) {
-            Some(next) => [0, 1].map(|c| (next.uv[c] - n.uv[c]) as f32),
-            None => [0.0; 2],
-        };
-        assert_eq!(PLANCKIAN_LOCUS.chord()[i], chord);
+/// The scan the reference starts from: every 0.25 mired from 0 to 1500 mired (667 K).
+const SCAN_MIRED: [f64; 2] = [0.0, 1500.0];
+const SCAN_STEP_MIRED: f64 = 0.25;
+
+/// The exact CCT and Duv on one of the generator's loci, in f64: the reference the runtime is
+/// tested against. CCT is the temperature of the nearest point of the locus in (u, v), Duv its
+/// distance, positive above the locus (toward green), as CIE 015 and ANSI C78.377 define them.
+struct Exact {
+    locus: PlanckianLocus,
+    /// (u, v) every `SCAN_STEP_MIRED` over `SCAN_MIRED`, for the first guess.
+    scan: Vec<[f64; 2]>,
+}
+
+impl Exact {
+    fn new(locus: PlanckianLocus) -> Exact {
+        let n = ((SCAN_MIRED[1] - SCAN_MIRED[0]) / SCAN_STEP_MIRED).round() as usize;
+        let scan = (0..=n)
+            .map(|i| {
+                locus
+                    .uv_and_tangent(SCAN_MIRED[0] + i as f64 * SCAN_STEP_MIRED)
+                    .0
+            })
+            .collect();
+        Exact { locus, scan }
     }
-    assert_eq!(PLANCKIAN_LOCUS.kelvin_range(), [1000.0, 100_000.0]);
-    // Every segment's cubic Hermite interpolant stays within the generator's tolerance of the
-    // locus, checked here at odd sixteenths, between the quarters the generator checks.
-    for w in nodes.windows(2) {
-        for k in (1..16).step_by(2) {
-            let t = k as f64 / 16.0;
-            let h = planckian::hermite(&w[0], &w[1], t);
-            let e = fixture()
-                .locus
-                .uv(w[0].mired + t * (w[1].mired - w[0].mired));
-            let dist = (h[0] - e[0]).hypot(h[1] - e[1]);
-            // A cubic Hermite's error is ∝ t²(1 − t)² to leading order, largest at the half,
-            // which the generator checks: elsewhere it stays under the same bound.
-            assert!(
-                dist <= planckian::TABLE_TOLERANCE_UV,
-                "segment at {} mired, t = {t}: {dist:e}",
-                w[0].mired
-            );
+
+    /// CIE 1960 (u, v) of the blackbody at μ mired.
+    fn uv(&self, mired: f64) -> [f64; 2] {
+        self.locus.uv_and_tangent(mired).0
+    }
+
+    /// The point at a signed distance `duv` from the locus at μ mired, along the normal (the
+    /// tangent turned a quarter turn anticlockwise: positive is above, toward green).
+    fn offset(&self, mired: f64, duv: f64) -> [f64; 2] {
+        let ([u, v], [tu, tv]) = self.locus.uv_and_tangent(mired);
+        let norm = tu.hypot(tv);
+        [u - duv * tv / norm, v + duv * tu / norm]
+    }
+
+    /// (p − L(μ)) · L'(μ): minus half the derivative of the squared distance from `p` to the
+    /// locus. Positive where the distance still falls as μ grows.
+    fn slope(&self, p: [f64; 2], mired: f64) -> f64 {
+        let ([u, v], [tu, tv]) = self.locus.uv_and_tangent(mired);
+        (p[0] - u) * tu + (p[1] - v) * tv
+    }
+
+    /// The exact CCT and Duv of the chromaticity `uv`: the nearest point of the locus with μ in
+    /// 0-1500 mired (T from 667 K to ∞), by the scan, then the zero of the distance's derivative
+    /// (the foot of the perpendicular) by false position to the last bits of f64. `None` if the
+    /// nearest point is an end of that span (the chromaticity lies beyond it) or `uv` is not
+    /// finite.
+    fn cct_duv(&self, uv: [f64; 2]) -> Option<CctDuv> {
+        if !(uv[0].is_finite() && uv[1].is_finite()) {
+            return None;
+        }
+        let d2 = |q: &[f64; 2]| (uv[0] - q[0]).powi(2) + (uv[1] - q[1]).powi(2);
+        let scan = &self.scan;
+        let best = (0..scan.len()).min_by(|&a, &b| d2(&scan[a]).total_cmp(&d2(&scan[b])))?;
+        if best == 0 || best == scan.len() - 1 {
+            return None;
+        }
+        let at = |i: usize| SCAN_MIRED[0] + i as f64 * SCAN_STEP_MIRED;
+        // The distance's minimum lies within one scan step of the nearest scan point: the slope
+        // changes sign from + to − there.
+        let (mut lo, mut hi) = (at(best - 1), at(best + 1));
+        let (mut s_lo, mut s_hi) = (self.slope(uv, lo), self.slope(uv, hi));
+        if s_lo < 0.0 || s_hi > 0.0 {
+            return None;
+        }
+        // The Illinois variant of false position: superlinear, and the bracket always shrinks
+        // (an end kept twice has its slope halved); bisection where the secant leaves it.
+        let mut kept = 0i8;
+        for _ in 0..200 {
+            if hi - lo <= 4.0 * f64::EPSILON * hi.max(1.0) || s_lo == s_hi {
+                break;
+            }
+            let mut mid = (lo * s_hi - hi * s_lo) / (s_hi - s_lo);
+            if !(mid > lo && mid < hi) {
+                mid = 0.5 * (lo + hi);
+            }
+            let s = self.slope(uv, mid);
+            if s == 0.0 {
+                (lo, hi) = (mid, mid);
+                break;
+            }
+            if s > 0.0 {
+                (lo, s_lo) = (mid, s);
+                if kept == 1 {
+                    s_hi *= 0.5;
+                }
+                kept = 1;
+            } else {
+                (hi, s_hi) = (mid, s);
+                if kept == -1 {
+                    s_lo *= 0.5;
+                }
+                kept = -1;
+            }
+        }
+        let mired = 0.5 * (lo + hi);
+        let ([u, v], [tu, tv]) = self.locus.uv_and_tangent(mired);
+        let duv = ((uv[1] - v) * tu - (uv[0] - u) * tv) / tu.hypot(tv);
+        Some(CctDuv {
+            kelvin: 1e6 / mired,
+            mired,
+            duv,
+        })
+    }
+}
+
+/// CIE 1960 (u, v) from XYZ: u = 4X / (X + 15Y + 3Z), v = 6Y / (X + 15Y + 3Z). `None` where the
+/// denominator is not positive.
+fn uv_from_xyz64([x, y, z]: [f64; 3]) -> Option<[f64; 2]> {
+    let d = x + 15.0 * y + 3.0 * z;
+    (d > 0.0 && d.is_finite()).then(|| [4.0 * x / d, 6.0 * y / d])
+}
+
+/// XYZ with Y = 1 from CIE 1960 (u, v) (v > 0): the inverse of [`uv_from_xyz64`].
+fn xyz_from_uv([u, v]: [f64; 2]) -> [f64; 3] {
+    // x = 3u / (2u − 8v + 4), y = 2v / (2u − 8v + 4); X = x / y, Z = (1 − x − y) / y.
+    let d = 2.0 * u - 8.0 * v + 4.0;
+    let (x, y) = (3.0 * u / d, 2.0 * v / d);
+    [x / y, 1.0, (1.0 - x - y) / y]
+}
+
+/// Points placed at a known temperature and distance along the exact normal come back: the
+/// reference solves for the foot of the perpendicular to f64 rounding.
+#[test]
+fn the_reference_recovers_points_placed_off_the_locus() {
+    let l = &fixture().locus;
+    for kelvin in [
+        1000.0, 1500.0, 2856.0, 4000.0, 6504.0, 10_000.0, 20_000.0, 100_000.0,
+    ] {
+        for duv in [-0.05, -0.02, 0.0, 0.001, 0.03, 0.05] {
+            let mired = 1e6 / kelvin;
+            let e = l.cct_duv(l.offset(mired, duv)).unwrap();
+            // The placement and the solution each round at the level of f64's ε (2.2e-16) on
+            // values near 0.3, over a locus speed of at least 2.3e-4 per mired: 1e-9 mired
+            // leaves room for both and for the curvature's second-order term.
+            assert!((e.mired - mired).abs() < 1e-9, "{kelvin} K, {duv}: {e:?}");
+            assert!((e.duv - duv).abs() < 1e-12, "{kelvin} K, {duv}: {e:?}");
         }
     }
+    // The locus's ends (μ = 0 and 1500 mired) are not answers: a point beyond them has none.
+    assert_eq!(l.cct_duv(l.uv(1600.0)), None);
+    assert_eq!(l.cct_duv([f64::NAN, 0.3]), None);
+    // μ = 0, T = ∞, has a finite chromaticity; the table stops at 10 mired.
+    let infinite = l.uv(0.0);
+    assert!(infinite.iter().all(|c| c.is_finite()));
+}
+
+/// The baked table's temperature range in mired: its first and last nodes.
+fn table_mired() -> [f64; 2] {
+    let m = PLANCKIAN_LOCUS.mired();
+    [f64::from(m[0]), f64::from(m[m.len() - 1])]
+}
+
+/// The table spans 1000-100 000 K. (That it is a fresh derivation's is `codegen::`'s check of
+/// the whole generated source; that its interpolation stays within its tolerance of the locus
+/// and that it holds the generator's nodes are the generator's unit tests, `tests::planckian::`.)
+#[test]
+fn the_baked_table_spans_1000_to_100_000_k() {
+    assert_eq!(PLANCKIAN_LOCUS.kelvin_range(), [1000.0, 100_000.0]);
+    assert_eq!(table_mired(), [10.0, 1000.0]);
 }
 
 /// Largest errors over a band of temperatures and Duv.
@@ -140,7 +276,8 @@ fn dense_sweep_within_the_stated_accuracy() {
     // The exact ends of the table may fall a rounding either side of it: not the first and
     // last step.
     for i in 1..steps {
-        let mired = TABLE_MIRED[0] + (TABLE_MIRED[1] - TABLE_MIRED[0]) * i as f64 / steps as f64;
+        let mired =
+            table_mired()[0] + (table_mired()[1] - table_mired()[0]) * i as f64 / steps as f64;
         for k in -10..=10 {
             // ±0.0499 at the ends: exactly ±0.05 may round either side of the limit.
             let duv = (k as f64 * 0.005).clamp(-0.0499, 0.0499);
@@ -179,10 +316,10 @@ fn dense_sweep_within_the_stated_accuracy() {
 /// (exact to about 2e-5 in (u, v)) may pick either neighbouring segment: within the bounds.
 #[test]
 fn feet_at_the_nodes() {
-    let nodes = fixture().locus.table();
-    for (i, n) in nodes.iter().enumerate() {
+    let nodes = PLANCKIAN_LOCUS.mired();
+    for (i, &n) in nodes.iter().enumerate() {
         for offset in [-1e-3, -1e-4, 0.0, 1e-4, 1e-3] {
-            let mired = n.mired + offset;
+            let mired = f64::from(n) + offset;
             let end = (i == 0 && offset <= 0.0) || (i == nodes.len() - 1 && offset >= 0.0);
             if end {
                 continue;
@@ -359,7 +496,7 @@ fn random_points_within_the_stated_accuracy() {
         2_000,
         "cct",
         (
-            TABLE_MIRED[0] + 0.01..TABLE_MIRED[1] - 0.1,
+            table_mired()[0] + 0.01..table_mired()[1] - 0.1,
             -0.0499f64..0.0499,
         ),
         |(mired, duv)| {
@@ -422,10 +559,8 @@ fn the_range_of_integration() {
     let f = fixture();
     let scene = f.d.settings.range_nm;
     assert_eq!(scene, [380.0, 770.0], "the default scene's range");
-    let scene_locus = planckian::PlanckianLocus::new(&f.d.observer, scene).unwrap();
-    let cct = |locus: &planckian::PlanckianLocus, xyz: [f64; 3]| {
-        locus.cct_duv(planckian::uv_from_xyz(xyz).unwrap()).unwrap()
-    };
+    let scene_locus = Exact::new(PlanckianLocus::new(&f.d.observer, scene).unwrap());
+    let cct = |locus: &Exact, xyz: [f64; 3]| locus.cct_duv(uv_from_xyz64(xyz).unwrap()).unwrap();
     println!(
         "| light | standard CCT, Duv | XYZ over 380-770 nm: ΔT | ΔDuv | locus over 380-770 nm: ΔT | ΔDuv |"
     );

@@ -33,7 +33,7 @@ fn header_constants() {
     assert_eq!(
         labels,
         [
-            d.settings.observer.file(),
+            d.observer.file.as_str(),
             "data/reflectance_cie_tcs.csv",
             "data/illuminant_C.csv",
             "data/shared_nodes.csv",

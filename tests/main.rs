@@ -35,8 +35,6 @@ mod planar;
 mod properties;
 #[path = "relight.rs"]
 mod relight;
-#[path = "reproduction.rs"]
-mod reproduction;
 #[path = "sensor_lights.rs"]
 mod sensor_lights;
 #[path = "transfer.rs"]

@@ -15,14 +15,11 @@ use std::path::Path;
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data");
 
-/// The example sensor's set fitted for `light` (radiances if `None`), as the runtime bakes it.
+/// A fitted set of the example sensor as the runtime bakes it (AC1C2 rows, f32).
 fn sensor_set(
     d: &spectral_quadrature_build::Derivation,
-    sensor: &spectral_quadrature_build::user::Sensor,
-    light: Option<&Curve>,
+    fitted: &spectral_quadrature_build::user::Fitted,
 ) -> WavelengthSet<8> {
-    let fitted =
-        spectral_quadrature_build::user::sensor_set(d, "AS7341", "AS7341", sensor, light).unwrap();
     let m = d.opponent.xyz_to_ac1c2;
     WavelengthSet::new(
         core::array::from_fn(|k| fitted.wavelengths_nm[k] as f32),
@@ -49,15 +46,8 @@ fn lux_and_cct_of_the_lights() {
     let d = spectral_quadrature_build::derive(&spectral_quadrature_build::Settings::new(DATA_DIR))
         .unwrap();
     let range = d.settings.range_nm;
-    let sensor = spectral_quadrature_build::user::Sensor::read(
-        &Path::new(DATA_DIR).join("sensor_as7341_gaussian.csv"),
-        "data/sensor_as7341_gaussian.csv",
-        range,
-    )
-    .unwrap();
-    let c =
-        spectral_quadrature_build::evaluate::builtin_illuminant(Path::new(DATA_DIR), "C", range)
-            .unwrap();
+    let fits = [None, Some("C")].map(|light| common::example_sensor(&d, light));
+    let sensor = fits[0].channels.as_ref().unwrap();
     let full =
         spectral_quadrature_build::evaluate::full_integration(&d.observer, range, 1.0).unwrap();
     let lights: Vec<(&str, Curve)> = spectral_quadrature_build::evaluate::builtin_lights()
@@ -81,7 +71,7 @@ fn lux_and_cct_of_the_lights() {
     let readings = |l: &Curve| -> [f32; 8] {
         let r = spectral_quadrature_build::calibration::golden_readings(
             &d,
-            &sensor,
+            sensor,
             Some(l),
             std::slice::from_ref(&white),
         )
@@ -91,10 +81,7 @@ fn lux_and_cct_of_the_lights() {
     };
     println!("| light | exact CCT | radiance fit: lux error | CCT error | Duv error | fit under C: lux error | CCT error | Duv error |");
     println!("|---|---|---|---|---|---|---|---|");
-    let sets = [
-        sensor_set(&d, &sensor, None),
-        sensor_set(&d, &sensor, Some(&c)),
-    ];
+    let sets = fits.each_ref().map(|f| sensor_set(&d, f));
     let a = &lights.iter().find(|(n, _)| *n == "A").unwrap().1;
     // Calibrated on one reading of A, at 1000 lx.
     let scales = sets.map(|s| LuxScale::from_reading(s.xyz(&readings(a))[1], 1000.0).unwrap());

@@ -149,6 +149,9 @@ trait Dyn {
     fn weights(&self) -> Vec<Vec<f32>>;
     fn rgb_to_xyz(&self) -> [[f32; 3]; 3];
     fn batch_agrees(&self, rgb: &[[f32; 3]]) -> bool;
+    /// The cells at the edge of what the set reaches, where the round trip's correction runs:
+    /// one bit per cell (`RoundTrip::edge_cells`).
+    fn edge_cells(&self) -> Vec<u32>;
 }
 
 impl<const N: usize> Dyn for (Upsampling<N>, FoldedSet<N>) {
@@ -184,6 +187,13 @@ impl<const N: usize> Dyn for (Upsampling<N>, FoldedSet<N>) {
     }
     fn rgb_to_xyz(&self) -> [[f32; 3]; 3] {
         self.1.display().rgb_to_xyz()
+    }
+    fn edge_cells(&self) -> Vec<u32> {
+        self.0
+            .round_trip()
+            .expect("baked: a round trip")
+            .edge_cells()
+            .to_vec()
     }
     fn batch_agrees(&self, rgb: &[[f32; 3]]) -> bool {
         let mut out = vec![[0.0f32; N]; rgb.len()];
@@ -545,7 +555,7 @@ fn new_checks_the_table() {
 fn edge_lipschitz(u: &dyn Dyn, b: &Baked, steps_per_cell: f64) -> (f64, [f32; 3], [f64; 3]) {
     let g = b.grid;
     let c = g - 1;
-    let words = b.edge_cells();
+    let words = u.edge_cells();
     let h = 1.0 / (c as f64 * steps_per_cell);
     let dirs: [[f64; 3]; 7] = [
         [1.0, 0.0, 0.0],
@@ -692,7 +702,7 @@ fn edge_scan(
     keep: usize,
 ) -> Vec<Segment> {
     let c = b.grid - 1;
-    let words = b.edge_cells();
+    let words = u.edge_cells();
     let cell = 1.0 / c as f64;
     let h = cell / steps_per_cell as f64;
     let m = lattice - 1;
@@ -990,7 +1000,7 @@ fn face_scan(
     steps: usize,
 ) -> (f64, [f32; 3], [f64; 3]) {
     let c = b.grid - 1;
-    let words = b.edge_cells();
+    let words = u.edge_cells();
     let cell = 1.0 / c as f64;
     let h = cell / steps_per_cell;
     let m = (lattice - 1) as f64;
@@ -1050,7 +1060,7 @@ fn assert_within(name: &str, stated: f64, slope: f64, length: f64, at: [f32; 3])
 #[test]
 fn lipschitz_in_the_edge_cells() {
     each_in_parallel(|u, f| {
-        let edge_cells: u32 = f.baked.edge_cells().iter().map(|w| w.count_ones()).sum();
+        let edge_cells: u32 = u.edge_cells().iter().map(|w| w.count_ones()).sum();
         if edge_cells == 0 {
             return;
         }
@@ -1107,7 +1117,7 @@ fn lipschitz_in_the_edge_cells_exhaustive() {
     each_in_parallel(|u, f| {
         let (coarse, p, dir) = edge_lipschitz(u, f.baked, 256.0);
         let (fine, q, fine_dir) = edge_lipschitz(u, f.baked, 2048.0);
-        let edge_cells: u32 = f.baked.edge_cells().iter().map(|w| w.count_ones()).sum();
+        let edge_cells: u32 = u.edge_cells().iter().map(|w| w.count_ones()).sum();
         println!(
             "{}: Lipschitz in the {edge_cells} edge cells {coarse:.3} (steps of 1/256 of a cell, \
              at {p:?} along {dir:?}), {fine:.3} (1/2048, at {q:?} along {fine_dir:?}); the \
@@ -1238,7 +1248,7 @@ const JUMPS_FOUND: [(&str, [f64; 3], [f64; 3]); 8] = [
 #[ignore = "a measurement: about 35 s of CPU in the dev profile"]
 fn jumps_between_neighbouring_f32_inputs() {
     each_in_parallel(|u, f| {
-        if f.baked.edge_cells().iter().all(|w| *w == 0) {
+        if u.edge_cells().iter().all(|w| *w == 0) {
             return;
         }
         let change = |p: [f32; 3], q: [f32; 3]| {

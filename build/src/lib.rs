@@ -55,7 +55,6 @@
 mod base;
 mod derivation;
 mod emit;
-pub mod paper;
 mod scenes;
 pub mod shared;
 #[cfg(test)]

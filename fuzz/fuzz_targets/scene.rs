@@ -13,8 +13,8 @@
 //!   (`Settings::for_observer`) except `range_nm` and `step_nm`;
 //! - has a finite `range_nm` with lo < hi, and a finite, positive `step_nm`;
 //! - names at least one set or has a `[plan]`; every set's line is a line of the text;
-//! - uses each display once, every one a standard display (primaries, white point, doc as
-//!   `standard_displays`) with a transfer function that is sRGB, linear or a finite positive γ;
+//! - uses each display once, every one a standard display (primaries, white point, doc as the
+//!   default scene's) with a transfer function that is sRGB, linear or a finite positive γ;
 //! - has a plan, if any, with a finite positive budget, a line of the text, and either an
 //!   emission file or both reflectances and illuminants (not both kinds).
 //!
@@ -28,7 +28,7 @@ use std::path::Path;
 use std::sync::OnceLock;
 
 use libfuzzer_sys::fuzz_target;
-use spectral_quadrature_build::display::{standard_displays, DisplaySpec, Transfer};
+use spectral_quadrature_build::display::{DisplaySpec, Transfer};
 use spectral_quadrature_build::scene::Scene;
 use spectral_quadrature_build::{Error, ObserverId, Settings};
 
@@ -80,6 +80,15 @@ fn check_error(e: &Error, text: &str) {
             "the error does not start with \"file: \": {shown:?}"
         );
     }
+}
+
+/// Whether `name` can be a set or light name in generated code, as the scene parser's error
+/// states the rule (upper snake case: A-Z, 0-9, _; a letter first), written here independently
+/// of the parser's own check.
+fn is_const_name(name: &str) -> bool {
+    let mut chars = name.chars();
+    chars.next().is_some_and(|c| c.is_ascii_uppercase())
+        && chars.all(|c| c.is_ascii_uppercase() || c.is_ascii_digit() || c == '_')
 }
 
 /// Each observer's default settings (reading `data_dir`), once per process.
@@ -155,11 +164,7 @@ fn check_scene(scene: &Scene, text: &str, data_dir: &Path) {
         .chain(own.fixed.iter().map(|f| (&f.name, f.line)))
         .chain(own.sensors.iter().map(|s| (&s.name, s.line)))
     {
-        assert!(
-            spectral_quadrature_build::user::is_const_name(name),
-            "name {name:?} accepted: {}",
-            ctx()
-        );
+        assert!(is_const_name(name), "name {name:?} accepted: {}", ctx());
         assert!(!names.contains(&name.as_str()), "{name} twice: {}", ctx());
         names.push(name);
         check_line(&format!("{name}"), line, text);
@@ -182,8 +187,9 @@ fn check_scene(scene: &Scene, text: &str, data_dir: &Path) {
         check_line(&format!("set {name:?}"), *line, text);
     }
 
-    // Displays: standard ones, each once, with a valid transfer function.
-    let standard = standard_displays();
+    // Displays: standard ones (the default scene has every one), each once, with a valid
+    // transfer function.
+    let standard = Scene::default_scene(data_dir).displays;
     for (i, d) in scene.displays.iter().enumerate() {
         assert!(
             !scene.displays[..i].iter().any(|o| o.name == d.name),

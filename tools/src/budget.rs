@@ -21,6 +21,7 @@ use std::vec::Vec;
 use spectral_quadrature_build::evaluate::{self, Curve, EvalSet, Reference, Spectra, Stimulus};
 use spectral_quadrature_build::{shared, Derivation};
 
+use crate::evaluate::{channel_rules, combinations, shared_on_radiance};
 use crate::Error;
 
 /// The lights the crate judges its shared sets under.
@@ -156,8 +157,8 @@ pub fn shared_sets_sized(
     crate::par_map(&sizes, |&n| {
         let set = problem.shared(n)?;
         Ok(match light {
-            Some(l) => set.eval_set(&std::format!("KQ_{}_{n}", l.name), "KQ folded"),
-            None => set.eval_set(&std::format!("KQ_{n}"), "KQ radiance"),
+            Some(l) => shared_on_radiance(&set, &std::format!("KQ_{}_{n}", l.name), "KQ folded"),
+            None => shared_on_radiance(&set, &std::format!("KQ_{n}"), "KQ radiance"),
         })
     })
     .into_iter()
@@ -185,8 +186,8 @@ pub fn rule_spaces(
         ("SML", &d.cones, sml_to_xyz),
     ];
     Ok(spaces.map(|(space, w, to_xyz)| {
-        let rules = evaluate::channel_rules(d, w, max_order);
-        (space, evaluate::combinations(&rules, &to_xyz, space))
+        let rules = channel_rules(d, w, max_order);
+        (space, combinations(&rules, &to_xyz, space))
     }))
 }
 
@@ -208,7 +209,8 @@ pub fn other_sets(
             "uniform",
             evaluate::uniform(&d.observer, d.settings.range_nm, n),
         ));
-        if let Ok(s) = shared::interpolatory_a(d, n, &std::format!("INTERP_A_{n}")) {
+        if let Ok(s) = spectral_quadrature_build::catalog::resolve(d, &std::format!("INTERP_A_{n}"))
+        {
             out.push((
                 "interp A",
                 EvalSet::from_set(&s, "interp A", &d.opponent.ac1c2_to_xyz),

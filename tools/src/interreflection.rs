@@ -207,9 +207,16 @@ pub fn fixed_sets(
             .collect::<Result<_, Error>>()?;
         let mut methods = vec![vec![None; lights.len()]; METHODS.len()];
         for (l, light) in lights.iter().enumerate() {
-            methods[0][l] =
-                Some(shared[l].eval_set(&format!("KQ_{}_{n}", light.name), "KQ folded"));
-            methods[3][l] = Some(shared[lights.len()].eval_set(&format!("KQ_{n}"), "KQ radiance"));
+            methods[0][l] = Some(crate::evaluate::shared_on_radiance(
+                &shared[l],
+                &format!("KQ_{}_{n}", light.name),
+                "KQ folded",
+            ));
+            methods[3][l] = Some(crate::evaluate::shared_on_radiance(
+                &shared[lights.len()],
+                &format!("KQ_{n}"),
+                "KQ radiance",
+            ));
         }
         if let Some(fits) = &fits {
             let own_nodes: Vec<Vec<usize>> = in_group
@@ -223,7 +230,8 @@ pub fn fixed_sets(
             .collect::<Result<_, Error>>()?;
             for (m, g) in [1, 2].into_iter().zip(&groups) {
                 for (member, &l) in g.members.iter().zip(&in_group) {
-                    methods[m][l] = Some(member.eval_set(
+                    methods[m][l] = Some(crate::evaluate::member_on_radiance(
+                        member,
                         &g.wavelengths_nm,
                         &format!("{} {n} for {}", METHODS[m], lights[l].name),
                         "group",
@@ -333,7 +341,12 @@ pub fn cross_validated(
                 let e: Vec<f64> = groups
                     .iter()
                     .map(|g| {
-                        let s = g.members[l].eval_set(&g.wavelengths_nm, "group", "group");
+                        let s = crate::evaluate::member_on_radiance(
+                            &g.members[l],
+                            &g.wavelengths_nm,
+                            "group",
+                            "group",
+                        );
                         j.de00(&s).iter().sum()
                     })
                     .collect();

@@ -7,10 +7,14 @@
 //! - [`cli`]: the command-line arguments the programs share.
 //! - [`cornell`]: the Cornell box rendered by radiosity, once per spectral method (`cornell`).
 //! - [`csv_table`]: every CSV the programs write, through the `csv` crate's writer.
+//! - [`evaluate`]: the sets the report builds to measure beside the crate's (every combination
+//!   of per-channel rules, a shared set on radiances).
+//! - [`paper`]: the numbers the paper prints, which `tables` and the tests compare with.
 //! - [`prefilter`]: spiky lamps, band-averaged and exact-line pre-filtering (section 6d).
 //! - [`stability`]: unstable alternatives to the crate's quadrature (section 6b).
 //! - [`sensitivity`]: how rules move with the grid, the range and the observer (section 6c).
 //! - [`random_wavelengths`]: what renderers do instead, random wavelengths per sample (section 7).
+//! - [`scene_file`]: the scene file `plan` writes for the set it chose.
 //! - [`upsampling`]: RGB materials under another light, the crate's upsampling beside
 //!   Jakob-Hanika, Mallett-Yuksel and Smits (section 8).
 #![deny(missing_docs)]
@@ -21,10 +25,13 @@ pub mod budget;
 pub mod cli;
 pub mod cornell;
 pub mod csv_table;
+pub mod evaluate;
 pub mod interreflection;
 pub mod light_groups;
+pub mod paper;
 pub mod prefilter;
 pub mod random_wavelengths;
+pub mod scene_file;
 pub mod sensitivity;
 pub mod stability;
 pub mod upsampling;

@@ -111,7 +111,10 @@ pub fn compare(
             let fit = GroupFit::new(problems.clone(), &train)?;
             let mut methods: Vec<(Vec<Vec<f64>>, Vec<f64>)> = Vec::new();
             // Own folded sets.
-            let own_sets: Vec<_> = own.iter().map(|s| s.eval_set("own", "own")).collect();
+            let own_sets: Vec<_> = own
+                .iter()
+                .map(|s| crate::evaluate::shared_on_radiance(s, "own", "own"))
+                .collect();
             methods.push((
                 judge(&full, lights, &test, &own_sets),
                 own[0].wavelengths_nm.clone(),
@@ -125,7 +128,9 @@ pub fn compare(
                 let sets: Vec<_> = g
                     .members
                     .iter()
-                    .map(|m| m.eval_set(&g.wavelengths_nm, "group", "group"))
+                    .map(|m| {
+                        crate::evaluate::member_on_radiance(m, &g.wavelengths_nm, "group", "group")
+                    })
                     .collect();
                 methods.push((judge(&full, lights, &test, &sets), g.wavelengths_nm));
             }

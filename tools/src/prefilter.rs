@@ -1102,7 +1102,7 @@ pub fn default_sets(d: &spectral_quadrature_build::Derivation) -> Result<Vec<Cha
     }
     let wanted = [[4, 2, 2], [6, 4, 3], [8, 8, 7]];
     let max = wanted.iter().flatten().copied().max().unwrap_or(1);
-    let rules = evaluate::channel_rules(d, &d.sensitivities, max);
+    let rules = crate::evaluate::channel_rules(d, &d.sensitivities, max);
     for o in wanted {
         let name = std::format!("AC1C2 {}+{}+{}", o[0], o[1], o[2]);
         let picked = [0, 1, 2].map(|c| Some(&rules[c][o[c] - 1]));

@@ -410,7 +410,7 @@ pub fn moment_residual(measure: &Measure, rule: &Rule) -> Option<f64> {
             .zip(&rule.weights)
             .map(|(p, w)| p * w)
             .sum();
-        let exact: f64 = measure.integrate(&grid_power);
+        let exact: f64 = integrate(measure, &grid_power);
         let scale = node_power
             .iter()
             .zip(&rule.weights)
@@ -730,10 +730,10 @@ pub fn order_margin(
     let norm_ratio = if vanished {
         rec.vanished_at
             .filter(|&k| k < rec.norm.len())
-            .map_or(0.0, |k| rec.norm_ratio(k))
+            .map_or(0.0, |k| norm_ratio(rec, k))
     } else {
         (0..n.min(rec.norm.len()))
-            .map(|k| rec.norm_ratio(k))
+            .map(|k| norm_ratio(rec, k))
             .fold(f64::INFINITY, f64::min)
     };
     let norm_margin = if vanished {
@@ -961,4 +961,14 @@ pub fn perturbed_classifications(
 ) -> Result<[Vec<Status>; 3], Error> {
     perturbed_derivation(settings, seed, Perturbation::Relative(ROUNDING_LEVEL))
         .map(|d| classifications(&d))
+}
+
+/// ∫ f w dλ for f given at the measure's grid points.
+fn integrate(measure: &Measure, f: &[f64]) -> f64 {
+    measure.mass.iter().zip(f).map(|(m, v)| m * v).sum()
+}
+
+/// |⟨P_k, P_k⟩| / Σ |w| P_k²: 1 for a positive measure, near 0 when the norm almost vanishes.
+fn norm_ratio(rec: &Recurrence, k: usize) -> f64 {
+    (rec.norm[k] / rec.abs_norm[k]).abs()
 }

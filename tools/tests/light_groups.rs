@@ -93,7 +93,12 @@ fn a_groups_weights_integrate_each_lights_white_exactly() {
         let g = fit.optimize(6, &own, GroupObjective::Mean, kind).unwrap();
         assert_eq!(g.wavelengths_nm.len(), 6);
         for (m, light) in g.members.iter().zip(&lights) {
-            let set = m.eval_set(&g.wavelengths_nm, "g", "g");
+            let set = spectral_quadrature_tools::evaluate::member_on_radiance(
+                m,
+                &g.wavelengths_nm,
+                "g",
+                "g",
+            );
             let approx = set.xyz(|nm| light.at(nm));
             let exact = reference.xyz(|nm| light.at(nm));
             for c in 0..3 {

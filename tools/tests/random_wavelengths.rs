@@ -331,8 +331,11 @@ fn the_f32_path_computes_what_the_f64_one_does() {
     let m = spectral_quadrature::tables::displays::SRGB.xyz_to_rgb();
     let d = spectral_quadrature_build::derive(&spectral_quadrature_build::Settings::new(DATA_DIR))
         .unwrap();
-    let rows = d.observer.grid_rows(RANGE[0], RANGE[1], 1.0).unwrap();
-    let xyz_bar: Vec<[f64; 3]> = rows.iter().map(|&r| d.observer.xyz[r]).collect();
+    // x̄ȳz̄ at every nm of the range: the full integration's weights at dλ = 1 nm.
+    let full = evaluate::full_integration(&d.observer, RANGE, 1.0).unwrap();
+    let xyz_bar: Vec<[f64; 3]> = (0..full.len())
+        .map(|i| [0, 1, 2].map(|c| full.xyz_weights[c][i]))
+        .collect();
     let sensor = SensorRgb::new(RANGE[0], &xyz_bar, m, 1.0);
     for s in samplers() {
         for k in 0..1000 {

@@ -8,7 +8,7 @@ const DATA_DIR: &str = spectral_quadrature_tools::DATA_DIR;
 
 use std::sync::OnceLock;
 
-use spectral_quadrature_build::evaluate::{self, Reference, Spectra};
+use spectral_quadrature_build::evaluate::{self, Reference};
 use spectral_quadrature_build::{catalog, derive, shared, Derivation, Settings};
 use tools::budget::{self, Entry, BUDGETS, LIGHTS, METHODS};
 
@@ -47,31 +47,6 @@ fn judged() -> &'static Judged {
 fn entry<'a>(table: &'a [(usize, Vec<Entry>)], n: usize, method: &str) -> &'a Entry {
     let row = &table.iter().find(|r| r.0 == n).unwrap().1;
     row.iter().find(|e| e.method == method).unwrap()
-}
-
-#[test]
-fn the_hyperparameters_are_the_training_sets_leave_one_out_optimum() {
-    let d = derive(&Settings::new(DATA_DIR)).unwrap();
-    let tcs = Spectra::builtin(std::path::Path::new(DATA_DIR), shared::TRAINING_FILE)
-        .unwrap()
-        .curves(d.settings.range_nm)
-        .unwrap();
-    let fit = shared::fit(
-        &tcs,
-        d.settings.range_nm,
-        &shared::FIT_LENGTHS_NM,
-        &shared::FIT_WEIGHTS,
-    )
-    .unwrap();
-    assert_eq!(
-        (fit.length_nm, fit.weight),
-        (shared::LENGTH_NM, shared::EMPIRICAL_WEIGHT),
-        "{fit:?}"
-    );
-    // The optimum is inside the grid, not on its edge.
-    assert!(fit.length_nm > shared::FIT_LENGTHS_NM[0]);
-    assert!(fit.length_nm < shared::FIT_LENGTHS_NM[shared::FIT_LENGTHS_NM.len() - 1]);
-    assert!(fit.weight > 0.0 && fit.weight < shared::FIT_WEIGHTS[shared::FIT_WEIGHTS.len() - 1]);
 }
 
 #[test]
@@ -162,7 +137,8 @@ fn the_catalog_builds_the_same_sets_the_comparison_judged() {
     // about cond · ε · 50 (measured: 7e-15); 1e-12 leaves room for other platforms' rounding.
     assert!(worst <= 1e-12, "{worst}");
     // A constant reflectance of 1 under C has Y equal to an equal-energy radiance of 1.
-    let s = shared::optimize(d, Some("C"), 6).unwrap();
+    let c = evaluate::builtin_illuminant(&d.settings.data_dir, "C", d.settings.range_nm).unwrap();
+    let s = shared::problem_for(d, Some(&c)).unwrap().shared(6).unwrap();
     let y: f64 = s.xyz_weights[1].iter().sum();
     let unit: f64 = evaluate::full_integration(&d.observer, d.settings.range_nm, 1.0)
         .unwrap()

@@ -49,7 +49,7 @@ pub enum Negatives {
 
 /// One value of a table, where a message points to it.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Cell {
+pub(crate) struct Cell {
     /// 1-based line of the file.
     pub line: u64,
     /// 1-based column of the file (the wavelength is column 1).
@@ -70,9 +70,9 @@ pub struct ZeroedNegatives {
     /// How many of them lay beyond the tolerance (only with [`Negatives::Clamp`]; otherwise 0).
     pub beyond_tolerance: usize,
     /// The first one, in file order.
-    pub first: Cell,
+    pub(crate) first: Cell,
     /// The most negative one (the first of equals).
-    pub most_negative: Cell,
+    pub(crate) most_negative: Cell,
     /// The file's largest value, which the tolerance is relative to.
     pub largest: f64,
 }

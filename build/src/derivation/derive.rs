@@ -43,8 +43,9 @@ pub struct Derivation {
     /// ∫ ȳ dλ on the grid: the luminance Y of a spectrum of constant value 1. Folded sets divide
     /// by it, so that such a spectrum has Y = 1 (display white).
     pub unit_spectrum_y: f64,
-    /// The standard displays ([`display::standard_displays`]) and their matrices, derived once
-    /// here; scenes, code generation, shaders and the tools take them from here.
+    /// The standard displays (`SRGB`, `DISPLAY_P3`, `REC2020`, `MEYER_1987`) and their
+    /// matrices, derived once here; scenes, code generation, shaders and the tools take them from
+    /// here.
     pub displays: Vec<(DisplaySpec, DisplayMatrices)>,
 }
 

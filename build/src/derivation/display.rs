@@ -19,8 +19,8 @@ pub enum Transfer {
 
 /// A display: three primaries and a white point (CIE 1931 xy), and a transfer function.
 ///
-/// [`standard_displays`] is the one description of each display the crate knows: the derivation
-/// derives its matrices once ([`crate::Derivation::displays`]), and code generation, shaders,
+/// The standard displays (`SRGB`, `DISPLAY_P3`, `REC2020`, `MEYER_1987`) have one description
+/// each, here (`standard_displays`): the derivation derives their matrices once ([`crate::Derivation::displays`]), and code generation, shaders,
 /// scenes and the tools take name, label, primaries, white and transfer from there.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DisplaySpec {
@@ -51,7 +51,7 @@ pub use spectral_quadrature_math::MAX_PRIMARIES_CONDITION as MAX_CONDITION;
 pub use spectral_quadrature_math::DisplayMatrices;
 
 /// The displays the crate bakes by default.
-pub fn standard_displays() -> Vec<DisplaySpec> {
+pub(crate) fn standard_displays() -> Vec<DisplaySpec> {
     std::vec![
         DisplaySpec {
             name: "SRGB".into(),
@@ -93,7 +93,7 @@ pub fn standard_displays() -> Vec<DisplaySpec> {
 /// naming the display) when a chromaticity is invalid, when the primaries are nearly collinear
 /// (condition number above [`MAX_CONDITION`]) or when the white point lies on or outside the
 /// primaries' triangle (a gun drive of zero or less would be needed for white).
-pub fn display_matrices(spec: &DisplaySpec) -> Result<DisplayMatrices, Error> {
+pub(crate) fn display_matrices(spec: &DisplaySpec) -> Result<DisplayMatrices, Error> {
     spectral_quadrature_math::display_matrices(spec.primaries_xy, spec.white_xy).map_err(
         |problem| Error::Display {
             name: spec.name.clone(),

@@ -9,10 +9,8 @@
 use std::string::{String, ToString};
 use std::vec::Vec;
 
-use super::derive::Derivation;
 use super::display;
 use super::observer::Observer;
-use super::quadrature::{self, Measure, Rule};
 use super::sets::WavelengthSet;
 use crate::base::error::{DataError, Error};
 use crate::base::files::read_data_text;
@@ -79,9 +77,11 @@ impl Spectra {
         self.table.zeroed.as_ref()
     }
 
-    /// One of the spectra files the runtime crate ships in `data/`, by its label (e.g.
-    /// `data/illuminant_C.csv`, one of [`BUILTIN`]), read from `data_dir`. Errors name the label
-    /// and line.
+    /// One of the spectra files the runtime crate ships in `data/`, by its label, read from
+    /// `data_dir`: an illuminant `data/illuminant_<name>.csv` (a name of [`builtin_lights`]:
+    /// `data/illuminant_C.csv`, ...), or the reflectances `data/reflectance_colorchecker_ohta.csv`,
+    /// `data/reflectance_cie_tcs.csv` and `data/reflectance_rawtoaces_190.csv`. Errors name the
+    /// label and line.
     pub fn builtin(data_dir: &std::path::Path, file: &str) -> Result<Spectra, DataError> {
         if !BUILTIN.contains(&file) {
             return Err(DataError {
@@ -105,13 +105,8 @@ impl Spectra {
     }
 
     /// The number of spectra.
-    pub fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         self.table.columns.len()
-    }
-
-    /// Whether there are no spectra (never true for a parsed file).
-    pub fn is_empty(&self) -> bool {
-        self.table.columns.is_empty()
     }
 
     /// Spectrum `k` as a curve, after checking that it covers `range_nm`; the error names the
@@ -445,47 +440,8 @@ impl Reference {
     }
 }
 
-/// Per-channel Gauss rules of orders 1..=max_order for three weight functions given on the
-/// derivation grid (columns of `w`), as `rules[c][n - 1]`.
-pub fn channel_rules(d: &Derivation, w: &[[f64; 3]], max_order: usize) -> [Vec<Rule>; 3] {
-    let s = &d.settings;
-    [0, 1, 2].map(|c| {
-        let col: Vec<f64> = w.iter().map(|v| v[c]).collect();
-        let m = Measure::new(&d.grid_nm, &col, s.step_nm, s.range_nm);
-        let rec = quadrature::stieltjes(&m, max_order);
-        (1..=max_order)
-            .map(|n| quadrature::gauss_rule(&m, &rec, n, s.range_nm))
-            .collect()
-    })
-}
-
-/// Every combination of defined per-channel rules (orders 1..=max in each channel) as sets,
-/// with weights converted to XYZ by `to_xyz`.
-pub fn combinations(rules: &[Vec<Rule>; 3], to_xyz: &[[f64; 3]; 3], family: &str) -> Vec<EvalSet> {
-    let mut out = Vec::new();
-    for a in rules[0].iter().filter(|r| r.is_defined()) {
-        for b in rules[1].iter().filter(|r| r.is_defined()) {
-            for c in rules[2].iter().filter(|r| r.is_defined()) {
-                let orders = [a.order, b.order, c.order];
-                let name = std::format!("{family} {}+{}+{}", a.order, b.order, c.order);
-                if let Ok(set) = WavelengthSet::merge(&name, "", [Some(a), Some(b), Some(c)]) {
-                    out.push(EvalSet::from_weights(
-                        &name,
-                        family,
-                        Some(orders),
-                        &set.wavelengths_nm,
-                        &set.weights,
-                        to_xyz,
-                    ));
-                }
-            }
-        }
-    }
-    out
-}
-
 /// The spectra files the runtime crate ships in `data/`, by label (path relative to that crate).
-pub const BUILTIN: &[&str] = &[
+pub(crate) const BUILTIN: &[&str] = &[
     "data/reflectance_colorchecker_ohta.csv",
     "data/reflectance_cie_tcs.csv",
     "data/reflectance_rawtoaces_190.csv",
@@ -518,7 +474,8 @@ pub const BUILTIN: &[&str] = &[
 ];
 
 /// The built-in illuminants: the short names (`A`, `C`, `D65`, `F11`, `LED_B2`, ...) of the
-/// `data/illuminant_<name>.csv` files in [`BUILTIN`], which a `KQ_<light>_<n>` set may name.
+/// `data/illuminant_<name>.csv` files the runtime crate ships, which a `KQ_<light>_<n>` set may
+/// name.
 pub fn builtin_lights() -> Vec<&'static str> {
     BUILTIN
         .iter()

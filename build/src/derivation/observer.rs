@@ -46,7 +46,7 @@ impl ObserverId {
     }
 
     /// The data file, relative to the crate root.
-    pub fn file(self) -> &'static str {
+    pub(crate) fn file(self) -> &'static str {
         match self {
             ObserverId::Cie1931_2deg => "data/cmf_cie1931_2deg_1nm.csv",
             ObserverId::Cie1964_10deg => "data/cmf_cie1964_10deg_1nm.csv",
@@ -137,7 +137,8 @@ impl ObserverId {
     }
 
     /// Reads and parses the table from `data_dir` (laid out like the runtime crate's `data/`).
-    /// Errors name the file (as [`file`](Self::file)) and line.
+    /// Errors name the file (its label `data/cmf_<observer>_1nm.csv`, as [`Observer::file`]
+    /// holds it) and line.
     pub fn load(self, data_dir: &std::path::Path) -> Result<Observer, DataError> {
         let text = read_data_text(data_dir, self.file())?;
         Observer::parse(self.name(), self.file(), &text)
@@ -196,7 +197,7 @@ impl Observer {
 
     /// Indices of the rows on the grid `start, start + step, ..., end` (inclusive), or an error
     /// saying why that grid is not a subset of this table.
-    pub fn grid_rows(&self, start: f64, end: f64, step: f64) -> Result<Vec<usize>, Error> {
+    pub(crate) fn grid_rows(&self, start: f64, end: f64, step: f64) -> Result<Vec<usize>, Error> {
         let own = self.step();
         let first = *self
             .wavelengths

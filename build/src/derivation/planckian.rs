@@ -1,6 +1,6 @@
-//! The Planckian locus in CIE 1960 (u, v) with the derivation's observer, the exact correlated
-//! colour temperature (CCT) and Duv it defines, and the table of locus points the runtime's
-//! `PlanckianLocus::cct` interpolates.
+//! The Planckian locus in CIE 1960 (u, v) with the derivation's observer, on which the
+//! correlated colour temperature (CCT) and Duv are defined, and the table of locus points the
+//! runtime's `PlanckianLocus::cct` interpolates.
 //!
 //! The locus is Planck's law integrated against the observer's x̄ȳz̄ at 1 nm over CIE 015's
 //! range, 360-830 nm, whatever range the derivation integrates colours over (380-770 nm by
@@ -13,9 +13,10 @@
 //!
 //! The CCT of a chromaticity is the temperature of the nearest point of the locus in (u, v), and
 //! Duv its distance, positive above the locus (toward green) and negative below (toward
-//! magenta), as CIE 015 and ANSI C78.377 define them. [`PlanckianLocus::cct_duv`] finds that
-//! point in f64 by scanning the locus and solving for the foot of the perpendicular (the zero of
-//! the distance's derivative) by false position: the reference the runtime is tested against.
+//! magenta), as CIE 015 and ANSI C78.377 define them. The runtime's tests find that point in f64
+//! on this locus ([`PlanckianLocus::uv_and_tangent`]) by scanning it and solving for the foot of
+//! the perpendicular (the zero of the distance's derivative) by false position: the reference
+//! the runtime is tested against (`tests/cct.rs`).
 
 use std::vec::Vec;
 
@@ -41,13 +42,13 @@ pub(crate) fn standard_range_nm(observer: &Observer) -> [f64; 2] {
 }
 
 /// The locus table's ends in mired: 10 (100 000 K) to 1000 (1000 K).
-pub const TABLE_MIRED: [f64; 2] = [10.0, 1000.0];
+pub(crate) const TABLE_MIRED: [f64; 2] = [10.0, 1000.0];
 
 /// How far (in u, v) the cubic Hermite interpolation between two table nodes may stray from the
 /// locus: about the rounding of u and v to f32 (half a unit in the last place of 0.2-0.4 is
 /// 0.7-1.5 × 10⁻⁸), so that the table's interpolation adds no more error to Duv than its storage
 /// in f32 does.
-pub const TABLE_TOLERANCE_UV: f64 = 5e-9;
+pub(crate) const TABLE_TOLERANCE_UV: f64 = 5e-9;
 
 /// How far (in mired) the interpolation may move the foot of the perpendicular from a point up
 /// to 0.05 from the locus (the largest |Duv| with a CCT): its error in position plus 0.05 times
@@ -61,13 +62,9 @@ pub(crate) const TABLE_TOLERANCE_MIRED: f64 = 1e-4;
 /// The largest |Duv| the table is made for.
 const TABLE_MAX_DUV: f64 = 0.05;
 
-/// The scan the reference starts from: every 0.25 mired from 0 to 1500 mired (667 K).
-const SCAN_MIRED: [f64; 2] = [0.0, 1500.0];
-const SCAN_STEP_MIRED: f64 = 0.25;
-
 /// One node of the locus table: the point and its tangent at μ mired.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct LocusNode {
+pub(crate) struct LocusNode {
     /// μ = 10⁶ / T, mired.
     pub mired: f64,
     /// CIE 1960 (u, v) of the blackbody at μ.
@@ -81,24 +78,13 @@ impl LocusNode {
     /// fractional bits times that tangent (so 30 fractional bits): what the runtime's binary
     /// search computes the slope's sign from in integers, `(P · T̂) − L · T̂` for a point P in
     /// 16 fractional bits.
-    pub fn fixed_point(&self) -> ([i16; 2], i32) {
+    pub(crate) fn fixed_point(&self) -> ([i16; 2], i32) {
         let norm = self.tangent[0].hypot(self.tangent[1]);
         let unit = self.tangent.map(|t| (t / norm * 16_384.0).round() as i16);
         let along =
             self.uv[0] * 65_536.0 * f64::from(unit[0]) + self.uv[1] * 65_536.0 * f64::from(unit[1]);
         (unit, along.round() as i32)
     }
-}
-
-/// The CCT and Duv of a chromaticity, and where on the locus it lies.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct CctDuv {
-    /// The correlated colour temperature, K.
-    pub kelvin: f64,
-    /// The nearest point's μ = 10⁶ / T, mired.
-    pub mired: f64,
-    /// The signed distance from the locus in (u, v): positive above (toward green).
-    pub duv: f64,
 }
 
 /// The Planckian locus of one observer over one range of wavelengths: the standard one
@@ -112,31 +98,13 @@ pub struct PlanckianLocus {
     /// λ⁻⁵ and c₂ / (10⁶ λ) at each wavelength: what every evaluation needs (the build script
     /// runs this at opt-level 0, where a call to `powi` costs).
     per_wavelength: Vec<[f64; 2]>,
-    /// (u, v) every SCAN_STEP_MIRED over SCAN_MIRED, for the reference's first guess: made on
-    /// its first use, since a build script only needs the table.
-    scan: std::sync::OnceLock<Vec<[f64; 2]>>,
-}
-
-/// CIE 1960 (u, v) from XYZ: u = 4X / (X + 15Y + 3Z), v = 6Y / (X + 15Y + 3Z). `None` where the
-/// denominator is not positive.
-pub fn uv_from_xyz([x, y, z]: [f64; 3]) -> Option<[f64; 2]> {
-    let d = x + 15.0 * y + 3.0 * z;
-    (d > 0.0 && d.is_finite()).then(|| [4.0 * x / d, 6.0 * y / d])
-}
-
-/// XYZ with Y = 1 from CIE 1960 (u, v) (v > 0): the inverse of [`uv_from_xyz`].
-pub fn xyz_from_uv([u, v]: [f64; 2]) -> [f64; 3] {
-    // x = 3u / (2u − 8v + 4), y = 2v / (2u − 8v + 4); X = x / y, Z = (1 − x − y) / y.
-    let d = 2.0 * u - 8.0 * v + 4.0;
-    let (x, y) = (3.0 * u / d, 2.0 * v / d);
-    [x / y, 1.0, (1.0 - x - y) / y]
 }
 
 impl PlanckianLocus {
     /// The standard locus of `observer`, the one CCT and Duv are defined on: Planck's law
     /// against its x̄ȳz̄ at 1 nm over `standard_range_nm` (CIE 015's 360-830 nm, clipped to the
     /// observer's table), whatever range the derivation integrates colours over. The runtime's
-    /// `tables::PLANCKIAN_LOCUS` is this locus's [`table`](Self::table). Errors: the observer's
+    /// `tables::PLANCKIAN_LOCUS` is this locus's table of nodes. Errors: the observer's
     /// table is not at 1 nm (or a divisor of it) on whole nm.
     pub fn standard(observer: &Observer) -> Result<PlanckianLocus, Error> {
         PlanckianLocus::new(observer, standard_range_nm(observer))
@@ -155,7 +123,6 @@ impl PlanckianLocus {
         Ok(PlanckianLocus {
             weights: full.xyz_weights,
             per_wavelength,
-            scan: std::sync::OnceLock::new(),
         })
     }
 
@@ -184,13 +151,8 @@ impl PlanckianLocus {
         (xyz, dxyz)
     }
 
-    /// CIE 1960 (u, v) of the blackbody at μ mired (μ ≥ 0).
-    pub fn uv(&self, mired: f64) -> [f64; 2] {
-        self.uv_and_tangent(mired).0
-    }
-
-    /// (u, v) at μ mired and its derivative d(u, v)/dμ.
-    pub(crate) fn uv_and_tangent(&self, mired: f64) -> ([f64; 2], [f64; 2]) {
+    /// CIE 1960 (u, v) of the blackbody at μ mired (μ ≥ 0), and its derivative d(u, v)/dμ.
+    pub fn uv_and_tangent(&self, mired: f64) -> ([f64; 2], [f64; 2]) {
         let ([x, y, z], [dx, dy, dz]) = self.xyz_and_derivative(mired);
         let d = x + 15.0 * y + 3.0 * z;
         let dd = dx + 15.0 * dy + 3.0 * dz;
@@ -202,94 +164,11 @@ impl PlanckianLocus {
         (uv, tangent)
     }
 
-    /// The point at a signed distance `duv` from the locus at μ mired, along the normal (the
-    /// tangent turned a quarter turn anticlockwise: positive is above, toward green).
-    pub fn offset(&self, mired: f64, duv: f64) -> [f64; 2] {
-        let ([u, v], [tu, tv]) = self.uv_and_tangent(mired);
-        let norm = tu.hypot(tv);
-        [u - duv * tv / norm, v + duv * tu / norm]
-    }
-
-    /// (p − L(μ)) · L'(μ): minus half the derivative of the squared distance from `p` to the
-    /// locus. Positive where the distance still falls as μ grows.
-    fn slope(&self, p: [f64; 2], mired: f64) -> f64 {
-        let ([u, v], [tu, tv]) = self.uv_and_tangent(mired);
-        (p[0] - u) * tu + (p[1] - v) * tv
-    }
-
-    /// The exact CCT and Duv of the chromaticity `uv`: the nearest point of the locus with μ in
-    /// 0-1500 mired (T from 667 K to ∞), by a scan every 0.25 mired, then the zero of the
-    /// distance's derivative (the foot of the perpendicular) by false position to the last bits
-    /// of f64. `None` if the nearest point is an end
-    /// of that span (the chromaticity lies beyond it) or `uv` is not finite.
-    pub fn cct_duv(&self, uv: [f64; 2]) -> Option<CctDuv> {
-        if !(uv[0].is_finite() && uv[1].is_finite()) {
-            return None;
-        }
-        let d2 = |q: &[f64; 2]| (uv[0] - q[0]).powi(2) + (uv[1] - q[1]).powi(2);
-        let scan = self.scan.get_or_init(|| {
-            let n = ((SCAN_MIRED[1] - SCAN_MIRED[0]) / SCAN_STEP_MIRED).round() as usize;
-            (0..=n)
-                .map(|i| self.uv(SCAN_MIRED[0] + i as f64 * SCAN_STEP_MIRED))
-                .collect()
-        });
-        let best = (0..scan.len()).min_by(|&a, &b| d2(&scan[a]).total_cmp(&d2(&scan[b])))?;
-        if best == 0 || best == scan.len() - 1 {
-            return None;
-        }
-        let at = |i: usize| SCAN_MIRED[0] + i as f64 * SCAN_STEP_MIRED;
-        // The distance's minimum lies within one scan step of the nearest scan point: the slope
-        // changes sign from + to − there.
-        let (mut lo, mut hi) = (at(best - 1), at(best + 1));
-        let (mut s_lo, mut s_hi) = (self.slope(uv, lo), self.slope(uv, hi));
-        if s_lo < 0.0 || s_hi > 0.0 {
-            return None;
-        }
-        // The Illinois variant of false position: superlinear, and the bracket always shrinks
-        // (an end kept twice has its slope halved); bisection where the secant leaves it.
-        let mut kept = 0i8;
-        for _ in 0..200 {
-            if hi - lo <= 4.0 * f64::EPSILON * hi.max(1.0) || s_lo == s_hi {
-                break;
-            }
-            let mut mid = (lo * s_hi - hi * s_lo) / (s_hi - s_lo);
-            if !(mid > lo && mid < hi) {
-                mid = 0.5 * (lo + hi);
-            }
-            let s = self.slope(uv, mid);
-            if s == 0.0 {
-                (lo, hi) = (mid, mid);
-                break;
-            }
-            if s > 0.0 {
-                (lo, s_lo) = (mid, s);
-                if kept == 1 {
-                    s_hi *= 0.5;
-                }
-                kept = 1;
-            } else {
-                (hi, s_hi) = (mid, s);
-                if kept == -1 {
-                    s_lo *= 0.5;
-                }
-                kept = -1;
-            }
-        }
-        let mired = 0.5 * (lo + hi);
-        let ([u, v], [tu, tv]) = self.uv_and_tangent(mired);
-        let duv = ((uv[1] - v) * tu - (uv[0] - u) * tv) / tu.hypot(tv);
-        Some(CctDuv {
-            kelvin: 1e6 / mired,
-            mired,
-            duv,
-        })
-    }
-
     /// The nodes of the runtime's locus table over [`TABLE_MIRED`]: 16 segments equal in
     /// log μ, each halved until the cubic Hermite interpolation between its ends (points and
     /// tangents) stays within [`TABLE_TOLERANCE_UV`] of the locus and moves the foot of a
     /// perpendicular by at most `TABLE_TOLERANCE_MIRED`, at the quarters of the segment.
-    pub fn table(&self) -> Vec<LocusNode> {
+    pub(crate) fn table(&self) -> Vec<LocusNode> {
         let node = |mired: f64| {
             let (uv, tangent) = self.uv_and_tangent(mired);
             LocusNode { mired, uv, tangent }
@@ -339,7 +218,7 @@ pub(crate) fn hermite_tangent(a: &LocusNode, b: &LocusNode, t: f64) -> [f64; 2] 
 }
 
 /// The cubic Hermite interpolant between two nodes at t in [0, 1] (t = 0 at `a`).
-pub fn hermite(a: &LocusNode, b: &LocusNode, t: f64) -> [f64; 2] {
+pub(crate) fn hermite(a: &LocusNode, b: &LocusNode, t: f64) -> [f64; 2] {
     let h = b.mired - a.mired;
     let (t2, t3) = (t * t, t * t * t);
     let (h00, h10, h01, h11) = (

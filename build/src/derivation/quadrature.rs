@@ -28,7 +28,7 @@ pub struct Measure {
 impl Measure {
     /// The measure of weight function `w` (one value per grid wavelength) for a grid of step
     /// `step` nm, scaled to the range `range_nm`.
-    pub(crate) fn new(wavelengths: &[f64], w: &[f64], step: f64, range_nm: [f64; 2]) -> Measure {
+    pub fn new(wavelengths: &[f64], w: &[f64], step: f64, range_nm: [f64; 2]) -> Measure {
         let centre = 0.5 * (range_nm[0] + range_nm[1]);
         let half_width = 0.5 * (range_nm[1] - range_nm[0]);
         Measure {
@@ -51,11 +51,6 @@ impl Measure {
     /// The wavelength of a scaled abscissa.
     pub fn to_nm(&self, x: f64) -> f64 {
         self.centre + self.half_width * x
-    }
-
-    /// ∫ f w dλ for f given at the grid points.
-    pub fn integrate(&self, f: &[f64]) -> f64 {
-        self.mass.iter().zip(f).map(|(m, v)| m * v).sum()
     }
 }
 
@@ -88,11 +83,6 @@ pub struct Recurrence {
 }
 
 impl Recurrence {
-    /// |⟨P_k, P_k⟩| / Σ |w| P_k²: 1 for a positive measure, near 0 when the norm almost vanishes.
-    pub fn norm_ratio(&self, k: usize) -> f64 {
-        (self.norm[k] / self.abs_norm[k]).abs()
-    }
-
     /// P_0(x), ..., P_{n}(x) by the recurrence (n ≤ number of coefficients).
     pub(crate) fn evaluate(&self, n: usize, x: f64) -> Vec<f64> {
         let mut p = Vec::with_capacity(n + 1);

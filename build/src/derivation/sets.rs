@@ -22,7 +22,7 @@ pub struct WavelengthSet {
     /// The light folded into the weights (the samples are reflectances under it), or `None`
     /// for a set that takes radiances.
     pub light: Option<String>,
-    /// For a sensor set ([`crate::user::sensor_set`]): the sensor's name. Its samples are the
+    /// For a sensor set (a scene's `[sensors]` table): the sensor's name. Its samples are the
     /// channels' readings, and `wavelengths_nm` holds each channel's peak.
     pub sensor: Option<String>,
 }

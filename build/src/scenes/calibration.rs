@@ -3,7 +3,7 @@
 //! The golden device is the sensor of the scene's file: its channels' curves exactly. A real
 //! device reads `gain_k · golden_k + dark_k` plus noise, channel by channel. At run time the
 //! runtime's `Calibration::from_dark_white` finds the dark offsets and gains from a dark reading
-//! and a reading of a white reference; the reference is what [`white_readings`] bakes. At build
+//! and a reading of a white reference; the reference is what `white_readings` bakes. At build
 //! time, `[sensors.X] calibration = "readings.csv"` gives the device's readings of known
 //! reflectances under the sensor's light, and [`fit`] finds each channel's gain and offset by
 //! least squares against what the golden device reads on the same reflectances
@@ -17,7 +17,8 @@
 use std::string::{String, ToString};
 use std::vec::Vec;
 
-pub use super::user::{golden_readings, white_readings};
+pub use super::user::golden_readings;
+pub(crate) use super::user::white_readings;
 use crate::base::error::{CalibrationProblem, DataError, Error};
 use crate::derivation::evaluate::{Curve, Spectra};
 
@@ -43,7 +44,7 @@ pub struct ChannelFit {
 /// What the build bakes for one sensor besides its sets: the white reference and, where the
 /// scene gives readings, the fitted calibration.
 #[derive(Debug, Clone, PartialEq)]
-pub struct SensorTables {
+pub(crate) struct SensorTables {
     /// The sensor's name.
     pub name: String,
     /// The golden device's readings of a perfect white under the sensor's light (illuminant E

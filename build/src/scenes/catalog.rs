@@ -257,7 +257,7 @@ pub fn resolve_with(
 
 /// The names of every set that serves all three channels: Table 2's rows, every defined
 /// AC1C2 combination of orders up to the derivation's maximum, and the uniform sets.
-pub fn colour_set_names(d: &Derivation) -> Vec<String> {
+pub(crate) fn colour_set_names(d: &Derivation) -> Vec<String> {
     let mut names: Vec<String> = d.table2.iter().map(|s| s.name.clone()).collect();
     let defined = |c: usize| -> Vec<usize> {
         d.rules[c]

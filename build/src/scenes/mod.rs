@@ -8,5 +8,5 @@ pub mod calibration;
 pub mod catalog;
 pub mod plan;
 pub mod scene;
-pub mod upsampling;
+pub(crate) mod upsampling;
 pub mod user;

@@ -1,5 +1,7 @@
 //! The planner: the set with the fewest distinct wavelengths whose CIEDE2000 error on given
-//! spectra meets a budget, among every set the crate can build ([`catalog::colour_set_names`]).
+//! spectra meets a budget, among every set the catalogue can build for all three channels
+//! (Table 2's rows, every defined `AC1C2_<a>_<c1>_<c2>` up to the derivation's maximum order,
+//! the `UNIFORM_<n>` sets; [`catalog`]) and the shared sets ([`shared_sets`]).
 //!
 //! ```
 //! use spectral_quadrature_build::{derive, evaluate, plan, Settings};
@@ -12,17 +14,16 @@
 //!     .unwrap();
 //! let c = evaluate::builtin_illuminant(&d.settings.data_dir, "C", range).unwrap();
 //! let stimuli = evaluate::surfaces_under_lights(&cc[..4], &[c]);
-//! let p = plan::plan(&d, &stimuli, 1.0, plan::Metric::Mean).unwrap();
+//! let p = plan::plan(&d, &stimuli, &[], 1.0, plan::Metric::Mean).unwrap();
 //! assert!(p.chosen.mean_de00 <= 1.0);
-//! let toml = plan::scene_toml(&p, d.settings.observer.name(), &["SRGB"], "doc example");
-//! assert!(toml.contains(&p.chosen.name));
+//! assert!(p.candidates.iter().any(|c| c.name == p.chosen.name));
 //! ```
 //!
 //! Every candidate is measured as the report measures sets: against the full 1 nm integration
 //! of the derivation's observer over its range, with CIELAB's white integrated by the same
 //! rule as the stimulus ([`evaluate::Reference`]).
 
-use std::string::{String, ToString};
+use std::string::String;
 use std::vec::Vec;
 
 use super::catalog;
@@ -44,8 +45,9 @@ pub struct Plan {
     /// The set with the lowest error among those with fewer wavelengths than the chosen one:
     /// it misses the budget, and shows by how much. `None` when no set has fewer wavelengths.
     pub runner_up_with_fewer: Option<Candidate>,
-    /// How many sets were measured.
-    pub evaluated: usize,
+    /// Every set measured: the catalogue's (Table 2's rows, the `AC1C2_<a>_<c1>_<c2>` in
+    /// ascending orders, the `UNIFORM_<n>`), then the extra ones given to [`plan`].
+    pub candidates: Vec<Candidate>,
     /// The budget on ΔE00.
     pub budget: f64,
     /// Which statistic of ΔE00 the budget bounds.
@@ -55,7 +57,7 @@ pub struct Plan {
 }
 
 /// Checks that a budget is a finite number greater than 0.
-pub fn check_budget(budget: f64) -> Result<(), PlanError> {
+pub(crate) fn check_budget(budget: f64) -> Result<(), PlanError> {
     if budget.is_finite() && budget > 0.0 {
         Ok(())
     } else {
@@ -63,14 +65,14 @@ pub fn check_budget(budget: f64) -> Result<(), PlanError> {
     }
 }
 
-/// Measures every set of [`catalog::colour_set_names`] on `stimuli`, in the catalogue's order,
+/// Measures every set of `catalog::colour_set_names` on `stimuli`, in the catalogue's order,
 /// against the full 1 nm integration of `d`'s observer over its range. The sets are built and
 /// measured on every available core (scoped threads; no other dependency, so build scripts can
 /// call it too).
 ///
 /// Errors: no stimuli, a stimulus whose reference colour is not finite (a light that is zero
 /// everywhere), a set the catalogue cannot build.
-pub fn evaluate_all(d: &Derivation, stimuli: &[Stimulus]) -> Result<Vec<Candidate>, Error> {
+pub(crate) fn evaluate_all(d: &Derivation, stimuli: &[Stimulus]) -> Result<Vec<Candidate>, Error> {
     if stimuli.is_empty() {
         return Err(PlanError::NoStimuli.into());
     }
@@ -120,8 +122,8 @@ pub fn evaluate_all(d: &Derivation, stimuli: &[Stimulus]) -> Result<Vec<Candidat
 }
 
 /// Measures sets built elsewhere (a scene's fixed-wavelength and sensor sets, shared sets) on
-/// `stimuli` like [`evaluate_all`]: `(name, samples per pixel, set)`.
-pub fn evaluate_sets(
+/// `stimuli` like `evaluate_all`: `(name, samples per pixel, set)`.
+pub(crate) fn evaluate_sets(
     d: &Derivation,
     stimuli: &[Stimulus],
     sets: &[(String, usize, EvalSet)],
@@ -281,23 +283,24 @@ pub fn best_per_count(candidates: &[Candidate], metric: Metric) -> Vec<&Candidat
 
 /// [`choose`] on measured candidates, with the best set with fewer wavelengths beside it.
 /// `stimuli` is how many stimuli they were measured on (for the scene's comment).
-pub fn plan_from(
-    candidates: &[Candidate],
+pub(crate) fn plan_from(
+    candidates: Vec<Candidate>,
     stimuli: usize,
     budget: f64,
     metric: Metric,
 ) -> Result<Plan, PlanError> {
-    let chosen = choose(candidates, budget, metric)?;
+    let chosen = choose(&candidates, budget, metric)?.clone();
     let runner_up = best(
         candidates
             .iter()
             .filter(|c| c.wavelengths < chosen.wavelengths),
         metric,
-    );
+    )
+    .cloned();
     Ok(Plan {
-        chosen: chosen.clone(),
-        runner_up_with_fewer: runner_up.cloned(),
-        evaluated: candidates.len(),
+        chosen,
+        runner_up_with_fewer: runner_up,
+        candidates,
         budget,
         metric,
         stimuli,
@@ -305,64 +308,26 @@ pub fn plan_from(
 }
 
 /// The set with the fewest distinct wavelengths whose ΔE00 (`metric`) on `stimuli` meets
-/// `budget`, among every set the crate can build: [`evaluate_all`] then [`plan_from`]. The
-/// budget is checked first ("bad budget: ..." unless finite and greater than 0).
+/// `budget`, among every colour set the catalogue can build (see [`Plan::candidates`]) and the
+/// `extra` ones (`(name, samples per pixel, set)`: [`shared_sets`], or a scene's own sets),
+/// each measured against the full 1 nm integration of `d`'s observer over its range (on every
+/// available core). The budget is checked first ("bad budget: ..." unless finite and greater
+/// than 0).
+///
+/// Errors: a bad budget, no stimuli, a stimulus whose reference colour is not finite (a light
+/// that is zero everywhere), a set the catalogue cannot build, and
+/// [`PlanError::Unreachable`] when no set meets the budget.
 pub fn plan(
     d: &Derivation,
     stimuli: &[Stimulus],
-    budget: f64,
-    metric: Metric,
-) -> Result<Plan, Error> {
-    plan_with(d, stimuli, budget, metric, &[])
-}
-
-/// [`plan`], with more candidates: `extra` from [`shared_sets`] or a scene's own sets
-/// (`(name, samples per pixel, set)`), measured by [`evaluate_sets`].
-pub(crate) fn plan_with(
-    d: &Derivation,
-    stimuli: &[Stimulus],
-    budget: f64,
-    metric: Metric,
     extra: &[(String, usize, EvalSet)],
+    budget: f64,
+    metric: Metric,
 ) -> Result<Plan, Error> {
     check_budget(budget)?;
     let mut candidates = evaluate_all(d, stimuli)?;
     candidates.extend(evaluate_sets(d, stimuli, extra)?);
-    Ok(plan_from(&candidates, stimuli.len(), budget, metric)?)
-}
-
-impl Plan {
-    /// One sentence saying what was chosen and why: the set, its wavelengths, the budget, the
-    /// measured error, and what the best set with fewer wavelengths measures.
-    pub(crate) fn sentence(&self) -> String {
-        let c = &self.chosen;
-        let m = self.metric;
-        let mut s = std::format!(
-            "{} ({} wavelengths) meets {m} ΔE00 <= {} on {} (measured {}; mean {}, max {}); ",
-            c.name,
-            c.wavelengths,
-            self.budget,
-            if self.stimuli == 1 {
-                "1 stimulus".to_string()
-            } else {
-                std::format!("{} stimuli", self.stimuli)
-            },
-            fmt_de(c.error(m)),
-            fmt_de(c.mean_de00),
-            fmt_de(c.max_de00),
-        );
-        match &self.runner_up_with_fewer {
-            Some(r) => s.push_str(&std::format!(
-                "the best set with fewer wavelengths, {} ({} wavelengths), measures {}",
-                r.name,
-                r.wavelengths,
-                fmt_de(r.error(m))
-            )),
-            None => s.push_str("no set has fewer wavelengths"),
-        }
-        s.push_str(&std::format!(" ({} sets evaluated).", self.evaluated));
-        s
-    }
+    Ok(plan_from(candidates, stimuli.len(), budget, metric)?)
 }
 
 /// The stimuli of spectra files, on `range_nm`: every reflectance under every illuminant, or
@@ -392,65 +357,4 @@ pub fn stimuli_from_files(
         _ => return Err(PlanError::NoSpectra.into()),
     };
     Ok((stimuli, zeroed))
-}
-
-/// A TOML basic string: quoted, with `"`, `\` and control characters escaped.
-pub fn toml_string(s: &str) -> String {
-    let mut out = String::with_capacity(s.len() + 2);
-    out.push('"');
-    for ch in s.chars() {
-        match ch {
-            '"' => out.push_str("\\\""),
-            '\\' => out.push_str("\\\\"),
-            '\n' => out.push_str("\\n"),
-            '\t' => out.push_str("\\t"),
-            '\r' => out.push_str("\\r"),
-            c if (c as u32) < 0x20 || c as u32 == 0x7f => {
-                out.push_str(&std::format!("\\u{:04X}", c as u32))
-            }
-            c => out.push(c),
-        }
-    }
-    out.push('"');
-    out
-}
-
-/// Text for a TOML comment: one line (line breaks and other control characters become spaces).
-fn comment_text(s: &str) -> String {
-    s.chars()
-        .map(|c| if c.is_control() { ' ' } else { c })
-        .collect()
-}
-
-/// A scene file (TOML) naming the chosen set: comment lines saying how it was chosen and what
-/// it measures (and what the best set with fewer wavelengths measures), then the keys
-/// `observer`, `sets` and `displays`:
-///
-/// ```toml
-/// # Scene written by the planner: <note>
-/// # AC1C2_3_2_1 (6 wavelengths) meets mean ΔE00 <= 1 on 38 stimuli (measured ...); the best ...
-/// observer = "cie1931_2deg"
-/// sets = ["AC1C2_3_2_1"]
-/// displays = ["SRGB"]
-/// ```
-pub fn scene_toml(plan: &Plan, observer_name: &str, displays: &[&str], note: &str) -> String {
-    let mut s = String::new();
-    let note = comment_text(note);
-    if note.trim().is_empty() {
-        s.push_str("# Scene written by the planner.\n");
-    } else {
-        s.push_str(&std::format!(
-            "# Scene written by the planner: {}\n",
-            note.trim()
-        ));
-    }
-    s.push_str(&std::format!("# {}\n", plan.sentence()));
-    s.push_str(&std::format!("observer = {}\n", toml_string(observer_name)));
-    s.push_str(&std::format!(
-        "sets = [{}]\n",
-        toml_string(&plan.chosen.name)
-    ));
-    let displays: Vec<String> = displays.iter().map(|d| toml_string(d)).collect();
-    s.push_str(&std::format!("displays = [{}]\n", displays.join(", ")));
-    s
 }

@@ -35,7 +35,7 @@ pub(crate) struct RawUpsampling {
 
 /// What a scene asks to upsample.
 #[derive(Debug, Clone, PartialEq)]
-pub struct UpsamplingRequest {
+pub(crate) struct UpsamplingRequest {
     /// Set names with their lines; `None`: every colour set of the scene that samples
     /// wavelengths.
     pub sets: Option<Vec<(String, usize)>>,

@@ -10,7 +10,7 @@
 //!   searches `n` wavelengths for it;
 //! - fixed wavelengths (`fixed_set`) keep the user's wavelengths and get the best 3×N weights
 //!   for them (no search);
-//! - a sensor ([`sensor_set`]) has no wavelengths: each sample is a channel's reading
+//! - a sensor (`sensor_set`) has no wavelengths: each sample is a channel's reading
 //!   `∫ S_k(λ) e(λ) dλ` of the radiance e, and the 3×N matrix from readings to XYZ (or AC1C2, or
 //!   display RGB once folded) is the best linear estimate under the prior. [`least_squares`]
 //!   gives the plain least-squares fit on training colours for comparison.
@@ -33,7 +33,7 @@ pub(crate) const MAX_SAMPLES: usize = 64;
 
 /// Whether `name` can be a set or light name in generated code: upper snake case, starting with
 /// a letter (`SHOP_LED`, `AS7341`).
-pub fn is_const_name(name: &str) -> bool {
+pub(crate) fn is_const_name(name: &str) -> bool {
     let mut chars = name.chars();
     chars.next().is_some_and(|c| c.is_ascii_uppercase())
         && chars.all(|c| c.is_ascii_uppercase() || c.is_ascii_digit() || c == '_')
@@ -205,11 +205,16 @@ impl Sensor {
     /// `label` and the line: what [`Spectra::parse`] refuses (negative sensitivities beyond the
     /// rounding noise among them), data that do not cover `range_nm`, more than `MAX_SAMPLES`
     /// channels, and a channel that is zero over the range.
-    pub fn read(path: &std::path::Path, label: &str, range_nm: [f64; 2]) -> Result<Sensor, Error> {
+    #[cfg(test)]
+    pub(crate) fn read(
+        path: &std::path::Path,
+        label: &str,
+        range_nm: [f64; 2],
+    ) -> Result<Sensor, Error> {
         Self::read_with(path, label, range_nm, Negatives::Refuse)
     }
 
-    /// [`read`](Self::read) with the rule for negative values given ([`Spectra::parse_with`]).
+    /// `read` with the rule for negative values given ([`Spectra::parse_with`]).
     pub(crate) fn read_with(
         path: &std::path::Path,
         label: &str,
@@ -263,7 +268,7 @@ pub struct Fitted {
     pub eval: EvalSet,
     /// The samples of white: a reflectance of 1 under the light (or a radiance of 1), at the
     /// luminance of a spectrum of constant 1. Ones for wavelengths; for a sensor, the golden
-    /// device's reading of it in each channel, [`white_readings`] (the reference the scene's
+    /// device's reading of it in each channel, `white_readings` (the reference the scene's
     /// `tables::sensors::<NAME>_WHITE` bakes, the same numbers).
     pub white_samples: Vec<f64>,
 }
@@ -410,7 +415,7 @@ fn sensor_eval(
 /// `light` (the prior is on the reflectance, and the light's white is exact) or for radiances
 /// (`None`). A reading is `∫ S_k(λ) e(λ) dλ` of the radiance e that reaches the sensor, in
 /// the units of the sensor file's sensitivities times nm.
-pub fn sensor_set(
+pub(crate) fn sensor_set(
     d: &Derivation,
     name: &str,
     sensor_name: &str,
@@ -492,7 +497,7 @@ pub fn golden_readings(
 /// the units of [`golden_readings`]: a sensor set's samples of white
 /// ([`Fitted::white_samples`]), which set the scale of its integer form, and the reference of a
 /// dark and white calibration at run time (`tables::sensors::<NAME>_WHITE`).
-pub fn white_readings(
+pub(crate) fn white_readings(
     d: &Derivation,
     sensor: &Sensor,
     light: Option<&Curve>,
@@ -503,7 +508,7 @@ pub fn white_readings(
 
 /// The plain least-squares matrix from `sensor`'s readings to XYZ, fitted on `training`
 /// reflectances under `light` (no prior, no white condition): the usual hand fit, for
-/// comparison. Measured like [`sensor_set`]'s. `None` when the normal equations are singular
+/// comparison. Measured like `sensor_set`'s. `None` when the normal equations are singular
 /// (fewer training colours than channels).
 pub fn least_squares(
     d: &Derivation,

@@ -19,7 +19,7 @@ use crate::derivation::derive::Derivation;
 use crate::derivation::evaluate::{self, Curve, Spectra};
 
 /// The shared sets' node cache, a file in the data directory: the nodes
-/// [`Problem::optimize`](crate::shared::Problem::optimize) found for each set in [`CACHED`],
+/// `Problem::optimize` found for each set in [`CACHED`],
 /// with a fingerprint of everything the search depends on.
 /// `cargo run --release -p spectral-quadrature-tools --bin tables -- --shared-cache` writes it,
 /// and a test re-runs every search and checks that it finds the same nodes (or worse ones).
@@ -27,7 +27,7 @@ pub(crate) const CACHE_FILE: &str = "data/shared_nodes.csv";
 
 /// The sets whose nodes `CACHE_FILE` holds: radiances and the lights C, D65, A and F11, at 4, 6
 /// and 8 wavelengths (the default scene's sets and the example scenes' among them).
-pub const CACHED: [(Option<&str>, usize); 15] = [
+pub(crate) const CACHED: [(Option<&str>, usize); 15] = [
     (None, 4),
     (None, 6),
     (None, 8),
@@ -46,7 +46,7 @@ pub const CACHED: [(Option<&str>, usize); 15] = [
 ];
 
 /// The catalog name of a shared set: `KQ_<n>` or `KQ_<light>_<n>`.
-pub fn set_name(light: Option<&str>, n: usize) -> String {
+pub(crate) fn set_name(light: Option<&str>, n: usize) -> String {
     match light {
         Some(l) => std::format!("KQ_{l}_{n}"),
         None => std::format!("KQ_{n}"),
@@ -55,8 +55,8 @@ pub fn set_name(light: Option<&str>, n: usize) -> String {
 
 /// One line of `CACHE_FILE`.
 #[derive(Debug, Clone, PartialEq)]
-pub struct CacheEntry {
-    /// The set's name ([`set_name`]).
+pub(crate) struct CacheEntry {
+    /// The set's name (`set_name`).
     pub name: String,
     /// `fingerprint` of the inputs the nodes were found with.
     pub fingerprint: String,
@@ -140,7 +140,7 @@ pub(crate) fn parse_cache(file: &str, text: &str) -> Result<Vec<CacheEntry>, Dat
 }
 
 /// The text of `CACHE_FILE` for `entries`.
-pub fn write_cache(entries: &[CacheEntry]) -> String {
+pub(crate) fn write_cache(entries: &[CacheEntry]) -> String {
     let rows: Vec<Vec<String>> = entries
         .iter()
         .map(|e| {
@@ -201,9 +201,12 @@ pub(crate) fn cached_or_optimize(
     })
 }
 
-/// The cache entry for one set, by a fresh search
-/// ([`Problem::optimize`](crate::shared::Problem::optimize)).
-pub fn cache_entry(d: &Derivation, light: Option<&str>, n: usize) -> Result<CacheEntry, Error> {
+/// The cache entry for one set, by a fresh search (`Problem::optimize`).
+pub(crate) fn cache_entry(
+    d: &Derivation,
+    light: Option<&str>,
+    n: usize,
+) -> Result<CacheEntry, Error> {
     let s = optimize(d, light, n)?;
     Ok(CacheEntry {
         name: set_name(light, n),
@@ -216,7 +219,7 @@ pub fn cache_entry(d: &Derivation, light: Option<&str>, n: usize) -> Result<Cach
 /// The light groups whose nodes `CACHE_FILE` holds (by their lights, size and objective): the
 /// default scene's (daylight, tungsten, a spiky fluorescent and a phosphor LED at 8
 /// wavelengths) and `examples/scenes/window_and_lamp.toml`'s (daylight and tungsten at 8).
-pub const CACHED_GROUPS: [(&[&str], usize, GroupObjective); 2] = [
+pub(crate) const CACHED_GROUPS: [(&[&str], usize, GroupObjective); 2] = [
     (&["D65", "A", "F11", "LED_B2"], 8, GroupObjective::Mean),
     (&["D65", "A"], 8, GroupObjective::Mean),
 ];
@@ -357,7 +360,7 @@ pub(crate) fn cached_or_optimize_group(
 }
 
 /// The cache entry for one light group of built-in lights, by a fresh search.
-pub fn group_cache_entry(
+pub(crate) fn group_cache_entry(
     d: &Derivation,
     lights: &[&str],
     n: usize,
@@ -376,4 +379,26 @@ pub fn group_cache_entry(
         wavelengths_nm: g.wavelengths_nm,
         line: 0,
     })
+}
+
+/// The text of the node cache (`data/shared_nodes.csv`) with every set it holds (radiances and
+/// the lights C, D65, A and F11, at 4, 6 and 8 wavelengths) and every light group of
+/// `CACHED_GROUPS` searched afresh: what the build reuses instead of searching. `searching` is
+/// told each set's name (`KQ_<n>`, `KQ_<light>_<n>`, `GROUP_<light>+…_<n>_<objective>`) before
+/// its search, which takes seconds.
+pub fn cache_file(d: &Derivation, mut searching: impl FnMut(&str)) -> Result<String, Error> {
+    let mut entries = Vec::new();
+    for &(light, n) in &CACHED {
+        searching(&set_name(light, n));
+        entries.push(cache_entry(d, light, n)?);
+    }
+    for &(lights, n, objective) in &CACHED_GROUPS {
+        searching(&std::format!(
+            "GROUP_{}_{n}_{}",
+            lights.join("+"),
+            objective.name()
+        ));
+        entries.push(group_cache_entry(d, lights, n, objective)?);
+    }
+    Ok(write_cache(&entries))
 }

@@ -1,7 +1,8 @@
 //! Fitting the model's prior: the kernel length and empirical-covariance weight that maximise
 //! the leave-one-out likelihood of the training reflectances. The crate's sets use the values
 //! it finds ([`LENGTH_NM`](crate::shared::LENGTH_NM),
-//! [`EMPIRICAL_WEIGHT`](crate::shared::EMPIRICAL_WEIGHT)); the tests re-run it.
+//! [`EMPIRICAL_WEIGHT`](crate::shared::EMPIRICAL_WEIGHT)); the unit tests re-run it, and only
+//! they compile it.
 
 use std::vec::Vec;
 
@@ -12,7 +13,7 @@ use crate::derivation::evaluate::Curve;
 
 /// The result of [`fit`].
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Fit {
+pub(crate) struct Fit {
     /// The Matérn 5/2 length, nm.
     pub length_nm: f64,
     /// The weight of the empirical covariance.
@@ -22,10 +23,10 @@ pub struct Fit {
 }
 
 /// The lengths [`fit`] searches for the crate's sets, nm.
-pub const FIT_LENGTHS_NM: [f64; 9] = [40.0, 45.0, 50.0, 55.0, 60.0, 65.0, 70.0, 75.0, 80.0];
+pub(crate) const FIT_LENGTHS_NM: [f64; 9] = [40.0, 45.0, 50.0, 55.0, 60.0, 65.0, 70.0, 75.0, 80.0];
 
 /// The empirical-covariance weights [`fit`] searches for the crate's sets.
-pub const FIT_WEIGHTS: [f64; 11] = [
+pub(crate) const FIT_WEIGHTS: [f64; 11] = [
     0.0, 10.0, 20.0, 30.0, 50.0, 70.0, 100.0, 150.0, 200.0, 300.0, 1000.0,
 ];
 
@@ -37,7 +38,7 @@ pub(crate) const FIT_NOISE: f64 = 1e-4;
 /// of `training`: each reflectance predicted by a Gaussian with the other reflectances' mean and
 /// covariance `σ²(k + α S₋ₖ + ηI)` (σ² profiled, η = `FIT_NOISE`), on a 5 nm grid of
 /// `range_nm`. `None` with fewer than 3 spectra or when no candidate is positive definite.
-pub fn fit(
+pub(crate) fn fit(
     training: &[Curve],
     range_nm: [f64; 2],
     lengths_nm: &[f64],

@@ -29,7 +29,7 @@ use spectral_quadrature_math::{delta_e2000, lab_from_xyz};
 
 use super::model::{Problem, Shared};
 use crate::base::error::Error;
-use crate::derivation::evaluate::{Curve, EvalSet};
+use crate::derivation::evaluate::Curve;
 
 /// The training reflectances of the crate's light groups: every reflectance file of the crate
 /// (the CIE test colours, the ColorChecker, the 190 rawtoaces patches). The report judges the
@@ -167,23 +167,6 @@ impl Member {
             ),
             light: Some(self.light.clone()),
             sensor: None,
-        }
-    }
-
-    /// The member as the report measures it, on radiances `r · L` (as
-    /// [`Shared::eval_set`](crate::shared::Shared::eval_set)).
-    pub fn eval_set(&self, wavelengths_nm: &[f64], name: &str, family: &str) -> EvalSet {
-        EvalSet {
-            name: name.into(),
-            family: family.into(),
-            orders: None,
-            wavelengths_nm: wavelengths_nm.to_vec(),
-            xyz_weights: self.xyz_weights.clone().map(|row| {
-                row.iter()
-                    .zip(&self.light_at_nodes)
-                    .map(|(v, l)| v / l)
-                    .collect()
-            }),
         }
     }
 }

@@ -9,7 +9,11 @@ use crate::derivation::sets::WavelengthSet;
 /// Method (a): the A channel's Gauss rule of order `n` (its nodes and A weights), with C1 and C2
 /// integrated on the same nodes by interpolatory rules (the integral of the interpolating
 /// polynomial), so that all three channels share `n` wavelengths.
-pub fn interpolatory_a(d: &Derivation, n: usize, name: &str) -> Result<WavelengthSet, Error> {
+pub(crate) fn interpolatory_a(
+    d: &Derivation,
+    n: usize,
+    name: &str,
+) -> Result<WavelengthSet, Error> {
     let problem = |problem: SetNameProblem| Error::SetName {
         name: name.into(),
         problem,

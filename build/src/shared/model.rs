@@ -45,9 +45,9 @@ impl Kernel {
 /// reflectance measurement noise of the data (about 1e-3) and far above f64 rounding.
 pub(crate) const NUGGET: f64 = 1e-6;
 
-/// The Matérn length of the crate's sets, nm: [`fit`](crate::shared::fit) on the CIE test colour
-/// samples over [`FIT_LENGTHS_NM`](crate::shared::FIT_LENGTHS_NM) ×
-/// [`FIT_WEIGHTS`](crate::shared::FIT_WEIGHTS) (the tests re-run the fit).
+/// The Matérn length of the crate's sets, nm: the maximum of the leave-one-out likelihood of the
+/// CIE test colour samples over a grid of lengths and empirical-covariance weights (the unit
+/// tests re-run the fit).
 pub const LENGTH_NM: f64 = 60.0;
 
 /// The empirical-covariance weight of the crate's sets, fitted with [`LENGTH_NM`].
@@ -491,24 +491,6 @@ pub struct Shared {
 }
 
 impl Shared {
-    /// The set as the report measures it, on radiances `r · L`: the folded weights divided by
-    /// the light at each wavelength, so that applied to `r · L` it equals the folded set
-    /// applied to r.
-    pub fn eval_set(&self, name: &str, family: &str) -> EvalSet {
-        EvalSet {
-            name: name.into(),
-            family: family.into(),
-            orders: None,
-            wavelengths_nm: self.wavelengths_nm.clone(),
-            xyz_weights: self.xyz_weights.clone().map(|row| {
-                row.iter()
-                    .zip(&self.light_at_nodes)
-                    .map(|(v, l)| v / l)
-                    .collect()
-            }),
-        }
-    }
-
     /// The set as the runtime bakes it: AC1C2 rows (Eq. 9 applied to the folded XYZ weights).
     pub(crate) fn wavelength_set(&self, d: &Derivation, name: &str) -> WavelengthSet {
         let n = self.wavelengths_nm.len();
@@ -531,7 +513,7 @@ impl Shared {
 
 /// A set as the report and the planner measure it, on radiances: its AC1C2 weights taken to XYZ
 /// and, for a set with `light` folded in (the curve the set was fitted for), divided by that
-/// light at each wavelength, as [`Shared::eval_set`] does, so that applied to `r · L` it equals
+/// light at each wavelength, so that applied to `r · L` it equals
 /// the folded set applied to r. `light` `None`: a set for radiances, taken as it is.
 pub fn eval_on_radiance(
     d: &Derivation,

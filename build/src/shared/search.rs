@@ -100,7 +100,7 @@ impl Problem {
 
     /// The best of greedy selection and evenly spaced starts, each refined by coordinate
     /// descent: `n` grid indices (ascending) and their error.
-    pub fn optimize(&self, n: usize) -> (Vec<usize>, f64) {
+    pub(crate) fn optimize(&self, n: usize) -> (Vec<usize>, f64) {
         self.optimize_with(n, &|nodes| self.objective(nodes))
     }
 
@@ -140,7 +140,7 @@ impl Problem {
             .unwrap_or((Vec::new(), f64::INFINITY))
     }
 
-    /// The optimised shared set of `n` wavelengths ([`optimize`](Self::optimize)).
+    /// The optimised shared set of `n` wavelengths (`optimize`, the node search).
     pub fn shared(&self, n: usize) -> Result<Shared, Error> {
         let (nodes, _) = self.optimize(n);
         if nodes.len() != n {
@@ -160,10 +160,10 @@ impl Problem {
 /// The shared set of `n` wavelengths for a built-in light (`None`: radiances). To build
 /// several sizes for one light, set up `problem` once and call [`Problem::shared`].
 ///
-/// This runs the node search ([`Problem::optimize`]), which solves the kriging system for every
+/// This runs the node search (`Problem::optimize`), which solves the kriging system for every
 /// node it tries: too slow for a build script at Cargo's default opt-level 0 (README, "Build
 /// cost", measures it). `cached_or_optimize` takes the nodes
 /// from `CACHE_FILE` where it can.
-pub fn optimize(d: &Derivation, light: Option<&str>, n: usize) -> Result<Shared, Error> {
+pub(crate) fn optimize(d: &Derivation, light: Option<&str>, n: usize) -> Result<Shared, Error> {
     problem(d, light)?.shared(n)
 }

@@ -741,6 +741,15 @@ fn the_rawtoaces_reflectances_read_with_their_rounding_noise_zeroed() {
 }
 
 #[test]
+fn every_builtin_file_parses_and_covers_the_range() {
+    for file in crate::evaluate::BUILTIN {
+        let s = Spectra::builtin(std::path::Path::new(DATA_DIR), file)
+            .unwrap_or_else(|e| panic!("{e}"));
+        s.curves([380.0, 770.0]).unwrap_or_else(|e| panic!("{e}"));
+    }
+}
+
+#[test]
 fn the_other_shipped_files_have_no_negative_values() {
     for file in crate::evaluate::BUILTIN {
         let s = Spectra::builtin(std::path::Path::new(DATA_DIR), file).unwrap();

@@ -5,11 +5,11 @@
 use std::path::Path;
 use std::sync::OnceLock;
 
-use crate::display::{standard_displays, Transfer};
+use crate::display::{display_matrices, standard_displays, DisplaySpec, Transfer, MAX_CONDITION};
 use crate::plan::Metric;
 use crate::scene::Scene;
 use crate::shader::Language;
-use crate::{derive, Derivation, Error, SetNameProblem, Settings};
+use crate::{derive, Derivation, DisplayError, Error, SetNameProblem, Settings};
 
 const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");
 
@@ -264,4 +264,114 @@ fn light_problems_are_typed() {
         matches!(&e, Error::Light { name, problem: crate::LightProblem::NotBuiltIn { valid } } if name == "Z9" && valid.iter().any(|l| l == "C")),
         "{e:?}"
     );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Displays the derivation refuses.
+
+fn spec(name: &str, primaries: [[f64; 2]; 3], white: [f64; 2]) -> DisplaySpec {
+    DisplaySpec {
+        name: name.into(),
+        label: name.into(),
+        doc: String::new(),
+        primaries_xy: primaries,
+        white_xy: white,
+        transfer: Transfer::Gamma(2.2),
+    }
+}
+
+#[test]
+fn nearly_collinear_primaries_are_refused_with_condition_number_and_threshold() {
+    // Green almost on the line from red to blue.
+    let red = [0.64, 0.33];
+    let blue = [0.15, 0.06];
+    let t = 0.5;
+    let on_line = [
+        red[0] + t * (blue[0] - red[0]),
+        red[1] + t * (blue[1] - red[1]) + 1e-5,
+    ];
+    let e = display_matrices(&spec("FLAT", [red, on_line, blue], [0.3127, 0.329])).unwrap_err();
+    let Error::Display {
+        name,
+        problem: DisplayError::Collinear { condition },
+    } = &e
+    else {
+        panic!("expected collinear primaries, got {e:?}");
+    };
+    assert_eq!(name, "FLAT");
+    assert!(f64::from(*condition) > MAX_CONDITION, "{condition}");
+    let e = e.to_string();
+    assert!(e.contains("FLAT") && e.contains("collinear"), "{e}");
+    assert!(
+        e.contains("condition number") && e.contains(&format!("{MAX_CONDITION:e}")),
+        "{e}"
+    );
+}
+
+#[test]
+fn white_outside_the_primaries_triangle_is_refused() {
+    let e = display_matrices(&spec(
+        "ODD_WHITE",
+        [[0.64, 0.33], [0.30, 0.60], [0.15, 0.06]],
+        [0.60, 0.38],
+    ))
+    .unwrap_err();
+    assert!(
+        matches!(
+            &e,
+            Error::Display { problem: DisplayError::WhiteOutside { drives, .. }, .. }
+                if drives.iter().any(|d| *d <= 0.0)
+        ),
+        "{e:?}"
+    );
+    let e = e.to_string();
+    assert!(
+        e.contains("ODD_WHITE") && e.contains("outside the primaries' triangle"),
+        "{e}"
+    );
+}
+
+#[test]
+fn invalid_chromaticities_are_refused() {
+    for bad in [[0.5, 0.0], [0.7, 0.5], [f64::NAN, 0.3], [-0.1, 0.3]] {
+        let e = display_matrices(&spec(
+            "BAD",
+            [bad, [0.3, 0.6], [0.15, 0.06]],
+            [0.3127, 0.329],
+        ))
+        .unwrap_err();
+        assert!(
+            matches!(
+                &e,
+                Error::Display {
+                    problem: DisplayError::Chromaticity { point, .. },
+                    ..
+                } if point.name() == "red primary"
+            ),
+            "{e:?}"
+        );
+        let e = e.to_string();
+        assert!(
+            e.contains("BAD") && e.contains("red primary chromaticity"),
+            "{e}"
+        );
+    }
+}
+
+#[test]
+fn standard_displays_are_well_conditioned_and_balanced() {
+    // Condition numbers of real displays lie far below the threshold (measured 19-23), and each
+    // white balance sums to 1 (white at Y = 1; f64 rounding 1e-12).
+    for s in standard_displays() {
+        let m = display_matrices(&s).unwrap();
+        assert!(m.condition < 50.0, "{}: {}", s.name, m.condition);
+        assert!((m.luminance.iter().sum::<f64>() - 1.0).abs() < 1e-12);
+    }
+    // The paper's monitor: Y_r : Y_g : Y_b ≈ 0.222 : 0.707 : 0.071
+    // (docs/reproducing-the-paper.md).
+    let meyer = standard_displays().pop().unwrap();
+    let l = display_matrices(&meyer).unwrap().luminance;
+    for (v, expect) in l.iter().zip([0.222, 0.707, 0.071]) {
+        assert!((v - expect).abs() < 0.0006, "{l:?}");
+    }
 }

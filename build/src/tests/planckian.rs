@@ -18,32 +18,6 @@ fn tables(text: &str) -> String {
     crate::codegen::tables_rs(&d, &[], &scene.resolve(&d).unwrap()).unwrap()
 }
 
-/// Points placed at a known temperature and distance along the exact normal come back: the
-/// reference solves for the foot of the perpendicular to f64 rounding.
-#[test]
-fn the_reference_recovers_points_placed_off_the_locus() {
-    let l = locus(crate::ObserverId::Cie1931_2deg);
-    for kelvin in [
-        1000.0, 1500.0, 2856.0, 4000.0, 6504.0, 10_000.0, 20_000.0, 100_000.0,
-    ] {
-        for duv in [-0.05, -0.02, 0.0, 0.001, 0.03, 0.05] {
-            let mired = 1e6 / kelvin;
-            let e = l.cct_duv(l.offset(mired, duv)).unwrap();
-            // The placement and the solution each round at the level of f64's ε (2.2e-16) on
-            // values near 0.3, over a locus speed of at least 2.3e-4 per mired: 1e-9 mired
-            // leaves room for both and for the curvature's second-order term.
-            assert!((e.mired - mired).abs() < 1e-9, "{kelvin} K, {duv}: {e:?}");
-            assert!((e.duv - duv).abs() < 1e-12, "{kelvin} K, {duv}: {e:?}");
-        }
-    }
-    // The locus's ends (μ = 0 and 1500 mired) are not answers: a point beyond them has none.
-    assert_eq!(l.cct_duv(l.uv(1600.0)), None);
-    assert_eq!(l.cct_duv([f64::NAN, 0.3]), None);
-    // μ = 0, T = ∞, has a finite chromaticity; the table stops at 10 mired.
-    let infinite = l.uv(0.0);
-    assert!(infinite.iter().all(|c| c.is_finite()));
-}
-
 /// The tangent the table bakes is the derivative of the locus: a central difference agrees.
 #[test]
 fn the_tangent_is_the_derivative() {
@@ -51,7 +25,7 @@ fn the_tangent_is_the_derivative() {
     for mired in [10.0, 50.0, 153.8, 350.0, 700.0, 1000.0] {
         let (_, t) = l.uv_and_tangent(mired);
         let h = 1e-3;
-        let (a, b) = (l.uv(mired - h), l.uv(mired + h));
+        let (a, b) = (l.uv_and_tangent(mired - h).0, l.uv_and_tangent(mired + h).0);
         for c in 0..2 {
             let fd = (b[c] - a[c]) / (2.0 * h);
             // A central difference errs by h²/6 · L‴ (below 1e-12 here) plus rounding
@@ -79,10 +53,87 @@ fn the_table() {
     assert_eq!(nodes[0].mired, planckian::TABLE_MIRED[0]);
     assert!((nodes[nodes.len() - 1].mired - planckian::TABLE_MIRED[1]).abs() < 1e-9);
     assert!(nodes.windows(2).all(|w| w[0].mired < w[1].mired));
+    // Every segment's cubic Hermite interpolant stays within the tolerance of the locus, checked
+    // here at odd sixteenths, between the quarters the table's construction checks.
+    for w in nodes.windows(2) {
+        for k in (1..16).step_by(2) {
+            let t = k as f64 / 16.0;
+            let h = planckian::hermite(&w[0], &w[1], t);
+            let e = l
+                .uv_and_tangent(w[0].mired + t * (w[1].mired - w[0].mired))
+                .0;
+            let dist = (h[0] - e[0]).hypot(h[1] - e[1]);
+            // A cubic Hermite's error is ∝ t²(1 − t)² to leading order, largest at the half,
+            // which the construction checks: elsewhere it stays under the same bound.
+            assert!(
+                dist <= planckian::TABLE_TOLERANCE_UV,
+                "segment at {} mired, t = {t}: {dist:e}",
+                w[0].mired
+            );
+        }
+    }
     let ten = locus(crate::ObserverId::Cie1964_10deg);
-    let (a, b) = (l.uv(153.8), ten.uv(153.8));
+    let (a, b) = (l.uv_and_tangent(153.8).0, ten.uv_and_tangent(153.8).0);
     // D65's neighbourhood moves by 3.5e-4 in (u, v) from the 2° to the 10° observer.
     assert!((a[0] - b[0]).hypot(a[1] - b[1]) > 1e-4, "{a:?} {b:?}");
+}
+
+/// The numbers of one field of the baked `PLANCKIAN_LOCUS` in `tables`, in order (pairs
+/// flattened).
+fn baked_field(tables: &str, field: &str) -> Vec<f64> {
+    let start = tables.find("pub const PLANCKIAN_LOCUS").unwrap();
+    let from = start + tables[start..].find(&format!("    {field}: [")).unwrap();
+    let text = &tables[from + field.len() + 7..];
+    let mut depth = 1;
+    let end = text
+        .char_indices()
+        .find(|&(_, c)| {
+            depth += match c {
+                '[' => 1,
+                ']' => -1,
+                _ => 0,
+            };
+            depth == 0
+        })
+        .unwrap()
+        .0;
+    text[..end]
+        .split(|c: char| c == ',' || c == '[' || c == ']' || c.is_whitespace())
+        .filter(|t| !t.is_empty())
+        .map(|t| t.parse().unwrap())
+        .collect()
+}
+
+/// The baked table holds the table's nodes: each one's μ, point and tangent rounded to f32,
+/// the chord to the next, and the tangent's direction and `L · T̂` in fixed point.
+#[test]
+fn the_baked_table_holds_the_nodes() {
+    let text = tables("sets = [\"TABLE2_ROW2\"]\ndisplays = [\"SRGB\"]\n[extras]\ncct = true\n");
+    let nodes = locus(crate::ObserverId::Cie1931_2deg).table();
+    let f32s = |v: Vec<f64>| -> Vec<f32> { v.into_iter().map(|x| x as f32).collect() };
+    let chords: Vec<[f64; 2]> = (0..nodes.len())
+        .map(|i| match nodes.get(i + 1) {
+            Some(next) => [0, 1].map(|c| next.uv[c] - nodes[i].uv[c]),
+            None => [0.0; 2],
+        })
+        .collect();
+    let fixed: Vec<([i16; 2], i32)> = nodes.iter().map(|n| n.fixed_point()).collect();
+    for (field, expected) in [
+        ("mired", nodes.iter().map(|n| n.mired).collect::<Vec<_>>()),
+        ("uv", nodes.iter().flat_map(|n| n.uv).collect()),
+        ("tangent", nodes.iter().flat_map(|n| n.tangent).collect()),
+        ("chord", chords.into_iter().flatten().collect()),
+    ] {
+        let baked: Vec<f32> = baked_field(&text, field)
+            .into_iter()
+            .map(|x| x as f32)
+            .collect();
+        assert_eq!(baked, f32s(expected), "{field}");
+    }
+    let unit: Vec<f64> = fixed.iter().flat_map(|(u, _)| u.map(f64::from)).collect();
+    assert_eq!(baked_field(&text, "unit_tangent_q14"), unit);
+    let along: Vec<f64> = fixed.iter().map(|&(_, a)| f64::from(a)).collect();
+    assert_eq!(baked_field(&text, "along_q30"), along);
 }
 
 /// `[extras] cct = true` bakes the locus; a scene without it does not; the default scene does.
@@ -121,7 +172,11 @@ fn the_locus_range_is_cie_015s() {
         assert_eq!(standard, PlanckianLocus::new(&o, range).unwrap());
         // The derivation's own range (380-770 or 390-770 nm) is another locus.
         let scene = PlanckianLocus::new(&o, settings.range_nm).unwrap();
-        assert_ne!(standard.uv(153.8), scene.uv(153.8), "{observer:?}");
+        assert_ne!(
+            standard.uv_and_tangent(153.8).0,
+            scene.uv_and_tangent(153.8).0,
+            "{observer:?}"
+        );
     }
     // A scene integrating over another range bakes the same locus, and its doc says the range.
     let default = tables("sets = [\"TABLE2_ROW2\"]\ndisplays = [\"SRGB\"]\n[extras]\ncct = true\n");

@@ -143,22 +143,19 @@ fn scene_upsampling_table() {
 }
 
 /// What the docs state for the radiance sets at sRGB under D65: the share of a 9³ grid that
-/// node values in [0, 1] reach, whether a bounded exact linear map exists, and on a 17³ table
-/// the round trip within 0.05 ΔE00 at every reachable point of the 17³ grid.
+/// node values in [0, 1] reach, and on a 17³ table the round trip within 0.05 ΔE00 at every
+/// reachable point of the 17³ grid. (Whether a bounded exact linear map exists is the report's
+/// measure, tested with it in the tools.)
 #[test]
-fn radiance_sets_reach_round_trip_and_linear_maps() {
+fn radiance_sets_reach_and_round_trip() {
     let d = derive(&Settings::new(DATA_DIR)).unwrap();
     let data = std::path::Path::new(DATA_DIR);
     let range = d.settings.range_nm;
     let training = up::training(data, range).unwrap();
     let d65 = crate::evaluate::builtin_illuminant(data, "D65", range).unwrap();
     let (_, m) = d.display("SRGB").unwrap();
-    // (set, reachable share of 9³ rounded to 0.1 %, bounded exact linear map)
-    for (name, share, linear) in [
-        ("KQ_4", 96.2, false),
-        ("KQ_6", 99.7, false),
-        ("KQ_8", 100.0, true),
-    ] {
+    // (set, reachable share of 9³ rounded to 0.1 %)
+    for (name, share) in [("KQ_4", 96.2), ("KQ_6", 99.7), ("KQ_8", 100.0)] {
         let set = crate::catalog::resolve(&d, name).unwrap();
         let b9 = up::bake(&d, &set, ("SRGB", m), &d65, false, &training, 9).unwrap();
         assert_eq!(
@@ -166,10 +163,6 @@ fn radiance_sets_reach_round_trip_and_linear_maps() {
             share,
             "{name}"
         );
-        let residual = up::bounded_exact_linear_residual(&b9.encoding).unwrap();
-        // Exists: the residual is the penalty's (about 1e-7); does not: at least 1e-3.
-        assert_eq!(residual < 1e-5, linear, "{name}: {residual}");
-        assert!(linear || residual > 1e-3, "{name}: {residual}");
         let b17 = up::bake(&d, &set, ("SRGB", m), &d65, false, &training, 17).unwrap();
         let mut worst = 0.0f64;
         for idx in 0..17 * 17 * 17 {

@@ -36,7 +36,7 @@ const HEADER: &str = "set,display,grid,fingerprint,lipschitz,max_round_trip_de00
 
 /// One line of `CACHE_FILE`: one baked upsampling.
 #[derive(Debug, Clone, PartialEq)]
-pub struct CacheEntry {
+pub(crate) struct CacheEntry {
     /// The set's name.
     pub set: String,
     /// The display's name (`SRGB`).
@@ -300,7 +300,7 @@ pub(crate) fn parse_cache(file: &str, text: &str) -> Result<Vec<CacheEntry>, Dat
 }
 
 /// The text of `CACHE_FILE` for `entries`.
-pub fn write_cache(entries: &[CacheEntry]) -> String {
+pub(crate) fn write_cache(entries: &[CacheEntry]) -> String {
     use std::fmt::Write as _;
     let rows: Vec<Vec<String>> = entries
         .iter()

@@ -39,13 +39,9 @@ mod cache;
 pub mod qp;
 mod training;
 
-pub use bake::{
-    bake, bounded_exact_linear_residual, encode, exact_rgb, grid_point, project, Baked,
-    DEFAULT_GRID,
-};
+pub use bake::{bake, encode, exact_rgb, grid_point, project, Baked, DEFAULT_GRID};
 pub(crate) use bake::{bake_with, encoding, GRID_SIZES, RADIANCE_REFERENCE_LIGHT};
-pub(crate) use cache::{read_cache, FitInputs, CACHE_FILE};
-pub use cache::{write_cache, CacheEntry};
+pub(crate) use cache::{read_cache, write_cache, CacheEntry, FitInputs, CACHE_FILE};
 pub use training::training;
 pub(crate) use training::TRAINING_FILES;
 // The paths the unit tests (src/tests/) name.

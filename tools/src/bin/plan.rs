@@ -79,18 +79,15 @@ fn run(args: &Args) -> Result<(), Error> {
     let start = Instant::now();
     let budget = args.max_delta_e;
     let metric = Metric::from(args.metric);
-    plan::check_budget(budget)?;
     let d = spectral_quadrature_build::derive(&tools::settings())?;
     tools::warn_zeroed("plan", &d.observer.zeroed);
     let displays = check_displays(&d, &args.displays)?;
     let range = d.settings.range_nm;
     let (stimuli, described) = load_stimuli(args, range)?;
-    let mut candidates = plan::evaluate_all(&d, &stimuli)?;
-    // The shared sets: for radiances, and folded for the stimuli's light when they share a
-    // built-in one.
+    // Beside the catalogue's sets, the shared sets: for radiances, and folded for the stimuli's
+    // light when they share a built-in one.
     let shared = plan::shared_sets(&d, &stimuli, &[])?;
-    candidates.extend(plan::evaluate_sets(&d, &stimuli, &shared)?);
-    let p = plan::plan_from(&candidates, stimuli.len(), budget, metric)?;
+    let p = plan::plan(&d, &stimuli, &shared, budget, metric)?;
     let elapsed = start.elapsed().as_secs_f64();
 
     let note = format!(
@@ -98,15 +95,9 @@ fn run(args: &Args) -> Result<(), Error> {
         command_args()
     );
     let display_refs: Vec<&str> = displays.iter().map(String::as_str).collect();
-    let scene = plan::scene_toml(&p, d.settings.observer.name(), &display_refs, &note);
+    let scene = tools::scene_file::scene_toml(&p, d.settings.observer.name(), &display_refs, &note);
     let chosen_set = spectral_quadrature_build::catalog::resolve(&d, &p.chosen.name)?;
-    let summary = summary(
-        &p,
-        &candidates,
-        &described,
-        &chosen_set.wavelengths_nm,
-        elapsed,
-    );
+    let summary = summary(&p, &described, &chosen_set.wavelengths_nm, elapsed);
     if args.out.as_os_str() == "-" {
         eprint!("{summary}");
         print!("{scene}");
@@ -214,19 +205,15 @@ fn command_args() -> String {
 }
 
 /// The chosen set, and the best set at each wavelength count around it.
-fn summary(
-    p: &Plan,
-    candidates: &[Candidate],
-    described: &str,
-    wavelengths_nm: &[f64],
-    elapsed_s: f64,
-) -> String {
+fn summary(p: &Plan, described: &str, wavelengths_nm: &[f64], elapsed_s: f64) -> String {
     let m = p.metric;
     let mut s = String::new();
     let _ = writeln!(
         s,
         "{} sets measured on {} stimuli ({described}) in {elapsed_s:.2} s; budget: {m} ΔE00 <= {}",
-        p.evaluated, p.stimuli, p.budget
+        p.candidates.len(),
+        p.stimuli,
+        p.budget
     );
     let _ = writeln!(
         s,
@@ -237,7 +224,7 @@ fn summary(
         "  {:>3}  {:<16} {:>10} {:>10} {:>10} {:>10}  meets",
         "n", "set", "mean ΔE00", "max ΔE00", "mean ΔE76", "max ΔE76"
     );
-    let best = plan::best_per_count(candidates, m);
+    let best = plan::best_per_count(&p.candidates, m);
     let at = best
         .iter()
         .position(|c| c.wavelengths == p.chosen.wavelengths)
@@ -260,7 +247,8 @@ fn summary(
     }
     let _ = write!(s, "\nfewest wavelengths meeting the budget, by family:");
     for family in FAMILIES {
-        let members: Vec<Candidate> = candidates
+        let members: Vec<Candidate> = p
+            .candidates
             .iter()
             .filter(|c| c.name.starts_with(family))
             .cloned()

@@ -21,8 +21,8 @@ use spectral_quadrature_tools as tools;
 
 use clap::Parser;
 use spectral_quadrature::{tables, Channel, GaussRule, RuleStatus, WavelengthSet};
-use spectral_quadrature_build::paper::{self, Entry};
 use tools::csv_table::Table;
+use tools::paper::{self, Entry};
 
 /// Prints the crate's derived tables beside the paper's.
 #[derive(Parser)]
@@ -121,30 +121,12 @@ fn other_observers() -> Vec<spectral_quadrature_build::Derivation> {
         .collect()
 }
 
-/// Searches every set of `shared::CACHED` and light group of `shared::CACHED_GROUPS` afresh and
-/// prints the cache file.
+/// Searches every set of the node cache afresh and prints the cache file.
 fn print_shared_cache() -> Result<(), spectral_quadrature_build::Error> {
     let d = spectral_quadrature_build::derive(&tools::settings())?;
-    let entries = spectral_quadrature_build::shared::CACHED
-        .iter()
-        .map(|&(light, n)| {
-            eprintln!(
-                "searching {}",
-                spectral_quadrature_build::shared::set_name(light, n)
-            );
-            spectral_quadrature_build::shared::cache_entry(&d, light, n)
-        })
-        .chain(spectral_quadrature_build::shared::CACHED_GROUPS.iter().map(
-            |&(lights, n, objective)| {
-                eprintln!("searching the light group of {} at {n}", lights.join(", "));
-                spectral_quadrature_build::shared::group_cache_entry(&d, lights, n, objective)
-            },
-        ))
-        .collect::<Result<Vec<_>, _>>()?;
-    print!(
-        "{}",
-        spectral_quadrature_build::shared::write_cache(&entries)
-    );
+    let text =
+        spectral_quadrature_build::shared::cache_file(&d, |name| eprintln!("searching {name}"))?;
+    print!("{text}");
     Ok(())
 }
 
@@ -154,11 +136,7 @@ fn print_upsampling_cache() -> Result<(), spectral_quadrature_build::Error> {
     let d = spectral_quadrature_build::derive(&settings)?;
     let scene = spectral_quadrature_build::scene::Scene::default_scene(&settings.data_dir);
     let resolved = scene.resolve_fitting(&d)?;
-    let entries = resolved.upsampling_cache(&d)?;
-    print!(
-        "{}",
-        spectral_quadrature_build::upsampling::write_cache(&entries)
-    );
+    print!("{}", resolved.upsampling_cache_file(&d)?);
     Ok(())
 }
 

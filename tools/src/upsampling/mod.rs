@@ -113,3 +113,39 @@ pub fn mean_p95(v: &[f64]) -> (f64, f64) {
     let rank = ((0.95 * s.len() as f64).ceil() as usize).clamp(1, s.len());
     (s.iter().sum::<f64>() / s.len() as f64, s[rank - 1])
 }
+
+/// Whether some linear map U (N × 3) is bounded and exact at once: `encoding · U = I` (every
+/// colour round-trips) and `U · rgb` in [0, 1]ᴺ for every RGB in the unit cube (U ≥ 0 and each
+/// row sums to at most 1). Decided as a feasibility programme: the rows `[U | s]` with a slack
+/// s ≥ 0 lie in the probability simplex, and the box programme finds the nearest such matrix to
+/// meeting `encoding · [U | s] = [I | 0]`. Returns the largest entry of that residual: 0 (to
+/// about 1e-9) where such a map exists.
+#[allow(clippy::needless_range_loop)]
+pub fn bounded_exact_linear_residual(encoding: &[Vec<f64>; 3]) -> Result<f64, Error> {
+    let n = encoding[0].len();
+    // Variables: P[i][k], i < N, k < 4, at index 4i + k.
+    let vars = 4 * n;
+    let mut rows: Vec<Vec<f64>> = Vec::new();
+    let mut rhs: Vec<f64> = Vec::new();
+    for c in 0..3 {
+        for k in 0..4 {
+            let mut row = std::vec![0.0; vars];
+            for i in 0..n {
+                row[4 * i + k] = encoding[c][i];
+            }
+            rows.push(row);
+            rhs.push(if k == c { 1.0 } else { 0.0 });
+        }
+    }
+    for i in 0..n {
+        let mut row = std::vec![0.0; vars];
+        for k in 0..4 {
+            row[4 * i + k] = 1.0;
+        }
+        rows.push(row);
+        rhs.push(1.0);
+    }
+    let u = std::vec![0.25; vars];
+    let s = spectral_quadrature_build::upsampling::qp::nearest_in_box(&u, &rows, &rhs)?;
+    Ok(s.residual.iter().fold(0.0f64, |m, r| m.max(r.abs())))
+}

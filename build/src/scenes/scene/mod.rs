@@ -72,7 +72,6 @@ mod resolve;
 #[cfg(test)]
 pub(crate) use parse::DEFAULT_SHARED_SETS;
 pub use parse::{
-    Extras, PlanRequest, Scene, SceneFixed, SceneGroup, SceneLight, SceneSensor, UserInputs,
-    SCENE_ENV,
+    PlanRequest, Scene, SceneFixed, SceneGroup, SceneLight, SceneSensor, UserInputs, SCENE_ENV,
 };
 pub use resolve::{user_warnings, Resolved};

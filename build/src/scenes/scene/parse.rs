@@ -233,7 +233,7 @@ const CATALOG_PREFIXES: [&str; 8] = [
 /// Optional tables.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Default)]
 #[serde(deny_unknown_fields)]
-pub struct Extras {
+pub(crate) struct Extras {
     /// `GRID_NM` and `SENSITIVITIES`.
     #[serde(default)]
     pub sensitivities: bool,
@@ -285,7 +285,7 @@ pub struct Scene {
     /// Displays with their transfer functions.
     pub displays: Vec<DisplaySpec>,
     /// Optional tables.
-    pub extras: Extras,
+    pub(crate) extras: Extras,
     /// A budget to plan for.
     pub plan: Option<PlanRequest>,
     /// The user's lights, fixed wavelengths and sensors.
@@ -296,7 +296,7 @@ pub struct Scene {
     /// Whether this is the default scene (everything).
     pub is_default: bool,
     /// The `[upsampling]` table, if any.
-    pub upsampling: Option<UpsamplingRequest>,
+    pub(crate) upsampling: Option<UpsamplingRequest>,
 }
 
 fn line_of(text: &str, offset: usize) -> usize {

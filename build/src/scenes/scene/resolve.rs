@@ -34,7 +34,7 @@ pub struct Resolved {
     /// Displays and their matrices.
     pub displays: Vec<(DisplaySpec, DisplayMatrices)>,
     /// Optional tables.
-    pub extras: Extras,
+    pub(crate) extras: Extras,
     /// What the planner chose, as a sentence for the generated header, if it ran.
     pub planned: Option<String>,
     /// The upsamplings the scene asks for, baked.
@@ -43,11 +43,11 @@ pub struct Resolved {
     /// spectra), one entry per file that has any: the build prints each as a warning.
     pub warnings: Vec<ZeroedNegatives>,
     /// Each sensor's white reference and fitted calibration, baked in `tables::sensors`.
-    pub sensors: Vec<SensorTables>,
+    pub(crate) sensors: Vec<SensorTables>,
     /// The samples of white of the scene's own sets, by name, where they are not all 1: a
     /// sensor set's readings of a reflectance of 1 under its light (or of a radiance of 1), at
     /// the luminance of a spectrum of constant 1 (`Fitted::white_samples`, from
-    /// [`calibration::white_readings`]: for a sensor, the same numbers as its [`SensorTables`]'s
+    /// `calibration::white_readings`: for a sensor, the same numbers as its `SensorTables`'s
     /// `white`).
     pub white_samples: Vec<(String, Vec<f64>)>,
     /// The light groups, by name (`[groups.NAME]`, and the default scene's), baked in
@@ -86,12 +86,18 @@ impl Resolved {
         Ok(self)
     }
 
-    /// The cache entries (`crate::upsampling::CACHE_FILE`) of the scene's upsamplings: each
-    /// one's codes and figures, with the fingerprint of its inputs. For the default scene after
-    /// [`Scene::resolve_fitting`], the text of the cache is
-    /// [`write_cache`](crate::upsampling::write_cache) of these. The lights are looked up among
-    /// the built-in ones: for a set that folds in a scene's own light, this is an error.
-    pub fn upsampling_cache(&self, d: &Derivation) -> Result<Vec<CacheEntry>, Error> {
+    /// The text of the upsampling cache (`data/upsampling_codes.csv`) for the scene's
+    /// upsamplings: each one's codes and figures, with the fingerprint of its inputs. For the
+    /// default scene after [`Scene::resolve_fitting`], this is the file the build reuses
+    /// instead of fitting. The lights are looked up among the built-in ones: for a set that
+    /// folds in a scene's own light, this is an error.
+    pub fn upsampling_cache_file(&self, d: &Derivation) -> Result<String, Error> {
+        Ok(crate::upsampling::write_cache(&self.upsampling_cache(d)?))
+    }
+
+    /// The entries of [`upsampling_cache_file`](Self::upsampling_cache_file), one per
+    /// upsampling.
+    pub(crate) fn upsampling_cache(&self, d: &Derivation) -> Result<Vec<CacheEntry>, Error> {
         crate::scenes::upsampling::cache_entries(
             d,
             &self.upsamplings,
@@ -444,7 +450,7 @@ impl PlanRequest {
             own.iter()
                 .map(|f| (f.name.clone(), f.wavelengths_nm.len(), f.eval.clone())),
         );
-        let plan = plan::plan_with(d, &stimuli, self.max_delta_e00, self.metric, &extra)?;
+        let plan = plan::plan(d, &stimuli, &extra, self.max_delta_e00, self.metric)?;
         let c = &plan.chosen;
         Ok((
             c.name.clone(),

@@ -285,9 +285,7 @@ fn run(args: &Args) -> Result<(), Error> {
     let radiance = tools::budget::shared_sets_sized(&d, None, work.shared_sizes.clone())?;
     sets.extend(radiance.iter().cloned());
     for n in tools::budget::BUDGETS {
-        if let Ok(a) =
-            spectral_quadrature_build::shared::interpolatory_a(&d, n, &format!("INTERP_A_{n}"))
-        {
+        if let Ok(a) = spectral_quadrature_build::catalog::resolve(&d, &format!("INTERP_A_{n}")) {
             sets.push(EvalSet::from_set(&a, "interp A", &d.opponent.ac1c2_to_xyz));
         }
     }
@@ -646,7 +644,7 @@ struct Table2Row {
 fn table2_rows(d: &Derivation, stimuli: &[Stimulus], reference: &Reference) -> Vec<Table2Row> {
     d.table2
         .iter()
-        .zip(spectral_quadrature_build::paper::TABLE2_MEAN_DELTA_E)
+        .zip(tools::paper::TABLE2_MEAN_DELTA_E)
         .map(|(set, paper)| {
             let es = EvalSet::from_set(set, "Table 2", &d.opponent.ac1c2_to_xyz);
             Table2Row {

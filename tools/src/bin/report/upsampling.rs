@@ -223,7 +223,7 @@ pub fn section(i: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
             &shipped_training,
             up::DEFAULT_GRID,
         )?;
-        let residual = up::bounded_exact_linear_residual(&b.encoding)?;
+        let residual = tools::upsampling::bounded_exact_linear_residual(&b.encoding)?;
         let cc_rgb = srgb_under_d65(d, &cc)?;
         let cc_values = runtime_values(&b, &cc_rgb);
         let cc_de: Vec<f64> = lights
@@ -359,7 +359,7 @@ fn default_scene_maps(d: &Derivation) -> Result<String, Error> {
     .ok();
     writeln!(o, "|---|---|---|---|---|---|---|---|").ok();
     for b in &resolved.upsamplings {
-        let residual = up::bounded_exact_linear_residual(&b.encoding)?;
+        let residual = tools::upsampling::bounded_exact_linear_residual(&b.encoding)?;
         writeln!(
             o,
             "| `{}` | {} | {} | {:.1} % | {} (residual {:.1e}) | {:.2} | {:.4} | {} |",

@@ -1,11 +1,11 @@
 //! The derivation reproduces the numbers the paper prints (Eq. 9, Eq. 10, Table 1a, Table 2).
 //! Each tolerance says where it comes from.
 
-/// The data files the derivation reads (this crate's `data/`).
-const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data");
+/// The data files the derivation reads (the runtime crate's `data/`).
+const DATA_DIR: &str = spectral_quadrature_tools::DATA_DIR;
 
-use spectral_quadrature_build::paper;
 use spectral_quadrature_build::{derive, Derivation, Settings, Status};
+use spectral_quadrature_tools::paper;
 use std::sync::OnceLock;
 
 /// The derivation with the settings that reproduce the paper (CIE data rounded to 5 decimals;
