@@ -118,11 +118,12 @@ impl Problem {
     /// Sets up the problem on the derivation's 1 nm reference grid. `light`: the light folded
     /// into the weights (`None`: the renderer samples radiance). `training`: reflectances whose
     /// colours under the light define the CIELAB metric (for radiances, their colours under an
-    /// equal-energy light).
+    /// equal-energy light). `kernel` `None`: the light alone, no prior (see
+    /// [`light_only`](Self::light_only)).
     pub(crate) fn new(
         d: &Derivation,
         light_curve: Option<&Curve>,
-        kernel: Kernel,
+        kernel: Option<Kernel>,
         training: &[Curve],
     ) -> Result<Problem, Error> {
         let light_error = |problem: LightProblem| Error::Light {
@@ -160,10 +161,13 @@ impl Problem {
                 .map(|(a, b)| a * b)
                 .collect::<Vec<f64>>()
         });
-        let mut k = std::vec![0.0; g * g];
-        for a in 0..g {
-            for b in 0..g {
-                k[a * g + b] = kernel.at(grid_nm[a] - grid_nm[b]);
+        let mut k = Vec::new();
+        if let Some(kernel) = kernel {
+            k = std::vec![0.0; g * g];
+            for a in 0..g {
+                for b in 0..g {
+                    k[a * g + b] = kernel.at(grid_nm[a] - grid_nm[b]);
+                }
             }
         }
         let f1 = [0, 1, 2].map(|c| f[c].iter().sum::<f64>());
@@ -214,8 +218,24 @@ impl Problem {
         self.f1
     }
 
+    /// The light's part of a problem alone: its grid, scaled light, folded observer and white,
+    /// without the prior (no kernel matrix, which costs G² kernel values and products: what a
+    /// build script at opt-level 0 need not pay to fit a light group's weights at cached nodes).
+    /// Its [`solve`](Self::solve) and [`objective`](Self::objective) find nothing.
+    pub(crate) fn light_only(d: &Derivation, light: &Curve) -> Result<Problem, Error> {
+        Problem::new(d, Some(light), None, &[])
+    }
+
+    /// Whether the problem has its prior (not [`light_only`](Self::light_only)).
+    fn has_prior(&self) -> bool {
+        self.k.len() == self.g * self.g
+    }
+
     /// Recomputes `K Fᵀ` and `F K Fᵀ` after the covariance changed.
     fn update(&mut self) {
+        if !self.has_prior() {
+            return;
+        }
         let g = self.g;
         self.kf = (0..g)
             .map(|a| [0, 1, 2].map(|c| (0..g).map(|b| self.k[a * g + b] * self.f[c][b]).sum()))
@@ -230,6 +250,9 @@ impl Problem {
     /// Adds `weight` times the empirical covariance of `spectra` (about their mean) to the
     /// prior.
     pub(crate) fn with_covariance(mut self, spectra: &[Curve], weight: f64) -> Problem {
+        if !self.has_prior() {
+            return self;
+        }
         let g = self.g;
         let rows: Vec<Vec<f64>> = spectra
             .iter()
@@ -256,7 +279,7 @@ impl Problem {
     /// when the kriging system is singular.
     pub(crate) fn solve(&self, nodes: &[usize]) -> Option<([Vec<f64>; 3], f64)> {
         let n = nodes.len();
-        if n == 0 {
+        if n == 0 || !self.has_prior() {
             return None;
         }
         let mut a = DMatrix::<f64>::zeros(n + 1, n + 1);
@@ -360,7 +383,7 @@ impl Problem {
     /// weights.
     pub(crate) fn solve_rows(&self, rows: &[Vec<f64>]) -> Option<([Vec<f64>; 3], f64)> {
         let n = rows.len();
-        if n == 0 || rows.iter().any(|r| r.len() != self.g) {
+        if n == 0 || !self.has_prior() || rows.iter().any(|r| r.len() != self.g) {
             return None;
         }
         let g = self.g;
@@ -466,9 +489,9 @@ pub fn problem_for(d: &Derivation, light: Option<&Curve>) -> Result<Problem, Err
     Ok(Problem::new(
         d,
         light,
-        Kernel::Matern52 {
+        Some(Kernel::Matern52 {
             length_nm: LENGTH_NM,
-        },
+        }),
         &tcs,
     )?
     .with_covariance(&tcs, EMPIRICAL_WEIGHT))

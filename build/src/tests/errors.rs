@@ -245,7 +245,7 @@ fn light_problems_are_typed() {
     let e = crate::shared::Problem::new(
         d,
         Some(&dark),
-        crate::shared::Kernel::Matern52 { length_nm: 30.0 },
+        Some(crate::shared::Kernel::Matern52 { length_nm: 30.0 }),
         &[],
     )
     .map(|_| ())
