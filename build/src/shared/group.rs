@@ -16,10 +16,9 @@
 //!   minimising [`GroupObjective`] over each light's mean CIEDE2000 on the training
 //!   reflectances against that of the light's own folded set (the crate's `KQ_<light>_<n>`).
 //!
-//! Least squares on measured reflectances generalises better than the kernel model's kriging
-//! weights where several lights must share nodes (the report's light-group section measures both
-//! by five-fold cross-validation); for one light the crate keeps its folded set, so a group has
-//! at least two lights.
+//! The report's section 9 judges the fit by five-fold cross-validation. For one light fitted on
+//! reflectances as they are the crate keeps its folded set (the kernel model's), so a scene's
+//! group has two lights or more, or one fitted on bounce forms ([`GroupTraining::Bounces`]).
 
 use std::string::String;
 use std::vec::Vec;
@@ -206,13 +205,13 @@ pub struct GroupFit {
 }
 
 impl GroupFit {
-    /// Sets up the fit of a group of `lights` (at least two, each with its kernel-model
+    /// Sets up the fit of a group of `lights` (at least one, each with its kernel-model
     /// problem, as [`problem_for`](crate::shared::problem_for) gives it) on `training`
     /// reflectances (at least one).
     pub fn new(problems: Vec<Problem>, training: &[Curve]) -> Result<GroupFit, Error> {
-        if problems.len() < 2 {
+        if problems.is_empty() {
             return Err(Error::Numerical(
-                "a light group needs at least two lights (one light is its folded set)".into(),
+                "a light group needs at least one light".into(),
             ));
         }
         if training.is_empty() {

@@ -274,7 +274,7 @@ fn a_scenes_light_group_is_baked_for_each_display_and_its_mistakes_name_their_li
         (
             "lights = [\"D65\"]\nwavelengths = 8\n",
             3,
-            "a group has two or more",
+            "a group has two or more, or one with training = \"bounces\"",
         ),
         (
             "lights = [\"D65\", \"NOPE\"]\nwavelengths = 8\n",
@@ -330,6 +330,14 @@ fn a_group_fitted_for_bounced_light_is_searched_and_baked_as_such() {
     )
     .unwrap();
     assert!(source.contains("pub const BOUNCED_SRGB: LightGroupSet<4, 2> ="));
+    // One light fitted for bounced light is a set of its own (one light fitted on reflectances
+    // as they are is its folded set, refused above).
+    let source = generate(
+        "scene.toml",
+        "displays = [\"SRGB\"]\n[groups.C_BOUNCED]\nlights = [\"C\"]\nwavelengths = 4\ntraining = \"bounces\"\n",
+    )
+    .unwrap();
+    assert!(source.contains("pub const C_BOUNCED_SRGB: LightGroupSet<4, 1> ="));
     // The doc comment, its lines joined.
     assert!(source
         .replace("\n    /// ", " ")

@@ -39,7 +39,7 @@
 //! calibration_reflectances = "chart.csv"  # optional: their spectra (else the ColorChecker)
 //!
 //! [groups.STUDIO]                  # optional: one node set for several lights
-//! lights = ["D65", "A", "SHOP_LED"] # built-in illuminants or [lights] names, two or more
+//! lights = ["D65", "A", "SHOP_LED"] # built-in or [lights] names; two or more (one for "bounces")
 //! wavelengths = 8                  # 3 to 16
 //! objective = "mean"               # optional: or "worst" (the largest ratio to a light's own set)
 //! training = "reflectances"        # optional: or "bounces" (ρ, ρ², ρ³ and two enclosures)

@@ -649,16 +649,6 @@ fn parse_user(
             }
             group_lights.push(light);
         }
-        if group_lights.len() < 2 {
-            return Err(err(
-                at(t.lights.span()),
-                std::format!(
-                    "[groups.{}] has {} light(s): a group has two or more (one light is its folded set, KQ_<light>_<n>)",
-                    name.get_ref(),
-                    group_lights.len()
-                ),
-            ));
-        }
         let n = *t.wavelengths.get_ref();
         if !shared::GROUP_SIZES.contains(&n) {
             return Err(err(
@@ -696,6 +686,22 @@ fn parse_user(
                 }
             },
         };
+        // One light fitted on reflectances as they are is its folded set; fitted on their bounce
+        // forms it is a set of its own.
+        let fewest = match training {
+            shared::GroupTraining::Bounces => 1,
+            _ => 2,
+        };
+        if group_lights.len() < fewest {
+            return Err(err(
+                at(t.lights.span()),
+                std::format!(
+                    "[groups.{}] has {} light(s): a group has two or more, or one with training = \"bounces\" (one light fitted on reflectances is its folded set, KQ_<light>_<n>)",
+                    name.get_ref(),
+                    group_lights.len()
+                ),
+            ));
+        }
         user.groups.push(SceneGroup {
             name: name.get_ref().clone(),
             lights: group_lights,
