@@ -301,32 +301,13 @@ pub fn cross_validated(
     use crate::light_groups::FOLDS;
     let range = d.settings.range_nm;
     let full = evaluate::full_integration(&d.observer, range, 1.0)?;
-    let problems = lights
-        .iter()
-        .map(|l| problem_for(d, Some(l)))
-        .collect::<Result<Vec<_>, Error>>()?;
-    let own: Vec<Shared> = crate::par_map(&problems, |p| p.shared(n))
-        .into_iter()
-        .collect::<Result<_, Error>>()?;
-    let own_nodes: Vec<Vec<usize>> = problems
-        .iter()
-        .zip(&own)
-        .map(|(p, s)| nodes_of(p, s))
-        .collect();
+    let (problems, _, own_nodes) = crate::light_groups::own_sets(d, lights, n)?;
     let all = Form::all();
     let folds: Vec<usize> = (0..FOLDS).collect();
     // Per fold: [form][light] → (plain, bounced) sums of ΔE00, and the count judged.
     type Fold = (Vec<Vec<(f64, f64)>>, usize);
     let per_fold: Vec<Result<Fold, Error>> = crate::par_map(&folds, |&f| {
-        let mut train = training.to_vec();
-        let mut test = Vec::new();
-        for (k, c) in judged.iter().enumerate() {
-            if k % FOLDS == f {
-                test.push(c.clone());
-            } else {
-                train.push(c.clone());
-            }
-        }
+        let (train, test) = crate::light_groups::fold(training, judged, f);
         let mut groups = Vec::new();
         for t in [train.clone(), training_forms(&train, range)] {
             let fit = GroupFit::new(problems.clone(), &t)?;

@@ -7,9 +7,9 @@
 //! own training file (the CIE test colours, on which the folded sets' model is trained) is
 //! trained on in every fold and judged in none.
 
-use spectral_quadrature_build::evaluate::{self, Curve, Reference};
+use spectral_quadrature_build::evaluate::{self, Curve, Reference, Spectra};
 use spectral_quadrature_build::shared::{
-    nodes_of, problem_for, GroupFit, GroupObjective, Shared, Weights,
+    nodes_of, problem_for, GroupFit, GroupObjective, Problem, Shared, Weights,
 };
 use spectral_quadrature_build::{Derivation, Error};
 
@@ -64,10 +64,66 @@ pub const GROUP_WORST: &str = "light group (worst)";
 /// The name of the radiance set fitted on the lights.
 pub const RADIANCE: &str = "radiance set fitted on the lights";
 
-/// The fold of reflectance `k` of `count`: a fixed interleaving (k mod 5), so that the folds
-/// are the same in every run and mix the files.
-fn fold_of(k: usize) -> usize {
-    k % FOLDS
+/// Fold `f`'s training and test reflectances: `training` (trained on in every fold) with every
+/// judged reflectance outside fold `f`, and the judged ones in it. The folds are a fixed
+/// interleaving (reflectance k is in fold k mod 5), so that they are the same in every run and
+/// mix the files.
+pub fn fold(training: &[Curve], judged: &[Curve], f: usize) -> (Vec<Curve>, Vec<Curve>) {
+    let mut train = training.to_vec();
+    let mut test = Vec::new();
+    for (k, c) in judged.iter().enumerate() {
+        if k % FOLDS == f {
+            test.push(c.clone());
+        } else {
+            train.push(c.clone());
+        }
+    }
+    (train, test)
+}
+
+/// Per light: its kernel-model problem, its own folded set, and that set's nodes as grid
+/// indices ([`own_sets`]).
+pub type OwnSets = (Vec<Problem>, Vec<Shared>, Vec<Vec<usize>>);
+
+/// Each light's kernel-model problem and own folded set of `n` wavelengths (searched), with its
+/// nodes as grid indices: what a group is compared with and its search starts from.
+pub fn own_sets(d: &Derivation, lights: &[Curve], n: usize) -> Result<OwnSets, Error> {
+    let problems = lights
+        .iter()
+        .map(|l| problem_for(d, Some(l)))
+        .collect::<Result<Vec<_>, Error>>()?;
+    let own: Vec<Shared> = crate::par_map(&problems, |p| p.shared(n))
+        .into_iter()
+        .collect::<Result<_, Error>>()?;
+    let nodes = problems
+        .iter()
+        .zip(&own)
+        .map(|(p, s)| nodes_of(p, s))
+        .collect();
+    Ok((problems, own, nodes))
+}
+
+/// The reflectances the report's light-group and bounced-light sections judge, and where they
+/// come from in words: the user's (`--reflectances`), or by default the ColorChecker and the
+/// 190 rawtoaces patches, which no fit of the crate's sets trains on.
+pub fn judged_reflectances(
+    d: &Derivation,
+    user: Option<(&[Curve], &str)>,
+) -> Result<(Vec<Curve>, String), Error> {
+    if let Some((r, from)) = user {
+        return Ok((r.to_vec(), from.to_string()));
+    }
+    let mut v = Vec::new();
+    for f in [
+        "data/reflectance_colorchecker_ohta.csv",
+        "data/reflectance_rawtoaces_190.csv",
+    ] {
+        v.extend(Spectra::builtin(&d.settings.data_dir, f)?.curves(d.settings.range_nm)?);
+    }
+    Ok((
+        v,
+        "the ColorChecker and the 190 rawtoaces patches".to_string(),
+    ))
 }
 
 /// Cross-validates the light group of `lights` at each of `sizes` on `training` (trained on in
@@ -81,33 +137,14 @@ pub fn compare(
 ) -> Result<Vec<Comparison>, Error> {
     let range = d.settings.range_nm;
     let full = evaluate::full_integration(&d.observer, range, 1.0)?;
-    let problems = lights
-        .iter()
-        .map(|l| problem_for(d, Some(l)))
-        .collect::<Result<Vec<_>, Error>>()?;
     let mut out = Vec::new();
     for &n in sizes {
-        let own: Vec<Shared> = crate::par_map(&problems, |p| p.shared(n))
-            .into_iter()
-            .collect::<Result<_, Error>>()?;
-        let own_nodes: Vec<Vec<usize>> = problems
-            .iter()
-            .zip(&own)
-            .map(|(p, s)| nodes_of(p, s))
-            .collect();
+        let (problems, own, own_nodes) = own_sets(d, lights, n)?;
         let folds: Vec<usize> = (0..FOLDS).collect();
         // Per fold: (method, light) → the held-out reflectances' CIEDE2000, and the nodes.
         type FoldResult = Vec<(Vec<Vec<f64>>, Vec<f64>)>;
         let per_fold: Vec<Result<FoldResult, Error>> = crate::par_map(&folds, |&f| {
-            let mut train: Vec<Curve> = training.to_vec();
-            let mut test: Vec<Curve> = Vec::new();
-            for (k, c) in judged.iter().enumerate() {
-                if fold_of(k) == f {
-                    test.push(c.clone());
-                } else {
-                    train.push(c.clone());
-                }
-            }
+            let (train, test) = fold(training, judged, f);
             let fit = GroupFit::new(problems.clone(), &train)?;
             let mut methods: Vec<(Vec<Vec<f64>>, Vec<f64>)> = Vec::new();
             // Own folded sets.

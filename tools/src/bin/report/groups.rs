@@ -49,22 +49,7 @@ pub fn section(inputs: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Er
             .collect::<Result<_, _>>()?,
     };
     let training = Spectra::builtin(dir, TRAINING_FILE)?.curves(range)?;
-    let (judged, judged_from) = match inputs.reflectances {
-        Some((r, from)) => (r.to_vec(), from.to_string()),
-        None => {
-            let mut v = Vec::new();
-            for f in [
-                "data/reflectance_colorchecker_ohta.csv",
-                "data/reflectance_rawtoaces_190.csv",
-            ] {
-                v.extend(Spectra::builtin(dir, f)?.curves(range)?);
-            }
-            (
-                v,
-                "the ColorChecker and the 190 rawtoaces patches".to_string(),
-            )
-        }
-    };
+    let (judged, judged_from) = light_groups::judged_reflectances(d, inputs.reflectances)?;
     let comparisons = light_groups::compare(d, &lights, &training, &judged, inputs.sizes)?;
     let mut o = String::new();
     print(&mut o, &comparisons, &judged_from);

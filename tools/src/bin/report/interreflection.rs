@@ -76,22 +76,7 @@ pub fn section(x: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
         .map(|n| evaluate::builtin_illuminant(dir, n, range))
         .collect::<Result<_, _>>()?;
     let training = Spectra::builtin(dir, TRAINING_FILE)?.curves(range)?;
-    let (judged, judged_from) = match x.reflectances {
-        Some((r, from)) => (r.to_vec(), from.to_string()),
-        None => {
-            let mut v = Vec::new();
-            for f in [
-                "data/reflectance_colorchecker_ohta.csv",
-                "data/reflectance_rawtoaces_190.csv",
-            ] {
-                v.extend(Spectra::builtin(dir, f)?.curves(range)?);
-            }
-            (
-                v,
-                "the ColorChecker and the 190 rawtoaces patches".to_string(),
-            )
-        }
-    };
+    let (judged, judged_from) = light_groups::judged_reflectances(d, x.reflectances)?;
     if judged.len() < 3 {
         return Err(Error::Sampling(format!(
             "section 10 needs at least three reflectances for its products, {judged_from} has {}",
