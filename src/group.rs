@@ -391,14 +391,7 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
         planes: [[&[f32]; N]; L],
         out: [&mut [f32]; 3],
     ) -> Result<(), Error> {
-        let pixels = check_planes(&planes, &[out[0].len(), out[1].len(), out[2].len()])?;
-        let planes = planes.map(|light| light.map(|plane| &plane[..pixels]));
-        let [r, g, b] = out;
-        let (r, g, b) = (&mut r[..pixels], &mut g[..pixels], &mut b[..pixels]);
-        for p in 0..pixels {
-            [r[p], g[p], b[p]] = self.linear_rgb(&gather(&planes, p));
-        }
-        Ok(())
+        to_planes(planes, out, |groups| self.linear_rgb(groups))
     }
 
     /// Light groups in planes (as for [`linear_rgb_planar`](Self::linear_rgb_planar)) →
@@ -419,12 +412,7 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
         planes: [[&[f32]; N]; L],
         out: &mut [[u8; 3]],
     ) -> Result<(), Error> {
-        let pixels = check_planes(&planes, &[out.len()])?;
-        let planes = planes.map(|light| light.map(|plane| &plane[..pixels]));
-        for (p, o) in out[..pixels].iter_mut().enumerate() {
-            *o = self.encode_u8(mapping, &gather(&planes, p));
-        }
-        Ok(())
+        to_interleaved(planes, out, |groups| self.encode_u8(mapping, groups))
     }
 
     /// [`encode_u8_planar_to_interleaved`](Self::encode_u8_planar_to_interleaved) with the
@@ -440,14 +428,7 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
         planes: [[&[f32]; N]; L],
         out: [&mut [u8]; 3],
     ) -> Result<(), Error> {
-        let pixels = check_planes(&planes, &[out[0].len(), out[1].len(), out[2].len()])?;
-        let planes = planes.map(|light| light.map(|plane| &plane[..pixels]));
-        let [r, g, b] = out;
-        let (r, g, b) = (&mut r[..pixels], &mut g[..pixels], &mut b[..pixels]);
-        for p in 0..pixels {
-            [r[p], g[p], b[p]] = self.encode_u8(mapping, &gather(&planes, p));
-        }
-        Ok(())
+        to_planes(planes, out, |groups| self.encode_u8(mapping, groups))
     }
 
     /// Light groups in planes (as for [`linear_rgb_planar`](Self::linear_rgb_planar)) →
@@ -463,12 +444,7 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
         planes: [[&[f32]; N]; L],
         out: &mut [[u16; 3]],
     ) -> Result<(), Error> {
-        let pixels = check_planes(&planes, &[out.len()])?;
-        let planes = planes.map(|light| light.map(|plane| &plane[..pixels]));
-        for (p, o) in out[..pixels].iter_mut().enumerate() {
-            *o = self.encode_u16(mapping, &gather(&planes, p));
-        }
-        Ok(())
+        to_interleaved(planes, out, |groups| self.encode_u16(mapping, groups))
     }
 
     /// [`encode_u16_planar_to_interleaved`](Self::encode_u16_planar_to_interleaved) with the
@@ -484,14 +460,7 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
         planes: [[&[f32]; N]; L],
         out: [&mut [u16]; 3],
     ) -> Result<(), Error> {
-        let pixels = check_planes(&planes, &[out[0].len(), out[1].len(), out[2].len()])?;
-        let planes = planes.map(|light| light.map(|plane| &plane[..pixels]));
-        let [r, g, b] = out;
-        let (r, g, b) = (&mut r[..pixels], &mut g[..pixels], &mut b[..pixels]);
-        for p in 0..pixels {
-            [r[p], g[p], b[p]] = self.encode_u16(mapping, &gather(&planes, p));
-        }
-        Ok(())
+        to_planes(planes, out, |groups| self.encode_u16(mapping, groups))
     }
 }
 
@@ -499,6 +468,40 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
 #[inline(always)]
 fn add(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
     [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+
+/// The planar functions' loop, output in planes: `out[c][p]` is channel c of `pixel` of pixel
+/// p's groups, after [`check_planes`] (nothing written on a mismatch).
+#[inline(always)]
+fn to_planes<T, const N: usize, const L: usize>(
+    planes: [[&[f32]; N]; L],
+    out: [&mut [T]; 3],
+    pixel: impl Fn(&[[f32; N]; L]) -> [T; 3],
+) -> Result<(), Error> {
+    let pixels = check_planes(&planes, &[out[0].len(), out[1].len(), out[2].len()])?;
+    let planes = planes.map(|light| light.map(|plane| &plane[..pixels]));
+    let [r, g, b] = out;
+    let (r, g, b) = (&mut r[..pixels], &mut g[..pixels], &mut b[..pixels]);
+    for p in 0..pixels {
+        [r[p], g[p], b[p]] = pixel(&gather(&planes, p));
+    }
+    Ok(())
+}
+
+/// The planar functions' loop, output interleaved: `out[p]` is `pixel` of pixel p's groups,
+/// after [`check_planes`] (nothing written on a mismatch).
+#[inline(always)]
+fn to_interleaved<T, const N: usize, const L: usize>(
+    planes: [[&[f32]; N]; L],
+    out: &mut [[T; 3]],
+    pixel: impl Fn(&[[f32; N]; L]) -> [T; 3],
+) -> Result<(), Error> {
+    let pixels = check_planes(&planes, &[out.len()])?;
+    let planes = planes.map(|light| light.map(|plane| &plane[..pixels]));
+    for (p, o) in out[..pixels].iter_mut().enumerate() {
+        *o = pixel(&gather(&planes, p));
+    }
+    Ok(())
 }
 
 /// Pixel p's groups from planes that each hold more than p values.
