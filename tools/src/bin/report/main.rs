@@ -411,20 +411,24 @@ fn run(args: &Args) -> Result<(), Error> {
     )?;
     files.extend(random_files);
 
+    // What sections 8 to 10 judge instead of their defaults: the user's reflectances and lights,
+    // where given.
+    let users_reflectances = args
+        .spectra
+        .reflectances
+        .as_ref()
+        .map(|_| (inputs.surfaces.as_slice(), inputs.surfaces_from.as_str()));
+    let users_lights = args
+        .spectra
+        .illuminants
+        .as_ref()
+        .map(|_| inputs.user_lights.as_slice());
     progress.next();
     let (upsampling_text, upsampling_files) = upsampling::section(
         &upsampling::Inputs {
             d: &d,
-            reflectances: args
-                .spectra
-                .reflectances
-                .as_ref()
-                .map(|_| (inputs.surfaces.as_slice(), inputs.surfaces_from.as_str())),
-            lights: args
-                .spectra
-                .illuminants
-                .as_ref()
-                .map(|_| inputs.user_lights.as_slice()),
+            reflectances: users_reflectances,
+            lights: users_lights,
         },
         out,
     )?;
@@ -434,16 +438,8 @@ fn run(args: &Args) -> Result<(), Error> {
     let (groups_text, groups_files) = groups::section(
         &groups::Inputs {
             d: &d,
-            reflectances: args
-                .spectra
-                .reflectances
-                .as_ref()
-                .map(|_| (inputs.surfaces.as_slice(), inputs.surfaces_from.as_str())),
-            lights: args
-                .spectra
-                .illuminants
-                .as_ref()
-                .map(|_| inputs.user_lights.as_slice()),
+            reflectances: users_reflectances,
+            lights: users_lights,
             sizes: &work.group_sizes,
         },
         out,
@@ -454,11 +450,7 @@ fn run(args: &Args) -> Result<(), Error> {
     let (bounce_text, bounce_files) = interreflection::section(
         &interreflection::Inputs {
             d: &d,
-            reflectances: args
-                .spectra
-                .reflectances
-                .as_ref()
-                .map(|_| (inputs.surfaces.as_slice(), inputs.surfaces_from.as_str())),
+            reflectances: users_reflectances,
             sizes: &work.group_sizes,
             trials: work.trials,
             seed: args.seed,
