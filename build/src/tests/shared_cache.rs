@@ -239,6 +239,15 @@ fn group_lights(d: &Derivation, lights: &[&str]) -> Vec<evaluate::Curve> {
         .collect()
 }
 
+/// Wavelengths on the 1 nm grid of a group's fit, as grid indices.
+fn grid_indices(fit: &shared::GroupFit, wavelengths_nm: &[f64]) -> Vec<usize> {
+    let grid = &fit.problems()[0].grid_nm;
+    wavelengths_nm
+        .iter()
+        .map(|nm| grid.iter().position(|g| g == nm).unwrap())
+        .collect()
+}
+
 #[test]
 fn the_cache_holds_every_cached_group_and_a_fresh_search_finds_it_or_worse() {
     let d = derivation();
@@ -270,17 +279,7 @@ fn the_cache_holds_every_cached_group_and_a_fresh_search_finds_it_or_worse() {
         // A different answer is acceptable only if the cached nodes are at least as good on
         // the search's own objective (the mean of the lights' training errors here, each
         // light's own set fixed).
-        let nodes: Vec<usize> = e
-            .wavelengths_nm
-            .iter()
-            .map(|nm| {
-                fit.problems()[0]
-                    .grid_nm
-                    .iter()
-                    .position(|g| g == nm)
-                    .unwrap()
-            })
-            .collect();
+        let nodes: Vec<usize> = grid_indices(&fit, &e.wavelengths_nm);
         let cached = fit
             .group_at(&nodes, objective, shared::Weights::PerLight)
             .unwrap();
@@ -311,17 +310,7 @@ fn a_cached_group_equals_the_searched_group() {
     )
     .unwrap();
     let fit = shared::group_fit(d, &curves, shared::GroupTraining::Reflectances).unwrap();
-    let nodes: Vec<usize> = cached
-        .wavelengths_nm
-        .iter()
-        .map(|nm| {
-            fit.problems()[0]
-                .grid_nm
-                .iter()
-                .position(|g| g == nm)
-                .unwrap()
-        })
-        .collect();
+    let nodes: Vec<usize> = grid_indices(&fit, &cached.wavelengths_nm);
     assert_eq!(
         fit.group_at(&nodes, objective, shared::Weights::PerLight)
             .unwrap(),
