@@ -1,6 +1,6 @@
 //! Correlated colour temperature and Duv against the exact reference: the nearest point of the
 //! standard Planckian locus (CIE 015: 360-830 nm at 1 nm) in CIE 1960 (u, v), computed in f64
-//! on the generator's locus (`spectral_quadrature_build::planckian`) with the crate's observer
+//! on the generator's locus (`spectral_quadrature_build::PlanckianLocus`) with the crate's observer
 //! by a scan, then false position on the distance's derivative (`Exact`, below), for the same
 //! f32 XYZ the runtime gets; that checks the table and its interpolation. Against references independent of the crate's code: the
 //! locus by a plain sum of Planck's law here, and colour-science's CCT of the CIE illuminants
@@ -16,7 +16,7 @@ use common::cie015::{plain_light_xyz, plain_light_xyz_over, plain_xyz};
 use proptest::prelude::*;
 use spectral_quadrature::tables::PLANCKIAN_LOCUS;
 use spectral_quadrature::{uv_from_xyz, Cct, CCT_MAX_ERROR_MIRED, DUV_MAX_ERROR};
-use spectral_quadrature_build::planckian::PlanckianLocus;
+use spectral_quadrature_build::PlanckianLocus;
 use std::sync::OnceLock;
 
 /// The data files the derivation reads (the runtime crate's `data/`).

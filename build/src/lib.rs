@@ -24,10 +24,10 @@
 //! measuring sets against the scene's spectra; the report, the stability and sensitivity studies
 //! and the pre-filtering analysis live in the `spectral-quadrature-tools` crate.
 //!
-//! The steps, named after the paper: [`observer`] loads x̄ȳz̄; [`opponent`] forms the cone
+//! The steps, named after the paper: [`Observer`] holds x̄ȳz̄; [`Opponent`] holds the cone
 //! fundamentals (Eq. 1), the covariance (Eq. 4-5) and the KL transform (Eq. 9-10);
-//! [`quadrature`] runs the recurrence (Eq. 16) and forms each order's rule; [`sets`] merges rules
-//! into wavelength sets (Table 2); [`codegen`] writes the tables the runtime includes.
+//! [`quadrature`] runs the recurrence (Eq. 16) and forms each order's rule; a [`WavelengthSet`]
+//! merges rules (Table 2); [`generate`] writes the tables the runtime includes.
 //! [`shared`] finds the shared sets by kernel quadrature, and [`user`] fits sets to what a
 //! scene brings: a light by file, fixed wavelengths, a sensor's channels. Every fallible
 //! function returns [`Error`].
@@ -37,15 +37,16 @@
 //! The sources are grouped by role, each role a folder whose modules import only the roles
 //! below it (`python3 .ci/module-graph build/src` prints the graph and fails on a cycle):
 //!
-//! 1. `base`: the errors, the data files and their checksums, the CSV reader ([`table`]);
-//! 2. `derivation`: [`Settings`], [`derive()`] and its steps ([`observer`], [`opponent`],
-//!    [`quadrature`], [`sets`]), the display matrices ([`display`]), CIELAB and the measuring of
-//!    sets on spectra ([`evaluate`]), the Planckian locus and the exact CCT ([`planckian`]);
+//! 1. `base`: the errors, the data files and their checksums, the CSV reader (which reads
+//!    negative values as [`Negatives`] says);
+//! 2. `derivation`: [`Settings`], [`derive()`] and its steps (`observer`, `opponent`,
+//!    [`quadrature`], `sets`), the display matrices ([`display`]), CIELAB and the measuring of
+//!    sets on spectra ([`evaluate`]), the Planckian locus and the exact CCT ([`PlanckianLocus`]);
 //! 3. `shared`: the shared sets ([`shared`]: model, fit, node search, node cache);
 //! 4. `scenes`: the scene file ([`scene`]), the sets by name ([`catalog`]), the user's inputs
 //!    ([`user`]), a sensor's white reference and fitted calibration ([`calibration`]) and the
 //!    planner ([`plan`]);
-//! 5. `emit`: the Rust tables ([`codegen`]), the shader snippets ([`shader`]) and [`generate`].
+//! 5. `emit`: the Rust tables (`codegen`), the shader snippets ([`shader`]) and [`generate`].
 //!
 //! This file only re-exports: the modules above under their own names, and at the root what
 //! most callers need.
@@ -63,18 +64,26 @@ pub mod upsampling;
 
 pub use base::error::{CalibrationProblem, DataError, Error, LightProblem, SetNameProblem};
 pub use base::files::{data_path, sha256_hex};
-pub use base::table;
+pub use base::table::{Negatives, ZeroedNegatives};
+// The paths the unit tests (src/tests/) name.
 pub use derivation::derive::{derive, derive_with, Derivation};
 pub use derivation::observer::{Observer, ObserverId};
 pub use derivation::opponent::{Covariance, Opponent};
+pub use derivation::planckian::PlanckianLocus;
 pub use derivation::quadrature::{Measure, Recurrence, Rule, Status};
-pub use derivation::sets::WavelengthSet;
+pub use derivation::sets::{WavelengthSet, SAME_WAVELENGTH_NM};
 pub use derivation::settings::Settings;
-pub use derivation::{display, evaluate, observer, opponent, planckian, quadrature, sets};
+pub use derivation::{display, evaluate, quadrature};
 pub use emit::generate::{generate, Output};
-pub use emit::{codegen, fixed_point, shader};
+pub use emit::{fixed_point, shader};
 pub use scenes::scene::SCENE_ENV;
 pub use scenes::{calibration, catalog, plan, scene, user};
 /// Why a display is refused: the one type the runtime (`Error::Display`) and the derivation
 /// ([`Error::Display`]) report.
 pub use spectral_quadrature_math::DisplayError;
+#[cfg(test)]
+use {
+    base::table,
+    derivation::{observer, opponent, planckian},
+    emit::codegen,
+};

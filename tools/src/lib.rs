@@ -89,11 +89,11 @@ pub fn settings() -> spectral_quadrature_build::Settings {
 }
 
 /// Prints, on standard error, one warning per file whose negative values were read as 0
-/// ([`spectral_quadrature_build::table::ZeroedNegatives`]: how many, where the first is, the
+/// ([`spectral_quadrature_build::ZeroedNegatives`]: how many, where the first is, the
 /// tolerance or the clamping), as `<program>: warning: <file>:<line>: ...`.
 pub fn warn_zeroed<'a>(
     program: &str,
-    zeroed: impl IntoIterator<Item = &'a spectral_quadrature_build::table::ZeroedNegatives>,
+    zeroed: impl IntoIterator<Item = &'a spectral_quadrature_build::ZeroedNegatives>,
 ) {
     for z in zeroed {
         eprintln!("{program}: warning: {z}");
@@ -101,11 +101,11 @@ pub fn warn_zeroed<'a>(
 }
 
 /// The rule for negative values the tools apply to the spectra files given on their command
-/// line: [`Negatives::Clamp`](spectral_quadrature_build::table::Negatives::Clamp) with
+/// line: [`Negatives::Clamp`](spectral_quadrature_build::Negatives::Clamp) with
 /// `--clamp-negatives`, otherwise the readers' default (rounding noise read as 0, anything
 /// more negative an error naming file, line and column).
-pub fn negatives(clamp: bool) -> spectral_quadrature_build::table::Negatives {
-    use spectral_quadrature_build::table::Negatives;
+pub fn negatives(clamp: bool) -> spectral_quadrature_build::Negatives {
+    use spectral_quadrature_build::Negatives;
     if clamp {
         Negatives::Clamp
     } else {

@@ -862,7 +862,7 @@ impl Prefiltered {
                 .wavelengths_nm
                 .iter()
                 .chain(&extra)
-                .any(|l| (l - nm).abs() <= spectral_quadrature_build::sets::SAME_WAVELENGTH_NM);
+                .any(|l| (l - nm).abs() <= spectral_quadrature_build::SAME_WAVELENGTH_NM);
             if !known {
                 extra.push(*nm);
             }

@@ -10,7 +10,7 @@ use std::sync::OnceLock;
 
 use spectral_quadrature_build::evaluate::{self, EvalSet, Reference, Stimulus};
 use spectral_quadrature_build::plan::{self, Candidate, Metric, PlanError};
-use spectral_quadrature_build::table::Negatives;
+use spectral_quadrature_build::Negatives;
 use spectral_quadrature_build::{catalog, Derivation, Settings};
 use spectral_quadrature_tools::scene_file;
 

@@ -9,10 +9,10 @@ use spectral_quadrature_tools::paper;
 use std::sync::OnceLock;
 
 /// The derivation with the settings that reproduce the paper (CIE data rounded to 5 decimals;
-/// see `Settings::paper`).
+/// see `paper::settings`).
 fn paper_derivation() -> &'static Derivation {
     static D: OnceLock<Derivation> = OnceLock::new();
-    D.get_or_init(|| derive(&Settings::paper(DATA_DIR)).expect("paper derivation"))
+    D.get_or_init(|| derive(&paper::settings(DATA_DIR)).expect("paper derivation"))
 }
 
 /// The derivation the crate bakes (CIE data as published).
@@ -159,7 +159,7 @@ fn table_1a_nodes_weights_and_undefined_pattern() {
     // For C2 order 7 (see below): the same rule on a 1 nm grid.
     let fine = derive(&Settings {
         step_nm: 1.0,
-        ..Settings::paper(DATA_DIR)
+        ..paper::settings(DATA_DIR)
     })
     .expect("1 nm derivation");
     let mut checked = 0;

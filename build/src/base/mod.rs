@@ -3,4 +3,4 @@
 
 pub(crate) mod error;
 pub(crate) mod files;
-pub mod table;
+pub(crate) mod table;

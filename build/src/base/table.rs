@@ -2,24 +2,7 @@
 //!
 //! Every malformed input is an error that names the file and the line; nothing is skipped.
 //!
-//! # Negative values
-//!
-//! Spectra (reflectances, spectral power, sensitivities, colour-matching functions) are
-//! non-negative, but measured files carry rounding noise: values such as −7e-18 where the
-//! instrument's software subtracted two nearly equal numbers. One rule, in `parse_table_with`,
-//! serves every reader of spectra (the observer tables, the report's and the planner's files,
-//! a scene's lights, sensors and plan spectra):
-//!
-//! - a value at or above −`NEGATIVE_TOLERANCE` × the file's largest value is noise: it is read
-//!   as 0, and the table's `Table::zeroed` counts such values and names the first one's line
-//!   and column, for the caller to report once as a warning (the build script as
-//!   `cargo:warning`, the tools on standard error);
-//! - a more negative value is an error naming the file, the line and the column, unless the
-//!   caller opts in to [`Negatives::Clamp`] (for measured data whose noise is larger): then it
-//!   is read as 0 too, and counted apart in the same warning.
-//!
-//! A file whose largest value is 0 or negative has no scale: every negative value in it is
-//! beyond the tolerance.
+//! What a reader does with negative values is [`Negatives`]'s to say.
 
 use std::borrow::ToOwned;
 use std::string::{String, ToString};
@@ -35,7 +18,24 @@ use super::error::DataError;
 /// or sensitivity can be trusted to.
 pub(crate) const NEGATIVE_TOLERANCE: f64 = 1e-6;
 
-/// What a reader does with values below zero (see the [module docs](self)).
+/// What a reader does with values below zero.
+///
+/// Spectra (reflectances, spectral power, sensitivities, colour-matching functions) are
+/// non-negative, but measured files carry rounding noise: values such as −7e-18 where the
+/// instrument's software subtracted two nearly equal numbers. One rule serves every reader of
+/// spectra (the observer tables, the report's and the planner's files, a scene's lights,
+/// sensors and plan spectra):
+///
+/// - a value at or above −1e-6 × the file's largest value is noise: it is read as 0, and a
+///   [`ZeroedNegatives`] counts such values and names the first one's line and column, for the
+///   caller to report once as a warning (the build script as `cargo:warning`, the tools on
+///   standard error);
+/// - a more negative value is an error naming the file, the line and the column, unless the
+///   caller opts in to [`Negatives::Clamp`] (for measured data whose noise is larger): then it
+///   is read as 0 too, and counted apart in the same warning.
+///
+/// A file whose largest value is 0 or negative has no scale: every negative value in it is
+/// beyond the tolerance.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Negatives {
     /// Values within `NEGATIVE_TOLERANCE` of zero (relative to the file's largest value) are

@@ -33,8 +33,8 @@ pub struct Spectra {
 
 impl Spectra {
     /// Parses CSV text. Errors name `file` and the line: malformed rows (see
-    /// `crate::table::parse_table`), wavelengths outside (0, 100 µm], and values below zero by
-    /// more than the tolerance ([`crate::table::Negatives::Refuse`]: no reflectance or spectral
+    /// `base::table::parse_table`), wavelengths outside (0, 100 µm], and values below zero by
+    /// more than the tolerance ([`crate::Negatives::Refuse`]: no reflectance or spectral
     /// power is negative; rounding noise is read as 0 and reported by [`zeroed`](Self::zeroed)).
     pub fn parse(file: &str, text: &str) -> Result<Spectra, DataError> {
         Self::parse_with(file, text, Negatives::Refuse)
@@ -43,7 +43,11 @@ impl Spectra {
     /// [`parse`](Self::parse) with the rule for negative values given: [`Negatives::Clamp`]
     /// reads every negative value as 0 (and reports it), for measured data whose noise is larger
     /// than the tolerance.
-    pub fn parse_with(file: &str, text: &str, negatives: Negatives) -> Result<Spectra, DataError> {
+    pub(crate) fn parse_with(
+        file: &str,
+        text: &str,
+        negatives: Negatives,
+    ) -> Result<Spectra, DataError> {
         let table = parse_table_with(file, text, None, Spacing::Any, negatives)?;
         for (nm, line) in table.wavelengths.iter().zip(&table.lines) {
             if !(*nm > 0.0 && *nm <= MAX_WAVELENGTH_NM) {

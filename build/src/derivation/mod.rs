@@ -11,10 +11,10 @@
 pub(crate) mod derive;
 pub mod display;
 pub mod evaluate;
-pub mod observer;
-pub mod opponent;
-pub mod planckian;
+pub(crate) mod observer;
+pub(crate) mod opponent;
+pub(crate) mod planckian;
 pub mod quadrature;
 pub(crate) mod relight;
-pub mod sets;
+pub(crate) mod sets;
 pub(crate) mod settings;

@@ -159,13 +159,13 @@ pub struct Observer {
     /// SHA-256 of the file's text, for generated headers.
     pub sha256: String,
     /// The negative values within the tolerance that were read as 0
-    /// ([`crate::table::Negatives`]), for the caller to report; `None` when there were none.
+    /// ([`crate::Negatives`]), for the caller to report; `None` when there were none.
     pub zeroed: Option<ZeroedNegatives>,
 }
 
 impl Observer {
     /// Parses an observer table: header plus rows `wavelength,x_bar,y_bar,z_bar`, evenly spaced,
-    /// non-negative up to rounding noise ([`crate::table::parse_table`]). Errors name `file` and
+    /// non-negative up to rounding noise ([`crate::parse_table`]). Errors name `file` and
     /// the offending line.
     pub(crate) fn parse(name: &str, file: &str, text: &str) -> Result<Observer, DataError> {
         let table = parse_table(file, text, Some(3), Spacing::Even)?;

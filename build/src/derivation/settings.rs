@@ -30,8 +30,8 @@ pub struct Settings {
     /// XYZ → SML (Eq. 1 by default).
     pub cone_matrix: [[f64; 3]; 3],
     /// Round the observer's x̄, ȳ, z̄ to this many decimals before deriving (`None`: as
-    /// published). The paper's Table 1a is reproduced most closely with `Some(5)` (see
-    /// [`Settings::paper`]).
+    /// published). The paper's Table 1a is reproduced most closely with `Some(5)` (the tools'
+    /// `paper::settings`).
     pub observer_decimals: Option<u32>,
 }
 
@@ -65,18 +65,6 @@ impl Settings {
             cone_matrix: observer.cone_matrix(&table),
             ..Settings::new(data_dir)
         })
-    }
-
-    /// The settings that reproduce the paper's printed tables most closely: the defaults with
-    /// the observer rounded to 5 decimals. Against Table 1a this lowers the largest node
-    /// difference from 0.57 to 0.39 nm and the mean from 0.090 to 0.069 nm (4 decimals is far
-    /// worse, 6 no better), which suggests the paper's tables came from 5-decimal data. The
-    /// crate's baked tables use the data as published ([`Settings::new`]).
-    pub fn paper(data_dir: impl Into<PathBuf>) -> Settings {
-        Settings {
-            observer_decimals: Some(5),
-            ..Settings::new(data_dir)
-        }
     }
 
     /// One line describing the settings, for generated headers.

@@ -33,7 +33,7 @@ pub struct Output {
     pub rerun_if_changed: Vec<PathBuf>,
     /// What the build script should print as warnings (`cargo:warning`), one line each: the
     /// negative values read as 0 in each input file that has any
-    /// ([`crate::table::ZeroedNegatives`]), the observer's first.
+    /// ([`crate::ZeroedNegatives`]), the observer's first.
     pub warnings: Vec<String>,
 }
 

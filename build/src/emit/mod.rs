@@ -6,7 +6,7 @@
 //! [`generate`](crate::generate), which the runtime's build script calls to run the whole
 //! generation for a scene.
 
-pub mod codegen;
+pub(crate) mod codegen;
 pub mod fixed_point;
 pub(crate) mod generate;
 pub(crate) mod layout;
@@ -15,4 +15,4 @@ pub(crate) mod planckian;
 pub(crate) mod sensors;
 pub mod shader;
 pub(crate) mod transfer_tables;
-pub mod upsampling;
+pub(crate) mod upsampling;

@@ -1,5 +1,5 @@
 //! WGSL and GLSL snippets of a scene: its colour sets, their folded weights and its displays'
-//! encodings, written from the same f64 values [`codegen`](super::codegen) bakes and rounded by
+//! encodings, written from the same f64 values `codegen` bakes and rounded by
 //! the same `f32_literal`, so a shader constant is the very f32 of its Rust counterpart.
 //!
 //! For each colour set `<SET>` (lower case `<set>`) and display `<DISPLAY>` (`<display>`):

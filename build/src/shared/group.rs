@@ -33,7 +33,7 @@ use crate::derivation::evaluate::Curve;
 /// The training reflectances of the crate's light groups: every reflectance file of the crate
 /// (the CIE test colours, the ColorChecker, the 190 rawtoaces patches). The report judges the
 /// fit by cross-validation over the last two instead (section 9).
-pub const GROUP_TRAINING_FILES: [&str; 3] = [
+pub(crate) const GROUP_TRAINING_FILES: [&str; 3] = [
     "data/reflectance_cie_tcs.csv",
     "data/reflectance_colorchecker_ohta.csv",
     "data/reflectance_rawtoaces_190.csv",
@@ -53,7 +53,7 @@ pub enum GroupTraining {
 
 impl GroupTraining {
     /// `"reflectances"` or `"bounces"`, as a scene writes it.
-    pub const fn name(self) -> &'static str {
+    pub(crate) const fn name(self) -> &'static str {
         match self {
             GroupTraining::Reflectances => "reflectances",
             GroupTraining::Bounces => "bounces",
@@ -95,7 +95,7 @@ pub fn bounce_forms(training: &[Curve], range_nm: [f64; 2]) -> Vec<Curve> {
 }
 
 /// The sizes a scene's light group may have.
-pub const GROUP_SIZES: core::ops::RangeInclusive<i64> = 3..=16;
+pub(crate) const GROUP_SIZES: core::ops::RangeInclusive<i64> = 3..=16;
 
 /// What the node search of a light group minimises, from each light's mean CIEDE2000 `e_l` on
 /// the training reflectances at the group's nodes and `own_l`, that of the light's own folded
@@ -112,7 +112,7 @@ pub enum GroupObjective {
 
 impl GroupObjective {
     /// `"mean"` or `"worst"`, as a scene writes it.
-    pub const fn name(self) -> &'static str {
+    pub(crate) const fn name(self) -> &'static str {
         match self {
             GroupObjective::Mean => "mean",
             GroupObjective::Worst => "worst",

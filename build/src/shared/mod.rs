@@ -41,8 +41,8 @@ pub use cache::cache_file;
 pub(crate) use cache::{cached_or_optimize, cached_or_optimize_group, CACHE_FILE};
 pub use group::{
     bounce_forms, nodes_of, Group, GroupFit, GroupObjective, GroupTraining, Member, Weights,
-    GROUP_SIZES, GROUP_TRAINING_FILES,
 };
+pub(crate) use group::{GROUP_SIZES, GROUP_TRAINING_FILES};
 pub(crate) use interpolatory::interpolatory_a;
 pub use model::{
     eval_on_radiance, problem_for, Problem, Shared, EMPIRICAL_WEIGHT, LENGTH_NM, TRAINING_FILE,

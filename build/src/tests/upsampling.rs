@@ -3,7 +3,7 @@
 //! for the radiance sets (what node values reach, whether a bounded exact linear map exists, the
 //! round trip on a 17³ grid).
 
-use crate::upsampling::{self as up, qp::nearest_in_box};
+use crate::upsampling::{self as up, nearest_in_box};
 use crate::{derive, Settings};
 
 /// The data files the derivation reads (the runtime crate's `data/`).

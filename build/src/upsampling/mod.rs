@@ -18,7 +18,7 @@
 //! 3. **A projection per grid point** ([`project`]): `M · rgb` moved to the nearest node values
 //!    in [0, 1] that encode back to `rgb` exactly, or, where no node values in [0, 1] reach
 //!    `rgb`, to those that reach the nearest colour in CIELAB (linearised at `rgb`), and among
-//!    them the nearest to `M · rgb`. A small quadratic programme ([`qp`]).
+//!    them the nearest to `M · rgb`. A small quadratic programme ([`nearest_in_box`]).
 //!
 //! The runtime interpolates the grid tetrahedrally: a convex combination of four grid points
 //! (so bounded), exact on the grey diagonal (an edge of every tetrahedron), and reproducing
@@ -36,12 +36,13 @@
 
 mod bake;
 mod cache;
-pub mod qp;
+pub(crate) mod qp;
 mod training;
 
 pub use bake::{bake, encode, exact_rgb, grid_point, project, Baked, DEFAULT_GRID};
 pub(crate) use bake::{bake_with, encoding, GRID_SIZES, RADIANCE_REFERENCE_LIGHT};
 pub(crate) use cache::{read_cache, write_cache, CacheEntry, FitInputs, CACHE_FILE};
+pub use qp::{nearest_in_box, Solution};
 pub use training::training;
 pub(crate) use training::TRAINING_FILES;
 // The paths the unit tests (src/tests/) name.

@@ -146,6 +146,6 @@ pub fn bounded_exact_linear_residual(encoding: &[Vec<f64>; 3]) -> Result<f64, Er
         rhs.push(1.0);
     }
     let u = std::vec![0.25; vars];
-    let s = spectral_quadrature_build::upsampling::qp::nearest_in_box(&u, &rows, &rhs)?;
+    let s = spectral_quadrature_build::upsampling::nearest_in_box(&u, &rows, &rhs)?;
     Ok(s.residual.iter().fold(0.0f64, |m, r| m.max(r.abs())))
 }

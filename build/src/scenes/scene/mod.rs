@@ -54,7 +54,7 @@
 //! `[groups.*]` (`tables::groups`, [`crate::shared::GroupFit`]).
 //!
 //! The spectra files a scene names follow the readers' rule for negative values
-//! ([`crate::table::Negatives`]): rounding noise (at or above −1e-6 of the file's largest value)
+//! ([`crate::Negatives`]): rounding noise (at or above −1e-6 of the file's largest value)
 //! is read as 0 and reported as a warning ([`Resolved::warnings`]); a more negative value is an
 //! error naming the file, line and column, unless `clamp_negatives = true` reads it as 0 as well
 //! (for measured data whose noise is larger; still reported).
