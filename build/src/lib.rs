@@ -63,7 +63,6 @@ mod tests;
 pub mod upsampling;
 
 pub use base::error::{CalibrationProblem, DataError, Error, LightProblem, SetNameProblem};
-pub use base::files::{data_path, sha256_hex};
 pub use base::table::{Negatives, ZeroedNegatives};
 // The paths the unit tests (src/tests/) name.
 pub use derivation::derive::{derive, derive_with, Derivation};

@@ -9,14 +9,14 @@ use std::vec::Vec;
 use super::error::DataError;
 
 /// Hex SHA-256 of some bytes (checksums of inputs in generated headers).
-pub fn sha256_hex(bytes: &[u8]) -> String {
+pub(crate) fn sha256_hex(bytes: &[u8]) -> String {
     use sha2::Digest;
     let digest = sha2::Sha256::digest(bytes);
     digest.iter().map(|b| std::format!("{b:02x}")).collect()
 }
 
 /// The path of a data file labelled `data/<file>` (or just `<file>`) under `data_dir`.
-pub fn data_path(data_dir: &Path, label: &str) -> PathBuf {
+pub(crate) fn data_path(data_dir: &Path, label: &str) -> PathBuf {
     data_dir.join(label.strip_prefix("data/").unwrap_or(label))
 }
 

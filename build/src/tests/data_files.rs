@@ -6,7 +6,7 @@ const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");
 
 /// The text of an observer's data file.
 fn csv_text(id: ObserverId) -> String {
-    let path = crate::data_path(std::path::Path::new(DATA_DIR), id.file());
+    let path = crate::base::files::data_path(std::path::Path::new(DATA_DIR), id.file());
     std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
