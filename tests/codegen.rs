@@ -21,7 +21,7 @@ fn f32s(v: &[f64]) -> Vec<f32> {
 fn header_constants() {
     let d = fresh();
     assert_eq!(tables::OBSERVER, d.settings.observer.name());
-    assert_eq!(tables::SETTINGS, d.settings.describe());
+    assert_eq!(tables::SETTINGS, d.settings.to_string());
     assert_eq!(tables::RANGE_NM, [380.0, 770.0]);
     assert_eq!(tables::STEP_NM, 5.0);
     assert_eq!(tables::MAX_ORDER, d.settings.max_order);

@@ -97,11 +97,7 @@ fn the_default_tables_name_every_input_with_its_checksum() {
         ]
     );
     for (label, sha) in &inputs {
-        assert_eq!(
-            *sha,
-            sha256_of(&crate_dir().join(label)),
-            "{label}"
-        );
+        assert_eq!(*sha, sha256_of(&crate_dir().join(label)), "{label}");
     }
     // The same header is a const, for firmware to log.
     assert!(out

@@ -2,7 +2,6 @@
 //! order, the covariance of Eq. 5 and the cone matrix of Eq. 1.
 
 use std::path::PathBuf;
-use std::string::String;
 
 use super::observer::ObserverId;
 use super::opponent::{self, Covariance};
@@ -66,21 +65,27 @@ impl Settings {
             ..Settings::new(data_dir)
         })
     }
+}
 
-    /// One line describing the settings, for generated headers.
-    pub fn describe(&self) -> String {
-        let decimals = match self.observer_decimals {
-            Some(k) => std::format!(" observer_decimals={k}"),
-            None => String::new(),
-        };
-        std::format!(
-            "observer={} range={}-{} nm step={} nm max_order={} covariance={}{decimals}",
+/// One line describing the settings, as generated headers give them (`tables::SETTINGS`):
+/// `observer=cie1931_2deg range=380-770 nm step=5 nm max_order=16 covariance=delta`, with
+/// ` observer_decimals=<k>` at the end when the observer is rounded. The data directory is left
+/// out, so the line does not depend on where the crate lives.
+impl core::fmt::Display for Settings {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(
+            f,
+            "observer={} range={}-{} nm step={} nm max_order={} covariance={}",
             self.observer.name(),
             self.range_nm[0],
             self.range_nm[1],
             self.step_nm,
             self.max_order,
             self.covariance.describe()
-        )
+        )?;
+        match self.observer_decimals {
+            Some(k) => write!(f, " observer_decimals={k}"),
+            None => Ok(()),
+        }
     }
 }

@@ -137,7 +137,7 @@ pub(crate) fn header(d: &Derivation, inputs: &[(String, String)], scene: &Resolv
     )
     .ok();
     writeln!(o, "`cargo build` regenerates it whenever an input below, the scene or the generator crate changes.").ok();
-    writeln!(o, "Settings: {}", d.settings.describe()).ok();
+    writeln!(o, "Settings: {}", d.settings).ok();
     writeln!(o, "Scene: {}", scene.file).ok();
     if let Some(p) = &scene.planned {
         writeln!(o, "Planned: {p}").ok();
@@ -236,7 +236,7 @@ fn provenance_rs(t: &mut Tables, d: &Derivation, inputs: &[(String, String)], sc
         0,
         "The derivation's settings, as one line.",
         "pub const SETTINGS: &str =",
-        &quoted(&s.describe()),
+        &quoted(&s.to_string()),
     );
     let header_lhs = "pub const HEADER: &str =";
     item(

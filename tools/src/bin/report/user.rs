@@ -94,8 +94,7 @@ pub fn scene_extras(
     if scene.settings != d.settings {
         return Err(spectral_quadrature_build::Error::Settings(format!(
             "{label}: the report runs on the default settings ({}); the scene asks for {}",
-            d.settings.describe(),
-            scene.settings.describe()
+            d.settings, scene.settings
         ))
         .into());
     }
