@@ -43,11 +43,7 @@ impl Spectra {
     /// [`parse`](Self::parse) with the rule for negative values given: [`Negatives::Clamp`]
     /// reads every negative value as 0 (and reports it), for measured data whose noise is larger
     /// than the tolerance.
-    pub(crate) fn parse_with(
-        file: &str,
-        text: &str,
-        negatives: Negatives,
-    ) -> Result<Spectra, DataError> {
+    pub fn parse_with(file: &str, text: &str, negatives: Negatives) -> Result<Spectra, DataError> {
         let table = parse_table_with(file, text, None, Spacing::Any, negatives)?;
         for (nm, line) in table.wavelengths.iter().zip(&table.lines) {
             if !(*nm > 0.0 && *nm <= MAX_WAVELENGTH_NM) {
