@@ -313,7 +313,12 @@ pub fn upsampled(
                 &training,
                 spectral_quadrature_build::upsampling::DEFAULT_GRID,
             )?;
-            runtime_values(&baked, &rgb)?
+            crate::upsampling::runtime_values(&baked, &rgb)?.ok_or_else(|| {
+                Error::Derive(spectral_quadrature_build::Error::Numerical(format!(
+                    "no runtime upsampling path for {} nodes",
+                    baked.wavelengths_nm.len()
+                )))
+            })?
         }
         Upsampler::JakobHanika => {
             let jh = crate::upsampling::jakob_hanika::JakobHanika::srgb(d)?;
@@ -329,48 +334,6 @@ pub fn upsampled(
     };
     let [w, r, g]: [Vec<f64>; 3] = values.try_into().expect("three paints");
     Ok(with_node_values(set, name, [w, r, g]))
-}
-
-/// The runtime's `Upsampling` on a baked table, at each RGB.
-fn runtime_values(
-    b: &spectral_quadrature_build::upsampling::Baked,
-    rgb: &[[f64; 3]],
-) -> Result<Vec<Vec<f64>>, Error> {
-    fn run<const N: usize>(
-        b: &spectral_quadrature_build::upsampling::Baked,
-        rgb: &[[f64; 3]],
-    ) -> Result<Vec<Vec<f64>>, Error> {
-        let table: Vec<[u16; N]> = b
-            .codes
-            .iter()
-            .map(|c| core::array::from_fn(|i| c[i]))
-            .collect();
-        // The runtime's tables are 'static (baked into the binary); the tool leaks its few.
-        let table: &'static [[u16; N]] = Box::leak(table.into_boxed_slice());
-        let wavelengths_nm = core::array::from_fn(|i| b.wavelengths_nm[i] as f32);
-        let u =
-            spectral_quadrature::Upsampling::new("", "", "", wavelengths_nm, b.grid, table, None)
-                .map_err(|e| {
-                Error::Derive(spectral_quadrature_build::Error::Numerical(e.to_string()))
-            })?;
-        Ok(rgb
-            .iter()
-            .map(|p| {
-                u.reflectance(p.map(|x| x as f32))
-                    .iter()
-                    .map(|&v| f64::from(v))
-                    .collect()
-            })
-            .collect())
-    }
-    match b.wavelengths_nm.len() {
-        4 => run::<4>(b, rgb),
-        6 => run::<6>(b, rgb),
-        8 => run::<8>(b, rgb),
-        n => Err(Error::Derive(spectral_quadrature_build::Error::Numerical(
-            format!("no runtime upsampling path for {n} nodes"),
-        ))),
-    }
 }
 
 /// The reference's integrand per patch and 1 nm cell: `x̄ȳz̄(λₖ) · 1 nm · B(λₖ)` for the

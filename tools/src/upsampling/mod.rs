@@ -20,6 +20,7 @@ pub mod jakob_hanika;
 pub mod smooth;
 
 use spectral_quadrature_build::evaluate::{self, delta_e2000, lab_from_xyz, Curve, EvalSet};
+use spectral_quadrature_build::upsampling::Baked;
 use spectral_quadrature_build::Derivation;
 
 use crate::Error;
@@ -148,4 +149,41 @@ pub fn bounded_exact_linear_residual(encoding: &[Vec<f64>; 3]) -> Result<f64, Er
     let u = std::vec![0.25; vars];
     let s = spectral_quadrature_build::upsampling::nearest_in_box(&u, &rows, &rhs)?;
     Ok(s.residual.iter().fold(0.0f64, |m, r| m.max(r.abs())))
+}
+
+/// The node values the runtime's f32 `Upsampling` gives at each RGB, on a bake's codes: what
+/// firmware or a shader would get from the same table. `None` for a node count the runtime's
+/// type is not instantiated for here (4, 6 and 8 are: the sizes the report and the Cornell box
+/// compare).
+pub fn runtime_values(b: &Baked, rgb: &[[f64; 3]]) -> Result<Option<Vec<Vec<f64>>>, Error> {
+    fn run<const N: usize>(b: &Baked, rgb: &[[f64; 3]]) -> Result<Vec<Vec<f64>>, Error> {
+        let table: Vec<[u16; N]> = b
+            .codes
+            .iter()
+            .map(|c| core::array::from_fn(|i| c[i]))
+            .collect();
+        // The runtime's tables are 'static (baked into the binary); the tool leaks its few.
+        let table: &'static [[u16; N]] = Box::leak(table.into_boxed_slice());
+        let wavelengths_nm = core::array::from_fn(|i| b.wavelengths_nm[i] as f32);
+        let u =
+            spectral_quadrature::Upsampling::new("", "", "", wavelengths_nm, b.grid, table, None)
+                .map_err(|e| {
+                Error::Derive(spectral_quadrature_build::Error::Numerical(e.to_string()))
+            })?;
+        Ok(rgb
+            .iter()
+            .map(|p| {
+                u.reflectance(p.map(|x| x as f32))
+                    .iter()
+                    .map(|&v| f64::from(v))
+                    .collect()
+            })
+            .collect())
+    }
+    match b.wavelengths_nm.len() {
+        4 => run::<4>(b, rgb).map(Some),
+        6 => run::<6>(b, rgb).map(Some),
+        8 => run::<8>(b, rgb).map(Some),
+        _ => Ok(None),
+    }
 }

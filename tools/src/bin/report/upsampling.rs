@@ -13,7 +13,6 @@ use std::path::{Path, PathBuf};
 
 use crate::plot::{self, plot_err};
 use plotters::prelude::*;
-use spectral_quadrature::Upsampling;
 use spectral_quadrature_build::evaluate::{self, Curve, EvalSet, Spectra};
 use spectral_quadrature_build::upsampling::{self as up, Baked};
 use spectral_quadrature_build::Derivation;
@@ -64,38 +63,18 @@ struct Cell {
     de: Vec<f64>,
 }
 
-/// The node values of the runtime's f32 path for `rgb`, on a fresh bake's codes.
-fn runtime_values(b: &Baked, rgb: &[[f64; 3]]) -> Vec<Vec<f64>> {
-    fn run<const N: usize>(b: &Baked, rgb: &[[f64; 3]]) -> Vec<Vec<f64>> {
-        let table: Vec<[u16; N]> = b
-            .codes
-            .iter()
-            .map(|c| core::array::from_fn(|i| c[i]))
-            .collect();
-        let table: &'static [[u16; N]] = Box::leak(table.into_boxed_slice());
-        let wavelengths_nm = core::array::from_fn(|i| b.wavelengths_nm[i] as f32);
-        let u = Upsampling::new("", "", "", wavelengths_nm, b.grid, table, None)
-            .expect("a bake has grid³ entries");
-        rgb.iter()
-            .map(|p| {
-                u.reflectance(p.map(|x| x as f32))
-                    .iter()
-                    .map(|&v| f64::from(v))
-                    .collect()
-            })
-            .collect()
-    }
-    match b.wavelengths_nm.len() {
-        4 => run::<4>(b, rgb),
-        6 => run::<6>(b, rgb),
-        8 => run::<8>(b, rgb),
+/// The node values of the runtime's f32 path for `rgb`, on a fresh bake's codes
+/// ([`tools::upsampling::runtime_values`]).
+fn runtime_values(b: &Baked, rgb: &[[f64; 3]]) -> Result<Vec<Vec<f64>>, Error> {
+    Ok(match tools::upsampling::runtime_values(b, rgb)? {
+        Some(values) => values,
         // The section compares 4, 6 and 8 only; anything else is the f64 interpolation (a fresh
         // bake has its fit).
-        _ => rgb
+        None => rgb
             .iter()
             .map(|p| b.interpolate(*p).expect("a fresh bake has its fit"))
             .collect(),
-    }
+    })
 }
 
 /// Runs section 8: the text, and the files written to `out`.
@@ -172,7 +151,7 @@ pub fn section(i: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
             let idx: Vec<usize> = (0..judged.len()).filter(|&k| folds[k] == fold).collect();
             let pts: Vec<[f64; 3]> = idx.iter().map(|&k| rgb[k]).collect();
             let map = &b.fit.as_ref().expect("a fresh bake has its fit").map;
-            for (&k, v) in idx.iter().zip(runtime_values(&b, &pts)) {
+            for (&k, v) in idx.iter().zip(runtime_values(&b, &pts)?) {
                 crate_values[k] = v;
                 lsq_values[k] = map
                     .iter()
@@ -225,7 +204,7 @@ pub fn section(i: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
         )?;
         let residual = tools::upsampling::bounded_exact_linear_residual(&b.encoding)?;
         let cc_rgb = srgb_under_d65(d, &cc)?;
-        let cc_values = runtime_values(&b, &cc_rgb);
+        let cc_values = runtime_values(&b, &cc_rgb)?;
         let cc_de: Vec<f64> = lights
             .iter()
             .flat_map(|l| relit_de00(&eval, &reference, &cc, &cc_values, l))
