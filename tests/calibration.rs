@@ -16,7 +16,7 @@ use spectral_quadrature::{
     WavelengthSet,
 };
 use spectral_quadrature_build::calibration::{self, Readings};
-use spectral_quadrature_build::evaluate::Curve;
+use spectral_quadrature_spectra::{builtin_illuminant, Curve, Spectra};
 use std::sync::OnceLock;
 
 /// The data files the derivation reads (the runtime crate's `data/`).
@@ -258,8 +258,7 @@ fn bench() -> &'static Bench {
         let range = d.settings.range_nm;
         let fitted = common::example_sensor(&d, Some("C"));
         let sensor = fitted.channels.as_ref().unwrap();
-        let light =
-            spectral_quadrature_build::evaluate::builtin_illuminant(data, "C", range).unwrap();
+        let light = builtin_illuminant(data, "C", range).unwrap();
         // AC1C2 rows = Eq. 9 · XYZ rows, rounded to f32 as the build rounds them.
         let m = d.opponent.xyz_to_ac1c2;
         let weights: [[f32; 8]; 3] = core::array::from_fn(|r| {
@@ -288,15 +287,13 @@ fn bench() -> &'static Bench {
         let white = fitted.white_samples.clone();
         // Exact colours in the same units: the light scaled so the perfect white has
         // Y = UNIT_SPECTRUM_Y.
-        let full =
-            spectral_quadrature_build::evaluate::full_integration(&d.observer, range, 1.0).unwrap();
+        let full = d.observer.full_integration(range, 1.0).unwrap();
         let scale = d.unit_spectrum_y / full.xyz(|nm| light.at(nm))[1];
         let white_xyz = full.xyz(|nm| scale * light.at(nm));
         let chart = |label: &'static str| {
             // The crate's reader: the rawtoaces file's rounding-noise negatives read as 0,
             // with a warning, as every tool reports them.
-            let spectra =
-                spectral_quadrature_build::evaluate::Spectra::builtin(data, label).unwrap();
+            let spectra = Spectra::builtin(data, label).unwrap();
             if let Some(z) = spectra.zeroed() {
                 eprintln!("calibration: warning: {z}");
             }

@@ -12,6 +12,7 @@
 mod common;
 
 use common::cie015::{plain_light_xyz, plain_light_xyz_over, plain_xyz};
+use spectral_quadrature_spectra::builtin_lights;
 
 use proptest::prelude::*;
 use spectral_quadrature::tables::PLANCKIAN_LOCUS;
@@ -344,7 +345,7 @@ fn the_cie_illuminants_and_leds() {
     println!("| light | exact CCT | exact Duv | runtime CCT | runtime Duv | ΔT | ΔDuv |");
     println!("|---|---|---|---|---|---|---|");
     let mut checked = 0;
-    for name in spectral_quadrature_build::evaluate::builtin_lights() {
+    for name in builtin_lights() {
         let xyz = plain_light_xyz(name).map(|c| c as f32);
         let e = exact(xyz).unwrap_or_else(|| panic!("{name}: no exact CCT"));
         let (got, _, dmired, dduv) = errors(xyz);

@@ -9,7 +9,7 @@ mod common;
 
 use spectral_quadrature::tables::PLANCKIAN_LOCUS;
 use spectral_quadrature::{LuxScale, Samples, WavelengthSet};
-use spectral_quadrature_build::evaluate::Curve;
+use spectral_quadrature_spectra::{builtin_illuminant, builtin_lights, Curve};
 use std::path::Path;
 
 /// The data files the derivation reads (the runtime crate's `data/`).
@@ -48,19 +48,13 @@ fn lux_and_cct_of_the_lights() {
     let range = d.settings.range_nm;
     let fits = [None, Some("C")].map(|light| common::example_sensor(&d, light));
     let sensor = fits[0].channels.as_ref().unwrap();
-    let full =
-        spectral_quadrature_build::evaluate::full_integration(&d.observer, range, 1.0).unwrap();
-    let lights: Vec<(&str, Curve)> = spectral_quadrature_build::evaluate::builtin_lights()
+    let full = d.observer.full_integration(range, 1.0).unwrap();
+    let lights: Vec<(&str, Curve)> = builtin_lights()
         .into_iter()
         .map(|n| {
             (
                 n,
-                spectral_quadrature_build::evaluate::builtin_illuminant(
-                    Path::new(DATA_DIR),
-                    n,
-                    range,
-                )
-                .unwrap(),
+                builtin_illuminant(Path::new(DATA_DIR), n, range).unwrap(),
             )
         })
         .collect();
@@ -149,7 +143,7 @@ fn spectral_irradiance_y_against_cie_015s_range() {
     let mut worst = (0.0f64, "");
     println!("| light | Y over {lo}-{hi} nm / Y over 360-830 nm − 1 |");
     println!("|---|---|");
-    for name in spectral_quadrature_build::evaluate::builtin_lights() {
+    for name in builtin_lights() {
         let scene = plain_light_xyz_over([lo, hi], name)[1];
         let standard = plain_light_xyz(name)[1];
         let relative = scene / standard - 1.0;

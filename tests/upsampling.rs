@@ -4,6 +4,7 @@
 
 mod common;
 
+use spectral_quadrature_spectra::builtin_illuminant;
 use std::sync::OnceLock;
 
 use spectral_quadrature::tables::{folded, upsampling};
@@ -80,7 +81,7 @@ fn all_maps() -> Vec<(&'static (dyn Dyn + Sync), Fresh)> {
                 .1;
             let set = r.colour_sets.iter().find(|s| s.name == baked.set).unwrap();
             let light_at_nodes = set.light.is_none().then(|| {
-                let light = spectral_quadrature_build::evaluate::builtin_illuminant(
+                let light = builtin_illuminant(
                     std::path::Path::new(DATA_DIR),
                     &baked.light,
                     d.settings.range_nm,

@@ -19,10 +19,17 @@
 //! # What lives here and why
 //!
 //! Everything a baked table needs, and nothing else: a downstream build runs this crate at
-//! Cargo's default build-script opt-level 0. [`evaluate`] (spectra, exact integration, CIELAB)
-//! and [`plan`] stay here because a scene with a `[plan]` section is resolved at build time by
-//! measuring sets against the scene's spectra; the report, the stability and sensitivity studies
-//! and the pre-filtering analysis live in the `spectral-quadrature-tools` crate.
+//! Cargo's default build-script opt-level 0. [`plan`] stays here because a scene with a `[plan]`
+//! section is resolved at build time by measuring sets against the scene's spectra; the report,
+//! the stability and sensitivity studies and the pre-filtering analysis live in the
+//! `spectral-quadrature-tools` crate.
+//!
+//! Spectra come from `spectral-quadrature-spectra`, the crate below this one: the CSV reader
+//! (errors naming file and line, negative values as its `Negatives` says), curves, stimuli and
+//! the measuring of sets in CIELAB (`EvalSet`, `Reference`). This crate builds the measured
+//! sets of a derivation: the exact integration and the uniform sets on the observer's grid
+//! ([`Observer::full_integration`], [`Observer::uniform_set`]) and a derived set in XYZ
+//! ([`Derivation::eval_set`]).
 //!
 //! The steps, named after the paper: [`Observer`] holds x̄ȳz̄; [`Opponent`] holds the cone
 //! fundamentals (Eq. 1), the covariance (Eq. 4-5) and the KL transform (Eq. 9-10);
@@ -37,11 +44,10 @@
 //! The sources are grouped by role, each role a folder whose modules import only the roles
 //! below it (`python3 .ci/module-graph build/src` prints the graph and fails on a cycle):
 //!
-//! 1. `base`: the errors, the data files and their checksums, the CSV reader (which reads
-//!    negative values as [`Negatives`] says);
+//! 1. `base`: the errors, the checksums of the data files, and the cache files;
 //! 2. `derivation`: [`Settings`], [`derive()`] and its steps (`observer`, `opponent`,
-//!    [`quadrature`], `sets`), the display matrices ([`display`]), CIELAB and the measuring of
-//!    sets on spectra ([`evaluate`]), the Planckian locus and the exact CCT ([`PlanckianLocus`]);
+//!    [`quadrature`], `sets`), the display matrices ([`display`]), the exact integration on the
+//!    observer's grid, the Planckian locus and the exact CCT ([`PlanckianLocus`]);
 //! 3. `shared`: the shared sets ([`shared`]: model, fit, node search, node cache);
 //! 4. `scenes`: the scene file ([`scene`]), the sets by name ([`catalog`]), the user's inputs
 //!    ([`user`]), a sensor's white reference and fitted calibration ([`calibration`]) and the
@@ -62,9 +68,7 @@ pub mod shared;
 mod tests;
 pub mod upsampling;
 
-pub use base::error::{CalibrationProblem, DataError, Error, LightProblem, SetNameProblem};
-pub use base::table::{Negatives, ZeroedNegatives};
-// The paths the unit tests (src/tests/) name.
+pub use base::error::{CalibrationProblem, Error, LightProblem, SetNameProblem};
 pub use derivation::derive::{derive, derive_with, Derivation};
 pub use derivation::observer::{Observer, ObserverId};
 pub use derivation::opponent::{Covariance, Opponent};
@@ -72,7 +76,7 @@ pub use derivation::planckian::PlanckianLocus;
 pub use derivation::quadrature::{Measure, Recurrence, Rule, Status};
 pub use derivation::sets::{WavelengthSet, SAME_WAVELENGTH_NM};
 pub use derivation::settings::Settings;
-pub use derivation::{display, evaluate, quadrature};
+pub use derivation::{display, quadrature};
 pub use emit::generate::{generate, Output};
 pub use emit::{fixed_point, shader};
 pub use scenes::scene::SCENE_ENV;
@@ -80,9 +84,9 @@ pub use scenes::{calibration, catalog, plan, scene, user};
 /// Why a display is refused: the one type the runtime (`Error::Display`) and the derivation
 /// ([`Error::Display`]) report.
 pub use spectral_quadrature_math::DisplayError;
+// The paths the unit tests (src/tests/) name.
 #[cfg(test)]
 use {
-    base::table,
     derivation::{observer, opponent, planckian},
     emit::codegen,
 };

@@ -14,7 +14,7 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use spectral_quadrature_build::evaluate::{self, Curve};
+use spectral_quadrature_spectra::{builtin_illuminant, Curve, Spectra};
 
 /// The simulated device's exposure: its golden-device counts times this (a white reading
 /// leaves headroom for its gains).
@@ -109,9 +109,9 @@ fn simulate(manifest: &Path, out: &Path) -> Result<(), Box<dyn std::error::Error
         f64::from((largest_white / spectral_quadrature_build::fixed_point::FULL_SCALE) as f32);
 
     // Illuminant C at the luminance of a spectrum of constant 1, as the set was fitted for.
-    let full = evaluate::full_integration(&d.observer, range, 1.0)?;
+    let full = d.observer.full_integration(range, 1.0)?;
     let grid = &full.wavelengths_nm;
-    let light = evaluate::builtin_illuminant(&data, "C", range)?;
+    let light = builtin_illuminant(&data, "C", range)?;
     let raw: Vec<f64> = grid.iter().map(|&nm| light.at(nm)).collect();
     let y: f64 = raw
         .iter()
@@ -131,8 +131,8 @@ fn simulate(manifest: &Path, out: &Path) -> Result<(), Box<dyn std::error::Error
             })
             .collect()
     };
-    let patches = evaluate::Spectra::builtin(&data, "data/reflectance_colorchecker_ohta.csv")?
-        .curves(range)?;
+    let patches =
+        Spectra::builtin(&data, "data/reflectance_colorchecker_ohta.csv")?.curves(range)?;
 
     let mut rng = Rng(SEED);
     let n = channels.len();

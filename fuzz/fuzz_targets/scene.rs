@@ -24,6 +24,7 @@
 
 mod common;
 
+use spectral_quadrature_spectra::builtin_lights;
 use std::path::Path;
 use std::sync::OnceLock;
 
@@ -169,7 +170,7 @@ fn check_scene(scene: &Scene, text: &str, data_dir: &Path) {
         names.push(name);
         check_line(&format!("{name}"), line, text);
     }
-    let builtin = spectral_quadrature_build::evaluate::builtin_lights();
+    let builtin = builtin_lights();
     for light in own
         .fixed
         .iter()

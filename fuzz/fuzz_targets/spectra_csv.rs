@@ -19,8 +19,7 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use spectral_quadrature_build::evaluate::{Curve, Spectra};
-use spectral_quadrature_build::DataError;
+use spectral_quadrature_spectra::{Curve, DataError, Spectra};
 
 const FILE: &str = "fuzz.csv";
 

@@ -18,8 +18,10 @@
 
 use std::vec::Vec;
 
-use spectral_quadrature_build::evaluate::{self, Curve, EvalSet, Reference, Spectra, Stimulus};
 use spectral_quadrature_build::{shared, Derivation};
+use spectral_quadrature_spectra::{
+    builtin_illuminant, surfaces_under_lights, Curve, Errors, EvalSet, Reference, Spectra, Stimulus,
+};
 
 use crate::evaluate::{channel_rules, combinations, shared_on_radiance};
 use crate::Error;
@@ -58,15 +60,15 @@ pub struct Entry {
     /// The set (its `len()` is the budget, except for the interval references).
     pub set: EvalSet,
     /// Its errors on the judged stimuli.
-    pub errors: evaluate::Errors,
+    pub errors: Errors,
 }
 
 /// The judged stimuli: the ColorChecker under `light`.
 pub fn judge_stimuli(d: &Derivation, light: &str) -> Result<Vec<Stimulus>, Error> {
     let range = d.settings.range_nm;
     let cc = Spectra::builtin(&d.settings.data_dir, JUDGE_FILE).and_then(|s| s.curves(range))?;
-    let l = evaluate::builtin_illuminant(&d.settings.data_dir, light, range)?;
-    Ok(evaluate::surfaces_under_lights(&cc, &[l]))
+    let l = builtin_illuminant(&d.settings.data_dir, light, range)?;
+    Ok(surfaces_under_lights(&cc, &[l]))
 }
 
 /// Reflectance sampled every `step_nm` over the range with `light` folded in: weights
@@ -74,7 +76,7 @@ pub fn judge_stimuli(d: &Derivation, light: &str) -> Result<Vec<Stimulus>, Error
 /// set on radiances (divided by L at each node, which must be positive there).
 pub fn interval_set(d: &Derivation, light: &Curve, step_nm: f64) -> Result<EvalSet, Error> {
     let range = d.settings.range_nm;
-    let full = evaluate::full_integration(&d.observer, range, 1.0)?;
+    let full = d.observer.full_integration(range, 1.0)?;
     let mut nodes = Vec::new();
     let mut nm = range[0];
     while nm <= range[1] + 1e-9 {
@@ -130,7 +132,7 @@ pub fn interval_set(d: &Derivation, light: &Curve, step_nm: f64) -> Result<EvalS
 /// one `shared::problem`.
 pub fn shared_sets(d: &Derivation, light: Option<&str>) -> Result<Vec<EvalSet>, Error> {
     let curve = match light {
-        Some(l) => Some(evaluate::builtin_illuminant(
+        Some(l) => Some(builtin_illuminant(
             &d.settings.data_dir,
             l,
             d.settings.range_nm,
@@ -205,16 +207,10 @@ pub fn other_sets(
         }
     }
     for n in BUDGETS {
-        out.push((
-            "uniform",
-            evaluate::uniform(&d.observer, d.settings.range_nm, n),
-        ));
+        out.push(("uniform", d.observer.uniform_set(d.settings.range_nm, n)));
         if let Ok(s) = spectral_quadrature_build::catalog::resolve(d, &std::format!("INTERP_A_{n}"))
         {
-            out.push((
-                "interp A",
-                EvalSet::from_set(&s, "interp A", &d.opponent.ac1c2_to_xyz),
-            ));
+            out.push(("interp A", d.eval_set(&s, "interp A")));
         }
     }
     out
@@ -232,7 +228,7 @@ pub fn compare(
     folded: &[EvalSet],
 ) -> Result<Comparison, Error> {
     let stimuli = judge_stimuli(d, light)?;
-    let l = evaluate::builtin_illuminant(&d.settings.data_dir, light, d.settings.range_nm)?;
+    let l = builtin_illuminant(&d.settings.data_dir, light, d.settings.range_nm)?;
     compare_on(d, &l, &stimuli, others, radiance, folded)
 }
 
@@ -247,7 +243,7 @@ pub fn compare_on(
     folded: &[EvalSet],
 ) -> Result<Comparison, Error> {
     let stimuli = stimuli.to_vec();
-    let full = evaluate::full_integration(&d.observer, d.settings.range_nm, 1.0)?;
+    let full = d.observer.full_integration(d.settings.range_nm, 1.0)?;
     let reference = Reference::new(full, &stimuli);
     let mut best: Vec<(usize, Vec<Option<Entry>>)> = BUDGETS
         .map(|n| (n, std::vec![None; METHODS.len()]))

@@ -5,10 +5,10 @@
 
 use std::vec::Vec;
 
-use spectral_quadrature_build::evaluate::EvalSet;
 use spectral_quadrature_build::quadrature::{self, Measure};
 use spectral_quadrature_build::shared::Shared;
 use spectral_quadrature_build::{Derivation, Rule, WavelengthSet};
+use spectral_quadrature_spectra::EvalSet;
 
 /// Per-channel Gauss rules of orders 1..=max_order for three weight functions given on the
 /// derivation grid (columns of `w`), as `rules[c][n - 1]`.

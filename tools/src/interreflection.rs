@@ -14,11 +14,11 @@
 //! the CIE test colours ([`training_forms`]), and the radiance set.
 
 use rand::RngExt;
-use spectral_quadrature_build::evaluate::{self, Curve, EvalSet, Reference};
 use spectral_quadrature_build::shared::{
     nodes_of, problem_for, GroupFit, GroupObjective, Shared, Weights,
 };
 use spectral_quadrature_build::{Derivation, Error};
+use spectral_quadrature_spectra::{surfaces_under_lights, Curve, EvalSet, Reference, Stimulus};
 
 use crate::random_wavelengths::pixel_rng;
 
@@ -246,14 +246,14 @@ pub fn fixed_sets(
 
 /// The forms under one light and their exact colours, computed once for every set judged.
 pub struct Judged {
-    stimuli: Vec<evaluate::Stimulus>,
+    stimuli: Vec<Stimulus>,
     reference: Reference,
 }
 
 impl Judged {
     /// The forms `forms` under `light`, against the 1 nm integration `full`.
     pub fn new(full: &EvalSet, light: &Curve, forms: &[Curve]) -> Judged {
-        let stimuli = evaluate::surfaces_under_lights(forms, std::slice::from_ref(light));
+        let stimuli = surfaces_under_lights(forms, std::slice::from_ref(light));
         let reference = Reference::new(full.clone(), &stimuli);
         Judged { stimuli, reference }
     }
@@ -264,7 +264,7 @@ impl Judged {
     }
 
     /// The stimuli (each form under the light).
-    pub fn stimuli(&self) -> &[evaluate::Stimulus] {
+    pub fn stimuli(&self) -> &[Stimulus] {
         &self.stimuli
     }
 
@@ -300,7 +300,7 @@ pub fn cross_validated(
 ) -> Result<Vec<Vec<(f64, f64)>>, Error> {
     use crate::light_groups::FOLDS;
     let range = d.settings.range_nm;
-    let full = evaluate::full_integration(&d.observer, range, 1.0)?;
+    let full = d.observer.full_integration(range, 1.0)?;
     let (problems, _, own_nodes) = crate::light_groups::own_sets(d, lights, n)?;
     let all = Form::all();
     let folds: Vec<usize> = (0..FOLDS).collect();

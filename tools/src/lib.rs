@@ -19,6 +19,7 @@
 //!   Jakob-Hanika, Mallett-Yuksel and Smits (section 8).
 #![deny(missing_docs)]
 
+use spectral_quadrature_spectra::{DataError, Negatives, ZeroedNegatives};
 use std::path::PathBuf;
 
 pub mod budget;
@@ -89,23 +90,18 @@ pub fn settings() -> spectral_quadrature_build::Settings {
 }
 
 /// Prints, on standard error, one warning per file whose negative values were read as 0
-/// ([`spectral_quadrature_build::ZeroedNegatives`]: how many, where the first is, the
+/// ([`ZeroedNegatives`]: how many, where the first is, the
 /// tolerance or the clamping), as `<program>: warning: <file>:<line>: ...`.
-pub fn warn_zeroed<'a>(
-    program: &str,
-    zeroed: impl IntoIterator<Item = &'a spectral_quadrature_build::ZeroedNegatives>,
-) {
+pub fn warn_zeroed<'a>(program: &str, zeroed: impl IntoIterator<Item = &'a ZeroedNegatives>) {
     for z in zeroed {
         eprintln!("{program}: warning: {z}");
     }
 }
 
 /// The rule for negative values the tools apply to the spectra files given on their command
-/// line: [`Negatives::Clamp`](spectral_quadrature_build::Negatives::Clamp) with
-/// `--clamp-negatives`, otherwise the readers' default (rounding noise read as 0, anything
-/// more negative an error naming file, line and column).
-pub fn negatives(clamp: bool) -> spectral_quadrature_build::Negatives {
-    use spectral_quadrature_build::Negatives;
+/// line: [`Negatives::Clamp`] with `--clamp-negatives`, otherwise the readers' default
+/// (rounding noise read as 0, anything more negative an error naming file, line and column).
+pub fn negatives(clamp: bool) -> Negatives {
     if clamp {
         Negatives::Clamp
     } else {
@@ -179,8 +175,8 @@ impl From<spectral_quadrature_build::Error> for Error {
     }
 }
 
-impl From<spectral_quadrature_build::DataError> for Error {
-    fn from(e: spectral_quadrature_build::DataError) -> Self {
+impl From<DataError> for Error {
+    fn from(e: DataError) -> Self {
         Error::Derive(e.into())
     }
 }

@@ -7,11 +7,11 @@
 //! own training file (the CIE test colours, on which the folded sets' model is trained) is
 //! trained on in every fold and judged in none.
 
-use spectral_quadrature_build::evaluate::{self, Curve, Reference, Spectra};
 use spectral_quadrature_build::shared::{
     nodes_of, problem_for, GroupFit, GroupObjective, Problem, Shared, Weights,
 };
 use spectral_quadrature_build::{Derivation, Error};
+use spectral_quadrature_spectra::{surfaces_under_lights, Curve, EvalSet, Reference, Spectra};
 
 /// The number of folds.
 pub const FOLDS: usize = 5;
@@ -136,7 +136,7 @@ pub fn compare(
     sizes: &[usize],
 ) -> Result<Vec<Comparison>, Error> {
     let range = d.settings.range_nm;
-    let full = evaluate::full_integration(&d.observer, range, 1.0)?;
+    let full = d.observer.full_integration(range, 1.0)?;
     let mut out = Vec::new();
     for &n in sizes {
         let (problems, own, own_nodes) = own_sets(d, lights, n)?;
@@ -209,17 +209,12 @@ pub fn compare(
 }
 
 /// Per light: the CIEDE2000 of each test reflectance under that light by `sets[l]`.
-fn judge(
-    full: &evaluate::EvalSet,
-    lights: &[Curve],
-    test: &[Curve],
-    sets: &[evaluate::EvalSet],
-) -> Vec<Vec<f64>> {
+fn judge(full: &EvalSet, lights: &[Curve], test: &[Curve], sets: &[EvalSet]) -> Vec<Vec<f64>> {
     lights
         .iter()
         .zip(sets)
         .map(|(l, s)| {
-            let stimuli = evaluate::surfaces_under_lights(test, std::slice::from_ref(l));
+            let stimuli = surfaces_under_lights(test, std::slice::from_ref(l));
             Reference::new(full.clone(), &stimuli)
                 .errors(s, &stimuli)
                 .de00

@@ -31,8 +31,9 @@
 //!   polynomials of low degree; for the others, the sensitivity-weighted average.
 //!
 //! The CIELAB white is integrated by the same rule as the stimulus in every method (the lamp
-//! seen by a perfect white reflector), as in [`spectral_quadrature_build::evaluate`]; the reference stays the full
-//! integration of [`spectral_quadrature_build::evaluate::Reference`] (normally every 1 nm).
+//! seen by a perfect white reflector), as in [`spectral_quadrature_spectra::Stimulus::white`];
+//! the reference stays the full integration of [`spectral_quadrature_spectra::Reference`]
+//! (normally every 1 nm).
 //!
 //! Spiky stimulus families: [`monochromatic_lines`] (one line at every nm) and [`narrow_bands`]
 //! (Gaussian or box bands of a few nm), both seen directly; [`f_series`] and [`led_lamps`] load
@@ -51,9 +52,9 @@ use crate::Error;
 use std::string::String;
 use std::vec::Vec;
 
-use spectral_quadrature_build::evaluate::{
-    self, delta_e2000, delta_e76, lab_from_xyz, Curve, Errors, EvalSet, Reference, Spectra,
-    Stimulus,
+use spectral_quadrature_math::{delta_e2000, delta_e76, lab_from_xyz};
+use spectral_quadrature_spectra::{
+    builtin_illuminant, surfaces_under_lights, Curve, Errors, EvalSet, Reference, Spectra, Stimulus,
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -68,9 +69,9 @@ use spectral_quadrature_build::evaluate::{
 /// its nodes fall: a line more than 1 nm from every node is invisible to plain sampling, which is
 /// exactly the failure the paper warns about.
 ///
-/// Seen directly, so CIELAB's white is [`spectral_quadrature_build::evaluate`]'s emission convention: equal energy
-/// of the line's own reference luminance (L* = 100 for the reference; errors in luminance and
-/// in chromaticity both show). A line on a grey reflector would be meaningless: its white (the
+/// Seen directly, so CIELAB's white is [`spectral_quadrature_spectra::Stimulus::white`]'s
+/// emission convention: equal energy of the line's own reference luminance (L* = 100 for the
+/// reference; errors in luminance and in chromaticity both show). A line on a grey reflector would be meaningless: its white (the
 /// line itself) and the stimulus are both seen through the same nodes, so the ratio is exact
 /// whenever the set sees the line at all and undefined when it does not.
 pub fn monochromatic_lines(range_nm: [f64; 2], step_nm: f64) -> Vec<Stimulus> {
@@ -193,7 +194,7 @@ fn lamps(names: &[&str], range_nm: [f64; 2]) -> Result<Vec<Curve>, Error> {
     names
         .iter()
         .map(|n| {
-            Ok(evaluate::builtin_illuminant(
+            Ok(builtin_illuminant(
                 std::path::Path::new(crate::DATA_DIR),
                 n,
                 range_nm,
@@ -900,7 +901,7 @@ fn lab_with(set: &EvalSet, p: &Prefiltered, s: &Stimulus, level: f64) -> [f64; 3
 
 /// ΔE of `cs` read with `method` against `reference` (its labs and levels; the band limits are
 /// its set's first and last wavelengths). Stimuli that share a light one after another (as
-/// [`evaluate::surfaces_under_lights`] lists them) share its pre-filtering.
+/// [`surfaces_under_lights`] lists them) share its pre-filtering.
 pub fn errors(
     cs: &ChannelSet,
     reference: &Reference,
@@ -1098,7 +1099,7 @@ pub fn default_sets(d: &spectral_quadrature_build::Derivation) -> Result<Vec<Cha
         ));
     }
     for n in [4, 6, 8, 16] {
-        sets.push(evaluate::uniform(&d.observer, range, n).into());
+        sets.push(d.observer.uniform_set(range, n).into());
     }
     let wanted = [[4, 2, 2], [6, 4, 3], [8, 8, 7]];
     let max = wanted.iter().flatten().copied().max().unwrap_or(1);
@@ -1115,7 +1116,7 @@ pub fn default_sets(d: &spectral_quadrature_build::Derivation) -> Result<Vec<Cha
             m,
         ));
     }
-    sets.push(evaluate::full_integration(&d.observer, range, 5.0)?.into());
+    sets.push(d.observer.full_integration(range, 5.0)?.into());
     Ok(sets)
 }
 
@@ -1129,7 +1130,7 @@ pub fn summary(
     sets: &[ChannelSet],
 ) -> Result<Summary, Error> {
     let range = d.settings.range_nm;
-    let reference_set = evaluate::full_integration(&d.observer, range, 1.0)?;
+    let reference_set = d.observer.full_integration(range, 1.0)?;
     let surfaces = default_surfaces(range)?;
     let f = f_series(range)?;
     let leds = led_lamps(range)?;
@@ -1144,13 +1145,13 @@ pub fn summary(
     };
     let f_stimuli: Vec<Vec<Stimulus>> = f
         .iter()
-        .map(|l| evaluate::surfaces_under_lights(&surfaces, core::slice::from_ref(l)))
+        .map(|l| surfaces_under_lights(&surfaces, core::slice::from_ref(l)))
         .collect();
     let f_refs: Vec<Reference> = f_stimuli
         .iter()
         .map(|s| Reference::new(reference_set.clone(), s))
         .collect();
-    let led_stimuli = evaluate::surfaces_under_lights(&surfaces, &leds);
+    let led_stimuli = surfaces_under_lights(&surfaces, &leds);
     let led_ref = Reference::new(reference_set.clone(), &led_stimuli);
     let line_stimuli = monochromatic_lines(range, 1.0);
     let line_ref = Reference::new(reference_set.clone(), &line_stimuli);

@@ -26,6 +26,7 @@
 
 use rand::{Rng, RngExt, SeedableRng};
 use rand_pcg::Pcg64Mcg;
+use spectral_quadrature_spectra::EvalSet;
 
 use crate::Error;
 
@@ -262,13 +263,11 @@ impl Cells {
     }
 
     /// `radiance` weighted by a reference set's X, Y, Z weights (weights for a grid sum, as
-    /// [`spectral_quadrature_build::evaluate::full_integration`] makes them): the integrand
+    /// [`Observer::full_integration`](spectral_quadrature_build::Observer::full_integration)
+    /// makes them): the integrand
     /// whose integral is the reference's XYZ of that radiance. The set's wavelengths must be
     /// evenly spaced.
-    pub fn weighted(
-        reference: &spectral_quadrature_build::evaluate::EvalSet,
-        radiance: impl Fn(f64) -> f64,
-    ) -> Result<Cells, Error> {
+    pub fn weighted(reference: &EvalSet, radiance: impl Fn(f64) -> f64) -> Result<Cells, Error> {
         let w = &reference.wavelengths_nm;
         let (first, step) = match w.as_slice() {
             [a, b, ..] => (*a, b - a),

@@ -4,7 +4,7 @@
 //! and the view against the box's known layout.
 
 use nalgebra::DMatrix;
-use spectral_quadrature_build::evaluate::Curve;
+use spectral_quadrature_spectra::Curve;
 use spectral_quadrature_tools::cornell::camera::{view, Seen};
 use spectral_quadrature_tools::cornell::geometry::{
     form_factors, mesh, point_to_polygon, Material, Quad,

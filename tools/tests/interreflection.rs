@@ -2,9 +2,9 @@
 //! against their closed forms, every fixed set's white under its light, and the folded set's
 //! error on twice-bounced light with its bound.
 
-use spectral_quadrature_build::evaluate::{self, Curve, Spectra};
 use spectral_quadrature_build::shared::TRAINING_FILE;
 use spectral_quadrature_build::{derive, Settings};
+use spectral_quadrature_spectra::{builtin_illuminant, Curve, Spectra};
 use spectral_quadrature_tools::interreflection::{
     enclosure_value, fixed_sets, form_curve, forms, mean_p95, Form, Judged, METHODS,
 };
@@ -90,14 +90,14 @@ fn every_fixed_set_integrates_a_white_exactly_and_its_error_on_two_bounces_is_bo
     let dir = &d.settings.data_dir;
     let lights: Vec<Curve> = ["C", "F11", "LED_B2"]
         .iter()
-        .map(|n| evaluate::builtin_illuminant(dir, n, range).unwrap())
+        .map(|n| builtin_illuminant(dir, n, range).unwrap())
         .collect();
     let training = Spectra::builtin(dir, TRAINING_FILE)
         .unwrap()
         .curves(range)
         .unwrap();
     let sets = fixed_sets(&d, &lights, &["F11", "LED_B2"], &training, &[8]).unwrap();
-    let full = evaluate::full_integration(&d.observer, range, 1.0).unwrap();
+    let full = d.observer.full_integration(range, 1.0).unwrap();
     let s = &sets[0];
     assert_eq!(s.n, 8);
     for (l, light) in lights.iter().enumerate() {

@@ -2,11 +2,11 @@
 //! judged by five-fold cross-validation on the ColorChecker and the 190 rawtoaces patches, which
 //! no fit in a fold sees: the targets the report's section 9 states at N = 8.
 
-use spectral_quadrature_build::evaluate::{self, Spectra};
 use spectral_quadrature_build::shared::{
     nodes_of, problem_for, GroupFit, GroupObjective, Weights, TRAINING_FILE,
 };
 use spectral_quadrature_build::{derive, Settings};
+use spectral_quadrature_spectra::{builtin_illuminant, Spectra};
 use spectral_quadrature_tools::light_groups::{self, GROUP_MEAN, OWN, RADIANCE};
 
 const DATA_DIR: &str = spectral_quadrature_tools::DATA_DIR;
@@ -22,7 +22,7 @@ fn a_group_of_four_lights_at_8_nodes_meets_its_targets_on_held_out_reflectances(
     let dir = &d.settings.data_dir;
     let lights: Vec<_> = light_groups::LIGHTS
         .iter()
-        .map(|n| evaluate::builtin_illuminant(dir, n, range).unwrap())
+        .map(|n| builtin_illuminant(dir, n, range).unwrap())
         .collect();
     let training = Spectra::builtin(dir, TRAINING_FILE)
         .unwrap()
@@ -73,7 +73,7 @@ fn a_groups_weights_integrate_each_lights_white_exactly() {
     let dir = &d.settings.data_dir;
     let lights: Vec<_> = ["C", "F11"]
         .iter()
-        .map(|n| evaluate::builtin_illuminant(dir, n, range).unwrap())
+        .map(|n| builtin_illuminant(dir, n, range).unwrap())
         .collect();
     let problems: Vec<_> = lights
         .iter()
@@ -88,7 +88,7 @@ fn a_groups_weights_integrate_each_lights_white_exactly() {
         .map(|p| nodes_of(p, &p.shared(6).unwrap()))
         .collect();
     let fit = GroupFit::new(problems.clone(), &training).unwrap();
-    let reference = evaluate::full_integration(&d.observer, range, 1.0).unwrap();
+    let reference = d.observer.full_integration(range, 1.0).unwrap();
     for kind in [Weights::PerLight, Weights::Radiance] {
         let g = fit.optimize(6, &own, GroupObjective::Mean, kind).unwrap();
         assert_eq!(g.wavelengths_nm.len(), 6);

@@ -8,10 +8,9 @@ const DATA_DIR: &str = spectral_quadrature_tools::DATA_DIR;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
-use spectral_quadrature_build::evaluate::{self, EvalSet, Reference, Stimulus};
 use spectral_quadrature_build::plan::{self, Candidate, Metric, PlanError};
-use spectral_quadrature_build::Negatives;
 use spectral_quadrature_build::{catalog, Derivation, Settings};
+use spectral_quadrature_spectra::{emissions, Curve, Negatives, Reference, Stimulus};
 use spectral_quadrature_tools::scene_file;
 
 const BUDGETS: [(Metric, f64); 5] = [
@@ -56,7 +55,9 @@ fn fixture_data() -> &'static Fixture {
             .unwrap()
             .candidates;
         let reference = Reference::new(
-            evaluate::full_integration(&d.observer, d.settings.range_nm, 1.0).unwrap(),
+            d.observer
+                .full_integration(d.settings.range_nm, 1.0)
+                .unwrap(),
             &stimuli,
         );
         Fixture {
@@ -80,7 +81,7 @@ fn measure(f: &Fixture, name: &str) -> (usize, f64, f64) {
         "{name}: repeated wavelengths"
     );
     assert_eq!(set.name, name);
-    let eval = EvalSet::from_set(&set, "test", &f.d.opponent.ac1c2_to_xyz);
+    let eval = f.d.eval_set(&set, "test");
     let e = f.reference.errors(&eval, &f.stimuli);
     (nm.len(), e.mean_de00(), e.max_de00())
 }
@@ -395,8 +396,8 @@ fn input_errors_name_the_file() {
     );
     assert!(e.to_string().contains("no stimuli"), "{e}");
     // A light that is zero everywhere has no colour to compare with.
-    let dark = evaluate::Curve::constant("dark", 0.0, f.d.settings.range_nm);
-    let e = plan::plan(&f.d, &evaluate::emissions(&[dark]), &[], 1.0, Metric::Mean).unwrap_err();
+    let dark = Curve::constant("dark", 0.0, f.d.settings.range_nm);
+    let e = plan::plan(&f.d, &emissions(&[dark]), &[], 1.0, Metric::Mean).unwrap_err();
     assert!(
         matches!(&e, spectral_quadrature_build::Error::Plan(PlanError::NoReference { stimulus, .. }) if stimulus == "dark"),
         "{e:?}"

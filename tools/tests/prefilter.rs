@@ -5,8 +5,10 @@ use spectral_quadrature_tools as tools;
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = spectral_quadrature_tools::DATA_DIR;
 
-use spectral_quadrature_build::evaluate::{self, Curve, EvalSet, Reference, Stimulus};
 use spectral_quadrature_build::{derive, Settings};
+use spectral_quadrature_spectra::{
+    builtin_illuminant, surfaces_under_lights, Curve, EvalSet, Reference, Stimulus,
+};
 use tools::prefilter::{self, BandShape, ChannelSet, LineDetection, Method, Prefiltered};
 
 const RANGE: [f64; 2] = [380.0, 770.0];
@@ -15,7 +17,7 @@ fn reference_set() -> EvalSet {
     let obs = spectral_quadrature_build::ObserverId::Cie1931_2deg
         .load(std::path::Path::new(DATA_DIR))
         .unwrap();
-    evaluate::full_integration(&obs, RANGE, 1.0).unwrap()
+    obs.full_integration(RANGE, 1.0).unwrap()
 }
 
 fn table2_sets(d: &spectral_quadrature_build::Derivation) -> Vec<ChannelSet> {
@@ -29,7 +31,7 @@ fn table2_sets(d: &spectral_quadrature_build::Derivation) -> Vec<ChannelSet> {
 /// ColorChecker + TCS under each F lamp (lamp-major, as `surfaces_under_lights` lists them).
 fn f_series_stimuli() -> Vec<Stimulus> {
     let surfaces = prefilter::default_surfaces(RANGE).unwrap();
-    evaluate::surfaces_under_lights(&surfaces, &prefilter::f_series(RANGE).unwrap())
+    surfaces_under_lights(&surfaces, &prefilter::f_series(RANGE).unwrap())
 }
 
 #[test]
@@ -38,7 +40,7 @@ fn plain_method_matches_evaluate() {
     let stimuli = f_series_stimuli();
     let reference = Reference::new(reference_set(), &stimuli);
     let mut sets = table2_sets(&d);
-    sets.push(evaluate::uniform(&d.observer, RANGE, 6).into());
+    sets.push(d.observer.uniform_set(RANGE, 6).into());
     for cs in &sets {
         let mine = prefilter::errors(cs, &reference, &stimuli, Method::Plain);
         let theirs = reference.errors(&cs.set, &stimuli);
@@ -131,8 +133,7 @@ fn band_averaging_a_constant_is_the_identity() {
 fn lines_are_found_in_f2_and_f11_and_not_in_smooth_lamps() {
     let det = LineDetection::default();
     for name in ["F2", "F11"] {
-        let lamp =
-            evaluate::builtin_illuminant(std::path::Path::new(DATA_DIR), name, RANGE).unwrap();
+        let lamp = builtin_illuminant(std::path::Path::new(DATA_DIR), name, RANGE).unwrap();
         let lines = prefilter::detect_lines(&lamp, RANGE, &det);
         for known in [404.7, 435.8, 546.1] {
             assert!(
@@ -162,7 +163,7 @@ fn lines_are_found_in_f2_and_f11_and_not_in_smooth_lamps() {
     }
     let mut smooth: Vec<Curve> = ["D65", "A", "C", "D50", "E"]
         .iter()
-        .map(|n| evaluate::builtin_illuminant(std::path::Path::new(DATA_DIR), n, RANGE).unwrap())
+        .map(|n| builtin_illuminant(std::path::Path::new(DATA_DIR), n, RANGE).unwrap())
         .collect();
     smooth.extend(prefilter::led_lamps(RANGE).unwrap());
     for lamp in &smooth {

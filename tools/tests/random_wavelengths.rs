@@ -8,7 +8,9 @@ use spectral_quadrature_tools::random_wavelengths::{
     VISIBLE_RANGE_NM,
 };
 
-use spectral_quadrature_build::evaluate::{self, EvalSet, Spectra, Stimulus};
+use spectral_quadrature_spectra::{
+    builtin_illuminant, emissions, surfaces_under_lights, EvalSet, Spectra, Stimulus,
+};
 
 const DATA_DIR: &str = spectral_quadrature_tools::DATA_DIR;
 const RANGE: [f64; 2] = [380.0, 770.0];
@@ -26,7 +28,7 @@ fn samplers() -> [Sampler; 3] {
 fn reference() -> EvalSet {
     let d = spectral_quadrature_build::derive(&spectral_quadrature_build::Settings::new(DATA_DIR))
         .unwrap();
-    evaluate::full_integration(&d.observer, RANGE, 1.0).unwrap()
+    d.observer.full_integration(RANGE, 1.0).unwrap()
 }
 
 /// A ColorChecker patch under the spiky F11, a test colour under A, and LED-B2 seen directly:
@@ -39,10 +41,10 @@ fn stimuli() -> Vec<Stimulus> {
     let tcs = Spectra::builtin(dir, "data/reflectance_cie_tcs.csv")
         .and_then(|s| s.curves(RANGE))
         .unwrap();
-    let light = |n| evaluate::builtin_illuminant(dir, n, RANGE).unwrap();
-    let mut v = evaluate::surfaces_under_lights(&cc[14..15], &[light("F11")]);
-    v.extend(evaluate::surfaces_under_lights(&tcs[8..9], &[light("A")]));
-    v.extend(evaluate::emissions(&[light("LED_B2")]));
+    let light = |n| builtin_illuminant(dir, n, RANGE).unwrap();
+    let mut v = surfaces_under_lights(&cc[14..15], &[light("F11")]);
+    v.extend(surfaces_under_lights(&tcs[8..9], &[light("A")]));
+    v.extend(emissions(&[light("LED_B2")]));
     v
 }
 
@@ -332,7 +334,7 @@ fn the_f32_path_computes_what_the_f64_one_does() {
     let d = spectral_quadrature_build::derive(&spectral_quadrature_build::Settings::new(DATA_DIR))
         .unwrap();
     // x̄ȳz̄ at every nm of the range: the full integration's weights at dλ = 1 nm.
-    let full = evaluate::full_integration(&d.observer, RANGE, 1.0).unwrap();
+    let full = d.observer.full_integration(RANGE, 1.0).unwrap();
     let xyz_bar: Vec<[f64; 3]> = (0..full.len())
         .map(|i| [0, 1, 2].map(|c| full.xyz_weights[c][i]))
         .collect();

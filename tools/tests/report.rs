@@ -3,13 +3,15 @@
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = spectral_quadrature_tools::DATA_DIR;
 
-use spectral_quadrature_build::evaluate::{self, EvalSet, Reference, Spectra};
 use spectral_quadrature_build::{derive, Settings};
+use spectral_quadrature_spectra::{
+    builtin_illuminant, surfaces_under_lights, Reference, Spectra, Stimulus,
+};
 use spectral_quadrature_tools::paper;
 
 const RANGE: [f64; 2] = [380.0, 770.0];
 
-fn colorchecker_under_c() -> Vec<evaluate::Stimulus> {
+fn colorchecker_under_c() -> Vec<Stimulus> {
     let cc = Spectra::builtin(
         std::path::Path::new(DATA_DIR),
         "data/reflectance_colorchecker_ohta.csv",
@@ -17,8 +19,8 @@ fn colorchecker_under_c() -> Vec<evaluate::Stimulus> {
     .unwrap()
     .curves(RANGE)
     .unwrap();
-    let c = evaluate::builtin_illuminant(std::path::Path::new(DATA_DIR), "C", RANGE).unwrap();
-    evaluate::surfaces_under_lights(&cc, &[c])
+    let c = builtin_illuminant(std::path::Path::new(DATA_DIR), "C", RANGE).unwrap();
+    surfaces_under_lights(&cc, &[c])
 }
 
 #[test]
@@ -27,12 +29,9 @@ fn table2_mean_errors_within_0_15_of_the_paper() {
     let d = derive(&Settings::new(DATA_DIR)).unwrap();
     let stimuli = colorchecker_under_c();
     assert_eq!(stimuli.len(), 24);
-    let reference = Reference::new(
-        evaluate::full_integration(&d.observer, RANGE, 1.0).unwrap(),
-        &stimuli,
-    );
+    let reference = Reference::new(d.observer.full_integration(RANGE, 1.0).unwrap(), &stimuli);
     for (set, printed) in d.table2.iter().zip(paper::TABLE2_MEAN_DELTA_E) {
-        let es = EvalSet::from_set(set, "Table 2", &d.opponent.ac1c2_to_xyz);
+        let es = d.eval_set(set, "Table 2");
         let mean = reference.errors(&es, &stimuli).mean_de76();
         assert!(
             (mean - printed).abs() <= 0.15,
@@ -46,14 +45,14 @@ fn table2_mean_errors_within_0_15_of_the_paper() {
 fn reference_has_zero_error_and_the_5nm_sum_is_close() {
     let d = derive(&Settings::new(DATA_DIR)).unwrap();
     let stimuli = colorchecker_under_c();
-    let full = evaluate::full_integration(&d.observer, RANGE, 1.0).unwrap();
+    let full = d.observer.full_integration(RANGE, 1.0).unwrap();
     let reference = Reference::new(full.clone(), &stimuli);
     let e = reference.errors(&full, &stimuli);
     assert_eq!(e.max_de76(), 0.0);
     assert_eq!(e.max_de00(), 0.0);
     // The paper's 5 nm sum differs from the 1 nm one (which integrates the 5 nm data
     // interpolated linearly): measured on this chart, mean 0.04 and max 0.129 ΔE*ab; bound 0.2.
-    let five = evaluate::full_integration(&d.observer, RANGE, 5.0).unwrap();
+    let five = d.observer.full_integration(RANGE, 5.0).unwrap();
     let e5 = reference.errors(&five, &stimuli);
     assert!(
         e5.max_de76() < 0.2 && e5.max_de76() > 0.0,
@@ -69,10 +68,7 @@ fn fig6_ac1c2_beats_xyz_and_sml_at_every_total_on_the_papers_setup() {
     // channel (Table 1a's), so totals 4 to 23 (C2's highest defined order below 9 is 7).
     let d = derive(&Settings::new(DATA_DIR)).unwrap();
     let stimuli = colorchecker_under_c();
-    let reference = Reference::new(
-        evaluate::full_integration(&d.observer, RANGE, 1.0).unwrap(),
-        &stimuli,
-    );
+    let reference = Reference::new(d.observer.full_integration(RANGE, 1.0).unwrap(), &stimuli);
     let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
     let m = nalgebra::Matrix3::from_fn(|i, j| d.settings.cone_matrix[i][j])
         .try_inverse()
@@ -179,7 +175,7 @@ fn uniform_sets_integrate_a_constant_like_the_reference() {
     // Box-filter weights sum to the full integral of each matching function (trapezoid on the
     // 1 nm table): a constant spectrum is integrated exactly (f64 rounding, 1e-12 relative).
     let d = derive(&Settings::new(DATA_DIR)).unwrap();
-    let full = evaluate::full_integration(&d.observer, RANGE, 1.0).unwrap();
+    let full = d.observer.full_integration(RANGE, 1.0).unwrap();
     let trapezoid: Vec<f64> = (0..3)
         .map(|c| {
             let w = &full.xyz_weights[c];
@@ -187,7 +183,7 @@ fn uniform_sets_integrate_a_constant_like_the_reference() {
         })
         .collect();
     for n in [3, 4, 8, 16, 32] {
-        let u = evaluate::uniform(&d.observer, RANGE, n);
+        let u = d.observer.uniform_set(RANGE, n);
         let xyz = u.xyz(|_| 1.0);
         for c in 0..3 {
             assert!((xyz[c] / trapezoid[c] - 1.0).abs() < 1e-12, "n={n} c={c}");
@@ -588,7 +584,7 @@ fn a_bounded_exact_linear_map_exists_for_kq_8_only() {
     let data = std::path::Path::new(DATA_DIR);
     let range = d.settings.range_nm;
     let training = up::training(data, range).unwrap();
-    let d65 = evaluate::builtin_illuminant(data, "D65", range).unwrap();
+    let d65 = builtin_illuminant(data, "D65", range).unwrap();
     let (_, m) = d.display("SRGB").unwrap();
     for (name, linear) in [("KQ_4", false), ("KQ_6", false), ("KQ_8", true)] {
         let set = spectral_quadrature_build::catalog::resolve(&d, name).unwrap();

@@ -8,8 +8,8 @@ const DATA_DIR: &str = spectral_quadrature_tools::DATA_DIR;
 
 use std::sync::OnceLock;
 
-use spectral_quadrature_build::evaluate::{self, Reference};
 use spectral_quadrature_build::{catalog, derive, shared, Derivation, Settings};
+use spectral_quadrature_spectra::{builtin_illuminant, EvalSet, Reference};
 use tools::budget::{self, Entry, BUDGETS, LIGHTS, METHODS};
 
 struct Judged {
@@ -17,7 +17,7 @@ struct Judged {
     /// Per light: (budget, entries) and the interval references.
     tables: Vec<budget::Comparison>,
     /// The radiance sets (plain sampling), per budget.
-    radiance: Vec<evaluate::EvalSet>,
+    radiance: Vec<EvalSet>,
 }
 
 fn judged() -> &'static Judged {
@@ -124,7 +124,7 @@ fn the_catalog_builds_the_same_sets_the_comparison_judged() {
     assert_eq!(ws.wavelengths_nm, judged_set.wavelengths_nm);
     // The radiance set as the catalog builds it, back in XYZ, equals the judged one.
     let r = catalog::resolve(d, "KQ_6").unwrap();
-    let back = evaluate::EvalSet::from_set(&r, "x", &d.opponent.ac1c2_to_xyz);
+    let back = d.eval_set(&r, "x");
     let judged_r = &j.radiance[6 - BUDGETS.start()];
     let mut worst = 0.0f64;
     for c in 0..3 {
@@ -137,10 +137,12 @@ fn the_catalog_builds_the_same_sets_the_comparison_judged() {
     // about cond · ε · 50 (measured: 7e-15); 1e-12 leaves room for other platforms' rounding.
     assert!(worst <= 1e-12, "{worst}");
     // A constant reflectance of 1 under C has Y equal to an equal-energy radiance of 1.
-    let c = evaluate::builtin_illuminant(&d.settings.data_dir, "C", d.settings.range_nm).unwrap();
+    let c = builtin_illuminant(&d.settings.data_dir, "C", d.settings.range_nm).unwrap();
     let s = shared::problem_for(d, Some(&c)).unwrap().shared(6).unwrap();
     let y: f64 = s.xyz_weights[1].iter().sum();
-    let unit: f64 = evaluate::full_integration(&d.observer, d.settings.range_nm, 1.0)
+    let unit: f64 = d
+        .observer
+        .full_integration(d.settings.range_nm, 1.0)
         .unwrap()
         .xyz_weights[1]
         .iter()

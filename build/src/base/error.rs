@@ -16,6 +16,8 @@ use std::fmt;
 use std::string::String;
 use std::vec::Vec;
 
+use spectral_quadrature_spectra::DataError;
+
 /// An error of the derivation, of code generation, of a scene or of the planner.
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
@@ -116,29 +118,6 @@ pub enum CalibrationProblem {
         slope: f64,
     },
 }
-
-/// What is wrong with a data file, and where.
-#[derive(Debug, Clone, PartialEq)]
-pub struct DataError {
-    /// The file (or the label of embedded text) the error is in.
-    pub file: String,
-    /// 1-based line number, or 0 where the error concerns the file as a whole.
-    pub line: u64,
-    /// What is wrong.
-    pub message: String,
-}
-
-impl fmt::Display for DataError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        if self.line == 0 {
-            write!(f, "{}: {}", self.file, self.message)
-        } else {
-            write!(f, "{}:{}: {}", self.file, self.line, self.message)
-        }
-    }
-}
-
-impl std::error::Error for DataError {}
 
 /// Why a name names no set ([`crate::catalog::resolve`]).
 #[derive(Debug, Clone, PartialEq)]

@@ -1,12 +1,12 @@
-//! The data files: where a label such as `data/illuminant_C.csv` lives under the data
-//! directory, reading it with an error that names it, and the SHA-256 checksums that generated
-//! headers give for every input.
+//! The data files as the generator uses them beside `spectral-quadrature-spectra`'s readers:
+//! the SHA-256 checksums that generated headers give for every input, and the cache files
+//! (reading them where they may be absent, their rows, writing them).
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::string::String;
 use std::vec::Vec;
 
-use super::error::DataError;
+use spectral_quadrature_spectra::{data_path, read_error, DataError};
 
 /// Hex SHA-256 of some bytes (checksums of inputs in generated headers).
 pub(crate) fn sha256_hex(bytes: &[u8]) -> String {
@@ -15,22 +15,11 @@ pub(crate) fn sha256_hex(bytes: &[u8]) -> String {
     digest.iter().map(|b| std::format!("{b:02x}")).collect()
 }
 
-/// The path of a data file labelled `data/<file>` (or just `<file>`) under `data_dir`.
-pub(crate) fn data_path(data_dir: &Path, label: &str) -> PathBuf {
-    data_dir.join(label.strip_prefix("data/").unwrap_or(label))
-}
-
 /// Reads the data file labelled `data/<file>` under `data_dir` ([`data_path`]). The error names
 /// the label, and the path it tried.
 pub(crate) fn read_data(data_dir: &Path, label: &str) -> Result<Vec<u8>, DataError> {
     let path = data_path(data_dir, label);
     std::fs::read(&path).map_err(|e| read_error(label, &path, &e))
-}
-
-/// [`read_data`], as text.
-pub(crate) fn read_data_text(data_dir: &Path, label: &str) -> Result<String, DataError> {
-    let path = data_path(data_dir, label);
-    std::fs::read_to_string(&path).map_err(|e| read_error(label, &path, &e))
 }
 
 /// The text of a cache file under `data_dir` that may be absent: `None` when there is no such
@@ -79,11 +68,28 @@ pub(crate) fn cache_rows<'a>(
     Ok(rows)
 }
 
-/// The error of a data file that could not be read: it names the label and the path.
-pub(crate) fn read_error(label: &str, path: &Path, e: &std::io::Error) -> DataError {
-    DataError {
-        file: label.into(),
-        line: 0,
-        message: std::format!("cannot read {}: {e}", path.display()),
+/// The text of a CSV file the crate writes (the node and upsampling caches): `comments`, each
+/// on a line of its own after `# `, then the header and the rows through the `csv` crate's
+/// writer, which quotes a field where CSV needs it and refuses a row whose length differs from
+/// the header's (a bug of the caller: this panics then).
+pub(crate) fn write_csv(comments: &[&str], header: &str, rows: &[Vec<String>]) -> String {
+    let mut text = String::new();
+    for line in comments {
+        text += "# ";
+        text += line;
+        text += "\n";
     }
+    let mut writer = csv::WriterBuilder::new()
+        .flexible(false)
+        .from_writer(Vec::new());
+    let written = writer
+        .write_record(header.split(','))
+        .and_then(|()| rows.iter().try_for_each(|r| writer.write_record(r)));
+    if let Err(e) = written {
+        panic!("a cache row does not fit its header ({header}): {e}");
+    }
+    let bytes = writer
+        .into_inner()
+        .unwrap_or_else(|e| panic!("writing to memory: {}", e.error()));
+    text + &String::from_utf8(bytes).expect("the fields are UTF-8")
 }

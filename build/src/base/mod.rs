@@ -1,6 +1,5 @@
-//! The bottom layer, which every role uses and which uses none: the error types, the data
-//! files (paths, reading, checksums) and the CSV reader of spectral tables.
+//! The bottom layer, which every role uses and which uses none: the error types, and the data
+//! files beside `spectral-quadrature-spectra`'s readers (checksums, the cache files).
 
 pub(crate) mod error;
 pub(crate) mod files;
-pub(crate) mod table;

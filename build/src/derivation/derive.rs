@@ -5,6 +5,8 @@
 
 use std::vec::Vec;
 
+use spectral_quadrature_spectra::EvalSet;
+
 use super::display::{self, DisplayMatrices, DisplaySpec};
 use super::observer::Observer;
 use super::opponent::{self, Opponent};
@@ -56,6 +58,20 @@ impl Derivation {
     pub fn folded(&self, set: &WavelengthSet, matrices: &DisplayMatrices) -> [Vec<f64>; 3] {
         let m = display::mul3(&matrices.xyz_to_rgb, &self.opponent.ac1c2_to_xyz);
         display::fold(&m, &set.weights, 1.0 / self.unit_spectrum_y)
+    }
+
+    /// A set as it is measured (`spectral_quadrature_spectra::EvalSet`): its name, its
+    /// wavelengths and its AC1C2 rows turned into XYZ rows by the derivation's
+    /// [`Opponent::ac1c2_to_xyz`], under `family` (for grouping in tables and plots).
+    pub fn eval_set(&self, set: &WavelengthSet, family: &str) -> EvalSet {
+        EvalSet::from_weights(
+            &set.name,
+            family,
+            None,
+            &set.wavelengths_nm,
+            &set.weights,
+            &self.opponent.ac1c2_to_xyz,
+        )
     }
 
     /// The display called `name` and its matrices, or [`Error::UnknownDisplay`] listing the

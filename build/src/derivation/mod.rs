@@ -3,14 +3,14 @@
 //! ([`opponent`]), each channel's recurrence (Eq. 16) and Gauss rules ([`quadrature`]), and the
 //! wavelength sets merged from them (Table 2, [`sets`]); [`derive`] runs the steps from
 //! [`settings`]. Beside them: the display matrices ([`display`], from `spectral-quadrature-math`),
-//! and spectra with their exact integration, by which every set is measured in CIELAB with the
-//! colour differences of `spectral-quadrature-math` ([`evaluate`]); the Planckian locus, the exact
+//! the exact integration on the observer's grid and the uniform sets
+//! ([`Observer::full_integration`](observer::Observer::full_integration)), by which
+//! `spectral-quadrature-spectra` measures every set in CIELAB; the Planckian locus, the exact
 //! correlated colour temperature and the locus table the runtime interpolates ([`planckian`]);
 //! a light's fitted samples at a radiance set's nodes, for relighting (`relight`).
 
 pub(crate) mod derive;
 pub mod display;
-pub mod evaluate;
 pub(crate) mod observer;
 pub(crate) mod opponent;
 pub(crate) mod planckian;

@@ -3,10 +3,13 @@
 use std::string::String;
 use std::vec::Vec;
 
+use spectral_quadrature_spectra::{
+    parse_table, read_data_text, DataError, EvalSet, Spacing, ZeroedNegatives,
+};
+
 use super::opponent::MEYER_EQ1_XYZ_TO_SML;
-use crate::base::error::{DataError, Error};
-use crate::base::files::{read_data_text, sha256_hex};
-use crate::base::table::{parse_table, Spacing, ZeroedNegatives};
+use crate::base::error::Error;
+use crate::base::files::sha256_hex;
 
 /// The colour-matching functions the crate ships (all at 1 nm in `data/`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -159,14 +162,15 @@ pub struct Observer {
     /// SHA-256 of the file's text, for generated headers.
     pub sha256: String,
     /// The negative values within the tolerance that were read as 0
-    /// ([`crate::Negatives`]), for the caller to report; `None` when there were none.
+    /// ([`Negatives`](spectral_quadrature_spectra::Negatives)), for the caller to report; `None`
+    /// when there were none.
     pub zeroed: Option<ZeroedNegatives>,
 }
 
 impl Observer {
     /// Parses an observer table: header plus rows `wavelength,x_bar,y_bar,z_bar`, evenly spaced,
-    /// non-negative up to rounding noise ([`crate::parse_table`]). Errors name `file` and
-    /// the offending line.
+    /// non-negative up to rounding noise (`spectral_quadrature_spectra::parse_table`). Errors
+    /// name `file` and the offending line.
     pub(crate) fn parse(name: &str, file: &str, text: &str) -> Result<Observer, DataError> {
         let table = parse_table(file, text, Some(3), Spacing::Even)?;
         Ok(Observer {
@@ -182,7 +186,7 @@ impl Observer {
     /// Reads an observer table from a file on disk.
     #[cfg(test)]
     pub(crate) fn read(name: &str, path: &std::path::Path) -> Result<Observer, DataError> {
-        let (label, text) = crate::base::table::read_text(path)?;
+        let (label, text) = spectral_quadrature_spectra::read_text(path)?;
         Self::parse(name, &label, &text)
     }
 
@@ -247,5 +251,55 @@ impl Observer {
         Ok((0..=span.round() as usize)
             .map(|k| first_row + k * per)
             .collect())
+    }
+
+    /// Full integration: every wavelength of the grid `range_nm[0]..=range_nm[1]` at `step` nm of
+    /// the table, weights x̄ȳz̄ · step (the reference the sets are measured against, and the
+    /// baseline of the error-against-run-time table).
+    pub fn full_integration(&self, range_nm: [f64; 2], step: f64) -> Result<EvalSet, Error> {
+        let rows = self.grid_rows(range_nm[0], range_nm[1], step)?;
+        let wavelengths: Vec<f64> = rows.iter().map(|&r| self.wavelengths[r]).collect();
+        let xyz_weights = [0, 1, 2].map(|c| rows.iter().map(|&r| self.xyz[r][c] * step).collect());
+        Ok(EvalSet {
+            name: std::format!("full {step} nm"),
+            family: "full".into(),
+            orders: None,
+            wavelengths_nm: wavelengths,
+            xyz_weights,
+        })
+    }
+
+    /// A uniform set: `n` wavelengths at the centres of `n` equal bins of `range_nm`, each weighted
+    /// by the integral of x̄ȳz̄ over its bin (box filter, as spectral renderers sample), on the
+    /// observer's own table.
+    pub fn uniform_set(&self, range_nm: [f64; 2], n: usize) -> EvalSet {
+        let width = (range_nm[1] - range_nm[0]) / n as f64;
+        let centres: Vec<f64> = (0..n)
+            .map(|i| range_nm[0] + (i as f64 + 0.5) * width)
+            .collect();
+        let step = self.step();
+        let mut xyz_weights: [Vec<f64>; 3] = Default::default();
+        for row in xyz_weights.iter_mut() {
+            *row = std::vec![0.0; n];
+        }
+        for (l, v) in self.wavelengths.iter().zip(&self.xyz) {
+            if *l < range_nm[0] - 1e-9 || *l > range_nm[1] + 1e-9 {
+                continue;
+            }
+            // Trapezoid weights on the table: half at the range's ends.
+            let edge = (*l - range_nm[0]).abs() < 1e-9 || (*l - range_nm[1]).abs() < 1e-9;
+            let dl = if edge { 0.5 * step } else { step };
+            let bin = (((*l - range_nm[0]) / width) as usize).min(n - 1);
+            for c in 0..3 {
+                xyz_weights[c][bin] += v[c] * dl;
+            }
+        }
+        EvalSet {
+            name: std::format!("uniform {n}"),
+            family: "uniform".into(),
+            orders: None,
+            wavelengths_nm: centres,
+            xyz_weights,
+        }
     }
 }

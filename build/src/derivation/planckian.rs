@@ -20,7 +20,6 @@
 
 use std::vec::Vec;
 
-use super::evaluate::full_integration;
 use super::observer::Observer;
 use crate::base::error::Error;
 
@@ -114,7 +113,7 @@ impl PlanckianLocus {
     /// `standard_range_nm` ([`standard`](Self::standard)); another range serves to measure
     /// what the range changes. Errors: the range is not on the observer's 1 nm table.
     pub fn new(observer: &Observer, range_nm: [f64; 2]) -> Result<PlanckianLocus, Error> {
-        let full = full_integration(observer, range_nm, 1.0)?;
+        let full = observer.full_integration(range_nm, 1.0)?;
         let per_wavelength = full
             .wavelengths_nm
             .iter()

@@ -16,9 +16,9 @@ use std::vec::Vec;
 use nalgebra::DMatrix;
 
 use super::derive::Derivation;
-use super::evaluate::{self, Curve, EvalSet};
 use super::sets::WavelengthSet;
 use crate::base::error::Error;
+use spectral_quadrature_spectra::Curve;
 
 /// The fitted samples of `light` at `set`'s nodes (see the module), `set` a set for radiances
 /// with AC1C2 weights, `training` the reflectances fitted on (at least one). Errors when the
@@ -29,8 +29,8 @@ pub(crate) fn light_at_nodes(
     light: &Curve,
     training: &[Curve],
 ) -> Result<Vec<f64>, Error> {
-    let eval = EvalSet::from_set(set, "relight", &d.opponent.ac1c2_to_xyz);
-    let reference = evaluate::full_integration(&d.observer, d.settings.range_nm, 1.0)?;
+    let eval = d.eval_set(set, "relight");
+    let reference = d.observer.full_integration(d.settings.range_nm, 1.0)?;
     // The folded sets' scale: a spectrum of constant 1 has Y = 1.
     let unit = reference.xyz(|_| 1.0)[1];
     let white_raw = reference.xyz(|nm| light.at(nm));

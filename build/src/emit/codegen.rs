@@ -5,6 +5,7 @@
 //! as rustfmt lays them out, at most 100 columns wide (`layout`), so that a person can read what
 //! a scene bakes.
 
+use spectral_quadrature_spectra::Spectra;
 use std::fmt::Write as _;
 use std::string::{String, ToString};
 use std::vec::Vec;
@@ -636,11 +637,8 @@ fn lights_rs(t: &mut Tables, d: &Derivation, scene: &Resolved) -> Result<(), Err
     if radiance.is_empty() || scene.lights.is_empty() {
         return Ok(());
     }
-    let training = crate::derivation::evaluate::Spectra::builtin(
-        &d.settings.data_dir,
-        crate::shared::TRAINING_FILE,
-    )?
-    .curves(d.settings.range_nm)?;
+    let training = Spectra::builtin(&d.settings.data_dir, crate::shared::TRAINING_FILE)?
+        .curves(d.settings.range_nm)?;
     let o = &mut t.o;
     o.push_str(&layout::comment(0, "///", "Each scene light at each set for radiances, for relighting a material: `<LIGHT>_AT_<SET>`, the values `l` with which samples `r ⊙ l` of a reflectance r at the set's nodes give, through the set ([`FoldedSet::linear_rgb_under`](crate::FoldedSet::linear_rgb_under)), r's colour under the light. Fitted, not the light's values at the nodes: the least-squares fit on the CIE test colours of their colours under the light, with a reflectance of 1 pinned to the light's own white at Y = 1.", 0));
     writeln!(o, "pub mod lights {{").ok();

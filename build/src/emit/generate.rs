@@ -9,13 +9,14 @@ use std::vec::Vec;
 
 use super::codegen::tables_rs;
 use super::shader::{snippet, Language};
-use crate::base::error::{DataError, Error};
+use crate::base::error::Error;
 use crate::base::files::{read_data, sha256_hex};
 use crate::derivation::derive::{derive, Derivation};
 use crate::scenes::catalog;
 use crate::scenes::scene::{Resolved, Scene, SCENE_ENV};
 use crate::shared;
 use crate::upsampling;
+use spectral_quadrature_spectra::{builtin_lights, DataError};
 
 /// The generated sources and what Cargo must watch.
 #[derive(Debug, Clone, PartialEq)]
@@ -33,7 +34,7 @@ pub struct Output {
     pub rerun_if_changed: Vec<PathBuf>,
     /// What the build script should print as warnings (`cargo:warning`), one line each: the
     /// negative values read as 0 in each input file that has any
-    /// ([`crate::ZeroedNegatives`]), the observer's first.
+    /// ([`ZeroedNegatives`](spectral_quadrature_spectra::ZeroedNegatives)), the observer's first.
     pub warnings: Vec<String>,
 }
 
@@ -151,7 +152,7 @@ fn group_input_files(scene: &Resolved) -> Vec<String> {
     let mut files = std::vec![shared::TRAINING_FILE.to_string()];
     files.extend(shared::GROUP_TRAINING_FILES.iter().map(|f| f.to_string()));
     files.push(shared::CACHE_FILE.to_string());
-    let builtin = crate::derivation::evaluate::builtin_lights();
+    let builtin = builtin_lights();
     for (_, g) in &scene.groups {
         for m in &g.members {
             if builtin.contains(&m.light.as_str()) {

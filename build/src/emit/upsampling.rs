@@ -7,9 +7,9 @@ use std::vec::Vec;
 use super::layout::{self, Expr};
 use super::lists::names_rs;
 use crate::base::error::Error;
-use crate::derivation::evaluate::builtin_lights;
 use crate::scenes::scene::Resolved;
 use crate::upsampling::{Baked, CACHE_FILE, TRAINING_FILES};
+use spectral_quadrature_spectra::builtin_lights;
 
 /// The const name of the upsampling of `set` for `display`: `<SET>_<DISPLAY>`.
 pub(crate) fn const_name(set: &str, display: &str) -> String {

@@ -19,8 +19,8 @@ use std::vec::Vec;
 
 pub use super::user::golden_readings;
 pub(crate) use super::user::white_readings;
-use crate::base::error::{CalibrationProblem, DataError, Error};
-use crate::derivation::evaluate::{Curve, Spectra};
+use crate::base::error::{CalibrationProblem, Error};
+use spectral_quadrature_spectra::{Curve, DataError, Spectra};
 
 /// The reflectances a calibration's readings name when the scene gives none: the ColorChecker
 /// of the crate's data.

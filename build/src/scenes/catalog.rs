@@ -20,10 +20,10 @@ use super::user::UserLight;
 use crate::base::error::{Error, SetNameProblem};
 use crate::derivation::derive::Derivation;
 use crate::derivation::display;
-use crate::derivation::evaluate::{self, builtin_lights};
 use crate::derivation::quadrature::Rule;
 use crate::derivation::sets::{WavelengthSet, CHANNELS};
 use crate::shared;
+use spectral_quadrature_spectra::{builtin_illuminant, builtin_lights};
 
 /// Uniform sets the crate builds: `UNIFORM_3` to `UNIFORM_64`.
 pub(crate) const UNIFORM_SIZES: core::ops::RangeInclusive<usize> = 3..=64;
@@ -173,7 +173,7 @@ pub fn resolve_with(
                 sizes: UNIFORM_SIZES,
             }));
         }
-        let u = evaluate::uniform(&d.observer, d.settings.range_nm, n);
+        let u = d.observer.uniform_set(d.settings.range_nm, n);
         let weights = display::fold(&d.opponent.xyz_to_ac1c2, &u.xyz_weights, 1.0);
         return Ok(WavelengthSet {
             name: name.into(),
@@ -212,7 +212,7 @@ pub fn resolve_with(
             return Ok(s.wavelength_set(d, name));
         }
         if let Some(l) = light {
-            if evaluate::builtin_illuminant(&d.settings.data_dir, l, d.settings.range_nm).is_err() {
+            if builtin_illuminant(&d.settings.data_dir, l, d.settings.range_nm).is_err() {
                 return Err(problem(SetNameProblem::UnknownLight {
                     light: l.into(),
                     valid: builtin_lights().into_iter().map(String::from).collect(),

@@ -4,16 +4,17 @@
 //! the `UNIFORM_<n>` sets; [`catalog`]) and the shared sets ([`shared_sets`]).
 //!
 //! ```
-//! use spectral_quadrature_build::{derive, evaluate, plan, Settings};
+//! use spectral_quadrature_build::{derive, plan, Settings};
+//! use spectral_quadrature_spectra::{builtin_illuminant, surfaces_under_lights, Spectra};
 //! # let data_dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");
 //! // data_dir: a directory laid out like spectral-quadrature's data/
 //! let d = derive(&Settings::new(data_dir)).unwrap();
 //! let range = d.settings.range_nm;
-//! let cc = evaluate::Spectra::builtin(&d.settings.data_dir, "data/reflectance_colorchecker_ohta.csv")
+//! let cc = Spectra::builtin(&d.settings.data_dir, "data/reflectance_colorchecker_ohta.csv")
 //!     .and_then(|s| s.curves(range))
 //!     .unwrap();
-//! let c = evaluate::builtin_illuminant(&d.settings.data_dir, "C", range).unwrap();
-//! let stimuli = evaluate::surfaces_under_lights(&cc[..4], &[c]);
+//! let c = builtin_illuminant(&d.settings.data_dir, "C", range).unwrap();
+//! let stimuli = surfaces_under_lights(&cc[..4], &[c]);
 //! let p = plan::plan(&d, &stimuli, &[], 1.0, plan::Metric::Mean).unwrap();
 //! assert!(p.chosen.mean_de00 <= 1.0);
 //! assert!(p.candidates.iter().any(|c| c.name == p.chosen.name));
@@ -21,7 +22,7 @@
 //!
 //! Every candidate is measured as the report measures sets: against the full 1 nm integration
 //! of the derivation's observer over its range, with CIELAB's white integrated by the same
-//! rule as the stimulus ([`evaluate::Reference`]).
+//! rule as the stimulus ([`spectral_quadrature_spectra::Reference`]).
 
 use std::string::String;
 use std::vec::Vec;
@@ -29,10 +30,12 @@ use std::vec::Vec;
 use super::catalog;
 use super::user::UserLight;
 use crate::base::error::Error;
-use crate::base::table::{Negatives, ZeroedNegatives};
 use crate::derivation::derive::Derivation;
-use crate::derivation::evaluate::{self, builtin_lights, EvalSet, Reference, Stimulus};
 use crate::shared;
+use spectral_quadrature_spectra::{
+    builtin_lights, emissions, surfaces_under_lights, EvalSet, Negatives, Reference, Spectra,
+    Stimulus, ZeroedNegatives,
+};
 
 pub use crate::base::error::PlanError;
 pub use crate::base::error::{fmt_de, Candidate, Metric};
@@ -77,7 +80,7 @@ pub(crate) fn evaluate_all(d: &Derivation, stimuli: &[Stimulus]) -> Result<Vec<C
         return Err(PlanError::NoStimuli.into());
     }
     let reference = Reference::new(
-        evaluate::full_integration(&d.observer, d.settings.range_nm, 1.0)?,
+        d.observer.full_integration(d.settings.range_nm, 1.0)?,
         stimuli,
     );
     for (s, lab) in stimuli.iter().zip(&reference.labs) {
@@ -132,7 +135,7 @@ pub(crate) fn evaluate_sets(
         return Err(PlanError::NoStimuli.into());
     }
     let reference = Reference::new(
-        evaluate::full_integration(&d.observer, d.settings.range_nm, 1.0)?,
+        d.observer.full_integration(d.settings.range_nm, 1.0)?,
         stimuli,
     );
     Ok(sets
@@ -163,11 +166,7 @@ pub fn shared_sets(
     for n in SHARED_SIZES {
         let name = std::format!("KQ_{n}");
         let set = catalog::resolve_with(d, &name, lights)?;
-        out.push((
-            name,
-            n,
-            EvalSet::from_set(&set, "KQ radiance", &d.opponent.ac1c2_to_xyz),
-        ));
+        out.push((name, n, d.eval_set(&set, "KQ radiance")));
     }
     let Some(first) = stimuli.first() else {
         return Ok(out);
@@ -200,7 +199,7 @@ fn candidate(
     name: &str,
 ) -> Result<Candidate, Error> {
     let set = catalog::resolve(d, name)?;
-    let eval = EvalSet::from_set(&set, "catalog", &d.opponent.ac1c2_to_xyz);
+    let eval = d.eval_set(&set, "catalog");
     let e = reference.errors(&eval, stimuli);
     Ok(Candidate {
         name: set.name,
@@ -334,7 +333,7 @@ pub fn plan(
 /// lights seen directly (`emission`). Give either `emission` or both of the others. Negative
 /// values follow `negatives` ([`Negatives`]); those read as 0 come back beside the stimuli, one
 /// [`ZeroedNegatives`] per file that has any, for the caller to report. Errors name the file and
-/// line ([`DataError`](crate::DataError)).
+/// line ([`DataError`](spectral_quadrature_spectra::DataError)).
 pub fn stimuli_from_files(
     range_nm: [f64; 2],
     reflectances: Option<&std::path::Path>,
@@ -344,15 +343,15 @@ pub fn stimuli_from_files(
 ) -> Result<(Vec<Stimulus>, Vec<ZeroedNegatives>), Error> {
     let mut zeroed = Vec::new();
     let mut read = |p: &std::path::Path| -> Result<_, Error> {
-        let spectra = evaluate::Spectra::read_with(p, negatives)?;
+        let spectra = Spectra::read_with(p, negatives)?;
         zeroed.extend(spectra.zeroed().cloned());
         Ok(spectra.curves(range_nm)?)
     };
     let stimuli = match (reflectances, illuminants, emission) {
-        (None, None, Some(e)) => evaluate::emissions(&read(e)?),
+        (None, None, Some(e)) => emissions(&read(e)?),
         (Some(r), Some(i), None) => {
             let surfaces = read(r)?;
-            evaluate::surfaces_under_lights(&surfaces, &read(i)?)
+            surfaces_under_lights(&surfaces, &read(i)?)
         }
         _ => return Err(PlanError::NoSpectra.into()),
     };

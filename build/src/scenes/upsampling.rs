@@ -15,14 +15,14 @@ use serde::Deserialize;
 use toml::Spanned;
 
 use super::user::UserLight;
-use crate::base::error::{DataError, Error};
+use crate::base::error::Error;
 use crate::derivation::derive::Derivation;
 use crate::derivation::display::{DisplayMatrices, DisplaySpec};
-use crate::derivation::evaluate::{self, Curve};
 use crate::derivation::sets::WavelengthSet;
 use crate::upsampling::{
     self, Baked, CacheEntry, FitInputs, DEFAULT_GRID, GRID_SIZES, RADIANCE_REFERENCE_LIGHT,
 };
+use spectral_quadrature_spectra::{builtin_illuminant, Curve, DataError};
 
 /// The `[upsampling]` table as written.
 #[derive(Deserialize)]
@@ -253,7 +253,7 @@ fn reference_light(
             c.name = name.to_string();
             c
         }
-        None => evaluate::builtin_illuminant(&d.settings.data_dir, name, d.settings.range_nm)?,
+        None => builtin_illuminant(&d.settings.data_dir, name, d.settings.range_nm)?,
     })
 }
 

@@ -18,14 +18,14 @@
 use std::string::{String, ToString};
 use std::vec::Vec;
 
-use crate::base::error::{DataError, Error};
-use crate::base::files::read_error;
-use crate::base::table::{Negatives, ZeroedNegatives};
+use crate::base::error::Error;
 use crate::derivation::derive::Derivation;
 use crate::derivation::display;
-use crate::derivation::evaluate::{self, full_integration, Curve, EvalSet, Spectra};
 use crate::derivation::sets::WavelengthSet;
 use crate::shared;
+use spectral_quadrature_spectra::{
+    read_error, Curve, DataError, EvalSet, Negatives, Spectra, ZeroedNegatives,
+};
 
 /// The most wavelengths or channels a fixed or sensor set may have (the runtime's largest
 /// const-generic size the crate tests).
@@ -389,7 +389,10 @@ fn sensor_eval(
     sensor: &Sensor,
     w: &[Vec<f64>; 3],
 ) -> Result<EvalSet, Error> {
-    let grid = evaluate::full_integration(&d.observer, d.settings.range_nm, 1.0)?.wavelengths_nm;
+    let grid = d
+        .observer
+        .full_integration(d.settings.range_nm, 1.0)?
+        .wavelengths_nm;
     let xyz_weights = [0, 1, 2].map(|c| {
         grid.iter()
             .map(|&nm| {
@@ -451,7 +454,7 @@ pub(crate) fn sensor_set(
 /// the luminance of a constant spectrum of 1 on the derivation's grid, with `light` integrated
 /// at 1 nm.
 fn light_scale(d: &Derivation, light: Option<&Curve>) -> Result<f64, Error> {
-    let full = full_integration(&d.observer, d.settings.range_nm, 1.0)?;
+    let full = d.observer.full_integration(d.settings.range_nm, 1.0)?;
     let y = full.xyz(|nm| light.map_or(1.0, |l| l.at(nm)))[1];
     if !(y > 0.0 && y.is_finite()) {
         return Err(Error::Settings("the light has no luminance".into()));
@@ -471,7 +474,10 @@ pub fn golden_readings(
     reflectances: &[Curve],
 ) -> Result<Vec<Vec<f64>>, Error> {
     let scale = light_scale(d, light)?;
-    let grid = full_integration(&d.observer, d.settings.range_nm, 1.0)?.wavelengths_nm;
+    let grid = d
+        .observer
+        .full_integration(d.settings.range_nm, 1.0)?
+        .wavelengths_nm;
     let lit: Vec<f64> = grid
         .iter()
         .map(|&nm| scale * light.map_or(1.0, |l| l.at(nm)))
@@ -517,7 +523,7 @@ pub fn least_squares(
     light: &Curve,
     training: &[Curve],
 ) -> Result<Option<EvalSet>, Error> {
-    let full = evaluate::full_integration(&d.observer, d.settings.range_nm, 1.0)?;
+    let full = d.observer.full_integration(d.settings.range_nm, 1.0)?;
     let n = sensor.channels.len();
     let m = training.len();
     let grid = &full.wavelengths_nm;

@@ -9,7 +9,7 @@ use std::vec::Vec;
 use nalgebra::{DMatrix, DVector};
 
 use super::model::Kernel;
-use crate::derivation::evaluate::Curve;
+use spectral_quadrature_spectra::Curve;
 
 /// The result of [`fit`].
 #[derive(Debug, Clone, Copy, PartialEq)]

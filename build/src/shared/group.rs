@@ -28,7 +28,7 @@ use spectral_quadrature_math::{delta_e2000, lab_from_xyz};
 
 use super::model::{Problem, Shared};
 use crate::base::error::Error;
-use crate::derivation::evaluate::Curve;
+use spectral_quadrature_spectra::Curve;
 
 /// The training reflectances of the crate's light groups: every reflectance file of the crate
 /// (the CIE test colours, the ColorChecker, the 190 rawtoaces patches). The report judges the

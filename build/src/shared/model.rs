@@ -13,8 +13,8 @@ use nalgebra::DMatrix;
 use crate::base::error::{Error, LightProblem};
 use crate::derivation::derive::Derivation;
 use crate::derivation::display;
-use crate::derivation::evaluate::{self, Curve, EvalSet};
 use crate::derivation::sets::WavelengthSet;
+use spectral_quadrature_spectra::{builtin_illuminant, builtin_lights, Curve, EvalSet, Spectra};
 
 /// A stationary covariance on wavelength, `k(λ, μ) = σ² ρ(|λ − μ| / ℓ)` with unit σ² (the
 /// scale cancels in the weights and in the node choice).
@@ -130,7 +130,7 @@ impl Problem {
             name: light_curve.map_or_else(|| "equal energy".into(), |l| l.name.clone()),
             problem,
         };
-        let reference = evaluate::full_integration(&d.observer, d.settings.range_nm, 1.0)?;
+        let reference = d.observer.full_integration(d.settings.range_nm, 1.0)?;
         let grid_nm = reference.wavelengths_nm.clone();
         let g = grid_nm.len();
         let raw: Vec<f64> = match light_curve {
@@ -463,16 +463,11 @@ pub(crate) fn problem(d: &Derivation, light: Option<&str>) -> Result<Problem, Er
     let range = d.settings.range_nm;
     let curve = match light {
         Some(name) => Some(
-            evaluate::builtin_illuminant(&d.settings.data_dir, name, range).map_err(|_| {
-                Error::Light {
-                    name: name.into(),
-                    problem: LightProblem::NotBuiltIn {
-                        valid: evaluate::builtin_lights()
-                            .into_iter()
-                            .map(String::from)
-                            .collect(),
-                    },
-                }
+            builtin_illuminant(&d.settings.data_dir, name, range).map_err(|_| Error::Light {
+                name: name.into(),
+                problem: LightProblem::NotBuiltIn {
+                    valid: builtin_lights().into_iter().map(String::from).collect(),
+                },
             })?,
         ),
         None => None,
@@ -484,7 +479,7 @@ pub(crate) fn problem(d: &Derivation, light: Option<&str>) -> Result<Problem, Er
 /// same kernel, prior and training, so a light read from a copy of a built-in illuminant's
 /// file gives the built-in light's sets to the last digit.
 pub fn problem_for(d: &Derivation, light: Option<&Curve>) -> Result<Problem, Error> {
-    let tcs = evaluate::Spectra::builtin(&d.settings.data_dir, TRAINING_FILE)
+    let tcs = Spectra::builtin(&d.settings.data_dir, TRAINING_FILE)
         .and_then(|s| s.curves(d.settings.range_nm))?;
     Ok(Problem::new(
         d,
@@ -544,7 +539,7 @@ pub fn eval_on_radiance(
     family: &str,
     light: Option<&Curve>,
 ) -> Result<EvalSet, Error> {
-    let mut eval = EvalSet::from_set(set, family, &d.opponent.ac1c2_to_xyz);
+    let mut eval = d.eval_set(set, family);
     if let Some(l) = light {
         let p = problem_for(d, Some(l))?;
         for row in eval.xyz_weights.iter_mut() {

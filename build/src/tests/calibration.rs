@@ -2,6 +2,7 @@
 //! (`[sensors.X] calibration = "readings.csv"`): what is baked, and every mistake named by file
 //! and line.
 
+use spectral_quadrature_spectra::builtin_illuminant;
 use std::path::Path;
 use std::sync::OnceLock;
 
@@ -80,8 +81,7 @@ fn a_sensor_bakes_its_white_and_a_calibration_its_fit() {
         d().settings.range_nm,
     )
     .unwrap();
-    let c = crate::evaluate::builtin_illuminant(Path::new(DATA_DIR), "C", d().settings.range_nm)
-        .unwrap();
+    let c = builtin_illuminant(Path::new(DATA_DIR), "C", d().settings.range_nm).unwrap();
     let set = crate::user::sensor_set(d(), "AS7341", "AS7341", &sensor, Some(&c)).unwrap();
     let y: f64 = set.xyz_weights[1]
         .iter()

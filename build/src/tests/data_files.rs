@@ -1,19 +1,22 @@
-//! Reading data files: the embedded CIE observers, and every kind of malformed table, each of
-//! which must be an error naming the file, the exact line and what is wrong.
+//! Reading data files in the generator: the embedded CIE observers, observer tables (three
+//! evenly spaced value columns), the shipped spectra of the runtime crate's `data/`, reading
+//! observers from disk and grids on an observer table. The reader's own tests (malformed tables,
+//! negative values, how a `DataError` is displayed) are `spectral-quadrature-spectra`'s, in
+//! spectra/tests/.
 
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");
 
 /// The text of an observer's data file.
 fn csv_text(id: ObserverId) -> String {
-    let path = crate::base::files::data_path(std::path::Path::new(DATA_DIR), id.file());
+    let path = data_path(std::path::Path::new(DATA_DIR), id.file());
     std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
-use crate::evaluate::Spectra;
 use crate::observer::{Observer, ObserverId};
-use crate::table::{parse_table, parse_table_with, Negatives, Spacing};
-use crate::DataError;
+use spectral_quadrature_spectra::{
+    data_path, read_table, DataError, Spacing, Spectra, BUILTIN_FILES,
+};
 
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -29,17 +32,6 @@ fn table_text(rows: &[&str]) -> String {
         text.push('\n');
     }
     text
-}
-
-/// Parses `text` as an observer-shaped table that must fail; returns the error.
-fn parse_err(label: &str, text: &str, columns: Option<usize>, spacing: Spacing) -> DataError {
-    match parse_table(label, text, columns, spacing) {
-        Ok(t) => panic!(
-            "{label}: expected an error, parsed {} rows",
-            t.wavelengths.len()
-        ),
-        Err(e) => e,
-    }
 }
 
 /// Asserts that `e` names `file`, `line`, and that its message contains every keyword
@@ -221,284 +213,9 @@ fn cie1931_2deg_known_values() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// 2. Malformed inputs: each is an error naming the label, the exact line and what is wrong.
-
-#[test]
-fn well_formed_table_parses_with_line_numbers() {
-    let text = table_text(&["400,0.1,0.2,0.3", "405,0.4,0.5,0.6", "410,0.7,0.8,0.9"]);
-    let t = parse_table("ok.csv", &text, Some(3), Spacing::Even).unwrap();
-    assert_eq!(t.file, "ok.csv");
-    assert_eq!(t.columns, ["x_bar", "y_bar", "z_bar"]);
-    assert_eq!(t.wavelengths, [400.0, 405.0, 410.0]);
-    assert_eq!(t.values[1], [0.4, 0.5, 0.6]);
-    assert_eq!(t.lines, [2, 3, 4]);
-    assert_eq!(t.step(), 5.0);
-}
-
-#[test]
-fn whitespace_around_fields_is_trimmed() {
-    let text = "wavelength_nm , a\n 400 , 1.5 \n401,\t2\n";
-    let t = parse_table("spaces.csv", text, None, Spacing::Even).unwrap();
-    assert_eq!(t.columns, ["a"]);
-    assert_eq!(t.wavelengths, [400.0, 401.0]);
-    assert_eq!(t.values, [vec![1.5], vec![2.0]]);
-    assert_eq!(t.lines, [2, 3]);
-}
-
-#[test]
-fn crlf_file_is_accepted() {
-    let text = "wavelength_nm,a\r\n400,1.5\r\n401,2\r\n";
-    let t = parse_table("crlf.csv", text, None, Spacing::Even).unwrap();
-    assert_eq!(t.columns, ["a"]);
-    assert_eq!(t.wavelengths, [400.0, 401.0]);
-    assert_eq!(t.values, [vec![1.5], vec![2.0]]);
-}
-
-#[test]
-fn crlf_file_reports_the_right_lines() {
-    let text = "wavelength_nm,a\r\n400,1\r\n401,2\r\n";
-    let t = parse_table("crlf.csv", text, None, Spacing::Even).unwrap();
-    assert_eq!(t.lines, [2, 3]);
-    // A bad row of a CRLF file is reported on its own line.
-    let bad = "wavelength_nm,a\r\n400,1\r\n401,x\r\n";
-    let e = parse_err("crlf.csv", bad, None, Spacing::Even);
-    assert_error(&e, "crlf.csv", 3, &["not a number"]);
-}
-
-#[test]
-fn single_row_table_parses() {
-    let t = parse_table(
-        "one.csv",
-        &table_text(&["500,1,2,3"]),
-        Some(3),
-        Spacing::Even,
-    )
-    .unwrap();
-    assert_eq!(t.wavelengths, [500.0]);
-    assert_eq!(t.step(), 0.0);
-}
-
-#[test]
-fn missing_column_is_reported_on_its_line() {
-    let text = table_text(&["400,1,2,3", "401,1,2,3", "402,1,2"]);
-    let e = parse_err("missing.csv", &text, Some(3), Spacing::Even);
-    assert_error(&e, "missing.csv", 4, &["missing"]);
-}
-
-#[test]
-fn extra_column_is_reported_on_its_line() {
-    let text = table_text(&["400,1,2,3", "401,1,2,3,4", "402,1,2,3"]);
-    let e = parse_err("extra.csv", &text, Some(3), Spacing::Even);
-    assert_error(&e, "extra.csv", 3, &["extra"]);
-}
-
-#[test]
-fn trailing_comma_is_an_extra_column() {
-    let text = table_text(&["400,1,2,3,"]);
-    let e = parse_err("trailing.csv", &text, Some(3), Spacing::Any);
-    assert_error(&e, "trailing.csv", 2, &["extra"]);
-}
-
-#[test]
-fn value_that_is_not_a_number_is_reported() {
-    let text = table_text(&["400,1,2,3", "401,1,abc,3"]);
-    let e = parse_err("abc.csv", &text, Some(3), Spacing::Even);
-    assert_error(&e, "abc.csv", 3, &["not a number", "abc", "y_bar"]);
-}
-
-#[test]
-fn wavelength_that_is_not_a_number_is_reported() {
-    let text = table_text(&["400,1,2,3", "401,1,2,3", "4o2,1,2,3"]);
-    let e = parse_err("wl.csv", &text, Some(3), Spacing::Even);
-    assert_error(&e, "wl.csv", 4, &["not a number", "wavelength"]);
-}
-
-#[test]
-fn empty_field_is_not_a_number() {
-    let text = table_text(&["400,1,,3"]);
-    let e = parse_err("blank.csv", &text, Some(3), Spacing::Even);
-    assert_error(&e, "blank.csv", 2, &["not a number"]);
-}
-
-#[test]
-fn nan_is_rejected() {
-    for nan in ["NaN", "nan", "-NaN"] {
-        let row = format!("401,1,2,{nan}");
-        let text = table_text(&["400,1,2,3", &row]);
-        let e = parse_err("nan.csv", &text, Some(3), Spacing::Even);
-        assert_error(&e, "nan.csv", 3, &["not finite", "z_bar"]);
-    }
-}
-
-#[test]
-fn infinity_is_rejected() {
-    for inf in ["inf", "-inf", "Infinity", "1e999"] {
-        let row = format!("401,{inf},2,3");
-        let text = table_text(&["400,1,2,3", &row]);
-        let e = parse_err("inf.csv", &text, Some(3), Spacing::Even);
-        assert_error(&e, "inf.csv", 3, &["not finite", "x_bar"]);
-    }
-}
-
-#[test]
-fn infinite_wavelength_is_rejected() {
-    let text = table_text(&["400,1,2,3", "inf,1,2,3"]);
-    let e = parse_err("inf_wl.csv", &text, Some(3), Spacing::Any);
-    assert_error(&e, "inf_wl.csv", 3, &["not finite", "wavelength"]);
-}
-
-#[test]
-fn repeated_wavelength_is_rejected() {
-    let text = table_text(&["400,1,2,3", "401,1,2,3", "401,1,2,3"]);
-    for spacing in [Spacing::Even, Spacing::Any] {
-        let e = parse_err("repeat.csv", &text, Some(3), spacing);
-        assert_error(&e, "repeat.csv", 4, &["not greater", "401"]);
-    }
-}
-
-#[test]
-fn decreasing_wavelength_is_rejected() {
-    let text = table_text(&["400,1,2,3", "401,1,2,3", "402,1,2,3", "399,1,2,3"]);
-    for spacing in [Spacing::Even, Spacing::Any] {
-        let e = parse_err("decrease.csv", &text, Some(3), spacing);
-        assert_error(&e, "decrease.csv", 5, &["not greater", "399"]);
-    }
-}
-
-#[test]
-fn second_row_below_first_is_rejected() {
-    let text = table_text(&["400,1,2,3", "390,1,2,3"]);
-    let e = parse_err("down.csv", &text, Some(3), Spacing::Even);
-    assert_error(&e, "down.csv", 3, &["not greater"]);
-}
-
-#[test]
-fn uneven_step_is_rejected_with_even_spacing_only() {
-    let text = table_text(&[
-        "400,1,2,3",
-        "401,1,2,3",
-        "402,1,2,3",
-        "404,1,2,3",
-        "405,1,2,3",
-    ]);
-    let e = parse_err("uneven.csv", &text, Some(3), Spacing::Even);
-    assert_error(&e, "uneven.csv", 5, &["uneven"]);
-    let t = parse_table("uneven.csv", &text, Some(3), Spacing::Any).unwrap();
-    assert_eq!(t.wavelengths, [400.0, 401.0, 402.0, 404.0, 405.0]);
-    assert_eq!(t.lines, [2, 3, 4, 5, 6]);
-}
-
-#[test]
-fn uneven_step_at_the_third_row_is_rejected() {
-    // The first two rows set the step; the third row breaks it.
-    let text = table_text(&["400,1,2,3", "405,1,2,3", "406,1,2,3"]);
-    let e = parse_err("uneven3.csv", &text, Some(3), Spacing::Even);
-    assert_error(&e, "uneven3.csv", 4, &["uneven"]);
-    assert!(parse_table("uneven3.csv", &text, Some(3), Spacing::Any).is_ok());
-}
-
-#[test]
-fn fractional_even_steps_are_accepted() {
-    // 0.1 nm steps do not add up exactly in binary; the tolerance must allow them.
-    let rows: Vec<String> = (0..50)
-        .map(|k| format!("{:.1},1,2,3", 400.0 + 0.1 * f64::from(k)))
-        .collect();
-    let rows: Vec<&str> = rows.iter().map(String::as_str).collect();
-    let t = parse_table("tenth.csv", &table_text(&rows), Some(3), Spacing::Even).unwrap();
-    assert_eq!(t.wavelengths.len(), 50);
-}
-
-#[test]
-fn empty_file_is_a_whole_file_error() {
-    for text in ["", "\n", "\n\n"] {
-        let e = parse_err("empty.csv", text, Some(3), Spacing::Even);
-        assert_error(&e, "empty.csv", 0, &["empty"]);
-        assert_eq!(e.to_string(), format!("empty.csv: {}", e.message));
-    }
-}
-
-#[test]
-fn header_only_has_no_data_rows() {
-    for text in [HEADER.to_string(), format!("{HEADER}\n")] {
-        let e = parse_err("header.csv", &text, Some(3), Spacing::Even);
-        assert_error(&e, "header.csv", 1, &["no data rows"]);
-    }
-}
-
-#[test]
-fn empty_line_inside_the_table_is_rejected() {
-    let text = format!("{HEADER}\n400,1,2,3\n\n401,1,2,3\n");
-    let e = parse_err("gap.csv", &text, Some(3), Spacing::Even);
-    assert_error(&e, "gap.csv", 3, &["empty line"]);
-}
-
-#[test]
-fn first_of_several_empty_lines_is_reported() {
-    // Nothing is skipped: the first empty line is the error, even with a bad row after it.
-    let text = format!("{HEADER}\n400,1,2,3\n\n\n401,1,2,3\n402,1,x,3\n");
-    let e = parse_err("gaps.csv", &text, Some(3), Spacing::Even);
-    assert_error(&e, "gaps.csv", 3, &["empty line"]);
-}
-
-#[test]
-fn bare_carriage_return_is_rejected_on_its_line() {
-    let text = "wavelength_nm,a\n400,1\r401,2\n";
-    let e = parse_err("cr.csv", text, None, Spacing::Any);
-    assert_error(&e, "cr.csv", 2, &["carriage return"]);
-}
-
-#[test]
-fn whitespace_only_line_inside_the_table_is_rejected() {
-    let text = format!("{HEADER}\n400,1,2,3\n   \n401,1,2,3\n");
-    let e = parse_err("blankline.csv", &text, Some(3), Spacing::Even);
-    assert_error(&e, "blankline.csv", 3, &["empty line"]);
-}
-
-#[test]
-fn trailing_newlines_after_the_table_are_accepted() {
-    // A final newline (or CRLF) is not an empty line inside the table.
-    for text in [
-        format!("{HEADER}\n400,1,2,3\n401,1,2,3\n"),
-        format!("{HEADER}\r\n400,1,2,3\r\n401,1,2,3\r\n"),
-        format!("{HEADER}\n400,1,2,3\n401,1,2,3"),
-    ] {
-        let t = parse_table("end.csv", &text, Some(3), Spacing::Even).unwrap();
-        assert_eq!(t.wavelengths, [400.0, 401.0]);
-    }
-}
-
-#[test]
-fn header_with_one_column_is_rejected() {
-    for columns in [None, Some(3)] {
-        let e = parse_err(
-            "onecol.csv",
-            "wavelength_nm\n400\n401\n",
-            columns,
-            Spacing::Even,
-        );
-        assert_error(&e, "onecol.csv", 1, &["header", "value column"]);
-    }
-}
-
-#[test]
-fn wrong_number_of_value_columns_in_header_is_rejected() {
-    let two = "wavelength_nm,x_bar,y_bar\n400,1,2\n";
-    let e = parse_err("two.csv", two, Some(3), Spacing::Even);
-    assert_error(&e, "two.csv", 1, &["2 value columns", "expected 3"]);
-    let four = "wavelength_nm,a,b,c,d\n400,1,2,3,4\n";
-    let e = parse_err("four.csv", four, Some(3), Spacing::Even);
-    assert_error(&e, "four.csv", 1, &["4 value columns", "expected 3"]);
-    // Without a required width, any width of at least one value column is fine.
-    assert!(parse_table("two.csv", two, None, Spacing::Even).is_ok());
-    assert!(parse_table("four.csv", four, None, Spacing::Even).is_ok());
-}
-
-#[test]
-fn first_bad_row_is_reported_not_a_later_one() {
-    let text = table_text(&["400,1,2,3", "401,abc,2,3", "402,1,2", "400,1,2,3"]);
-    let e = parse_err("first.csv", &text, Some(3), Spacing::Even);
-    assert_error(&e, "first.csv", 3, &["not a number"]);
-}
+// 2. Malformed observer tables: each is an error naming the label, the exact line and what is
+// wrong. An observer is a table of three evenly spaced value columns; the reader's own
+// malformed-table tests are in spectra/tests/table.rs.
 
 #[test]
 fn bad_row_deep_in_a_real_table_is_found_on_its_line() {
@@ -539,152 +256,9 @@ fn observer_parse_keeps_values_in_order() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// 2b. Negative values: rounding noise read as 0 and reported once, anything more negative an
-// error naming line and column, unless the reader is asked to clamp.
-
-/// A one-column spectra table (`wavelength_nm,s`), rows `nm,value`.
-fn spectra_text(header: &str, rows: &[&str]) -> String {
-    let mut text = format!("{header}\n");
-    for row in rows {
-        text.push_str(row);
-        text.push('\n');
-    }
-    text
-}
-
-#[test]
-fn rounding_noise_is_read_as_zero_and_reported_once_with_the_first_place() {
-    let text = table_text(&[
-        "400,0.5,0.25,1",
-        "405,0.5,-7e-18,0.5",
-        "410,-2.2e-16,0.5,-1e-17",
-    ]);
-    let t = parse_table("noise.csv", &text, Some(3), Spacing::Even).unwrap();
-    assert_eq!(t.values[1], [0.5, 0.0, 0.5]);
-    assert_eq!(t.values[2], [0.0, 0.5, 0.0]);
-    let z = t.zeroed.expect("the zeroed values are reported");
-    assert_eq!(
-        (z.file.as_str(), z.count, z.beyond_tolerance),
-        ("noise.csv", 3, 0)
-    );
-    assert_eq!((z.first.line, z.first.column), (3, 3));
-    assert_eq!((z.first.name.as_str(), z.first.value), ("y_bar", -7e-18));
-    assert_eq!((z.most_negative.line, z.most_negative.column), (4, 2));
-    assert_eq!(z.most_negative.value, -2.2e-16);
-    assert_eq!(z.largest, 1.0);
-    let shown = z.to_string();
-    assert!(
-        shown.starts_with(
-            "noise.csv:3: column 3 (y_bar): 3 negative values read as 0, the first here (-7e-18)"
-        ),
-        "{shown}"
-    );
-    assert!(shown.contains("rounding noise"), "{shown}");
-    assert!(
-        shown.contains("-2.2e-16 at line 4, column 2 (x_bar)"),
-        "{shown}"
-    );
-}
-
-#[test]
-fn a_table_without_negative_values_reports_nothing() {
-    // -0 is not below zero.
-    let text = table_text(&["400,0,0.5,1", "405,-0,0.5,0.5"]);
-    let t = parse_table("clean.csv", &text, Some(3), Spacing::Even).unwrap();
-    assert_eq!(t.zeroed, None);
-}
-
-#[test]
-fn negative_beyond_the_tolerance_is_an_error_naming_line_and_column() {
-    let text = table_text(&["400,0.5,0.25,1", "405,0.5,-7e-18,0.5", "410,0.1,0.5,-0.001"]);
-    let e = parse_err("neg.csv", &text, Some(3), Spacing::Even);
-    assert_error(
-        &e,
-        "neg.csv",
-        4,
-        &["column 4 (z_bar)", "-0.001 is negative", "1e-6", "clamp"],
-    );
-    assert!(
-        e.to_string().starts_with("neg.csv:4: column 4 (z_bar): "),
-        "{e}"
-    );
-}
-
-#[test]
-fn the_first_value_beyond_the_tolerance_in_file_order_is_the_error() {
-    let text = table_text(&["400,0.5,0.25,-0.5", "405,-0.5,0.5,0.5", "410,1,1,1"]);
-    let e = parse_err("two.csv", &text, Some(3), Spacing::Even);
-    assert_error(&e, "two.csv", 2, &["column 4 (z_bar)", "-0.5"]);
-}
-
-#[test]
-fn the_tolerance_scales_with_the_files_largest_value() {
-    // Largest 2: the floor is -2e-6 exactly (1e-6 times a power of two), and it is inclusive.
-    let at_floor = spectra_text("wavelength_nm,s", &["400,2", "500,-2e-6", "600,1"]);
-    let t = parse_table("floor.csv", &at_floor, None, Spacing::Any).unwrap();
-    assert_eq!(t.values[1], [0.0]);
-    let below = spectra_text("wavelength_nm,s", &["400,2", "500,-2.0000001e-6", "600,1"]);
-    let e = parse_err("below.csv", &below, None, Spacing::Any);
-    assert_error(
-        &e,
-        "below.csv",
-        3,
-        &["column 2 (s)", "-2e-6", "largest value, 2"],
-    );
-    // The same value is noise in a file whose values are in the thousands (a light's power),
-    // and an error in one whose largest value is 1e-3.
-    let large = spectra_text("wavelength_nm,s", &["400,3000", "500,-1e-3"]);
-    assert!(parse_table("w.csv", &large, None, Spacing::Any)
-        .unwrap()
-        .zeroed
-        .is_some());
-    let small = spectra_text("wavelength_nm,s", &["400,1e-3", "500,-1e-8"]);
-    parse_err("mw.csv", &small, None, Spacing::Any);
-}
-
-#[test]
-fn a_file_without_a_positive_value_has_no_tolerance() {
-    for rows in [["400,0", "500,-1e-300"], ["400,-1e-300", "500,-2e-300"]] {
-        let text = spectra_text("wavelength_nm,s", &rows);
-        let e = parse_err("dark.csv", &text, None, Spacing::Any);
-        assert!(e.message.contains("no positive value"), "{e}");
-    }
-}
-
-#[test]
-fn subnormal_and_tiny_negatives_are_noise_huge_ones_are_errors() {
-    let text = spectra_text("wavelength_nm,s", &["400,1", "500,-5e-324", "600,-1e-300"]);
-    let t = parse_table("tiny.csv", &text, None, Spacing::Any).unwrap();
-    assert_eq!(t.values, [[1.0], [0.0], [0.0]]);
-    assert_eq!(t.zeroed.unwrap().count, 2);
-    let text = spectra_text("wavelength_nm,s", &["400,1", "500,-1.7e308"]);
-    let e = parse_err("huge.csv", &text, None, Spacing::Any);
-    assert_error(&e, "huge.csv", 3, &["-1.7e308"]);
-}
-
-#[test]
-fn clamp_reads_every_negative_as_zero_and_counts_those_beyond_the_tolerance() {
-    let text = spectra_text(
-        "wavelength_nm,a,b",
-        &["400,1,-1e-9", "500,-0.25,0.5", "600,0.5,-0.5"],
-    );
-    let t = parse_table_with("clamp.csv", &text, None, Spacing::Any, Negatives::Clamp).unwrap();
-    assert_eq!(t.values, [[1.0, 0.0], [0.0, 0.5], [0.5, 0.0]]);
-    let z = t.zeroed.unwrap();
-    assert_eq!((z.count, z.beyond_tolerance), (3, 2));
-    assert_eq!((z.first.line, z.first.column, z.first.value), (2, 3, -1e-9));
-    assert_eq!((z.most_negative.line, z.most_negative.column), (4, 3));
-    let shown = z.to_string();
-    assert!(
-        shown.starts_with("clamp.csv:2: column 3 (b): 3 negative values read as 0"),
-        "{shown}"
-    );
-    assert!(shown.contains("2 values beyond the tolerance"), "{shown}");
-    assert!(shown.contains("clamped as asked"), "{shown}");
-    // Without the opt-in the same file is refused at its first value beyond the tolerance.
-    let e = parse_err("clamp.csv", &text, None, Spacing::Any);
-    assert_error(&e, "clamp.csv", 3, &["column 2 (a)", "-0.25"]);
-}
+// 2b. Negative values in observer tables and in the shipped spectra: rounding noise read as 0
+// and reported once, anything more negative an error naming line and column. The reader's rule
+// itself (and the clamp) is tested in spectra/tests/negatives.rs.
 
 #[test]
 fn observer_tables_follow_the_same_rule() {
@@ -699,18 +273,6 @@ fn observer_tables_follow_the_same_rule() {
     let text = table_text(&["400,0.1,0.2,0.3", "402,0.4,-0.01,0.6"]);
     let e = Observer::parse("bad", "bad.csv", &text).unwrap_err();
     assert_error(&e, "bad.csv", 3, &["column 3 (y_bar)", "negative"]);
-}
-
-#[test]
-fn spectra_readers_share_the_rule_and_the_clamp() {
-    let text = spectra_text("wavelength_nm,s", &["380,1", "500,-3e-17", "780,-0.5"]);
-    let e = Spectra::parse("s.csv", &text).unwrap_err();
-    assert_error(&e, "s.csv", 4, &["column 2 (s)", "-0.5"]);
-    let s = Spectra::parse_with("s.csv", &text, Negatives::Clamp).unwrap();
-    let z = s.zeroed().unwrap();
-    assert_eq!((z.count, z.beyond_tolerance, z.first.line), (2, 1, 3));
-    let c = s.curve(0, [380.0, 770.0]).unwrap();
-    assert_eq!(c.values, [1.0, 0.0, 0.0]);
 }
 
 #[test]
@@ -742,7 +304,7 @@ fn the_rawtoaces_reflectances_read_with_their_rounding_noise_zeroed() {
 
 #[test]
 fn every_builtin_file_parses_and_covers_the_range() {
-    for file in crate::evaluate::BUILTIN {
+    for file in BUILTIN_FILES {
         let s = Spectra::builtin(std::path::Path::new(DATA_DIR), file)
             .unwrap_or_else(|e| panic!("{e}"));
         s.curves([380.0, 770.0]).unwrap_or_else(|e| panic!("{e}"));
@@ -751,7 +313,7 @@ fn every_builtin_file_parses_and_covers_the_range() {
 
 #[test]
 fn the_other_shipped_files_have_no_negative_values() {
-    for file in crate::evaluate::BUILTIN {
+    for file in BUILTIN_FILES {
         let s = Spectra::builtin(std::path::Path::new(DATA_DIR), file).unwrap();
         if file.ends_with("rawtoaces_190.csv") {
             continue;
@@ -764,37 +326,8 @@ fn the_other_shipped_files_have_no_negative_values() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// 3. How errors are displayed.
-
-#[test]
-fn display_is_file_colon_line_colon_message() {
-    let text = table_text(&["400,1,2,3", "401,1,abc,3"]);
-    let e = parse_err("data/some file.csv", &text, Some(3), Spacing::Even);
-    let shown = e.to_string();
-    assert_eq!(shown, format!("data/some file.csv:3: {}", e.message));
-    assert!(shown.starts_with("data/some file.csv:3: "), "{shown}");
-    assert!(shown.contains("abc"), "{shown}");
-}
-
-#[test]
-fn display_of_a_constructed_error() {
-    let e = DataError {
-        file: "x.csv".to_string(),
-        line: 12,
-        message: "bad thing".to_string(),
-    };
-    assert_eq!(e.to_string(), "x.csv:12: bad thing");
-    // Line 0 concerns the whole file and is not shown as a line number.
-    let whole = DataError {
-        file: "x.csv".to_string(),
-        line: 0,
-        message: "empty file".to_string(),
-    };
-    assert_eq!(whole.to_string(), "x.csv: empty file");
-    // It is a std error, usable with `?` into Box<dyn Error>.
-    let boxed: Box<dyn std::error::Error> = Box::new(e);
-    assert_eq!(boxed.to_string(), "x.csv:12: bad thing");
-}
+// 3. How errors are displayed: a `DataError` through the generator's `Error`. Its own display
+// is tested in spectra/tests/error.rs.
 
 #[test]
 fn derive_error_displays_the_data_error() {
@@ -821,7 +354,7 @@ fn read_missing_file_names_the_path() {
     let shown = e.to_string();
     assert!(shown.starts_with(&format!("{label}: ")), "{shown}");
 
-    let e = crate::table::read_table(&path, Some(3), Spacing::Even).unwrap_err();
+    let e = read_table(&path, Some(3), Spacing::Even).unwrap_err();
     assert_error(&e, &label, 0, &["cannot read"]);
 }
 
@@ -843,7 +376,7 @@ fn read_file_with_bad_row_names_path_and_line() {
     assert_error(&e, &label, 5, &["not finite"]);
     assert!(e.to_string().starts_with(&format!("{label}:5: ")), "{e}");
 
-    let e = crate::table::read_table(&file.0, Some(3), Spacing::Any).unwrap_err();
+    let e = read_table(&file.0, Some(3), Spacing::Any).unwrap_err();
     assert_error(&e, &label, 5, &["not finite"]);
 }
 

@@ -2,6 +2,7 @@
 //! build script and the tools print names the file and the line where a file is involved.
 //! Displays have one description, used by the derivation, scenes, code generation and shaders.
 
+use spectral_quadrature_spectra::Curve;
 use std::path::Path;
 use std::sync::OnceLock;
 
@@ -241,7 +242,7 @@ fn displays_have_one_description() {
 #[test]
 fn light_problems_are_typed() {
     let d = default_derivation();
-    let dark = crate::evaluate::Curve::constant("dark", 0.0, d.settings.range_nm);
+    let dark = Curve::constant("dark", 0.0, d.settings.range_nm);
     let e = crate::shared::Problem::new(
         d,
         Some(&dark),

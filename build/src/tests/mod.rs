@@ -1,5 +1,5 @@
 //! The generator's unit tests: the tests that reach into its modules (the steps of the
-//! derivation, the CSV reader, the scene's parts, the caches, the upsampling's solver) through
+//! derivation, the observers' tables, the scene's parts, the caches, the upsampling's solver) through
 //! items that are `pub(crate)`, so that the crate's public surface stays what its users need.
 //! Each file is a module here; run one file's tests with its module name as the filter:
 //! `cargo test -p spectral-quadrature-build --lib -- tests::calibration::`. The tests that use

@@ -3,6 +3,7 @@
 //! with fewer wavelengths beside the choice.
 
 use crate::plan::{self, Candidate, Metric, PlanError};
+use spectral_quadrature_spectra::{builtin_illuminant, surfaces_under_lights, Spectra};
 
 fn candidate(name: &str, n: usize, e: f64) -> Candidate {
     Candidate {
@@ -54,15 +55,14 @@ fn every_catalogue_set_is_measured_once_in_order() {
     let data = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");
     let d = crate::derive(&crate::Settings::new(data)).unwrap();
     let range = d.settings.range_nm;
-    let patches = crate::evaluate::Spectra::builtin(
+    let patches = Spectra::builtin(
         std::path::Path::new(data),
         "data/reflectance_colorchecker_ohta.csv",
     )
     .and_then(|s| s.curves(range))
     .unwrap();
-    let d65 =
-        crate::evaluate::builtin_illuminant(std::path::Path::new(data), "D65", range).unwrap();
-    let stimuli = crate::evaluate::surfaces_under_lights(&patches[..6], &[d65]);
+    let d65 = builtin_illuminant(std::path::Path::new(data), "D65", range).unwrap();
+    let stimuli = surfaces_under_lights(&patches[..6], &[d65]);
     let extra = plan::shared_sets(&d, &stimuli, &[]).unwrap();
     let p = plan::plan(&d, &stimuli, &extra, f64::MAX, Metric::Max).unwrap();
     let names = crate::catalog::colour_set_names(&d);

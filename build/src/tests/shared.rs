@@ -1,9 +1,9 @@
 //! The shared sets' model: the prior's parameters the crate's sets use are the leave-one-out
 //! optimum on the training reflectances.
 
-use crate::evaluate::Spectra;
 use crate::shared::{self, EMPIRICAL_WEIGHT, LENGTH_NM, TRAINING_FILE};
 use crate::{derive, Settings};
+use spectral_quadrature_spectra::Spectra;
 
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");

@@ -1,10 +1,10 @@
 //! The shared sets' node cache (data/shared_nodes.csv) cannot drift from the search: every
 //! entry is re-searched from scratch here, and its fingerprint must match the current inputs.
 
+use spectral_quadrature_spectra::{builtin_illuminant, builtin_lights, Curve};
 use std::path::Path;
 use std::sync::OnceLock;
 
-use crate::evaluate;
 use crate::scene::{Scene, DEFAULT_SHARED_SETS};
 use crate::shared::{self, CacheEntry, CACHED, CACHED_GROUPS};
 use crate::{derive, Derivation, Settings};
@@ -147,7 +147,7 @@ fn the_example_scenes_light_groups_are_cached() {
         let path = entry.unwrap().path();
         let text = std::fs::read_to_string(&path).unwrap();
         let scene = Scene::parse(&path.display().to_string(), &text, Path::new(DATA_DIR)).unwrap();
-        let builtin = evaluate::builtin_lights();
+        let builtin = builtin_lights();
         for g in scene
             .user
             .groups
@@ -230,12 +230,10 @@ fn the_cache_file_round_trips() {
 }
 
 /// The built-in lights of a cached group, as curves named as a scene names them.
-fn group_lights(d: &Derivation, lights: &[&str]) -> Vec<evaluate::Curve> {
+fn group_lights(d: &Derivation, lights: &[&str]) -> Vec<Curve> {
     lights
         .iter()
-        .map(|l| {
-            evaluate::builtin_illuminant(&d.settings.data_dir, l, d.settings.range_nm).unwrap()
-        })
+        .map(|l| builtin_illuminant(&d.settings.data_dir, l, d.settings.range_nm).unwrap())
         .collect()
 }
 

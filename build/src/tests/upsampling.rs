@@ -5,6 +5,7 @@
 
 use crate::upsampling::{self as up, nearest_in_box};
 use crate::{derive, Settings};
+use spectral_quadrature_spectra::builtin_illuminant;
 
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");
@@ -152,7 +153,7 @@ fn radiance_sets_reach_and_round_trip() {
     let data = std::path::Path::new(DATA_DIR);
     let range = d.settings.range_nm;
     let training = up::training(data, range).unwrap();
-    let d65 = crate::evaluate::builtin_illuminant(data, "D65", range).unwrap();
+    let d65 = builtin_illuminant(data, "D65", range).unwrap();
     let (_, m) = d.display("SRGB").unwrap();
     // (set, reachable share of 9³ rounded to 0.1 %)
     for (name, share) in [("KQ_4", 96.2), ("KQ_6", 99.7), ("KQ_8", 100.0)] {
@@ -175,7 +176,7 @@ fn radiance_sets_reach_and_round_trip() {
                 .map(|&q| f64::from(q) / up::CODE_ONE)
                 .collect();
             let back = up::encode(&b17.encoding, &decoded);
-            worst = worst.max(crate::evaluate::delta_e2000(
+            worst = worst.max(spectral_quadrature_math::delta_e2000(
                 up::lab_of_rgb(m, p),
                 up::lab_of_rgb(m, back),
             ));

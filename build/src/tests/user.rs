@@ -4,9 +4,11 @@
 use std::path::Path;
 use std::sync::OnceLock;
 
-use crate::evaluate::{self, Curve, EvalSet, Reference, Spectra, Stimulus};
 use crate::user::{fixed_set, least_squares, sensor_set, Sensor, UserLight};
 use crate::{derive, Derivation, Error, Settings};
+use spectral_quadrature_spectra::{
+    builtin_illuminant, surfaces_under_lights, Curve, EvalSet, Reference, Spectra, Stimulus,
+};
 
 const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");
 const SENSOR_FILE: &str = "sensor_as7341_gaussian.csv";
@@ -17,7 +19,7 @@ fn d() -> &'static Derivation {
 }
 
 fn light(name: &str) -> Curve {
-    evaluate::builtin_illuminant(Path::new(DATA_DIR), name, d().settings.range_nm).unwrap()
+    builtin_illuminant(Path::new(DATA_DIR), name, d().settings.range_nm).unwrap()
 }
 
 fn colorchecker_under(l: &Curve) -> Vec<Stimulus> {
@@ -27,11 +29,14 @@ fn colorchecker_under(l: &Curve) -> Vec<Stimulus> {
     )
     .and_then(|s| s.curves(d().settings.range_nm))
     .unwrap();
-    evaluate::surfaces_under_lights(&cc, std::slice::from_ref(l))
+    surfaces_under_lights(&cc, std::slice::from_ref(l))
 }
 
 fn mean_de00(set: &EvalSet, stimuli: &[Stimulus]) -> f64 {
-    let full = evaluate::full_integration(&d().observer, d().settings.range_nm, 1.0).unwrap();
+    let full = d()
+        .observer
+        .full_integration(d().settings.range_nm, 1.0)
+        .unwrap();
     Reference::new(full, stimuli)
         .errors(set, stimuli)
         .mean_de00()
@@ -64,7 +69,7 @@ fn fixed_bin_centres_beat_bin_sums_under_every_light() {
     // at N = 8 under C. Measured: N=8 under C, 1.248 against 1.343; the largest margin is
     // under F11 (1.095 against 5.075 at N = 8).
     for n in [4usize, 8, 16] {
-        let uniform = evaluate::uniform(&d().observer, d().settings.range_nm, n);
+        let uniform = d().observer.uniform_set(d().settings.range_nm, n);
         for name in ["C", "D65", "A", "F11"] {
             let l = light(name);
             let stimuli = colorchecker_under(&l);
@@ -114,7 +119,10 @@ fn the_example_sensor_under_c_is_within_a_quarter_of_a_delta_e() {
     );
     // The white is exact: a reflectance of 1 under C reads back as C's own XYZ.
     let white = |set: &EvalSet| set.xyz(|nm| c.at(nm));
-    let full = evaluate::full_integration(&d().observer, d().settings.range_nm, 1.0).unwrap();
+    let full = d()
+        .observer
+        .full_integration(d().settings.range_nm, 1.0)
+        .unwrap();
     let (w, exact) = (white(&fitted.eval), white(&full));
     for k in 0..3 {
         // The constraint holds to the LU solve's rounding (measured 1e-15 relative); the grid

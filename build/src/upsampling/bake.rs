@@ -12,8 +12,9 @@ use super::qp::nearest_in_box;
 use crate::base::error::Error;
 use crate::derivation::derive::Derivation;
 use crate::derivation::display::DisplayMatrices;
-use crate::derivation::evaluate::{self, delta_e2000, lab_from_xyz, Curve};
 use crate::derivation::sets::WavelengthSet;
+use spectral_quadrature_math::{delta_e2000, lab_from_xyz};
+use spectral_quadrature_spectra::Curve;
 
 /// The light a set for radiances is upsampled under: the RGB is a surface's colour under it,
 /// and the renderer multiplies the node reflectances by its own light's samples.
@@ -76,7 +77,7 @@ pub fn exact_rgb(
     light: &Curve,
     reflectances: &[Curve],
 ) -> Result<Vec<[f64; 3]>, Error> {
-    let full = evaluate::full_integration(&d.observer, d.settings.range_nm, 1.0)?;
+    let full = d.observer.full_integration(d.settings.range_nm, 1.0)?;
     // The observer's weights times the light, per channel and wavelength, once; each curve is
     // then read once per wavelength, in plain loops (the build runs this at opt-level 0).
     let nms = &full.wavelengths_nm;

@@ -4,11 +4,10 @@
 
 use std::vec::Vec;
 
-use crate::base::error::{DataError, Error};
-use crate::base::files::read_data_text;
+use crate::base::error::Error;
 #[cfg(doc)]
-use crate::base::table::NEGATIVE_TOLERANCE;
-use crate::derivation::evaluate::{Curve, Spectra};
+use spectral_quadrature_spectra::NEGATIVE_TOLERANCE;
+use spectral_quadrature_spectra::{read_data_text, Curve, DataError, Spectra};
 
 /// The training reflectances (labels relative to the runtime crate).
 pub(crate) const TRAINING_FILES: [&str; 2] = [

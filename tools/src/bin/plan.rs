@@ -23,8 +23,10 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::{Parser, ValueEnum};
-use spectral_quadrature_build::evaluate::{self, Curve, Stimulus};
 use spectral_quadrature_build::plan::{self, fmt_de, Candidate, Metric, Plan};
+use spectral_quadrature_spectra::{
+    builtin_illuminant, surfaces_under_lights, Curve, Spectra, Stimulus,
+};
 
 /// Finds the set with the fewest wavelengths that meets a ΔE00 budget and writes a scene file.
 #[derive(Parser)]
@@ -147,7 +149,7 @@ fn load_stimuli(args: &Args, range: [f64; 2]) -> Result<(Vec<Stimulus>, String),
         return Ok((s, described));
     }
     let read = |p: &std::path::Path| {
-        let spectra = evaluate::Spectra::read_with(p, negatives)?;
+        let spectra = Spectra::read_with(p, negatives)?;
         tools::warn_zeroed("plan", spectra.zeroed());
         spectra.curves(range)
     };
@@ -161,7 +163,7 @@ fn load_stimuli(args: &Args, range: [f64; 2]) -> Result<(Vec<Stimulus>, String),
     let (lights, lights_from): (Vec<Curve>, String) = match &args.spectra.illuminants {
         Some(p) => (read(p)?, p.display().to_string()),
         None => (
-            vec![evaluate::builtin_illuminant(
+            vec![builtin_illuminant(
                 std::path::Path::new(tools::DATA_DIR),
                 "C",
                 range,
@@ -174,10 +176,7 @@ fn load_stimuli(args: &Args, range: [f64; 2]) -> Result<(Vec<Stimulus>, String),
         plural(surfaces.len(), "surface"),
         plural(lights.len(), "light")
     );
-    Ok((
-        evaluate::surfaces_under_lights(&surfaces, &lights),
-        described,
-    ))
+    Ok((surfaces_under_lights(&surfaces, &lights), described))
 }
 
 /// `1 light`, `6 lights`.

@@ -17,6 +17,7 @@
 //!   cargo run -p spectral-quadrature-tools --bin tables -- --rust         # what the scene bakes
 //! ```
 
+use spectral_quadrature_spectra::DataError;
 use spectral_quadrature_tools as tools;
 
 use clap::Parser;
@@ -82,7 +83,7 @@ fn main() {
 /// the same call ([`spectral_quadrature_build::generate`]) on the same crate directory, so the same bytes.
 fn print_baked(args: &Args) -> Result<(), spectral_quadrature_build::Error> {
     let crate_dir = std::fs::canonicalize(tools::CRATE_DIR).map_err(|e| {
-        spectral_quadrature_build::Error::Data(spectral_quadrature_build::DataError {
+        spectral_quadrature_build::Error::Data(DataError {
             file: tools::CRATE_DIR.into(),
             line: 0,
             message: format!("cannot find the runtime crate: {e}"),

@@ -16,9 +16,10 @@
 use std::time::Instant;
 
 use nalgebra::DMatrix;
-use spectral_quadrature_build::evaluate::{self, delta_e2000, lab_from_xyz, Curve, EvalSet};
 use spectral_quadrature_build::shared::{problem_for, Shared};
 use spectral_quadrature_build::{Derivation, WavelengthSet};
+use spectral_quadrature_math::{delta_e2000, lab_from_xyz};
+use spectral_quadrature_spectra::Curve;
 
 use super::camera::{view, View};
 use super::geometry::{form_factors, mesh, Mesh, Quad};
@@ -121,7 +122,7 @@ fn paint_columns(paints: &[Curve; 3], nodes: &[f64]) -> [Vec<f64>; 3] {
 
 /// The reference: every nm of 400-700, weights x̄ȳz̄ · 1 nm of the derivation's observer.
 pub fn reference(d: &Derivation, light: &Curve, paints: &[Curve; 3]) -> Result<Spectral, Error> {
-    let full = evaluate::full_integration(&d.observer, RANGE_NM, 1.0)?;
+    let full = d.observer.full_integration(RANGE_NM, 1.0)?;
     let nodes = full.wavelengths_nm.clone();
     Ok(Spectral {
         name: "reference (1 nm)".into(),
@@ -217,7 +218,7 @@ pub fn radiance(
     paints: &[Curve; 3],
 ) -> Result<Spectral, Error> {
     let set = spectral_quadrature_build::catalog::resolve(d, &format!("KQ_{n}"))?;
-    let eval = EvalSet::from_set(&set, "KQ", &d.opponent.ac1c2_to_xyz);
+    let eval = d.eval_set(&set, "KQ");
     let nodes = eval.wavelengths_nm.clone();
     Ok(Spectral {
         name: format!("KQ_{n}"),
@@ -230,7 +231,7 @@ pub fn radiance(
 
 /// The XYZ of `f` integrated every nm over 400-700 nm.
 pub fn xyz_1nm(d: &Derivation, f: impl Fn(f64) -> f64) -> Result<[f64; 3], Error> {
-    Ok(evaluate::full_integration(&d.observer, RANGE_NM, 1.0)?.xyz(f))
+    Ok(d.observer.full_integration(RANGE_NM, 1.0)?.xyz(f))
 }
 
 /// Where an RGB renderer's paint colours come from.

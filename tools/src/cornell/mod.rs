@@ -23,7 +23,7 @@ pub mod radiosity;
 
 use std::path::Path;
 
-use spectral_quadrature_build::evaluate::{Curve, Spectra};
+use spectral_quadrature_spectra::{builtin_illuminant, Curve, Spectra};
 
 use crate::Error;
 
@@ -135,11 +135,7 @@ pub fn light_curve(
 ) -> Result<Curve, Error> {
     let raw = match which {
         Light::Box => data.box_light.clone(),
-        other => spectral_quadrature_build::evaluate::builtin_illuminant(
-            &d.settings.data_dir,
-            other.name(),
-            d.settings.range_nm,
-        )?,
+        other => builtin_illuminant(&d.settings.data_dir, other.name(), d.settings.range_nm)?,
     };
     let mut c = window(&raw);
     c.name = which.name().to_string();

@@ -11,8 +11,9 @@
 //! table's interpolation.
 
 use nalgebra::{Matrix3, Vector3};
-use spectral_quadrature_build::evaluate::{lab_from_xyz, Curve};
 use spectral_quadrature_build::Derivation;
+use spectral_quadrature_math::lab_from_xyz;
+use spectral_quadrature_spectra::Curve;
 
 use crate::Error;
 

@@ -19,9 +19,10 @@
 pub mod jakob_hanika;
 pub mod smooth;
 
-use spectral_quadrature_build::evaluate::{self, delta_e2000, lab_from_xyz, Curve, EvalSet};
 use spectral_quadrature_build::upsampling::Baked;
 use spectral_quadrature_build::Derivation;
+use spectral_quadrature_math::{delta_e2000, lab_from_xyz};
+use spectral_quadrature_spectra::{builtin_illuminant, Curve, EvalSet};
 
 use crate::Error;
 
@@ -42,7 +43,7 @@ pub fn srgb_under_d65(d: &Derivation, reflectances: &[Curve]) -> Result<Vec<[f64
 pub(crate) fn srgb_weights(d: &Derivation) -> Result<(Vec<f64>, [Vec<f64>; 3]), Error> {
     let (_, m) = d.display("SRGB")?;
     let d65 = d65(d)?;
-    let full = evaluate::full_integration(&d.observer, d.settings.range_nm, 1.0)?;
+    let full = d.observer.full_integration(d.settings.range_nm, 1.0)?;
     let mut w: [Vec<f64>; 3] = Default::default();
     for (c, row) in w.iter_mut().enumerate() {
         *row = (0..full.len())
@@ -63,7 +64,7 @@ pub(crate) fn srgb_weights(d: &Derivation) -> Result<(Vec<f64>, [Vec<f64>; 3]), 
 
 /// CIE D65 from the crate's data.
 pub fn d65(d: &Derivation) -> Result<Curve, Error> {
-    Ok(evaluate::builtin_illuminant(
+    Ok(builtin_illuminant(
         &d.settings.data_dir,
         "D65",
         d.settings.range_nm,

@@ -54,10 +54,11 @@
 //! `[groups.*]` (`tables::groups`, [`crate::shared::GroupFit`]).
 //!
 //! The spectra files a scene names follow the readers' rule for negative values
-//! ([`crate::Negatives`]): rounding noise (at or above −1e-6 of the file's largest value)
-//! is read as 0 and reported as a warning ([`Resolved::warnings`]); a more negative value is an
-//! error naming the file, line and column, unless `clamp_negatives = true` reads it as 0 as well
-//! (for measured data whose noise is larger; still reported).
+//! ([`Negatives`](spectral_quadrature_spectra::Negatives)): rounding noise (at or above −1e-6
+//! of the file's largest value) is read as 0 and reported as a warning ([`Resolved::warnings`]);
+//! a more negative value is an error naming the file, line and column, unless
+//! `clamp_negatives = true` reads it as 0 as well (for measured data whose noise is larger;
+//! still reported).
 //!
 //! Every mistake (unknown key, set, observer or display, an undefined order, a bad budget) is
 //! an error naming the file, the line and the valid choices.

@@ -8,10 +8,8 @@ use std::vec::Vec;
 use serde::Deserialize;
 use toml::Spanned;
 
-use crate::base::error::{DataError, Error};
-use crate::base::table::Negatives;
+use crate::base::error::Error;
 use crate::derivation::display::{self, DisplaySpec, Transfer};
-use crate::derivation::evaluate::builtin_lights;
 use crate::derivation::observer::ObserverId;
 use crate::derivation::settings::Settings;
 use crate::scenes::calibration;
@@ -20,6 +18,7 @@ use crate::scenes::plan::Metric;
 use crate::scenes::upsampling::{RawUpsampling, UpsamplingRequest};
 use crate::scenes::user;
 use crate::shared;
+use spectral_quadrature_spectra::{builtin_lights, DataError, Negatives};
 
 /// The environment variable naming the scene file.
 pub const SCENE_ENV: &str = "SPECTRAL_QUADRATURE_SCENE";

@@ -8,11 +8,8 @@ use std::vec::Vec;
 
 use super::parse::{Extras, PlanRequest, Scene, DEFAULT_GROUPS, DEFAULT_SHARED_SETS};
 use crate::base::error::Error;
-use crate::base::files::read_error;
-use crate::base::table::{Negatives, ZeroedNegatives};
 use crate::derivation::derive::Derivation;
 use crate::derivation::display::{DisplayMatrices, DisplaySpec};
-use crate::derivation::evaluate::{self, Curve, Spectra, Stimulus};
 use crate::derivation::sets::WavelengthSet;
 use crate::scenes::calibration::{self, SensorTables};
 use crate::scenes::catalog;
@@ -20,6 +17,9 @@ use crate::scenes::plan;
 use crate::scenes::user::{fixed_set, sensor_set, Fitted, Sensor, UserLight};
 use crate::shared::{cached_or_optimize_group, Group, GroupObjective, GroupTraining};
 use crate::upsampling::{Baked, CacheEntry};
+use spectral_quadrature_spectra::{
+    builtin_illuminant, read_error, Curve, Negatives, Spectra, Stimulus, ZeroedNegatives,
+};
 
 /// A scene resolved against a derivation: the very sets and displays to bake.
 #[derive(Debug, Clone, PartialEq)]
@@ -76,11 +76,8 @@ impl Resolved {
         }
         let range = d.settings.range_nm;
         for n in names {
-            self.lights.push(evaluate::builtin_illuminant(
-                &d.settings.data_dir,
-                &n,
-                range,
-            )?);
+            self.lights
+                .push(builtin_illuminant(&d.settings.data_dir, &n, range)?);
         }
         self.lights.extend(own.iter().cloned());
         Ok(self)
@@ -235,9 +232,7 @@ impl Scene {
             .map(|(name, lights, n)| {
                 let curves = lights
                     .iter()
-                    .map(|l| {
-                        evaluate::builtin_illuminant(&d.settings.data_dir, l, d.settings.range_nm)
-                    })
+                    .map(|l| builtin_illuminant(&d.settings.data_dir, l, d.settings.range_nm))
                     .collect::<Result<Vec<_>, _>>()?;
                 let group = cached_or_optimize_group(
                     d,
@@ -264,16 +259,16 @@ impl Scene {
             .iter()
             .map(|g| {
                 let within = |e: Error| e.at(&self.file, g.line as u64);
-                let curves = g
-                    .lights
-                    .iter()
-                    .map(|n| match lights.iter().find(|l| &l.name == n) {
-                        Some(l) => Ok(l.curve.clone()),
-                        None => evaluate::builtin_illuminant(&d.settings.data_dir, n, range)
-                            .map_err(Error::from),
-                    })
-                    .collect::<Result<Vec<_>, Error>>()
-                    .map_err(within)?;
+                let curves =
+                    g.lights
+                        .iter()
+                        .map(|n| match lights.iter().find(|l| &l.name == n) {
+                            Some(l) => Ok(l.curve.clone()),
+                            None => builtin_illuminant(&d.settings.data_dir, n, range)
+                                .map_err(Error::from),
+                        })
+                        .collect::<Result<Vec<_>, Error>>()
+                        .map_err(within)?;
                 let group =
                     cached_or_optimize_group(d, &curves, g.wavelengths, g.objective, g.training)
                         .map_err(within)?;
@@ -326,7 +321,7 @@ impl Scene {
                 Some(n) => match lights.iter().find(|l| &l.name == n) {
                     Some(l) => Some(l.curve.clone()),
                     None => Some(
-                        evaluate::builtin_illuminant(&d.settings.data_dir, n, range)
+                        builtin_illuminant(&d.settings.data_dir, n, range)
                             .map_err(|e| within(e.into()))?,
                     ),
                 },
@@ -400,7 +395,7 @@ impl Scene {
             if let Some(l) = lights.iter().find(|l| &l.name == n) {
                 return Ok(Some(l.curve.clone()));
             }
-            evaluate::builtin_illuminant(&d.settings.data_dir, n, range)
+            builtin_illuminant(&d.settings.data_dir, n, range)
                 .map(Some)
                 .map_err(|e| err(line)(e.into()))
         };

@@ -11,8 +11,8 @@ use crate::plot::plot_err;
 use crate::tools::budget::{self, Entry, LIGHTS, METHODS};
 use crate::tools::csv_table::Table;
 use crate::{time_set, Error};
-use spectral_quadrature_build::evaluate::{self, Curve, EvalSet};
 use spectral_quadrature_build::{shared, Derivation};
+use spectral_quadrature_spectra::{builtin_illuminant, surfaces_under_lights, Curve, EvalSet};
 
 /// Text, and the files written (budget.csv, budget.svg). `shared_sizes`: the sizes of the
 /// shared sets folded for each light (every budget, or fewer for `--quick`). `spaces` and `radiance`: the rule
@@ -37,7 +37,7 @@ pub fn section(
     let folded = LIGHTS
         .iter()
         .map(|l| {
-            let curve = evaluate::builtin_illuminant(&d.settings.data_dir, l, d.settings.range_nm)?;
+            let curve = builtin_illuminant(&d.settings.data_dir, l, d.settings.range_nm)?;
             budget::shared_sets_sized(d, Some(&curve), shared_sizes.iter().copied())
         })
         .collect::<Result<Vec<_>, Error>>()?;
@@ -48,9 +48,8 @@ pub fn section(
         tables.push(match surfaces {
             None => budget::compare(d, light, &others, radiance, f)?,
             Some(s) => {
-                let l =
-                    evaluate::builtin_illuminant(&d.settings.data_dir, light, d.settings.range_nm)?;
-                let stimuli = evaluate::surfaces_under_lights(s, std::slice::from_ref(&l));
+                let l = builtin_illuminant(&d.settings.data_dir, light, d.settings.range_nm)?;
+                let stimuli = surfaces_under_lights(s, std::slice::from_ref(&l));
                 budget::compare_on(d, &l, &stimuli, &others, radiance, f)?
             }
         });

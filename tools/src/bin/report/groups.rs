@@ -11,9 +11,9 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use spectral_quadrature_build::evaluate::{self, Curve, Spectra};
 use spectral_quadrature_build::shared::TRAINING_FILE;
 use spectral_quadrature_build::Derivation;
+use spectral_quadrature_spectra::{builtin_illuminant, Curve, Spectra};
 use spectral_quadrature_tools as tools;
 use tools::csv_table::Table;
 use tools::light_groups::{self, Comparison, GROUP_MEAN, GROUP_WORST, OWN, RADIANCE};
@@ -45,7 +45,7 @@ pub fn section(inputs: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Er
         Some(l) if l.len() >= 2 => l.to_vec(),
         _ => light_groups::LIGHTS
             .iter()
-            .map(|n| evaluate::builtin_illuminant(dir, n, range))
+            .map(|n| builtin_illuminant(dir, n, range))
             .collect::<Result<_, _>>()?,
     };
     let training = Spectra::builtin(dir, TRAINING_FILE)?.curves(range)?;

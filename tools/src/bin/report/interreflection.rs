@@ -13,9 +13,9 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use plotters::prelude::*;
-use spectral_quadrature_build::evaluate::{self, Curve, Spectra};
 use spectral_quadrature_build::shared::TRAINING_FILE;
 use spectral_quadrature_build::Derivation;
+use spectral_quadrature_spectra::{builtin_illuminant, Curve, Spectra};
 
 use crate::plot::{legend, legend_height, plot_err};
 use crate::random::ROUND;
@@ -73,7 +73,7 @@ pub fn section(x: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
     let dir = &d.settings.data_dir;
     let lights: Vec<Curve> = LIGHTS
         .iter()
-        .map(|n| evaluate::builtin_illuminant(dir, n, range))
+        .map(|n| builtin_illuminant(dir, n, range))
         .collect::<Result<_, _>>()?;
     let training = Spectra::builtin(dir, TRAINING_FILE)?.curves(range)?;
     let (judged, judged_from) = light_groups::judged_reflectances(d, x.reflectances)?;
@@ -88,7 +88,7 @@ pub fn section(x: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
         .iter()
         .map(|&f| forms(f, &judged, x.seed, range))
         .collect();
-    let full = evaluate::full_integration(&d.observer, range, 1.0)?;
+    let full = d.observer.full_integration(range, 1.0)?;
 
     // The fixed sets and their errors: errors[size][method][light][form] = (mean, p95).
     let sets = fixed_sets(d, &lights, &light_groups::LIGHTS, &training, x.sizes)?;

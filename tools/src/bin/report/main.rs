@@ -41,10 +41,11 @@ use std::time::Instant;
 
 use clap::Parser;
 use spectral_quadrature::{tables, FoldedSet, WavelengthSet};
-use spectral_quadrature_build::evaluate::{
-    self, Curve, Errors, EvalSet, Reference, Spectra, Stimulus,
-};
 use spectral_quadrature_build::Derivation;
+use spectral_quadrature_spectra::{
+    builtin_illuminant, emissions, surfaces_under_lights, Curve, Errors, EvalSet, Reference,
+    Spectra, Stimulus,
+};
 use tools::csv_table::Table;
 
 /// Error against run time for Meyer's wavelength sets and their alternatives.
@@ -197,7 +198,7 @@ fn run(args: &Args) -> Result<(), Error> {
     let d = spectral_quadrature_build::derive(&tools::settings())?;
     tools::warn_zeroed("report", &d.observer.zeroed);
     let range = d.settings.range_nm;
-    let reference_set = evaluate::full_integration(&d.observer, range, 1.0)?;
+    let reference_set = d.observer.full_integration(range, 1.0)?;
 
     progress.next();
     let inputs = load_inputs(args, range)?;
@@ -225,8 +226,8 @@ fn run(args: &Args) -> Result<(), Error> {
             "data/reflectance_colorchecker_ohta.csv",
         )
         .and_then(|s| s.curves(range))?;
-        let c = evaluate::builtin_illuminant(&d.settings.data_dir, "C", range)?;
-        let st = evaluate::surfaces_under_lights(&cc, &[c]);
+        let c = builtin_illuminant(&d.settings.data_dir, "C", range)?;
+        let st = surfaces_under_lights(&cc, &[c]);
         let r = Reference::new(reference_set.clone(), &st);
         (st, r)
     };
@@ -272,13 +273,13 @@ fn run(args: &Args) -> Result<(), Error> {
     for set in &d.table2 {
         sets.push(EvalSet {
             name: table2_name(&set.name),
-            ..EvalSet::from_set(set, "Table 2", &d.opponent.ac1c2_to_xyz)
+            ..d.eval_set(set, "Table 2")
         });
     }
     // Gauss rules in XYZ space: each number of distinct wavelengths' best is shown.
     sets.extend(spaces[1].1.iter().filter(|s| s.len() <= 16).cloned());
     for n in (3..=16).chain([24, 32]) {
-        sets.push(evaluate::uniform(&d.observer, range, n));
+        sets.push(d.observer.uniform_set(range, n));
     }
     // The shared sets for radiances (the lights here are many; section 5 folds each one in),
     // method (a) for comparison, and sampling every 10 and 20 nm with linear interpolation.
@@ -286,14 +287,14 @@ fn run(args: &Args) -> Result<(), Error> {
     sets.extend(radiance.iter().cloned());
     for n in tools::budget::BUDGETS {
         if let Ok(a) = spectral_quadrature_build::catalog::resolve(&d, &format!("INTERP_A_{n}")) {
-            sets.push(EvalSet::from_set(&a, "interp A", &d.opponent.ac1c2_to_xyz));
+            sets.push(d.eval_set(&a, "interp A"));
         }
     }
     let flat = Curve::constant("equal energy", 1.0, range);
     for step in [10.0, 20.0] {
         sets.push(tools::budget::interval_set(&d, &flat, step)?);
     }
-    sets.push(evaluate::full_integration(&d.observer, range, 5.0)?);
+    sets.push(d.observer.full_integration(range, 5.0)?);
     sets.push(reference_set.clone());
     let errs = par_errors(&reference, &sets, &stimuli);
     let total = sets.len();
@@ -524,16 +525,16 @@ fn load_inputs(args: &Args, range: [f64; 2]) -> Result<Inputs, Error> {
         None => Vec::new(),
     };
     let (stimuli, lights) = if let Some(path) = &args.spectra.emission {
-        (evaluate::emissions(&read(path)?), Vec::new())
+        (emissions(&read(path)?), Vec::new())
     } else if user_lights.is_empty() {
         let lights: Vec<Curve> = DEFAULT_ILLUMINANTS
             .iter()
-            .map(|n| evaluate::builtin_illuminant(std::path::Path::new(tools::DATA_DIR), n, range))
+            .map(|n| builtin_illuminant(std::path::Path::new(tools::DATA_DIR), n, range))
             .collect::<Result<_, _>>()?;
-        (evaluate::surfaces_under_lights(&surfaces, &lights), lights)
+        (surfaces_under_lights(&surfaces, &lights), lights)
     } else {
         (
-            evaluate::surfaces_under_lights(&surfaces, &user_lights),
+            surfaces_under_lights(&surfaces, &user_lights),
             user_lights.clone(),
         )
     };
@@ -638,7 +639,7 @@ fn table2_rows(d: &Derivation, stimuli: &[Stimulus], reference: &Reference) -> V
         .iter()
         .zip(tools::paper::TABLE2_MEAN_DELTA_E)
         .map(|(set, paper)| {
-            let es = EvalSet::from_set(set, "Table 2", &d.opponent.ac1c2_to_xyz);
+            let es = d.eval_set(set, "Table 2");
             Table2Row {
                 name: table2_name(&set.name),
                 wavelengths: set.wavelengths_nm.clone(),

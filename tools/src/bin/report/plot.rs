@@ -9,7 +9,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 use spectral_quadrature::{tables, GamutMapping};
 
 use crate::{Error, Fig6, Fig7, Row, K};
-use spectral_quadrature_build::evaluate::{EvalSet, Stimulus};
+use spectral_quadrature_spectra::{EvalSet, Stimulus};
 
 /// A plotting library's error, as the report's.
 pub fn plot_err<E: std::fmt::Debug>(e: E) -> Error {

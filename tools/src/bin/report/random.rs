@@ -18,8 +18,10 @@ use crate::tools::random_wavelengths::{
     pixel_rng, reach, run_trials, Cells, Config, Reach, Sampler, SensorRgb, Summary, Target, Trials,
 };
 use crate::{time_set, Error};
-use spectral_quadrature_build::evaluate::{self, Curve, EvalSet, Reference, Spectra, Stimulus};
 use spectral_quadrature_build::Derivation;
+use spectral_quadrature_spectra::{
+    surfaces_under_lights, Curve, EvalSet, Reference, Spectra, Stimulus,
+};
 
 /// The samples per pixel measured: one pixel of the last is read after each.
 pub const SPP: [usize; 6] = [1, 4, 16, 64, 256, 1024];
@@ -873,7 +875,7 @@ fn picture(out: &Path, x: &Inputs, fixed: &[Fixed]) -> Result<PathBuf, Error> {
             ("sans-serif", 14),
         ))
         .map_err(plot_err)?;
-        let stimuli = evaluate::surfaces_under_lights(&cc, std::slice::from_ref(light));
+        let stimuli = surfaces_under_lights(&cc, std::slice::from_ref(light));
         let white = reference.xyz(|l| light.at(l));
         let folded: Vec<&Fixed> = fixed
             .iter()

@@ -13,9 +13,9 @@ use std::path::{Path, PathBuf};
 
 use crate::plot::{self, plot_err};
 use plotters::prelude::*;
-use spectral_quadrature_build::evaluate::{self, Curve, EvalSet, Spectra};
 use spectral_quadrature_build::upsampling::{self as up, Baked};
 use spectral_quadrature_build::Derivation;
+use spectral_quadrature_spectra::{builtin_illuminant, Curve, Spectra};
 use spectral_quadrature_tools as tools;
 use tools::csv_table::Table;
 use tools::upsampling::{
@@ -86,12 +86,12 @@ pub fn section(i: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
         Some(l) => l.to_vec(),
         None => DEFAULT_LIGHTS
             .iter()
-            .map(|n| evaluate::builtin_illuminant(dir, n, range))
+            .map(|n| builtin_illuminant(dir, n, range))
             .collect::<Result<_, _>>()?,
     };
     let d65 = tools::upsampling::d65(d)?;
     let (_, srgb) = d.display("SRGB")?;
-    let reference = evaluate::full_integration(&d.observer, range, 1.0)?;
+    let reference = d.observer.full_integration(range, 1.0)?;
     let jh = JakobHanika::srgb(d)?;
     let my = MallettYuksel::srgb(d)?;
     let smits = Smits::srgb(d)?;
@@ -124,7 +124,7 @@ pub fn section(i: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
     let mut shipped_cc: Vec<(usize, f64, f64)> = Vec::new();
     for n in SIZES {
         let set = spectral_quadrature_build::catalog::resolve(d, &std::format!("KQ_{n}"))?;
-        let eval = EvalSet::from_set(&set, "KQ radiance", &d.opponent.ac1c2_to_xyz);
+        let eval = d.eval_set(&set, "KQ radiance");
         let nodes = &set.wavelengths_nm;
         // The crate's maps, fold by fold.
         let mut crate_values = vec![Vec::new(); judged.len()];

@@ -7,9 +7,11 @@ use std::path::Path;
 
 use crate::tools::budget;
 use crate::Error;
-use spectral_quadrature_build::evaluate::{self, Curve, EvalSet, Stimulus};
 use spectral_quadrature_build::scene::Scene;
 use spectral_quadrature_build::{self, shared, user, Derivation};
+use spectral_quadrature_spectra::{
+    builtin_illuminant, surfaces_under_lights, Curve, DataError, EvalSet, Spectra, Stimulus,
+};
 
 /// A light with the shared sets folded for it and the stimuli they are judged on.
 pub type Folded = (Curve, Vec<EvalSet>, Vec<Stimulus>);
@@ -38,7 +40,7 @@ pub fn folded_for_lights(
         .iter()
         .map(|l| {
             let sets = budget::shared_sets_sized(d, Some(l), sizes.iter().copied())?;
-            let stimuli = evaluate::surfaces_under_lights(surfaces, std::slice::from_ref(l));
+            let stimuli = surfaces_under_lights(surfaces, std::slice::from_ref(l));
             Ok((l.clone(), sets, stimuli))
         })
         .collect()
@@ -85,7 +87,7 @@ pub fn scene_extras(
     illuminants_from: &str,
 ) -> Result<Vec<Extra>, Error> {
     let label = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| spectral_quadrature_build::DataError {
+    let text = std::fs::read_to_string(path).map_err(|e| DataError {
         file: label.clone(),
         line: 0,
         message: format!("cannot read the scene: {e}"),
@@ -112,7 +114,7 @@ pub fn scene_extras(
                     .iter()
                     .find(|s| s.name == l.name)
                     .map_or(0, |s| s.line as u64);
-                return Err(spectral_quadrature_build::DataError {
+                return Err(DataError {
                     file: label.clone(),
                     line,
                     message: format!(
@@ -128,7 +130,7 @@ pub fn scene_extras(
         if let Some(l) = lights.iter().find(|l| l.name == name) {
             return Ok(l.curve.clone());
         }
-        Ok(evaluate::builtin_illuminant(
+        Ok(builtin_illuminant(
             &d.settings.data_dir,
             name,
             d.settings.range_nm,
@@ -136,7 +138,7 @@ pub fn scene_extras(
     };
     let under = |light: &Curve| {
         Some((
-            evaluate::surfaces_under_lights(surfaces, std::slice::from_ref(light)),
+            surfaces_under_lights(surfaces, std::slice::from_ref(light)),
             format!("{surfaces_from} under {}", light.name),
         ))
     };
@@ -155,7 +157,7 @@ pub fn scene_extras(
         };
         out.push(eval);
     }
-    let tcs = evaluate::Spectra::builtin(&d.settings.data_dir, shared::TRAINING_FILE)
+    let tcs = Spectra::builtin(&d.settings.data_dir, shared::TRAINING_FILE)
         .and_then(|s| s.curves(d.settings.range_nm))?;
     for f in fitted {
         let timing = EvalSet {

@@ -1,23 +1,12 @@
-//! Measuring wavelength sets: spectra read from CSV, resampled, integrated exactly and with a
-//! set, and compared in CIELAB (ΔE*ab and CIEDE2000).
-//!
-//! Error is a colour difference between a stimulus integrated by the reference (every grid
-//! wavelength) and by a set. As in the paper's Table 2, the white of CIELAB is integrated by the
-//! same rule as the stimulus: the reference white for the reference colour, the set's white for
-//! the set's colour.
+//! Spectra read from CSV, as curves interpolated linearly, and the stimuli they make: a light
+//! seen directly, or a surface under a light.
 
 use std::string::{String, ToString};
 use std::vec::Vec;
 
-use super::display;
-use super::observer::Observer;
-use super::sets::WavelengthSet;
-use crate::base::error::{DataError, Error};
-use crate::base::files::read_data_text;
-use crate::base::table::{parse_table_with, read_text, Negatives, Spacing, Table, ZeroedNegatives};
-
-/// CIELAB and the colour differences: one copy, shared with the runtime.
-pub use spectral_quadrature_math::{delta_e2000, delta_e76, lab_from_xyz};
+use crate::files::read_data_text;
+use crate::table::{parse_table_with, read_text, Negatives, Spacing, Table, ZeroedNegatives};
+use crate::DataError;
 
 /// The longest wavelength a spectra file may give, nm (100 µm, far infrared): a larger or a
 /// non-positive one is a unit or typing mistake, and wavelengths that far apart would overflow the
@@ -33,9 +22,9 @@ pub struct Spectra {
 
 impl Spectra {
     /// Parses CSV text. Errors name `file` and the line: malformed rows (see
-    /// `base::table::parse_table`), wavelengths outside (0, 100 µm], and values below zero by
-    /// more than the tolerance ([`crate::Negatives::Refuse`]: no reflectance or spectral
-    /// power is negative; rounding noise is read as 0 and reported by [`zeroed`](Self::zeroed)).
+    /// [`parse_table`](crate::parse_table)), wavelengths outside (0, 100 µm], and values below
+    /// zero by more than the tolerance ([`Negatives::Refuse`]: no reflectance or spectral power
+    /// is negative; rounding noise is read as 0 and reported by [`zeroed`](Self::zeroed)).
     pub fn parse(file: &str, text: &str) -> Result<Spectra, DataError> {
         Self::parse_with(file, text, Negatives::Refuse)
     }
@@ -83,7 +72,7 @@ impl Spectra {
     /// `data/reflectance_cie_tcs.csv` and `data/reflectance_rawtoaces_190.csv`. Errors name the
     /// label and line.
     pub fn builtin(data_dir: &std::path::Path, file: &str) -> Result<Spectra, DataError> {
-        if !BUILTIN.contains(&file) {
+        if !BUILTIN_FILES.contains(&file) {
             return Err(DataError {
                 file: file.into(),
                 line: 0,
@@ -104,9 +93,15 @@ impl Spectra {
         &self.table.columns
     }
 
-    /// The number of spectra.
-    pub(crate) fn len(&self) -> usize {
+    /// The number of spectra (the header's columns after the wavelength).
+    pub fn len(&self) -> usize {
         self.table.columns.len()
+    }
+
+    /// Whether there are no spectra: never for a parsed file (a header without value columns is
+    /// an error), here for the `len`/`is_empty` pair.
+    pub fn is_empty(&self) -> bool {
+        self.table.columns.is_empty()
     }
 
     /// Spectrum `k` as a curve, after checking that it covers `range_nm`; the error names the
@@ -234,214 +229,9 @@ pub fn emissions(lights: &[Curve]) -> Vec<Stimulus> {
         .collect()
 }
 
-/// A wavelength set as the report measures it: wavelengths and XYZ weights (any set, whatever
-/// space it was derived in, integrates X, Y, Z in the end).
-#[derive(Debug, Clone, PartialEq)]
-pub struct EvalSet {
-    /// Name in tables.
-    pub name: String,
-    /// The family, for grouping in tables and plots.
-    pub family: String,
-    /// Per-channel orders, where the set is a combination of per-channel Gauss rules.
-    pub orders: Option<[usize; 3]>,
-    /// Distinct wavelengths in nm, ascending.
-    pub wavelengths_nm: Vec<f64>,
-    /// `xyz_weights[c][i]`: X, Y, Z rows.
-    pub xyz_weights: [Vec<f64>; 3],
-}
-
-impl EvalSet {
-    /// From a set with weights in some tristimulus space and the matrix `to_xyz` from that space
-    /// to XYZ.
-    pub fn from_weights(
-        name: &str,
-        family: &str,
-        orders: Option<[usize; 3]>,
-        wavelengths_nm: &[f64],
-        weights: &[Vec<f64>; 3],
-        to_xyz: &[[f64; 3]; 3],
-    ) -> EvalSet {
-        EvalSet {
-            name: name.into(),
-            family: family.into(),
-            orders,
-            wavelengths_nm: wavelengths_nm.to_vec(),
-            xyz_weights: display::fold(to_xyz, weights, 1.0),
-        }
-    }
-
-    /// A derived set (its name, wavelengths and AC1C2 rows) with the matrix `ac1c2_to_xyz`.
-    pub fn from_set(set: &WavelengthSet, family: &str, ac1c2_to_xyz: &[[f64; 3]; 3]) -> EvalSet {
-        EvalSet::from_weights(
-            &set.name,
-            family,
-            None,
-            &set.wavelengths_nm,
-            &set.weights,
-            ac1c2_to_xyz,
-        )
-    }
-
-    /// The number of distinct wavelengths.
-    pub fn len(&self) -> usize {
-        self.wavelengths_nm.len()
-    }
-
-    /// Whether the set has no wavelengths.
-    pub fn is_empty(&self) -> bool {
-        self.wavelengths_nm.is_empty()
-    }
-
-    /// XYZ of a spectrum given as a function of wavelength.
-    pub fn xyz(&self, f: impl Fn(f64) -> f64) -> [f64; 3] {
-        let s: Vec<f64> = self.wavelengths_nm.iter().map(|&l| f(l)).collect();
-        [0, 1, 2].map(|c| self.xyz_weights[c].iter().zip(&s).map(|(w, v)| w * v).sum())
-    }
-}
-
-/// Full integration: every wavelength of the grid `start..=end` at `step` nm of the observer's
-/// table, weights x̄ȳz̄ · step (the reference the sets are measured against, and the baseline
-/// of the error-against-run-time table).
-pub fn full_integration(
-    observer: &Observer,
-    range_nm: [f64; 2],
-    step: f64,
-) -> Result<EvalSet, Error> {
-    let rows = observer.grid_rows(range_nm[0], range_nm[1], step)?;
-    let wavelengths: Vec<f64> = rows.iter().map(|&r| observer.wavelengths[r]).collect();
-    let xyz_weights = [0, 1, 2].map(|c| rows.iter().map(|&r| observer.xyz[r][c] * step).collect());
-    Ok(EvalSet {
-        name: std::format!("full {step} nm"),
-        family: "full".into(),
-        orders: None,
-        wavelengths_nm: wavelengths,
-        xyz_weights,
-    })
-}
-
-/// A uniform set: `n` wavelengths at the centres of `n` equal bins of `range_nm`, each weighted
-/// by the integral of x̄ȳz̄ over its bin (box filter, as spectral renderers sample), on the
-/// observer's own table.
-pub fn uniform(observer: &Observer, range_nm: [f64; 2], n: usize) -> EvalSet {
-    let width = (range_nm[1] - range_nm[0]) / n as f64;
-    let centres: Vec<f64> = (0..n)
-        .map(|i| range_nm[0] + (i as f64 + 0.5) * width)
-        .collect();
-    let step = observer.step();
-    let mut xyz_weights: [Vec<f64>; 3] = Default::default();
-    for row in xyz_weights.iter_mut() {
-        *row = std::vec![0.0; n];
-    }
-    for (l, v) in observer.wavelengths.iter().zip(&observer.xyz) {
-        if *l < range_nm[0] - 1e-9 || *l > range_nm[1] + 1e-9 {
-            continue;
-        }
-        // Trapezoid weights on the table: half at the range's ends.
-        let edge = (*l - range_nm[0]).abs() < 1e-9 || (*l - range_nm[1]).abs() < 1e-9;
-        let dl = if edge { 0.5 * step } else { step };
-        let bin = (((*l - range_nm[0]) / width) as usize).min(n - 1);
-        for c in 0..3 {
-            xyz_weights[c][bin] += v[c] * dl;
-        }
-    }
-    EvalSet {
-        name: std::format!("uniform {n}"),
-        family: "uniform".into(),
-        orders: None,
-        wavelengths_nm: centres,
-        xyz_weights,
-    }
-}
-
-/// Colour differences of one set over stimuli.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Errors {
-    /// ΔE*ab per stimulus.
-    pub de76: Vec<f64>,
-    /// ΔE00 per stimulus.
-    pub de00: Vec<f64>,
-}
-
-impl Errors {
-    /// Mean ΔE*ab.
-    pub fn mean_de76(&self) -> f64 {
-        mean(&self.de76)
-    }
-    /// Largest ΔE*ab.
-    pub fn max_de76(&self) -> f64 {
-        self.de76.iter().copied().fold(0.0, f64::max)
-    }
-    /// Mean ΔE00.
-    pub fn mean_de00(&self) -> f64 {
-        mean(&self.de00)
-    }
-    /// Largest ΔE00.
-    pub fn max_de00(&self) -> f64 {
-        self.de00.iter().copied().fold(0.0, f64::max)
-    }
-}
-
-fn mean(v: &[f64]) -> f64 {
-    if v.is_empty() {
-        f64::NAN
-    } else {
-        v.iter().sum::<f64>() / v.len() as f64
-    }
-}
-
-/// CIELAB of a stimulus by a set, the white integrated by the same set. For lights seen
-/// directly the white is equal energy at `equal_energy_level`.
-pub(crate) fn lab_of(set: &EvalSet, s: &Stimulus, equal_energy_level: f64) -> [f64; 3] {
-    let xyz = set.xyz(|l| s.radiance(l));
-    let white = set.xyz(|l| s.white(l, equal_energy_level));
-    lab_from_xyz(xyz, white)
-}
-
-/// The reference colours of a list of stimuli, computed once.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Reference {
-    /// The reference set (normally the full 1 nm integration).
-    pub set: EvalSet,
-    /// Per stimulus: the level of the equal-energy white used for lights seen directly (the
-    /// light's reference luminance relative to a constant spectrum of 1).
-    pub levels: Vec<f64>,
-    /// Per stimulus: reference CIELAB.
-    pub labs: Vec<[f64; 3]>,
-}
-
-impl Reference {
-    /// Integrates every stimulus (and its white) with `set`.
-    pub fn new(set: EvalSet, stimuli: &[Stimulus]) -> Reference {
-        let unit = set.xyz(|_| 1.0)[1];
-        let levels: Vec<f64> = stimuli
-            .iter()
-            .map(|s| set.xyz(|l| s.radiance(l))[1] / unit)
-            .collect();
-        let labs = stimuli
-            .iter()
-            .zip(&levels)
-            .map(|(s, &level)| lab_of(&set, s, level))
-            .collect();
-        Reference { set, levels, labs }
-    }
-
-    /// ΔE of `set` against the reference over the same stimuli.
-    pub fn errors(&self, set: &EvalSet, stimuli: &[Stimulus]) -> Errors {
-        let mut e = Errors {
-            de76: Vec::with_capacity(stimuli.len()),
-            de00: Vec::with_capacity(stimuli.len()),
-        };
-        for ((s, &level), exact) in stimuli.iter().zip(&self.levels).zip(&self.labs) {
-            let approx = lab_of(set, s, level);
-            e.de76.push(delta_e76(*exact, approx));
-            e.de00.push(delta_e2000(*exact, approx));
-        }
-        e
-    }
-}
-
-/// The spectra files the runtime crate ships in `data/`, by label (path relative to that crate).
-pub(crate) const BUILTIN: &[&str] = &[
+/// The spectra files the runtime crate ships in its `data/`, by label (the path relative to that
+/// crate), which [`Spectra::builtin`] reads.
+pub const BUILTIN_FILES: &[&str] = &[
     "data/reflectance_colorchecker_ohta.csv",
     "data/reflectance_cie_tcs.csv",
     "data/reflectance_rawtoaces_190.csv",
@@ -477,7 +267,7 @@ pub(crate) const BUILTIN: &[&str] = &[
 /// `data/illuminant_<name>.csv` files the runtime crate ships, which a `KQ_<light>_<n>` set may
 /// name.
 pub fn builtin_lights() -> Vec<&'static str> {
-    BUILTIN
+    BUILTIN_FILES
         .iter()
         .filter_map(|f| f.strip_prefix("data/illuminant_")?.strip_suffix(".csv"))
         .collect()

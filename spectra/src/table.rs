@@ -8,7 +8,7 @@ use std::borrow::ToOwned;
 use std::string::{String, ToString};
 use std::vec::Vec;
 
-use super::error::DataError;
+use crate::DataError;
 
 /// How far below zero a value may be, relative to the file's largest value, and still be read
 /// as rounding noise: values at or above `−NEGATIVE_TOLERANCE × largest` are read as 0.
@@ -16,7 +16,7 @@ use super::error::DataError;
 /// One part in a million is ten orders of magnitude above the rounding noise of a file written
 /// in double precision (about 1e-16 of its largest value), and below what a measured reflectance
 /// or sensitivity can be trusted to.
-pub(crate) const NEGATIVE_TOLERANCE: f64 = 1e-6;
+pub const NEGATIVE_TOLERANCE: f64 = 1e-6;
 
 /// What a reader does with values below zero.
 ///
@@ -49,7 +49,8 @@ pub enum Negatives {
 
 /// One value of a table, where a message points to it.
 #[derive(Debug, Clone, PartialEq)]
-pub(crate) struct Cell {
+#[non_exhaustive]
+pub struct ValueAt {
     /// 1-based line of the file.
     pub line: u64,
     /// 1-based column of the file (the wavelength is column 1).
@@ -62,6 +63,7 @@ pub(crate) struct Cell {
 
 /// The negative values a reader read as 0 in one file: what its warning says.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct ZeroedNegatives {
     /// The file's label.
     pub file: String,
@@ -70,9 +72,9 @@ pub struct ZeroedNegatives {
     /// How many of them lay beyond the tolerance (only with [`Negatives::Clamp`]; otherwise 0).
     pub beyond_tolerance: usize,
     /// The first one, in file order.
-    pub(crate) first: Cell,
+    pub first: ValueAt,
     /// The most negative one (the first of equals).
-    pub(crate) most_negative: Cell,
+    pub most_negative: ValueAt,
     /// The file's largest value, which the tolerance is relative to.
     pub largest: f64,
 }
@@ -141,7 +143,7 @@ fn number(v: f64) -> String {
 
 /// How the wavelength column must be spaced.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Spacing {
+pub enum Spacing {
     /// Strictly increasing with one constant step (observer tables).
     Even,
     /// Strictly increasing, any steps (user spectra, resampled later).
@@ -150,7 +152,8 @@ pub(crate) enum Spacing {
 
 /// A parsed table: wavelengths and one row of values per wavelength.
 #[derive(Debug, Clone, PartialEq)]
-pub(crate) struct Table {
+#[non_exhaustive]
+pub struct Table {
     /// The label errors name (a path or an embedded file's name).
     pub file: String,
     /// Column names after the wavelength column.
@@ -168,7 +171,7 @@ pub(crate) struct Table {
 
 impl Table {
     /// The constant step in nm (meaningful for [`Spacing::Even`] tables with two or more rows).
-    pub(crate) fn step(&self) -> f64 {
+    pub fn step(&self) -> f64 {
         if self.wavelengths.len() < 2 {
             return 0.0;
         }
@@ -192,7 +195,7 @@ impl Table {
 /// row with missing or extra fields, a field that is not a number or is not finite, wavelengths
 /// that are not strictly increasing, (with [`Spacing::Even`]) uneven steps, and a value below
 /// zero by more than the tolerance (naming its column too).
-pub(crate) fn parse_table(
+pub fn parse_table(
     file: &str,
     text: &str,
     columns: Option<usize>,
@@ -205,7 +208,7 @@ pub(crate) fn parse_table(
 /// [`NEGATIVE_TOLERANCE`] of zero (relative to the file's largest value) are read as 0 and
 /// counted in [`Table::zeroed`]; a more negative value is an error naming the file, its line and
 /// column with [`Negatives::Refuse`], and is read as 0 and counted with [`Negatives::Clamp`].
-pub(crate) fn parse_table_with(
+pub fn parse_table_with(
     file: &str,
     text: &str,
     columns: Option<usize>,
@@ -371,7 +374,7 @@ fn zero_negatives(table: &mut Table, negatives: Negatives) -> Result<(), DataErr
             if *v >= 0.0 {
                 continue;
             }
-            let cell = Cell {
+            let cell = ValueAt {
                 line,
                 column: j + 2,
                 name: table.columns[j].clone(),
@@ -428,8 +431,7 @@ fn zero_negatives(table: &mut Table, negatives: Negatives) -> Result<(), DataErr
 }
 
 /// Reads and parses a file from disk ([`parse_table`]); the error names the path.
-#[cfg(test)]
-pub(crate) fn read_table(
+pub fn read_table(
     path: &std::path::Path,
     columns: Option<usize>,
     spacing: Spacing,
@@ -438,8 +440,7 @@ pub(crate) fn read_table(
 }
 
 /// [`read_table`] with the rule for negative values given ([`parse_table_with`]).
-#[cfg(test)]
-pub(crate) fn read_table_with(
+pub fn read_table_with(
     path: &std::path::Path,
     columns: Option<usize>,
     spacing: Spacing,
@@ -450,7 +451,7 @@ pub(crate) fn read_table_with(
 }
 
 /// Reads a file's text; the error names the path.
-pub(crate) fn read_text(path: &std::path::Path) -> Result<(String, String), DataError> {
+pub fn read_text(path: &std::path::Path) -> Result<(String, String), DataError> {
     let label = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|e| DataError {
         file: label.clone(),
@@ -462,30 +463,4 @@ pub(crate) fn read_text(path: &std::path::Path) -> Result<(String, String), Data
 
 fn line_of(e: &csv::Error) -> u64 {
     e.position().map_or(0, |p| p.line())
-}
-
-/// The text of a CSV file the crate writes (the node and upsampling caches): `comments`, each
-/// on a line of its own after `# `, then the header and the rows through the `csv` crate's
-/// writer, which quotes a field where CSV needs it and refuses a row whose length differs from
-/// the header's (a bug of the caller: this panics then).
-pub(crate) fn write_csv(comments: &[&str], header: &str, rows: &[Vec<String>]) -> String {
-    let mut text = String::new();
-    for line in comments {
-        text += "# ";
-        text += line;
-        text += "\n";
-    }
-    let mut writer = csv::WriterBuilder::new()
-        .flexible(false)
-        .from_writer(Vec::new());
-    let written = writer
-        .write_record(header.split(','))
-        .and_then(|()| rows.iter().try_for_each(|r| writer.write_record(r)));
-    if let Err(e) = written {
-        panic!("a cache row does not fit its header ({header}): {e}");
-    }
-    let bytes = writer
-        .into_inner()
-        .unwrap_or_else(|e| panic!("writing to memory: {}", e.error()));
-    text + &String::from_utf8(bytes).expect("the fields are UTF-8")
 }
