@@ -70,6 +70,23 @@ fn howell_perpendicular(l: f64, w: f64, h: f64) -> f64 {
 }
 
 #[test]
+fn a_missing_data_folder_is_a_data_error_naming_the_file_and_the_path() {
+    let dir = std::path::Path::new(DATA_DIR).join("no-such-folder");
+    match cb::read_data(&dir) {
+        Err(spectral_quadrature_tools::Error::Derive(spectral_quadrature_build::Error::Data(
+            e,
+        ))) => {
+            assert_eq!(
+                (e.file.as_str(), e.line),
+                ("data/cornell_box_geometry.csv", 0)
+            );
+            assert!(e.message.contains("no-such-folder"), "{e}");
+        }
+        other => panic!("expected a data error, got {:?}", other.map(|_| ())),
+    }
+}
+
+#[test]
 fn howell_closed_forms_are_the_published_values() {
     // Howell's tables: 0.1998 for unit squares one apart, 0.2000 for perpendicular unit
     // squares sharing an edge (to the four places the tables print).

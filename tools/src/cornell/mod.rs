@@ -23,7 +23,7 @@ pub mod radiosity;
 
 use std::path::Path;
 
-use spectral_quadrature_spectra::{builtin_illuminant, Curve, Spectra};
+use spectral_quadrature_spectra::{builtin_illuminant, read_data_text, Curve, Spectra};
 
 use crate::Error;
 
@@ -68,24 +68,14 @@ pub struct BoxData {
     pub box_light: Curve,
 }
 
-fn read_text(dir: &Path, file: &str) -> Result<String, Error> {
-    let path = dir.join(file);
-    std::fs::read_to_string(&path).map_err(|e| {
-        Error::Derive(spectral_quadrature_build::Error::Numerical(format!(
-            "cannot read {}: {e}",
-            path.display()
-        )))
-    })
-}
-
 /// Reads `cornell_box_{geometry,reflectance,light}.csv` from `data_dir` (the crate's `data/`).
 pub fn read_data(data_dir: &Path) -> Result<BoxData, Error> {
-    let geometry = read_text(data_dir, "cornell_box_geometry.csv")?;
+    let geometry = read_data_text(data_dir, "data/cornell_box_geometry.csv")?;
     let quads = geometry::read_quads(&geometry, false)?;
     let closed_quads = geometry::read_quads(&geometry, true)?;
     let refl = Spectra::parse(
         "data/cornell_box_reflectance.csv",
-        &read_text(data_dir, "cornell_box_reflectance.csv")?,
+        &read_data_text(data_dir, "data/cornell_box_reflectance.csv")?,
     )?;
     let paints = [0, 1, 2]
         .map(|k| refl.curve(k, RANGE_NM))
@@ -93,7 +83,7 @@ pub fn read_data(data_dir: &Path) -> Result<BoxData, Error> {
         .collect::<Result<Vec<_>, _>>()?;
     let light = Spectra::parse(
         "data/cornell_box_light.csv",
-        &read_text(data_dir, "cornell_box_light.csv")?,
+        &read_data_text(data_dir, "data/cornell_box_light.csv")?,
     )?;
     let mut box_light = light.curve(0, RANGE_NM)?;
     box_light.name = "box".into();
