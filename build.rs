@@ -1,12 +1,12 @@
 //! Bakes `OUT_DIR/tables.rs` and the shader snippets with the generator crate
-//! (`spectral-quadrature-build`), from this crate's `data/` and the scene named by the
+//! (`spectral-quadrature-generator`), from this crate's `data/` and the scene named by the
 //! environment variable `SPECTRAL_QUADRATURE_SCENE` (or the default scene). With the feature
 //! `default-scene` the variable is not read: the default scene, whatever the environment says
 //! (for the desk tools; see DESIGN.md, "The desk tools and the scene").
 
 use std::path::PathBuf;
 
-use spectral_quadrature_build::{generate, SCENE_ENV};
+use spectral_quadrature_generator::{generate, SCENE_ENV};
 
 fn main() {
     println!("cargo:rerun-if-changed=build.rs");

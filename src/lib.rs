@@ -24,7 +24,7 @@
 //! assert!(a > 100.0 && c1.abs() < a && c2 > 0.0);
 //! ```
 //!
-//! The derivation itself is the crate `spectral-quadrature-build`, this crate's
+//! The derivation itself is the crate `spectral-quadrature-generator`, this crate's
 //! build-dependency: use it directly to run it with your own settings or data. CIELAB, the
 //! colour differences and the display matrices come from `spectral-quadrature-math`, shared with
 //! the derivation and re-exported here.

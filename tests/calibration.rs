@@ -15,7 +15,7 @@ use spectral_quadrature::{
     xyz_from_ac1c2, Calibration, CalibrationProblem, CountCalibration, Error, Samples,
     WavelengthSet,
 };
-use spectral_quadrature_build::calibration::{self, Readings};
+use spectral_quadrature_generator::calibration::{self, Readings};
 use spectral_quadrature_spectra::{builtin_illuminant, Curve, Spectra};
 use std::sync::OnceLock;
 
@@ -219,7 +219,7 @@ impl Rng {
     }
 }
 
-/// A set of reflectances under C, in the units of `spectral_quadrature_build::calibration`.
+/// A set of reflectances under C, in the units of `spectral_quadrature_generator::calibration`.
 struct Chart {
     /// The data file, as the tables name it.
     label: &'static str,
@@ -252,9 +252,10 @@ fn bench() -> &'static Bench {
     static B: OnceLock<Bench> = OnceLock::new();
     B.get_or_init(|| {
         let data = std::path::Path::new(DATA_DIR);
-        let d =
-            spectral_quadrature_build::derive(&spectral_quadrature_build::Settings::new(DATA_DIR))
-                .unwrap();
+        let d = spectral_quadrature_generator::derive(
+            &spectral_quadrature_generator::Settings::new(DATA_DIR),
+        )
+        .unwrap();
         let range = d.settings.range_nm;
         let fitted = common::example_sensor(&d, Some("C"));
         let sensor = fitted.channels.as_ref().unwrap();

@@ -1,6 +1,6 @@
 //! Correlated colour temperature and Duv against the exact reference: the nearest point of the
 //! standard Planckian locus (CIE 015: 360-830 nm at 1 nm) in CIE 1960 (u, v), computed in f64
-//! on the generator's locus (`spectral_quadrature_build::PlanckianLocus`) with the crate's observer
+//! on the generator's locus (`spectral_quadrature_generator::PlanckianLocus`) with the crate's observer
 //! by a scan, then false position on the distance's derivative (`Exact`, below), for the same
 //! f32 XYZ the runtime gets; that checks the table and its interpolation. Against references independent of the crate's code: the
 //! locus by a plain sum of Planck's law here, and colour-science's CCT of the CIE illuminants
@@ -17,14 +17,14 @@ use spectral_quadrature_spectra::builtin_lights;
 use proptest::prelude::*;
 use spectral_quadrature::tables::PLANCKIAN_LOCUS;
 use spectral_quadrature::{uv_from_xyz, Cct, CCT_MAX_ERROR_MIRED, DUV_MAX_ERROR};
-use spectral_quadrature_build::PlanckianLocus;
+use spectral_quadrature_generator::PlanckianLocus;
 use std::sync::OnceLock;
 
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data");
 
 struct Fixture {
-    d: spectral_quadrature_build::Derivation,
+    d: spectral_quadrature_generator::Derivation,
     /// The exact reference on the standard locus.
     locus: Exact,
 }
@@ -32,9 +32,10 @@ struct Fixture {
 fn fixture() -> &'static Fixture {
     static F: OnceLock<Fixture> = OnceLock::new();
     F.get_or_init(|| {
-        let d =
-            spectral_quadrature_build::derive(&spectral_quadrature_build::Settings::new(DATA_DIR))
-                .expect("default derivation");
+        let d = spectral_quadrature_generator::derive(
+            &spectral_quadrature_generator::Settings::new(DATA_DIR),
+        )
+        .expect("default derivation");
         let locus = Exact::new(PlanckianLocus::standard(&d.observer).unwrap());
         Fixture { d, locus }
     })

@@ -5,7 +5,7 @@
 const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data");
 
 use spectral_quadrature::{tables, Channel, RuleStatus, WavelengthSet};
-use spectral_quadrature_build::{derive, Derivation, Settings};
+use spectral_quadrature_generator::{derive, Derivation, Settings};
 use std::sync::OnceLock;
 
 fn fresh() -> &'static Derivation {
@@ -94,7 +94,7 @@ fn every_rule_and_its_status() {
 
 fn assert_set<const N: usize>(
     baked: &WavelengthSet<N>,
-    fresh: &spectral_quadrature_build::WavelengthSet,
+    fresh: &spectral_quadrature_generator::WavelengthSet,
 ) {
     assert_eq!(baked.wavelengths_nm().to_vec(), f32s(&fresh.wavelengths_nm));
     for c in 0..3 {
@@ -149,10 +149,12 @@ fn table2_sets_and_rule_sets() {
 #[test]
 fn generated_source_is_what_the_generator_writes_now() {
     // The whole file, byte for byte: nothing in it comes from anywhere but the derivation.
-    let generated =
-        spectral_quadrature_build::generate(std::path::Path::new(env!("CARGO_MANIFEST_DIR")), None)
-            .unwrap()
-            .tables_rs;
+    let generated = spectral_quadrature_generator::generate(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")),
+        None,
+    )
+    .unwrap()
+    .tables_rs;
     let baked = include_str!(concat!(env!("OUT_DIR"), "/tables.rs"));
     assert_eq!(generated, baked);
     assert!(!baked.contains("NaN") && !baked.contains("inf"));

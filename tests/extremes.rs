@@ -63,14 +63,16 @@ fn check<const N: usize>(set: &WavelengthSet<N>, weights: &[Vec<f64>; 3], s: &[f
     worst
 }
 
-fn weights_of(d: &spectral_quadrature_build::Derivation, k: usize) -> [Vec<f64>; 3] {
+fn weights_of(d: &spectral_quadrature_generator::Derivation, k: usize) -> [Vec<f64>; 3] {
     d.table2[k].weights.clone()
 }
 
 #[test]
 fn every_combination_of_extreme_samples_stays_within_budget_or_overflows_honestly() {
-    let d = spectral_quadrature_build::derive(&spectral_quadrature_build::Settings::new(DATA_DIR))
-        .unwrap();
+    let d = spectral_quadrature_generator::derive(&spectral_quadrature_generator::Settings::new(
+        DATA_DIR,
+    ))
+    .unwrap();
     let w2 = weights_of(&d, 1);
     let mut worst = 0.0f64;
     let mut checked = 0usize;
@@ -107,8 +109,10 @@ fn catastrophic_cancellation_in_c1_and_c2_is_within_the_absolute_budget() {
     // in the inverse ratio make C1 cancel to rounding level. The budget is absolute (relative to
     // Σ|w·s|), so it holds, while C1's relative error may be of order one: that is the honest
     // statement for signed channels.
-    let d = spectral_quadrature_build::derive(&spectral_quadrature_build::Settings::new(DATA_DIR))
-        .unwrap();
+    let d = spectral_quadrature_generator::derive(&spectral_quadrature_generator::Settings::new(
+        DATA_DIR,
+    ))
+    .unwrap();
     let w = weights_of(&d, 1);
     let set = tables::TABLE2_ROW2;
     let (i, j) = {

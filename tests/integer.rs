@@ -284,13 +284,13 @@ fn the_example_sensor_scenes_sets_are_proven_within_one_code_and_exact() {
     let root = env!("CARGO_MANIFEST_DIR");
     let path = format!("{root}/examples/scenes/sensor.toml");
     let text = std::fs::read_to_string(&path).unwrap();
-    let scene = spectral_quadrature_build::scene::Scene::parse(
+    let scene = spectral_quadrature_generator::scene::Scene::parse(
         &path,
         &text,
         std::path::Path::new(DATA_DIR),
     )
     .unwrap();
-    let d = spectral_quadrature_build::derive(&scene.settings).unwrap();
+    let d = spectral_quadrature_generator::derive(&scene.settings).unwrap();
     let resolved = scene.resolve(&d).unwrap();
     let mut sensors = 0;
     for set in &resolved.colour_sets {
@@ -304,7 +304,8 @@ fn the_example_sensor_scenes_sets_are_proven_within_one_code_and_exact() {
                 m.xyz_to_rgb.map(|r| r.map(|v| v as f32))
             );
             let w = d.folded(set, m);
-            let unit = spectral_quadrature_build::fixed_point::sample_unit(set, &resolved) as f32;
+            let unit =
+                spectral_quadrature_generator::fixed_point::sample_unit(set, &resolved) as f32;
             let light = set.light.clone().map(|l| &*String::leak(l));
             let samples = match (&set.sensor, light) {
                 (Some(s), light) => {
@@ -348,7 +349,7 @@ fn the_example_sensor_scenes_sets_are_proven_within_one_code_and_exact() {
         .find(|s| s.sensor.is_some())
         .unwrap();
     assert_eq!(
-        spectral_quadrature_build::fixed_point::sample_unit(set, &resolved),
+        spectral_quadrature_generator::fixed_point::sample_unit(set, &resolved),
         largest / 65535.0
     );
 }

@@ -29,7 +29,7 @@ use spectral_quadrature::{
     ac1c2_from_xyz, f32_budget, xyz_from_ac1c2, Display, DynamicSet, Error, FoldedSet,
     GamutMapping, GaussRule, RuleStatus, WavelengthSet,
 };
-use spectral_quadrature_build::{derive, Derivation, Settings};
+use spectral_quadrature_generator::{derive, Derivation, Settings};
 
 /// ε as f64.
 const EPS: f64 = f32::EPSILON as f64;
@@ -421,21 +421,21 @@ fn p3_xyz_ac1c2_round_trip() {
 // 4. Baked constants equal a fresh derivation
 // ---------------------------------------------------------------------------------------------
 
-fn status_matches(baked: RuleStatus, fresh: spectral_quadrature_build::Status) -> bool {
+fn status_matches(baked: RuleStatus, fresh: spectral_quadrature_generator::Status) -> bool {
     matches!(
         (baked, fresh),
         (
             RuleStatus::Defined,
-            spectral_quadrature_build::Status::Defined
+            spectral_quadrature_generator::Status::Defined
         ) | (
             RuleStatus::Outside,
-            spectral_quadrature_build::Status::Outside
+            spectral_quadrature_generator::Status::Outside
         ) | (
             RuleStatus::Complex,
-            spectral_quadrature_build::Status::Complex
+            spectral_quadrature_generator::Status::Complex
         ) | (
             RuleStatus::VanishingNorm,
-            spectral_quadrature_build::Status::VanishingNorm
+            spectral_quadrature_generator::Status::VanishingNorm
         )
     )
 }

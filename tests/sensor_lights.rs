@@ -17,8 +17,8 @@ const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data");
 
 /// A fitted set of the example sensor as the runtime bakes it (AC1C2 rows, f32).
 fn sensor_set(
-    d: &spectral_quadrature_build::Derivation,
-    fitted: &spectral_quadrature_build::user::Fitted,
+    d: &spectral_quadrature_generator::Derivation,
+    fitted: &spectral_quadrature_generator::user::Fitted,
 ) -> WavelengthSet<8> {
     let m = d.opponent.xyz_to_ac1c2;
     WavelengthSet::new(
@@ -43,8 +43,10 @@ fn sensor_set(
 /// bounds below.
 #[test]
 fn lux_and_cct_of_the_lights() {
-    let d = spectral_quadrature_build::derive(&spectral_quadrature_build::Settings::new(DATA_DIR))
-        .unwrap();
+    let d = spectral_quadrature_generator::derive(&spectral_quadrature_generator::Settings::new(
+        DATA_DIR,
+    ))
+    .unwrap();
     let range = d.settings.range_nm;
     let fits = [None, Some("C")].map(|light| common::example_sensor(&d, light));
     let sensor = fits[0].channels.as_ref().unwrap();
@@ -63,7 +65,7 @@ fn lux_and_cct_of_the_lights() {
     // Each light is scaled to the same luminance (Y = UNIT_SPECTRUM_Y): the illuminance the
     // set should report is the same for every light.
     let readings = |l: &Curve| -> [f32; 8] {
-        let r = spectral_quadrature_build::calibration::golden_readings(
+        let r = spectral_quadrature_generator::calibration::golden_readings(
             &d,
             sensor,
             Some(l),
@@ -137,8 +139,10 @@ fn lux_and_cct_of_the_lights() {
 #[test]
 fn spectral_irradiance_y_against_cie_015s_range() {
     use common::cie015::{plain_light_xyz, plain_light_xyz_over};
-    let d = spectral_quadrature_build::derive(&spectral_quadrature_build::Settings::new(DATA_DIR))
-        .unwrap();
+    let d = spectral_quadrature_generator::derive(&spectral_quadrature_generator::Settings::new(
+        DATA_DIR,
+    ))
+    .unwrap();
     let [lo, hi] = d.settings.range_nm.map(|nm| nm as u32);
     let mut worst = (0.0f64, "");
     println!("| light | Y over {lo}-{hi} nm / Y over 360-830 nm − 1 |");

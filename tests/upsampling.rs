@@ -9,8 +9,8 @@ use std::sync::OnceLock;
 
 use spectral_quadrature::tables::{folded, upsampling};
 use spectral_quadrature::{delta_e2000, lab_from_xyz, Error, FoldedSet, Samples, Upsampling};
-use spectral_quadrature_build::scene::{Resolved, Scene};
-use spectral_quadrature_build::upsampling::Baked;
+use spectral_quadrature_generator::scene::{Resolved, Scene};
+use spectral_quadrature_generator::upsampling::Baked;
 
 use common::check_property;
 use proptest::prelude::*;
@@ -20,12 +20,13 @@ const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data");
 
 /// The default scene, resolved afresh with every upsampling fitted (the cache ignored): the same
 /// bakes as the tables, in f64.
-fn fresh() -> &'static (spectral_quadrature_build::Derivation, Resolved) {
-    static R: OnceLock<(spectral_quadrature_build::Derivation, Resolved)> = OnceLock::new();
+fn fresh() -> &'static (spectral_quadrature_generator::Derivation, Resolved) {
+    static R: OnceLock<(spectral_quadrature_generator::Derivation, Resolved)> = OnceLock::new();
     R.get_or_init(|| {
-        let d =
-            spectral_quadrature_build::derive(&spectral_quadrature_build::Settings::new(DATA_DIR))
-                .unwrap();
+        let d = spectral_quadrature_generator::derive(
+            &spectral_quadrature_generator::Settings::new(DATA_DIR),
+        )
+        .unwrap();
         let r = Scene::default_scene(std::path::Path::new(DATA_DIR))
             .resolve_fitting(&d)
             .unwrap();
@@ -39,7 +40,7 @@ struct Fresh {
     name: &'static str,
     baked: &'static Baked,
     /// The display's matrices (f64), for the generator's functions.
-    matrices: &'static spectral_quadrature_build::display::DisplayMatrices,
+    matrices: &'static spectral_quadrature_generator::display::DisplayMatrices,
     /// The reference light at the nodes for a set for radiances (D65); `None` where the set's
     /// light is folded into its weights.
     light_at_nodes: Option<Vec<f64>>,
@@ -366,7 +367,7 @@ fn round_trip() {
             if !ok {
                 continue;
             }
-            let p = spectral_quadrature_build::upsampling::grid_point(g, idx);
+            let p = spectral_quadrature_generator::upsampling::grid_point(g, idx);
             let v = u.reflectance(p.map(|x| x as f32));
             let de = delta_e2000(lab(u, p), lab(u, encode(u, f, &v)));
             // The f32 path adds a few units of f32 rounding to the baked figure.
@@ -380,9 +381,9 @@ fn round_trip() {
         let mut edge_interpolated = 0.0f64;
         let (mut n_edge, mut n_unreachable) = (0, 0);
         for idx in 0..17 * 17 * 17 {
-            let p = spectral_quadrature_build::upsampling::grid_point(17, idx);
+            let p = spectral_quadrature_generator::upsampling::grid_point(17, idx);
             let (nearest, reachable) =
-                spectral_quadrature_build::upsampling::project(m, &b.encoding, &fit.map, p)
+                spectral_quadrature_generator::upsampling::project(m, &b.encoding, &fit.map, p)
                     .unwrap();
             let v = u.reflectance(p.map(|x| x as f32));
             let got = lab(u, encode(u, f, &v));
@@ -390,7 +391,7 @@ fn round_trip() {
                 // Both are the colour nearest p in the same metric: one colour.
                 let want = lab(
                     u,
-                    spectral_quadrature_build::upsampling::encode(&b.encoding, &nearest),
+                    spectral_quadrature_generator::upsampling::encode(&b.encoding, &nearest),
                 );
                 unreachable = unreachable.max(delta_e2000(want, got));
                 n_unreachable += 1;
@@ -1154,16 +1155,20 @@ fn round_trip_at_random_points() {
             each(|u, f| {
                 let b = f.baked;
                 let map = &b.fit.as_ref().unwrap().map;
-                let (nearest, reachable) =
-                    spectral_quadrature_build::upsampling::project(f.matrices, &b.encoding, map, p)
-                        .unwrap();
+                let (nearest, reachable) = spectral_quadrature_generator::upsampling::project(
+                    f.matrices,
+                    &b.encoding,
+                    map,
+                    p,
+                )
+                .unwrap();
                 let got = lab(u, encode(u, f, &u.reflectance(rgb)));
                 let want = if reachable {
                     lab(u, p)
                 } else {
                     lab(
                         u,
-                        spectral_quadrature_build::upsampling::encode(&b.encoding, &nearest),
+                        spectral_quadrature_generator::upsampling::encode(&b.encoding, &nearest),
                     )
                 };
                 let de = delta_e2000(want, got);

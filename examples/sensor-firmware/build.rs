@@ -86,12 +86,12 @@ fn simulate(manifest: &Path, out: &Path) -> Result<(), Box<dyn std::error::Error
     let data = root.join("data");
     let scene_path = manifest.join("scene.toml");
     let text = std::fs::read_to_string(&scene_path)?;
-    let scene = spectral_quadrature_build::scene::Scene::parse(
+    let scene = spectral_quadrature_generator::scene::Scene::parse(
         &scene_path.display().to_string(),
         &text,
         &data,
     )?;
-    let d = spectral_quadrature_build::derive(&scene.settings)?;
+    let d = spectral_quadrature_generator::derive(&scene.settings)?;
     let range = d.settings.range_nm;
     let (_, fitted) = scene.resolve_user(&d)?;
     let sensor_set = fitted
@@ -106,7 +106,7 @@ fn simulate(manifest: &Path, out: &Path) -> Result<(), Box<dyn std::error::Error
     // One count is what `tables::integer::AS7341_SRGB` takes it for (the generator's rule).
     let largest_white = sensor_set.white_samples.iter().copied().fold(0.0, f64::max);
     let unit =
-        f64::from((largest_white / spectral_quadrature_build::fixed_point::FULL_SCALE) as f32);
+        f64::from((largest_white / spectral_quadrature_generator::fixed_point::FULL_SCALE) as f32);
 
     // Illuminant C at the luminance of a spectrum of constant 1, as the set was fitted for.
     let full = d.observer.full_integration(range, 1.0)?;

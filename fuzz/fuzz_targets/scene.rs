@@ -29,9 +29,9 @@ use std::path::Path;
 use std::sync::OnceLock;
 
 use libfuzzer_sys::fuzz_target;
-use spectral_quadrature_build::display::{DisplaySpec, Transfer};
-use spectral_quadrature_build::scene::Scene;
-use spectral_quadrature_build::{Error, ObserverId, Settings};
+use spectral_quadrature_generator::display::{DisplaySpec, Transfer};
+use spectral_quadrature_generator::scene::Scene;
+use spectral_quadrature_generator::{Error, ObserverId, Settings};
 
 const FILE: &str = "fuzz.toml";
 

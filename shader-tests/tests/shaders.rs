@@ -15,8 +15,8 @@ const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");
 use spectral_quadrature::tables::{self, displays, folded, shaders};
 use spectral_quadrature::{f32_budget, quantize_u8, Display, GamutMapping, TransferFunction};
 
-use spectral_quadrature_build::scene::{Resolved, Scene};
-use spectral_quadrature_build::shader::{snippet, Language};
+use spectral_quadrature_generator::scene::{Resolved, Scene};
+use spectral_quadrature_generator::shader::{snippet, Language};
 
 // ---------------------------------------------------------------------------------------------
 // Kernels that call every function of a snippet.
@@ -166,7 +166,7 @@ fn validate(lang: Language, source: &str) -> naga::Module {
 }
 
 /// The derivation and resolved scene of a scene file in examples/scenes.
-fn example_scene(file: &str) -> (spectral_quadrature_build::Derivation, Resolved) {
+fn example_scene(file: &str) -> (spectral_quadrature_generator::Derivation, Resolved) {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("..")
         .join(file);
@@ -177,14 +177,16 @@ fn example_scene(file: &str) -> (spectral_quadrature_build::Derivation, Resolved
         std::path::Path::new(DATA_DIR),
     )
     .unwrap();
-    let d = spectral_quadrature_build::derive(&scene.settings).unwrap();
+    let d = spectral_quadrature_generator::derive(&scene.settings).unwrap();
     let resolved = scene.resolve(&d).unwrap();
     (d, resolved)
 }
 
-fn default_scene() -> (spectral_quadrature_build::Derivation, Resolved) {
-    let d = spectral_quadrature_build::derive(&spectral_quadrature_build::Settings::new(DATA_DIR))
-        .unwrap();
+fn default_scene() -> (spectral_quadrature_generator::Derivation, Resolved) {
+    let d = spectral_quadrature_generator::derive(&spectral_quadrature_generator::Settings::new(
+        DATA_DIR,
+    ))
+    .unwrap();
     let resolved = Scene::default_scene(std::path::Path::new(DATA_DIR))
         .resolve(&d)
         .unwrap();
@@ -235,7 +237,7 @@ fn naga_parses_and_validates_both_languages_for_every_scene() {
     // No example uses a linear transfer function: a scene that does.
     let text = "sets = [\"TABLE2_ROW1\"]\ndisplays = [\"SRGB\", \"REC2020\"]\n[transfer]\nSRGB = \"linear\"\n";
     let scene = Scene::parse("linear.toml", text, std::path::Path::new(DATA_DIR)).unwrap();
-    let d = spectral_quadrature_build::derive(&scene.settings).unwrap();
+    let d = spectral_quadrature_generator::derive(&scene.settings).unwrap();
     let resolved = scene.resolve(&d).unwrap();
     for lang in [Language::Wgsl, Language::Glsl] {
         let text = snippet(&d, &resolved, lang).unwrap();

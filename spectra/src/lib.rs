@@ -1,7 +1,7 @@
 //! Spectral data for `spectral-quadrature`, in f64: measured spectra read from CSV, curves and
 //! the stimuli they make, and the measuring of wavelength sets in CIELAB.
 //!
-//! The build-time generator (`spectral-quadrature-build`) reads its observers, lights, sensors
+//! The build-time generator (`spectral-quadrature-generator`) reads its observers, lights, sensors
 //! and scene spectra with this crate, and the desk tools (report, planner, Cornell box) measure
 //! sets with it; users read their own measured files with it:
 //!

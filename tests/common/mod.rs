@@ -64,18 +64,21 @@ const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data");
 /// sensor's curves, `xyz_weights` the fitted matrix from its readings to XYZ, `white_samples`
 /// the golden device's readings of a perfect white (the white reference the build bakes).
 pub fn example_sensor(
-    d: &spectral_quadrature_build::Derivation,
+    d: &spectral_quadrature_generator::Derivation,
     light: Option<&str>,
-) -> spectral_quadrature_build::user::Fitted {
+) -> spectral_quadrature_generator::user::Fitted {
     let light = light.map_or(String::new(), |l| format!("light = \"{l}\"\n"));
     let text = format!(
         "displays = [\"SRGB\"]\n\n[sensors.AS7341]\nfile = \"../data/sensor_as7341_gaussian.csv\"\n{light}"
     );
     // Paths in a scene are relative to it: a scene in tests/ (the file need not exist).
     let file = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/sensor.toml");
-    let scene =
-        spectral_quadrature_build::scene::Scene::parse(file, &text, std::path::Path::new(DATA_DIR))
-            .unwrap();
+    let scene = spectral_quadrature_generator::scene::Scene::parse(
+        file,
+        &text,
+        std::path::Path::new(DATA_DIR),
+    )
+    .unwrap();
     assert_eq!(scene.settings, d.settings);
     let (_, mut fitted) = scene.resolve_user(d).unwrap();
     fitted.remove(0)

@@ -18,7 +18,7 @@
 
 use std::vec::Vec;
 
-use spectral_quadrature_build::{shared, Derivation};
+use spectral_quadrature_generator::{shared, Derivation};
 use spectral_quadrature_spectra::{
     builtin_illuminant, surfaces_under_lights, Curve, Errors, EvalSet, Reference, Spectra, Stimulus,
 };
@@ -84,7 +84,7 @@ pub fn interval_set(d: &Derivation, light: &Curve, step_nm: f64) -> Result<EvalS
         nm += step_nm;
     }
     let last = *nodes.last().ok_or_else(|| {
-        spectral_quadrature_build::Error::Settings(std::format!(
+        spectral_quadrature_generator::Error::Settings(std::format!(
             "no interval nodes on the range {range:?} at {step_nm} nm"
         ))
     })?;
@@ -178,7 +178,7 @@ pub fn rule_spaces(
     let sml_to_xyz = {
         let m = nalgebra::Matrix3::from_fn(|r, c| d.settings.cone_matrix[r][c]);
         let inv = m.try_inverse().ok_or_else(|| {
-            spectral_quadrature_build::Error::Numerical("the cone matrix is singular".into())
+            spectral_quadrature_generator::Error::Numerical("the cone matrix is singular".into())
         })?;
         [0, 1, 2].map(|r| [0, 1, 2].map(|c| inv[(r, c)]))
     };
@@ -208,7 +208,8 @@ pub fn other_sets(
     }
     for n in BUDGETS {
         out.push(("uniform", d.observer.uniform_set(d.settings.range_nm, n)));
-        if let Ok(s) = spectral_quadrature_build::catalog::resolve(d, &std::format!("INTERP_A_{n}"))
+        if let Ok(s) =
+            spectral_quadrature_generator::catalog::resolve(d, &std::format!("INTERP_A_{n}"))
         {
             out.push(("interp A", d.eval_set(&s, "interp A")));
         }

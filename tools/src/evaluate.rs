@@ -1,13 +1,13 @@
 //! Sets the report builds to measure beside the crate's own, on the generator's measuring
-//! (`spectral_quadrature_build::evaluate`): every combination of per-channel Gauss rules for
+//! (`spectral_quadrature_generator::evaluate`): every combination of per-channel Gauss rules for
 //! any three weight functions (Figs. 6 and 7, and the budgets of section 5), and a shared set
 //! as measured on radiances.
 
 use std::vec::Vec;
 
-use spectral_quadrature_build::quadrature::{self, Measure};
-use spectral_quadrature_build::shared::Shared;
-use spectral_quadrature_build::{Derivation, Rule, WavelengthSet};
+use spectral_quadrature_generator::quadrature::{self, Measure};
+use spectral_quadrature_generator::shared::Shared;
+use spectral_quadrature_generator::{Derivation, Rule, WavelengthSet};
 use spectral_quadrature_spectra::EvalSet;
 
 /// Per-channel Gauss rules of orders 1..=max_order for three weight functions given on the
@@ -71,7 +71,7 @@ pub fn shared_on_radiance(set: &Shared, name: &str, family: &str) -> EvalSet {
 /// [`shared_on_radiance`]: its folded weights at the group's nodes `wavelengths_nm` divided by
 /// the light at each.
 pub fn member_on_radiance(
-    member: &spectral_quadrature_build::shared::Member,
+    member: &spectral_quadrature_generator::shared::Member,
     wavelengths_nm: &[f64],
     name: &str,
     family: &str,

@@ -14,10 +14,10 @@
 //! the CIE test colours ([`training_forms`]), and the radiance set.
 
 use rand::RngExt;
-use spectral_quadrature_build::shared::{
+use spectral_quadrature_generator::shared::{
     nodes_of, problem_for, GroupFit, GroupObjective, Shared, Weights,
 };
-use spectral_quadrature_build::{Derivation, Error};
+use spectral_quadrature_generator::{Derivation, Error};
 use spectral_quadrature_spectra::{surfaces_under_lights, Curve, EvalSet, Reference, Stimulus};
 
 use crate::random_wavelengths::pixel_rng;
@@ -146,10 +146,10 @@ pub fn forms(form: Form, reflectances: &[Curve], seed: u64, range_nm: [f64; 2]) 
 }
 
 /// The bounce forms a fit for bounced light trains on: the generator's own, which a scene's
-/// `[groups.*] training = "bounces"` bakes ([`spectral_quadrature_build::shared::bounce_forms`]:
+/// `[groups.*] training = "bounces"` bakes ([`spectral_quadrature_generator::shared::bounce_forms`]:
 /// each reflectance as it is, squared, cubed, and in the enclosures of albedo 0.5 and 0.9).
 pub fn training_forms(training: &[Curve], range_nm: [f64; 2]) -> Vec<Curve> {
-    spectral_quadrature_build::shared::bounce_forms(training, range_nm)
+    spectral_quadrature_generator::shared::bounce_forms(training, range_nm)
 }
 
 /// The names of the fixed sets' methods, in [`Sets::methods`]' order.

@@ -1,4 +1,4 @@
-//! What only people at a desk need, on top of `spectral-quadrature-build`: the analysis behind
+//! What only people at a desk need, on top of `spectral-quadrature-generator`: the analysis behind
 //! the report and the planner. The programs are `report` (error against run time, the crate's
 //! main job), `plan` (a scene for an error budget), `tables` (the derived tables beside the
 //! paper's) and `cornell` (the Cornell box rendered once per spectral method).
@@ -38,7 +38,7 @@ pub mod stability;
 pub mod upsampling;
 
 /// The runtime package's `data/`: the CIE tables, illuminants and reflectances the derivation
-/// reads ([`spectral_quadrature_build::Settings::data_dir`]). The runtime's build script names
+/// reads ([`spectral_quadrature_generator::Settings::data_dir`]). The runtime's build script names
 /// it (build.rs): the workspace's `data/` in a checkout (`cargo run`, `cargo install --path
 /// tools`), Cargo's unpacked copy of the published `spectral-quadrature` package for
 /// `cargo install spectral-quadrature-tools`. An absolute path: the tools run from any folder.
@@ -85,8 +85,8 @@ pub fn par_map<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec
 }
 
 /// The paper's settings on the workspace's data ([`DATA_DIR`]).
-pub fn settings() -> spectral_quadrature_build::Settings {
-    spectral_quadrature_build::Settings::new(DATA_DIR)
+pub fn settings() -> spectral_quadrature_generator::Settings {
+    spectral_quadrature_generator::Settings::new(DATA_DIR)
 }
 
 /// Prints, on standard error, one warning per file whose negative values were read as 0
@@ -109,13 +109,13 @@ pub fn negatives(clamp: bool) -> Negatives {
     }
 }
 
-/// An error of the tools: the derivation's ([`spectral_quadrature_build::Error`], which names
+/// An error of the tools: the derivation's ([`spectral_quadrature_generator::Error`], which names
 /// the file and line where a file is at fault), or one of the tools' own.
 #[derive(Debug)]
 #[non_exhaustive]
 pub enum Error {
     /// From the derivation: data, settings, sets, lights, scenes, the planner.
-    Derive(spectral_quadrature_build::Error),
+    Derive(spectral_quadrature_generator::Error),
     /// A light with no power at a node where an interval set divides by it.
     NoPower {
         /// The light.
@@ -169,8 +169,8 @@ impl std::error::Error for Error {
     }
 }
 
-impl From<spectral_quadrature_build::Error> for Error {
-    fn from(e: spectral_quadrature_build::Error) -> Self {
+impl From<spectral_quadrature_generator::Error> for Error {
+    fn from(e: spectral_quadrature_generator::Error) -> Self {
         Error::Derive(e)
     }
 }
@@ -181,8 +181,8 @@ impl From<DataError> for Error {
     }
 }
 
-impl From<spectral_quadrature_build::plan::PlanError> for Error {
-    fn from(e: spectral_quadrature_build::plan::PlanError) -> Self {
+impl From<spectral_quadrature_generator::plan::PlanError> for Error {
+    fn from(e: spectral_quadrature_generator::plan::PlanError) -> Self {
         Error::Derive(e.into())
     }
 }

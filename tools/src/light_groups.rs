@@ -7,10 +7,10 @@
 //! own training file (the CIE test colours, on which the folded sets' model is trained) is
 //! trained on in every fold and judged in none.
 
-use spectral_quadrature_build::shared::{
+use spectral_quadrature_generator::shared::{
     nodes_of, problem_for, GroupFit, GroupObjective, Problem, Shared, Weights,
 };
-use spectral_quadrature_build::{Derivation, Error};
+use spectral_quadrature_generator::{Derivation, Error};
 use spectral_quadrature_spectra::{surfaces_under_lights, Curve, EvalSet, Reference, Spectra};
 
 /// The number of folds.

@@ -8,7 +8,7 @@
 
 #![forbid(unsafe_code)]
 
-use spectral_quadrature_build::Settings;
+use spectral_quadrature_generator::Settings;
 
 /// The settings that reproduce the paper's printed tables most closely: the defaults with the
 /// observer rounded to 5 decimals. Against Table 1a this lowers the largest node difference

@@ -282,7 +282,7 @@ pub fn band_mean(curve: &Curve, band: [f64; 2]) -> f64 {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Channels {
     /// `weights[k][i]`: channel k's weight at the set's node i; exactly 0 where the channel does
-    /// not use the node (as [`spectral_quadrature_build::WavelengthSet::merge`] leaves it).
+    /// not use the node (as [`spectral_quadrature_generator::WavelengthSet::merge`] leaves it).
     pub weights: [Vec<f64>; 3],
     /// Channel values → XYZ (for AC1C2, `Opponent::ac1c2_to_xyz`).
     pub to_xyz: [[f64; 3]; 3],
@@ -320,7 +320,7 @@ impl ChannelSet {
 
     /// A merged set of per-channel rules (weights A, C1, C2) with the AC1C2 → XYZ matrix.
     pub fn from_wavelength_set(
-        set: &spectral_quadrature_build::WavelengthSet,
+        set: &spectral_quadrature_generator::WavelengthSet,
         name: &str,
         family: &str,
         orders: Option<[usize; 3]>,
@@ -863,7 +863,7 @@ impl Prefiltered {
                 .wavelengths_nm
                 .iter()
                 .chain(&extra)
-                .any(|l| (l - nm).abs() <= spectral_quadrature_build::SAME_WAVELENGTH_NM);
+                .any(|l| (l - nm).abs() <= spectral_quadrature_generator::SAME_WAVELENGTH_NM);
             if !known {
                 extra.push(*nm);
             }
@@ -1089,7 +1089,9 @@ pub const BAND_CENTRE_STEP_NM: f64 = 5.0;
 /// The sets [`summary`] is meant for: Table 2's two rows, uniform 4, 6, 8 and 16, AC1C2
 /// combinations 4+2+2, 6+4+3 and 8+8+7 (orders A+C1+C2; C1's odd orders and C2's orders 4-6
 /// and 8 are undefined), all with their channels, and the full 5 nm integration.
-pub fn default_sets(d: &spectral_quadrature_build::Derivation) -> Result<Vec<ChannelSet>, Error> {
+pub fn default_sets(
+    d: &spectral_quadrature_generator::Derivation,
+) -> Result<Vec<ChannelSet>, Error> {
     let range = d.settings.range_nm;
     let m = &d.opponent.ac1c2_to_xyz;
     let mut sets = Vec::new();
@@ -1107,7 +1109,7 @@ pub fn default_sets(d: &spectral_quadrature_build::Derivation) -> Result<Vec<Cha
     for o in wanted {
         let name = std::format!("AC1C2 {}+{}+{}", o[0], o[1], o[2]);
         let picked = [0, 1, 2].map(|c| Some(&rules[c][o[c] - 1]));
-        let merged = spectral_quadrature_build::WavelengthSet::merge(&name, "", picked)?;
+        let merged = spectral_quadrature_generator::WavelengthSet::merge(&name, "", picked)?;
         sets.push(ChannelSet::from_wavelength_set(
             &merged,
             &name,
@@ -1126,7 +1128,7 @@ pub fn default_sets(d: &spectral_quadrature_build::Derivation) -> Result<Vec<Cha
 /// [`narrow_bands`] of [`BAND_WIDTHS_NM`] every [`BAND_CENTRE_STEP_NM`] across the range. Sets
 /// are measured in parallel.
 pub fn summary(
-    d: &spectral_quadrature_build::Derivation,
+    d: &spectral_quadrature_generator::Derivation,
     sets: &[ChannelSet],
 ) -> Result<Summary, Error> {
     let range = d.settings.range_nm;

@@ -263,7 +263,7 @@ impl Cells {
     }
 
     /// `radiance` weighted by a reference set's X, Y, Z weights (weights for a grid sum, as
-    /// [`Observer::full_integration`](spectral_quadrature_build::Observer::full_integration)
+    /// [`Observer::full_integration`](spectral_quadrature_generator::Observer::full_integration)
     /// makes them): the integrand
     /// whose integral is the reference's XYZ of that radiance. The set's wavelengths must be
     /// evenly spaced.

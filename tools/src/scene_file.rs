@@ -1,7 +1,7 @@
 //! The planner's output: a scene file naming the set `plan` chose
-//! ([`spectral_quadrature_build::plan::plan`]), with comment lines saying how it was chosen.
+//! ([`spectral_quadrature_generator::plan::plan`]), with comment lines saying how it was chosen.
 
-use spectral_quadrature_build::plan::{fmt_de, Plan};
+use spectral_quadrature_generator::plan::{fmt_de, Plan};
 
 /// A scene file (TOML) naming the chosen set: comment lines saying how it was chosen and what
 /// it measures (and what the best set with fewer wavelengths measures), then the keys

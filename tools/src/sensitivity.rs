@@ -4,7 +4,7 @@
 use std::string::String;
 use std::vec::Vec;
 
-use spectral_quadrature_build::{derive, Error, ObserverId, Settings, Status};
+use spectral_quadrature_generator::{derive, Error, ObserverId, Settings, Status};
 
 /// One variant of the settings, compared with the baseline.
 #[derive(Debug, Clone, PartialEq)]

@@ -1,7 +1,7 @@
 //! Why the derivation computes its rules the way it does, and how close each classification is
 //! to flipping.
 //!
-//! [`quadrature`](spectral_quadrature_build::quadrature) forms the rules from the discretized Stieltjes recurrence
+//! [`quadrature`](spectral_quadrature_generator::quadrature) forms the rules from the discretized Stieltjes recurrence
 //! in the scaled variable x = (λ − centre) / half-width, nodes from the Jacobi matrix and weights
 //! by Golub-Welsch or as Christoffel numbers. This module implements the textbook alternatives
 //! and measures where each departs from that method:
@@ -26,11 +26,11 @@ use std::vec::Vec;
 
 use nalgebra::{DMatrix, DVector};
 
-use spectral_quadrature_build::quadrature::{
+use spectral_quadrature_generator::quadrature::{
     gauss_rule, interpolatory_weights, real_rule, rule_from_recurrence, stieltjes, Measure,
     Recurrence, Rule, Status, COMPLEX_TOLERANCE, VANISHING_NORM,
 };
-use spectral_quadrature_build::{derive_with, Derivation, Error, Observer, Settings};
+use spectral_quadrature_generator::{derive_with, Derivation, Error, Observer, Settings};
 
 /// Channel names in the order of the derivation's arrays.
 pub const CHANNELS: [&str; 3] = ["A", "C1", "C2"];

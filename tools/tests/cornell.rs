@@ -73,9 +73,9 @@ fn howell_perpendicular(l: f64, w: f64, h: f64) -> f64 {
 fn a_missing_data_folder_is_a_data_error_naming_the_file_and_the_path() {
     let dir = std::path::Path::new(DATA_DIR).join("no-such-folder");
     match cb::read_data(&dir) {
-        Err(spectral_quadrature_tools::Error::Derive(spectral_quadrature_build::Error::Data(
-            e,
-        ))) => {
+        Err(spectral_quadrature_tools::Error::Derive(
+            spectral_quadrature_generator::Error::Data(e),
+        )) => {
             assert_eq!(
                 (e.file.as_str(), e.line),
                 ("data/cornell_box_geometry.csv", 0)
@@ -215,7 +215,7 @@ fn the_reference_at_a_patch_is_a_direct_spectral_sum() {
     // the largest radiosity; relative 1e-7 leaves room for the sums' rounding).
     let data = data();
     let derivation =
-        spectral_quadrature_build::derive(&spectral_quadrature_tools::settings()).unwrap();
+        spectral_quadrature_generator::derive(&spectral_quadrature_tools::settings()).unwrap();
     let scene = small_scene(&data);
     let light = cb::light_curve(&data, &derivation, Light::Box).unwrap();
     let reference = m::reference(&derivation, &light, &data.paints).unwrap();
@@ -268,7 +268,7 @@ fn a_folded_set_reproduces_the_lights_white_exactly() {
     // relative (the solver's tolerance and the weights' rounding).
     let data = data();
     let derivation =
-        spectral_quadrature_build::derive(&spectral_quadrature_tools::settings()).unwrap();
+        spectral_quadrature_generator::derive(&spectral_quadrature_tools::settings()).unwrap();
     let scene = small_scene(&data);
     let flat = Curve::constant("flat", 0.5, cb::RANGE_NM);
     let paints = [flat.clone(), flat.clone(), flat];

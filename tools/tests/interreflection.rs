@@ -2,8 +2,8 @@
 //! against their closed forms, every fixed set's white under its light, and the folded set's
 //! error on twice-bounced light with its bound.
 
-use spectral_quadrature_build::shared::TRAINING_FILE;
-use spectral_quadrature_build::{derive, Settings};
+use spectral_quadrature_generator::shared::TRAINING_FILE;
+use spectral_quadrature_generator::{derive, Settings};
 use spectral_quadrature_spectra::{builtin_illuminant, Curve, Spectra};
 use spectral_quadrature_tools::interreflection::{
     enclosure_value, fixed_sets, form_curve, forms, mean_p95, Form, Judged, METHODS,

@@ -2,10 +2,10 @@
 //! judged by five-fold cross-validation on the ColorChecker and the 190 rawtoaces patches, which
 //! no fit in a fold sees: the targets the report's section 9 states at N = 8.
 
-use spectral_quadrature_build::shared::{
+use spectral_quadrature_generator::shared::{
     nodes_of, problem_for, GroupFit, GroupObjective, Weights, TRAINING_FILE,
 };
-use spectral_quadrature_build::{derive, Settings};
+use spectral_quadrature_generator::{derive, Settings};
 use spectral_quadrature_spectra::{builtin_illuminant, Spectra};
 use spectral_quadrature_tools::light_groups::{self, GROUP_MEAN, OWN, RADIANCE};
 

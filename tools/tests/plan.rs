@@ -8,8 +8,8 @@ const DATA_DIR: &str = spectral_quadrature_tools::DATA_DIR;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
-use spectral_quadrature_build::plan::{self, Candidate, Metric, PlanError};
-use spectral_quadrature_build::{catalog, Derivation, Settings};
+use spectral_quadrature_generator::plan::{self, Candidate, Metric, PlanError};
+use spectral_quadrature_generator::{catalog, Derivation, Settings};
 use spectral_quadrature_spectra::{emissions, Curve, Negatives, Reference, Stimulus};
 use spectral_quadrature_tools::scene_file;
 
@@ -39,7 +39,7 @@ struct Fixture {
 fn fixture_data() -> &'static Fixture {
     static F: OnceLock<Fixture> = OnceLock::new();
     F.get_or_init(|| {
-        let d = spectral_quadrature_build::derive(&Settings::new(DATA_DIR)).unwrap();
+        let d = spectral_quadrature_generator::derive(&Settings::new(DATA_DIR)).unwrap();
         let (stimuli, zeroed) = plan::stimuli_from_files(
             d.settings.range_nm,
             Some(&fixture("reflectances.csv")),
@@ -255,7 +255,7 @@ fn an_impossible_budget_states_the_best_achievable() {
         assert!(
             matches!(
                 &e,
-                spectral_quadrature_build::Error::Plan(PlanError::Unreachable { .. })
+                spectral_quadrature_generator::Error::Plan(PlanError::Unreachable { .. })
             ),
             "{e:?}"
         );
@@ -275,7 +275,7 @@ fn bad_budgets_are_rejected() {
         assert!(
             matches!(
                 &e,
-                spectral_quadrature_build::Error::Plan(PlanError::BadBudget(_))
+                spectral_quadrature_generator::Error::Plan(PlanError::BadBudget(_))
             ),
             "{e:?}"
         );
@@ -312,7 +312,7 @@ fn the_scene_names_the_chosen_set() {
         assert!(comments.iter().any(|l| l.contains(&r.name)));
     }
     // The scene parser accepts it and bakes the chosen set.
-    let scene = spectral_quadrature_build::scene::Scene::parse(
+    let scene = spectral_quadrature_generator::scene::Scene::parse(
         "planned.toml",
         &text,
         std::path::Path::new(DATA_DIR),
@@ -333,7 +333,7 @@ fn a_scene_plan_table_resolves_to_the_planners_choice() {
     let f = fixture_data();
     let scene_file = fixture("scene.toml"); // need not exist: paths are relative to it
     let text = "displays = [\"SRGB\"]\n\n[plan]\nmax_delta_e00 = 3.0\nmetric = \"max\"\nreflectances = \"reflectances.csv\"\nilluminants = \"illuminant.csv\"\n";
-    let scene = spectral_quadrature_build::scene::Scene::parse(
+    let scene = spectral_quadrature_generator::scene::Scene::parse(
         &scene_file.to_string_lossy(),
         text,
         std::path::Path::new(DATA_DIR),
@@ -386,20 +386,20 @@ fn input_errors_name_the_file() {
     .unwrap_err();
     assert_eq!(
         e,
-        spectral_quadrature_build::Error::Plan(PlanError::NoSpectra)
+        spectral_quadrature_generator::Error::Plan(PlanError::NoSpectra)
     );
     assert!(e.to_string().contains("emission"), "{e}");
     let e = plan::plan(&f.d, &[], &[], 1.0, Metric::Mean).unwrap_err();
     assert_eq!(
         e,
-        spectral_quadrature_build::Error::Plan(PlanError::NoStimuli)
+        spectral_quadrature_generator::Error::Plan(PlanError::NoStimuli)
     );
     assert!(e.to_string().contains("no stimuli"), "{e}");
     // A light that is zero everywhere has no colour to compare with.
     let dark = Curve::constant("dark", 0.0, f.d.settings.range_nm);
     let e = plan::plan(&f.d, &emissions(&[dark]), &[], 1.0, Metric::Mean).unwrap_err();
     assert!(
-        matches!(&e, spectral_quadrature_build::Error::Plan(PlanError::NoReference { stimulus, .. }) if stimulus == "dark"),
+        matches!(&e, spectral_quadrature_generator::Error::Plan(PlanError::NoReference { stimulus, .. }) if stimulus == "dark"),
         "{e:?}"
     );
     assert!(e.to_string().contains("\"dark\""), "{e}");

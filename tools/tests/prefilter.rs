@@ -5,7 +5,7 @@ use spectral_quadrature_tools as tools;
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = spectral_quadrature_tools::DATA_DIR;
 
-use spectral_quadrature_build::{derive, Settings};
+use spectral_quadrature_generator::{derive, Settings};
 use spectral_quadrature_spectra::{
     builtin_illuminant, surfaces_under_lights, Curve, EvalSet, Reference, Stimulus,
 };
@@ -14,13 +14,13 @@ use tools::prefilter::{self, BandShape, ChannelSet, LineDetection, Method, Prefi
 const RANGE: [f64; 2] = [380.0, 770.0];
 
 fn reference_set() -> EvalSet {
-    let obs = spectral_quadrature_build::ObserverId::Cie1931_2deg
+    let obs = spectral_quadrature_generator::ObserverId::Cie1931_2deg
         .load(std::path::Path::new(DATA_DIR))
         .unwrap();
     obs.full_integration(RANGE, 1.0).unwrap()
 }
 
-fn table2_sets(d: &spectral_quadrature_build::Derivation) -> Vec<ChannelSet> {
+fn table2_sets(d: &spectral_quadrature_generator::Derivation) -> Vec<ChannelSet> {
     prefilter::default_sets(d)
         .unwrap()
         .into_iter()

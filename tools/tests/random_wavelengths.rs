@@ -26,8 +26,10 @@ fn samplers() -> [Sampler; 3] {
 }
 
 fn reference() -> EvalSet {
-    let d = spectral_quadrature_build::derive(&spectral_quadrature_build::Settings::new(DATA_DIR))
-        .unwrap();
+    let d = spectral_quadrature_generator::derive(&spectral_quadrature_generator::Settings::new(
+        DATA_DIR,
+    ))
+    .unwrap();
     d.observer.full_integration(RANGE, 1.0).unwrap()
 }
 
@@ -331,8 +333,10 @@ fn reach_interpolates_in_log_spp_and_log_error() {
 #[test]
 fn the_f32_path_computes_what_the_f64_one_does() {
     let m = spectral_quadrature::tables::displays::SRGB.xyz_to_rgb();
-    let d = spectral_quadrature_build::derive(&spectral_quadrature_build::Settings::new(DATA_DIR))
-        .unwrap();
+    let d = spectral_quadrature_generator::derive(&spectral_quadrature_generator::Settings::new(
+        DATA_DIR,
+    ))
+    .unwrap();
     // x̄ȳz̄ at every nm of the range: the full integration's weights at dλ = 1 nm.
     let full = d.observer.full_integration(RANGE, 1.0).unwrap();
     let xyz_bar: Vec<[f64; 3]> = (0..full.len())

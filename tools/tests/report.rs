@@ -3,7 +3,7 @@
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = spectral_quadrature_tools::DATA_DIR;
 
-use spectral_quadrature_build::{derive, Settings};
+use spectral_quadrature_generator::{derive, Settings};
 use spectral_quadrature_spectra::{
     builtin_illuminant, surfaces_under_lights, Reference, Spectra, Stimulus,
 };
@@ -579,7 +579,7 @@ fn each_program_says_what_it_does() {
 /// KQ_4 or KQ_6.
 #[test]
 fn a_bounded_exact_linear_map_exists_for_kq_8_only() {
-    use spectral_quadrature_build::upsampling as up;
+    use spectral_quadrature_generator::upsampling as up;
     let d = derive(&Settings::new(DATA_DIR)).unwrap();
     let data = std::path::Path::new(DATA_DIR);
     let range = d.settings.range_nm;
@@ -587,7 +587,7 @@ fn a_bounded_exact_linear_map_exists_for_kq_8_only() {
     let d65 = builtin_illuminant(data, "D65", range).unwrap();
     let (_, m) = d.display("SRGB").unwrap();
     for (name, linear) in [("KQ_4", false), ("KQ_6", false), ("KQ_8", true)] {
-        let set = spectral_quadrature_build::catalog::resolve(&d, name).unwrap();
+        let set = spectral_quadrature_generator::catalog::resolve(&d, name).unwrap();
         let b9 = up::bake(&d, &set, ("SRGB", m), &d65, false, &training, 9).unwrap();
         let residual =
             spectral_quadrature_tools::upsampling::bounded_exact_linear_residual(&b9.encoding)

@@ -4,7 +4,7 @@
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = spectral_quadrature_tools::DATA_DIR;
 
-use spectral_quadrature_build::{derive, Derivation, Settings, Status};
+use spectral_quadrature_generator::{derive, Derivation, Settings, Status};
 use spectral_quadrature_tools::paper;
 use std::sync::OnceLock;
 

@@ -5,7 +5,7 @@ use spectral_quadrature_tools as tools;
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = spectral_quadrature_tools::DATA_DIR;
 
-use spectral_quadrature_build::{Settings, Status};
+use spectral_quadrature_generator::{Settings, Status};
 use tools::sensitivity::{shifts, standard_variants};
 
 #[test]

@@ -8,7 +8,7 @@ const DATA_DIR: &str = spectral_quadrature_tools::DATA_DIR;
 
 use std::sync::OnceLock;
 
-use spectral_quadrature_build::{catalog, derive, shared, Derivation, Settings};
+use spectral_quadrature_generator::{catalog, derive, shared, Derivation, Settings};
 use spectral_quadrature_spectra::{builtin_illuminant, EvalSet, Reference};
 use tools::budget::{self, Entry, BUDGETS, LIGHTS, METHODS};
 
@@ -156,9 +156,9 @@ fn the_catalog_builds_the_same_sets_the_comparison_judged() {
     assert!((y - unit).abs() <= 1e-12 * unit, "{y} vs {unit}");
     // Mistakes in a KQ name are typed, and their messages list the choices.
     let err = catalog::resolve(d, "KQ_Z9_6").unwrap_err();
-    let spectral_quadrature_build::Error::SetName {
+    let spectral_quadrature_generator::Error::SetName {
         problem:
-            spectral_quadrature_build::SetNameProblem::UnknownLight {
+            spectral_quadrature_generator::SetNameProblem::UnknownLight {
                 light,
                 valid,
                 scene,
@@ -178,8 +178,8 @@ fn the_catalog_builds_the_same_sets_the_comparison_judged() {
     assert!(
         matches!(
             &err,
-            spectral_quadrature_build::Error::SetName {
-                problem: spectral_quadrature_build::SetNameProblem::Size { size: 2, .. },
+            spectral_quadrature_generator::Error::SetName {
+                problem: spectral_quadrature_generator::SetNameProblem::Size { size: 2, .. },
                 ..
             }
         ),

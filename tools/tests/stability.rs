@@ -7,8 +7,8 @@ use spectral_quadrature_tools as tools;
 /// The data files the derivation reads (the runtime crate's `data/`).
 const DATA_DIR: &str = spectral_quadrature_tools::DATA_DIR;
 
-use spectral_quadrature_build::quadrature::{stieltjes, Measure};
-use spectral_quadrature_build::{derive, Derivation, ObserverId, Settings, Status};
+use spectral_quadrature_generator::quadrature::{stieltjes, Measure};
+use spectral_quadrature_generator::{derive, Derivation, ObserverId, Settings, Status};
 use std::sync::OnceLock;
 use tools::stability::{
     breakdown_order, chosen_rules, compare, margin_table, margins, moment_residual,

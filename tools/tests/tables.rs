@@ -36,8 +36,8 @@ fn run(flag: &str, scene: Option<&str>, cwd: &Path) -> Output {
     let mut cmd = Command::new(TABLES);
     cmd.arg(flag).current_dir(cwd);
     match scene {
-        Some(s) => cmd.env(spectral_quadrature_build::SCENE_ENV, s),
-        None => cmd.env_remove(spectral_quadrature_build::SCENE_ENV),
+        Some(s) => cmd.env(spectral_quadrature_generator::SCENE_ENV, s),
+        None => cmd.env_remove(spectral_quadrature_generator::SCENE_ENV),
     };
     cmd.output().expect("tables runs")
 }
@@ -54,7 +54,7 @@ fn stdout(out: &Output) -> &str {
 
 #[test]
 fn the_default_scene_prints_what_the_build_script_writes() {
-    let expected = spectral_quadrature_build::generate(&crate_dir(), None).unwrap();
+    let expected = spectral_quadrature_generator::generate(&crate_dir(), None).unwrap();
     let here = crate_dir();
     assert_eq!(stdout(&run("--rust", None, &here)), expected.tables_rs);
     assert_eq!(stdout(&run("--wgsl", None, &here)), expected.wgsl);
@@ -68,7 +68,8 @@ fn a_relative_scene_is_read_from_the_runtime_crate_wherever_it_runs() {
     // directory.
     let elsewhere = Scratch::new("cwd");
     let scene = "examples/scenes/minimal.toml";
-    let expected = spectral_quadrature_build::generate(&crate_dir(), Some(scene.as_ref())).unwrap();
+    let expected =
+        spectral_quadrature_generator::generate(&crate_dir(), Some(scene.as_ref())).unwrap();
     let rust = run("--rust", Some(scene), &elsewhere.0);
     assert_eq!(stdout(&rust), expected.tables_rs);
     assert!(expected
@@ -85,7 +86,7 @@ fn a_relative_scene_is_read_from_the_runtime_crate_wherever_it_runs() {
     // Another scene bakes other tables.
     assert_ne!(
         expected.tables_rs,
-        spectral_quadrature_build::generate(&crate_dir(), None)
+        spectral_quadrature_generator::generate(&crate_dir(), None)
             .unwrap()
             .tables_rs
     );

@@ -12,7 +12,7 @@ use spectral_quadrature::tables::{self, displays, folded};
 use spectral_quadrature::{
     f32_budget, quantize_u16, quantize_u8, Display, FoldedSet, GamutMapping, Rgb, WavelengthSet,
 };
-use spectral_quadrature_build::{derive, Settings};
+use spectral_quadrature_generator::{derive, Settings};
 
 /// The runtime crate's data directory, which its build script bakes the tables from.
 pub const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");

@@ -114,7 +114,7 @@ fn round_sig(x: f64) -> String {
 /// under the light has Y = 1.
 fn write_reference(args: &Args, path: &std::path::Path) -> Result<(), Error> {
     use std::fmt::Write as _;
-    let d = spectral_quadrature_build::derive(&tools::settings())?;
+    let d = spectral_quadrature_generator::derive(&tools::settings())?;
     let data = cb::read_data(std::path::Path::new(tools::DATA_DIR))?;
     let scene = m::Scene::new(&data.quads, 556.0 / args.patches.max(1) as f64, args.size);
     let curve = cb::light_curve(&data, &d, Light::Box)?;
@@ -125,7 +125,7 @@ fn write_reference(args: &Args, path: &std::path::Path) -> Result<(), Error> {
     let white = m::white(&d, &curve, &image, &painted)?;
     let light_y = m::xyz_1nm(&d, |l| curve.at(l))?[1];
     let (_, srgb) = d.display("SRGB")?;
-    let rgb = spectral_quadrature_build::upsampling::exact_rgb(&d, srgb, &curve, &data.paints)?;
+    let rgb = spectral_quadrature_generator::upsampling::exact_rgb(&d, srgb, &curve, &data.paints)?;
     let mut text = format!(
         "# The cornell tool's 1 nm reference under the box's light (--patches {}), XYZ with the light's Y = 1\n# size {}\n# white {:.9} {:.9} {:.9}\n",
         args.patches,
@@ -181,7 +181,7 @@ fn run(args: &Args) -> Result<(), Error> {
         path: args.out.clone(),
         source: e,
     })?;
-    let d = spectral_quadrature_build::derive(&tools::settings())?;
+    let d = spectral_quadrature_generator::derive(&tools::settings())?;
     let data = cb::read_data(std::path::Path::new(tools::DATA_DIR))?;
     let patch_mm = 556.0 / args.patches.max(1) as f64;
     let scene = m::Scene::new(&data.quads, patch_mm, args.size);

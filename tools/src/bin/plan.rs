@@ -23,7 +23,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::{Parser, ValueEnum};
-use spectral_quadrature_build::plan::{self, fmt_de, Candidate, Metric, Plan};
+use spectral_quadrature_generator::plan::{self, fmt_de, Candidate, Metric, Plan};
 use spectral_quadrature_spectra::{
     builtin_illuminant, surfaces_under_lights, Curve, Spectra, Stimulus,
 };
@@ -81,7 +81,7 @@ fn run(args: &Args) -> Result<(), Error> {
     let start = Instant::now();
     let budget = args.max_delta_e;
     let metric = Metric::from(args.metric);
-    let d = spectral_quadrature_build::derive(&tools::settings())?;
+    let d = spectral_quadrature_generator::derive(&tools::settings())?;
     tools::warn_zeroed("plan", &d.observer.zeroed);
     let displays = check_displays(&d, &args.displays)?;
     let range = d.settings.range_nm;
@@ -98,7 +98,7 @@ fn run(args: &Args) -> Result<(), Error> {
     );
     let display_refs: Vec<&str> = displays.iter().map(String::as_str).collect();
     let scene = tools::scene_file::scene_toml(&p, d.settings.observer.name(), &display_refs, &note);
-    let chosen_set = spectral_quadrature_build::catalog::resolve(&d, &p.chosen.name)?;
+    let chosen_set = spectral_quadrature_generator::catalog::resolve(&d, &p.chosen.name)?;
     let summary = summary(&p, &described, &chosen_set.wavelengths_nm, elapsed);
     if args.out.as_os_str() == "-" {
         eprint!("{summary}");
@@ -116,16 +116,16 @@ fn run(args: &Args) -> Result<(), Error> {
 }
 
 /// The displays, by the names the scene uses (any case); an unknown name is
-/// [`spectral_quadrature_build::Error::UnknownDisplay`], listing the valid ones.
+/// [`spectral_quadrature_generator::Error::UnknownDisplay`], listing the valid ones.
 fn check_displays(
-    d: &spectral_quadrature_build::Derivation,
+    d: &spectral_quadrature_generator::Derivation,
     names: &[String],
 ) -> Result<Vec<String>, Error> {
     let mut out: Vec<String> = Vec::new();
     for n in names {
         let (spec, _) = d.display(&n.to_ascii_uppercase()).map_err(|e| match e {
-            spectral_quadrature_build::Error::UnknownDisplay { valid, .. } => {
-                spectral_quadrature_build::Error::UnknownDisplay {
+            spectral_quadrature_generator::Error::UnknownDisplay { valid, .. } => {
+                spectral_quadrature_generator::Error::UnknownDisplay {
                     name: n.clone(),
                     valid,
                 }

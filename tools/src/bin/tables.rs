@@ -80,17 +80,17 @@ fn main() {
 }
 
 /// Prints what the runtime's build script writes for the scene of `SPECTRAL_QUADRATURE_SCENE`:
-/// the same call ([`spectral_quadrature_build::generate`]) on the same crate directory, so the same bytes.
-fn print_baked(args: &Args) -> Result<(), spectral_quadrature_build::Error> {
+/// the same call ([`spectral_quadrature_generator::generate`]) on the same crate directory, so the same bytes.
+fn print_baked(args: &Args) -> Result<(), spectral_quadrature_generator::Error> {
     let crate_dir = std::fs::canonicalize(tools::CRATE_DIR).map_err(|e| {
-        spectral_quadrature_build::Error::Data(DataError {
+        spectral_quadrature_generator::Error::Data(DataError {
             file: tools::CRATE_DIR.into(),
             line: 0,
             message: format!("cannot find the runtime crate: {e}"),
         })
     })?;
-    let scene = std::env::var_os(spectral_quadrature_build::SCENE_ENV);
-    let out = spectral_quadrature_build::generate(&crate_dir, scene.as_deref())?;
+    let scene = std::env::var_os(spectral_quadrature_generator::SCENE_ENV);
+    let out = spectral_quadrature_generator::generate(&crate_dir, scene.as_deref())?;
     let text = if args.rust {
         out.tables_rs
     } else if args.wgsl {
@@ -110,32 +110,33 @@ fn print_baked(args: &Args) -> Result<(), spectral_quadrature_build::Error> {
 }
 
 /// The other observers, derived here in f64 with their default settings.
-fn other_observers() -> Vec<spectral_quadrature_build::Derivation> {
-    spectral_quadrature_build::ObserverId::ALL
+fn other_observers() -> Vec<spectral_quadrature_generator::Derivation> {
+    spectral_quadrature_generator::ObserverId::ALL
         .into_iter()
         .filter(|id| id.name() != tables::OBSERVER)
         .map(|id| {
-            spectral_quadrature_build::Settings::for_observer(id, tools::DATA_DIR)
-                .and_then(|s| spectral_quadrature_build::derive(&s))
+            spectral_quadrature_generator::Settings::for_observer(id, tools::DATA_DIR)
+                .and_then(|s| spectral_quadrature_generator::derive(&s))
                 .unwrap_or_else(|e| panic!("deriving {}: {e}", id.name()))
         })
         .collect()
 }
 
 /// Searches every set of the node cache afresh and prints the cache file.
-fn print_shared_cache() -> Result<(), spectral_quadrature_build::Error> {
-    let d = spectral_quadrature_build::derive(&tools::settings())?;
-    let text =
-        spectral_quadrature_build::shared::cache_file(&d, |name| eprintln!("searching {name}"))?;
+fn print_shared_cache() -> Result<(), spectral_quadrature_generator::Error> {
+    let d = spectral_quadrature_generator::derive(&tools::settings())?;
+    let text = spectral_quadrature_generator::shared::cache_file(&d, |name| {
+        eprintln!("searching {name}")
+    })?;
     print!("{text}");
     Ok(())
 }
 
 /// Fits every upsampling of the default scene afresh and prints the cache file.
-fn print_upsampling_cache() -> Result<(), spectral_quadrature_build::Error> {
+fn print_upsampling_cache() -> Result<(), spectral_quadrature_generator::Error> {
     let settings = tools::settings();
-    let d = spectral_quadrature_build::derive(&settings)?;
-    let scene = spectral_quadrature_build::scene::Scene::default_scene(&settings.data_dir);
+    let d = spectral_quadrature_generator::derive(&settings)?;
+    let scene = spectral_quadrature_generator::scene::Scene::default_scene(&settings.data_dir);
     let resolved = scene.resolve_fitting(&d)?;
     print!("{}", resolved.upsampling_cache_file(&d)?);
     Ok(())

@@ -197,7 +197,7 @@ pub struct Mesh {
 /// form factors in.
 pub fn read_quads(text: &str, closed: bool) -> Result<Vec<Quad>, Error> {
     let bad = |line: usize, m: &str| {
-        Error::Derive(spectral_quadrature_build::Error::Numerical(format!(
+        Error::Derive(spectral_quadrature_generator::Error::Numerical(format!(
             "cornell_box_geometry.csv line {line}: {m}"
         )))
     };

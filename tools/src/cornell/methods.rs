@@ -16,8 +16,8 @@
 use std::time::Instant;
 
 use nalgebra::DMatrix;
-use spectral_quadrature_build::shared::{problem_for, Shared};
-use spectral_quadrature_build::{Derivation, WavelengthSet};
+use spectral_quadrature_generator::shared::{problem_for, Shared};
+use spectral_quadrature_generator::{Derivation, WavelengthSet};
 use spectral_quadrature_math::{delta_e2000, lab_from_xyz};
 use spectral_quadrature_spectra::Curve;
 
@@ -141,7 +141,7 @@ pub struct FoldedSet {
     /// The set.
     pub shared: Shared,
     /// The generator's light over the light given: the problem scales the light to the
-    /// luminance of an equal-energy spectrum of 1 ([`spectral_quadrature_build::shared::Problem::light`]),
+    /// luminance of an equal-energy spectrum of 1 ([`spectral_quadrature_generator::shared::Problem::light`]),
     /// so the folded weights give `scale` times the reference's XYZ.
     pub scale: f64,
 }
@@ -167,7 +167,7 @@ impl FoldedSet {
 }
 
 /// The shared sets `KQ_<light>_<n>` for `light` (windowed), searched by the generator
-/// ([`problem_for`], then [`spectral_quadrature_build::shared::Problem::shared`]).
+/// ([`problem_for`], then [`spectral_quadrature_generator::shared::Problem::shared`]).
 pub fn folded_sets(
     d: &Derivation,
     light: &Curve,
@@ -217,7 +217,7 @@ pub fn radiance(
     light: &Curve,
     paints: &[Curve; 3],
 ) -> Result<Spectral, Error> {
-    let set = spectral_quadrature_build::catalog::resolve(d, &format!("KQ_{n}"))?;
+    let set = spectral_quadrature_generator::catalog::resolve(d, &format!("KQ_{n}"))?;
     let eval = d.eval_set(&set, "KQ");
     let nodes = eval.wavelengths_nm.clone();
     Ok(Spectral {
@@ -257,7 +257,7 @@ pub fn rgb(
     let rgb_paints = match albedo {
         Albedo::D65 => crate::upsampling::srgb_under_d65(d, paints)?,
         Albedo::UnderLight => {
-            spectral_quadrature_build::upsampling::exact_rgb(d, m, light, paints)?
+            spectral_quadrature_generator::upsampling::exact_rgb(d, m, light, paints)?
         }
     };
     let xyz = xyz_1nm(d, |l| light.at(l))?;
@@ -278,7 +278,7 @@ pub fn rgb(
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Upsampler {
     /// The crate's map for the set, baked by the generator
-    /// ([`spectral_quadrature_build::upsampling::bake`], the programme the build runs for a
+    /// ([`spectral_quadrature_generator::upsampling::bake`], the programme the build runs for a
     /// scene's `[upsampling]`) under the set's light and evaluated by the runtime's
     /// [`spectral_quadrature::Upsampling`]; the RGB is the paint's white-balanced linear sRGB
     /// under that light (the map's convention).
@@ -300,22 +300,22 @@ pub fn upsampled(
     let (_, m) = d.display("SRGB")?;
     let values: Vec<Vec<f64>> = match how {
         Upsampler::CrateMap => {
-            let rgb = spectral_quadrature_build::upsampling::exact_rgb(d, m, light, paints)?;
-            let training = spectral_quadrature_build::upsampling::training(
+            let rgb = spectral_quadrature_generator::upsampling::exact_rgb(d, m, light, paints)?;
+            let training = spectral_quadrature_generator::upsampling::training(
                 &d.settings.data_dir,
                 d.settings.range_nm,
             )?;
-            let baked = spectral_quadrature_build::upsampling::bake(
+            let baked = spectral_quadrature_generator::upsampling::bake(
                 d,
                 &set.wavelength_set(d),
                 ("SRGB", m),
                 light,
                 true,
                 &training,
-                spectral_quadrature_build::upsampling::DEFAULT_GRID,
+                spectral_quadrature_generator::upsampling::DEFAULT_GRID,
             )?;
             crate::upsampling::runtime_values(&baked, &rgb)?.ok_or_else(|| {
-                Error::Derive(spectral_quadrature_build::Error::Numerical(format!(
+                Error::Derive(spectral_quadrature_generator::Error::Numerical(format!(
                     "no runtime upsampling path for {} nodes",
                     baked.wavelengths_nm.len()
                 )))

@@ -120,7 +120,7 @@ pub fn window(light: &Curve) -> Curve {
 /// The light `which`, windowed to 400-700 nm ([`window`]).
 pub fn light_curve(
     data: &BoxData,
-    d: &spectral_quadrature_build::Derivation,
+    d: &spectral_quadrature_generator::Derivation,
     which: Light,
 ) -> Result<Curve, Error> {
     let raw = match which {

@@ -11,7 +11,7 @@
 //! table's interpolation.
 
 use nalgebra::{Matrix3, Vector3};
-use spectral_quadrature_build::Derivation;
+use spectral_quadrature_generator::Derivation;
 use spectral_quadrature_math::lab_from_xyz;
 use spectral_quadrature_spectra::Curve;
 

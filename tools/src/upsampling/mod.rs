@@ -1,5 +1,5 @@
 //! RGB materials under another light (report section 8): the crate's upsampling
-//! ([`spectral_quadrature_build::upsampling`]) beside the peers a renderer would use instead,
+//! ([`spectral_quadrature_generator::upsampling`]) beside the peers a renderer would use instead,
 //! each judged by relighting.
 //!
 //! **The relighting test** ([`relit_de00`]). A real reflectance's linear sRGB under D65
@@ -19,8 +19,8 @@
 pub mod jakob_hanika;
 pub mod smooth;
 
-use spectral_quadrature_build::upsampling::Baked;
-use spectral_quadrature_build::Derivation;
+use spectral_quadrature_generator::upsampling::Baked;
+use spectral_quadrature_generator::Derivation;
 use spectral_quadrature_math::{delta_e2000, lab_from_xyz};
 use spectral_quadrature_spectra::{builtin_illuminant, Curve, EvalSet};
 
@@ -31,7 +31,7 @@ use crate::Error;
 pub fn srgb_under_d65(d: &Derivation, reflectances: &[Curve]) -> Result<Vec<[f64; 3]>, Error> {
     let (_, m) = d.display("SRGB")?;
     let d65 = d65(d)?;
-    Ok(spectral_quadrature_build::upsampling::exact_rgb(
+    Ok(spectral_quadrature_generator::upsampling::exact_rgb(
         d,
         m,
         &d65,
@@ -148,7 +148,7 @@ pub fn bounded_exact_linear_residual(encoding: &[Vec<f64>; 3]) -> Result<f64, Er
         rhs.push(1.0);
     }
     let u = std::vec![0.25; vars];
-    let s = spectral_quadrature_build::upsampling::nearest_in_box(&u, &rows, &rhs)?;
+    let s = spectral_quadrature_generator::upsampling::nearest_in_box(&u, &rows, &rhs)?;
     Ok(s.residual.iter().fold(0.0f64, |m, r| m.max(r.abs())))
 }
 
@@ -169,7 +169,9 @@ pub fn runtime_values(b: &Baked, rgb: &[[f64; 3]]) -> Result<Option<Vec<Vec<f64>
         let u =
             spectral_quadrature::Upsampling::new("", "", "", wavelengths_nm, b.grid, table, None)
                 .map_err(|e| {
-                Error::Derive(spectral_quadrature_build::Error::Numerical(e.to_string()))
+                Error::Derive(spectral_quadrature_generator::Error::Numerical(
+                    e.to_string(),
+                ))
             })?;
         Ok(rgb
             .iter()

@@ -1,7 +1,7 @@
 //! Two peers that build spectra from a few smooth spectra of given colours, each derived here
 //! by its paper's recipe on the crate's observer: the smoothest spectra (least squares of first
 //! differences) in [0, 1] whose white-balanced sRGB under D65 is the given colour, solved with
-//! the box programme of the crate's upsampling ([`spectral_quadrature_build::upsampling::nearest_in_box`]).
+//! the box programme of the crate's upsampling ([`spectral_quadrature_generator::upsampling::nearest_in_box`]).
 //!
 //! - [`MallettYuksel`]: Mallett and Yuksel (2019), *Spectral Primary Decomposition for
 //!   Rendering with sRGB Reflectance*: three basis spectra, red, green and blue, that sum to 1
@@ -13,8 +13,8 @@
 //!   380-720 nm (the last bin held beyond); a colour is the smallest channel's white, plus the
 //!   secondary and primary that make up the rest.
 
-use spectral_quadrature_build::upsampling::nearest_in_box;
-use spectral_quadrature_build::Derivation;
+use spectral_quadrature_generator::upsampling::nearest_in_box;
+use spectral_quadrature_generator::Derivation;
 
 use crate::Error;
 

@@ -11,7 +11,7 @@ use crate::plot::plot_err;
 use crate::tools::budget::{self, Entry, LIGHTS, METHODS};
 use crate::tools::csv_table::Table;
 use crate::{time_set, Error};
-use spectral_quadrature_build::{shared, Derivation};
+use spectral_quadrature_generator::{shared, Derivation};
 use spectral_quadrature_spectra::{builtin_illuminant, surfaces_under_lights, Curve, EvalSet};
 
 /// Text, and the files written (budget.csv, budget.svg). `shared_sizes`: the sizes of the

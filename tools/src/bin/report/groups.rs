@@ -1,5 +1,5 @@
 //! Section 9: several lights in one scene. A light group (one node set shared by the lights, a
-//! weight matrix folded per light, `spectral_quadrature_build::shared::GroupFit`) against each
+//! weight matrix folded per light, `spectral_quadrature_generator::shared::GroupFit`) against each
 //! light's own folded set and against one radiance set fitted on the same lights, judged by
 //! five-fold cross-validation on reflectances no fit saw (`tools::light_groups`).
 //!
@@ -11,8 +11,8 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use spectral_quadrature_build::shared::TRAINING_FILE;
-use spectral_quadrature_build::Derivation;
+use spectral_quadrature_generator::shared::TRAINING_FILE;
+use spectral_quadrature_generator::Derivation;
 use spectral_quadrature_spectra::{builtin_illuminant, Curve, Spectra};
 use spectral_quadrature_tools as tools;
 use tools::csv_table::Table;

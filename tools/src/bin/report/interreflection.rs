@@ -13,8 +13,8 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use plotters::prelude::*;
-use spectral_quadrature_build::shared::TRAINING_FILE;
-use spectral_quadrature_build::Derivation;
+use spectral_quadrature_generator::shared::TRAINING_FILE;
+use spectral_quadrature_generator::Derivation;
 use spectral_quadrature_spectra::{builtin_illuminant, Curve, Spectra};
 
 use crate::plot::{legend, legend_height, plot_err};

@@ -41,7 +41,7 @@ use std::time::Instant;
 
 use clap::Parser;
 use spectral_quadrature::{tables, FoldedSet, WavelengthSet};
-use spectral_quadrature_build::Derivation;
+use spectral_quadrature_generator::Derivation;
 use spectral_quadrature_spectra::{
     builtin_illuminant, emissions, surfaces_under_lights, Curve, Errors, EvalSet, Reference,
     Spectra, Stimulus,
@@ -195,7 +195,7 @@ fn run(args: &Args) -> Result<(), Error> {
         start: Instant::now(),
     };
     progress.next();
-    let d = spectral_quadrature_build::derive(&tools::settings())?;
+    let d = spectral_quadrature_generator::derive(&tools::settings())?;
     tools::warn_zeroed("report", &d.observer.zeroed);
     let range = d.settings.range_nm;
     let reference_set = d.observer.full_integration(range, 1.0)?;
@@ -286,7 +286,8 @@ fn run(args: &Args) -> Result<(), Error> {
     let radiance = tools::budget::shared_sets_sized(&d, None, work.shared_sizes.clone())?;
     sets.extend(radiance.iter().cloned());
     for n in tools::budget::BUDGETS {
-        if let Ok(a) = spectral_quadrature_build::catalog::resolve(&d, &format!("INTERP_A_{n}")) {
+        if let Ok(a) = spectral_quadrature_generator::catalog::resolve(&d, &format!("INTERP_A_{n}"))
+        {
             sets.push(d.eval_set(&a, "interp A"));
         }
     }

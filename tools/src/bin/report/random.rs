@@ -18,7 +18,7 @@ use crate::tools::random_wavelengths::{
     pixel_rng, reach, run_trials, Cells, Config, Reach, Sampler, SensorRgb, Summary, Target, Trials,
 };
 use crate::{time_set, Error};
-use spectral_quadrature_build::Derivation;
+use spectral_quadrature_generator::Derivation;
 use spectral_quadrature_spectra::{
     surfaces_under_lights, Curve, EvalSet, Reference, Spectra, Stimulus,
 };

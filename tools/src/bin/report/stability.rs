@@ -11,7 +11,7 @@ use crate::tools::csv_table::Table;
 use crate::tools::sensitivity::{shifts, standard_variants};
 use crate::tools::stability;
 use crate::Error;
-use spectral_quadrature_build::{derive, Settings, Status};
+use spectral_quadrature_generator::{derive, Settings, Status};
 
 const CHANNELS: [&str; 3] = ["A", "C1", "C2"];
 

@@ -13,8 +13,8 @@ use std::path::{Path, PathBuf};
 
 use crate::plot::{self, plot_err};
 use plotters::prelude::*;
-use spectral_quadrature_build::upsampling::{self as up, Baked};
-use spectral_quadrature_build::Derivation;
+use spectral_quadrature_generator::upsampling::{self as up, Baked};
+use spectral_quadrature_generator::Derivation;
 use spectral_quadrature_spectra::{builtin_illuminant, Curve, Spectra};
 use spectral_quadrature_tools as tools;
 use tools::csv_table::Table;
@@ -123,7 +123,7 @@ pub fn section(i: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
     let mut props = String::new();
     let mut shipped_cc: Vec<(usize, f64, f64)> = Vec::new();
     for n in SIZES {
-        let set = spectral_quadrature_build::catalog::resolve(d, &std::format!("KQ_{n}"))?;
+        let set = spectral_quadrature_generator::catalog::resolve(d, &std::format!("KQ_{n}"))?;
         let eval = d.eval_set(&set, "KQ radiance");
         let nodes = &set.wavelengths_nm;
         // The crate's maps, fold by fold.
@@ -321,7 +321,7 @@ pub fn section(i: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
 /// linear map bounded and exact at once exists, the Lipschitz constant, the round trip at the
 /// reachable grid points and the table's bytes.
 fn default_scene_maps(d: &Derivation) -> Result<String, Error> {
-    let scene = spectral_quadrature_build::scene::Scene::default_scene(&d.settings.data_dir);
+    let scene = spectral_quadrature_generator::scene::Scene::default_scene(&d.settings.data_dir);
     let resolved = scene.resolve(d)?;
     let mut o = String::new();
     writeln!(

@@ -7,8 +7,8 @@ use std::path::Path;
 
 use crate::tools::budget;
 use crate::Error;
-use spectral_quadrature_build::scene::Scene;
-use spectral_quadrature_build::{self, shared, user, Derivation};
+use spectral_quadrature_generator::scene::Scene;
+use spectral_quadrature_generator::{self, shared, user, Derivation};
 use spectral_quadrature_spectra::{
     builtin_illuminant, surfaces_under_lights, Curve, DataError, EvalSet, Spectra, Stimulus,
 };
@@ -94,7 +94,7 @@ pub fn scene_extras(
     })?;
     let scene = Scene::parse(&label, &text, &d.settings.data_dir)?;
     if scene.settings != d.settings {
-        return Err(spectral_quadrature_build::Error::Settings(format!(
+        return Err(spectral_quadrature_generator::Error::Settings(format!(
             "{label}: the report runs on the default settings ({}); the scene asks for {}",
             d.settings, scene.settings
         ))
@@ -103,7 +103,7 @@ pub fn scene_extras(
     let (lights, fitted) = scene.resolve_user(d)?;
     crate::tools::warn_zeroed(
         "report",
-        &spectral_quadrature_build::scene::user_warnings(&lights, &fitted),
+        &spectral_quadrature_generator::scene::user_warnings(&lights, &fitted),
     );
     for l in &lights {
         if let Some(other) = illuminants.iter().find(|o| o.name == l.name) {
@@ -144,7 +144,7 @@ pub fn scene_extras(
     };
     let mut out = Vec::new();
     for (name, line) in &scene.sets {
-        let set = spectral_quadrature_build::catalog::resolve_with(d, name, &lights)
+        let set = spectral_quadrature_generator::catalog::resolve_with(d, name, &lights)
             // At the scene's line (a misspelt light's message lists the scene's lights too).
             .map_err(|e| Error::from(e.at(&label, *line as u64)))?;
         let light = set.light.as_deref().map(light_curve).transpose()?;

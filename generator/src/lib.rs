@@ -8,7 +8,7 @@
 //! data:
 //!
 //! ```
-//! use spectral_quadrature_build::{derive, Settings};
+//! use spectral_quadrature_generator::{derive, Settings};
 //! # let data_dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");
 //! // data_dir: a directory laid out like the runtime crate's data/ (CIE tables as CSV).
 //! let d = derive(&Settings::new(data_dir)).unwrap();
@@ -42,7 +42,7 @@
 //! # Layout
 //!
 //! The sources are grouped by role, each role a folder whose modules import only the roles
-//! below it (`python3 .ci/module-graph build/src` prints the graph and fails on a cycle):
+//! below it (`python3 .ci/module-graph generator/src` prints the graph and fails on a cycle):
 //!
 //! 1. `base`: the errors, the checksums of the data files, and the cache files;
 //! 2. `derivation`: [`Settings`], [`derive()`] and its steps (`observer`, `opponent`,

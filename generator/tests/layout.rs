@@ -22,12 +22,12 @@ fn every_scene() -> Vec<(String, String)> {
     assert!(scenes.len() >= 5, "{scenes:?}");
     let mut out = vec![(
         "default".to_string(),
-        spectral_quadrature_build::generate(&crate_dir(), None)
+        spectral_quadrature_generator::generate(&crate_dir(), None)
             .unwrap()
             .tables_rs,
     )];
     for path in scenes {
-        let tables = spectral_quadrature_build::generate(&crate_dir(), Some(path.as_os_str()))
+        let tables = spectral_quadrature_generator::generate(&crate_dir(), Some(path.as_os_str()))
             .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
             .tables_rs;
         out.push((path.display().to_string(), tables));
@@ -79,7 +79,7 @@ light = "F11"
     );
     let file = dir.join("long_names.toml");
     std::fs::write(&file, text).unwrap();
-    spectral_quadrature_build::generate(&crate_dir(), Some(file.as_os_str()))
+    spectral_quadrature_generator::generate(&crate_dir(), Some(file.as_os_str()))
         .unwrap()
         .tables_rs
 }

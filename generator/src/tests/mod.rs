@@ -2,7 +2,7 @@
 //! derivation, the observers' tables, the scene's parts, the caches, the upsampling's solver) through
 //! items that are `pub(crate)`, so that the crate's public surface stays what its users need.
 //! Each file is a module here; run one file's tests with its module name as the filter:
-//! `cargo test -p spectral-quadrature-build --lib -- tests::calibration::`. The tests that use
+//! `cargo test -p spectral-quadrature-generator --lib -- tests::calibration::`. The tests that use
 //! the public API alone (the layout of the generated tables, the data files' provenance) are the
 //! integration tests of `tests/`.
 

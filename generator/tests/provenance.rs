@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use spectral_quadrature_build::generate;
+use spectral_quadrature_generator::generate;
 
 /// The runtime crate (its `data/` holds the data files).
 fn crate_dir() -> PathBuf {

@@ -46,8 +46,8 @@ pub struct Output {
 /// ```no_run
 /// // build.rs of the runtime crate
 /// let crate_dir = std::path::PathBuf::from(std::env::var_os("CARGO_MANIFEST_DIR").unwrap());
-/// let scene = std::env::var_os(spectral_quadrature_build::SCENE_ENV);
-/// let out = spectral_quadrature_build::generate(&crate_dir, scene.as_deref()).unwrap();
+/// let scene = std::env::var_os(spectral_quadrature_generator::SCENE_ENV);
+/// let out = spectral_quadrature_generator::generate(&crate_dir, scene.as_deref()).unwrap();
 /// // ... print out.rerun_if_changed and out.warnings, write out.tables_rs, out.wgsl and
 /// // out.glsl to OUT_DIR
 /// ```

@@ -4,7 +4,7 @@
 //! the `UNIFORM_<n>` sets; [`catalog`]) and the shared sets ([`shared_sets`]).
 //!
 //! ```
-//! use spectral_quadrature_build::{derive, plan, Settings};
+//! use spectral_quadrature_generator::{derive, plan, Settings};
 //! use spectral_quadrature_spectra::{builtin_illuminant, surfaces_under_lights, Spectra};
 //! # let data_dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../data");
 //! // data_dir: a directory laid out like spectral-quadrature's data/

@@ -16,7 +16,7 @@
 //! eigenvectors of the KL transform (the C2 eigenvalue is the stiff one, λ1/λ3 ≈ 4700), the
 //! XYZ → AC1C2 matrix, α_k and β_k, every rule's classification (and the size of the complex
 //! pairs), and the nodes and weights of the defined and outside rules, each against a budget
-//! that says where it comes from. `cargo test -p spectral-quadrature-build --test integration -- high_precision:: --nocapture` prints the
+//! that says where it comes from. `cargo test -p spectral-quadrature-generator --test integration -- high_precision:: --nocapture` prints the
 //! measured errors, the budgets, and a table of every order's margins (about 15 s in debug, most
 //! of it the 192-bit root finding, shared by all tests).
 

@@ -50,7 +50,7 @@ pub(crate) fn gamma_encoders_rs<'a>(transfers: impl IntoIterator<Item = &'a Tran
     let mut o = layout::comment(
         0,
         "///",
-        "The 8-bit encoders of the baked displays' power laws (`TransferFunction::Gamma`), one per distinct γ: thresholds from build/src/emit/transfer_tables.rs.",
+        "The 8-bit encoders of the baked displays' power laws (`TransferFunction::Gamma`), one per distinct γ: thresholds from generator/src/emit/transfer_tables.rs.",
         0,
     );
     let encoders = gammas
