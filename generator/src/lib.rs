@@ -48,7 +48,9 @@
 //! 2. `derivation`: [`Settings`], [`derive()`] and its steps (`observer`, `opponent`,
 //!    [`quadrature`], `sets`), the display matrices ([`display`]), the exact integration on the
 //!    observer's grid, the Planckian locus and the exact CCT ([`PlanckianLocus`]);
-//! 3. `shared`: the shared sets ([`shared`]: model, fit, node search, node cache);
+//! 3. `shared`: the shared sets ([`shared`]: model, fit, node search, node cache, light
+//!    groups); beside it `upsampling`: RGB materials at a set's nodes ([`upsampling`]: a map's
+//!    grid, its training spectra, the bounded least squares, the maps' cache);
 //! 4. `scenes`: the scene file ([`scene`]), the sets by name ([`catalog`]), the user's inputs
 //!    ([`user`]), a sensor's white reference and fitted calibration ([`calibration`]) and the
 //!    planner ([`plan`]);
