@@ -7,10 +7,9 @@
 
 #![forbid(unsafe_code)]
 
+use crate::model::bits::same_f32_bits;
 use crate::pixel::{mat_vec, mat_vec_for_encoding};
-use crate::{
-    Display, Error, FoldedSet, GamutMapping, LightGroupProblem, Samples, TransferFunction,
-};
+use crate::{Display, Error, FoldedSet, GamutMapping, LightGroupProblem, Samples};
 
 /// N wavelengths shared by L lights, and one 3×N weight matrix (display RGB, like a
 /// [`FoldedSet`]'s) per light: the colour of a pixel lit by several lights of different
@@ -184,9 +183,9 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
             let problem = match m.samples {
                 Samples::Reflectance { light } => {
                     lights[l] = light;
-                    if !same_bits(&m.wavelengths_nm, &first.wavelengths_nm) {
+                    if !same_f32_bits(&m.wavelengths_nm, &first.wavelengths_nm) {
                         Some(LightGroupProblem::Wavelengths)
-                    } else if !same_display(&m.display, &first.display) {
+                    } else if !m.display.same_bits(&first.display) {
                         Some(LightGroupProblem::Display)
                     } else {
                         None
@@ -540,76 +539,4 @@ fn check_planes<const N: usize, const L: usize>(
         }
     }
     Ok(pixels)
-}
-
-/// Whether two arrays hold the same f32 bit patterns.
-const fn same_bits(a: &[f32], b: &[f32]) -> bool {
-    if a.len() != b.len() {
-        return false;
-    }
-    let mut i = 0;
-    while i < a.len() {
-        if a[i].to_bits() != b[i].to_bits() {
-            return false;
-        }
-        i += 1;
-    }
-    true
-}
-
-/// Whether two strings are the same text.
-const fn same_str(a: &str, b: &str) -> bool {
-    let (a, b) = (a.as_bytes(), b.as_bytes());
-    if a.len() != b.len() {
-        return false;
-    }
-    let mut i = 0;
-    while i < a.len() {
-        if a[i] != b[i] {
-            return false;
-        }
-        i += 1;
-    }
-    true
-}
-
-/// Whether two displays are the same, every field the same bits: `PartialEq` in a const fn
-/// (stricter only where one field holds 0.0 and the other −0.0).
-const fn same_display(a: &Display, b: &Display) -> bool {
-    let mut k = 0;
-    while k < 3 {
-        if !same_bits(&a.primaries_xy[k], &b.primaries_xy[k])
-            || !same_bits(&a.rgb_to_xyz[k], &b.rgb_to_xyz[k])
-            || !same_bits(&a.xyz_to_rgb[k], &b.xyz_to_rgb[k])
-        {
-            return false;
-        }
-        k += 1;
-    }
-    same_str(a.name, b.name)
-        && same_bits(&a.white_xy, &b.white_xy)
-        && same_bits(&a.a_from_rgb, &b.a_from_rgb)
-        && same_transfer(&a.transfer, &b.transfer)
-}
-
-/// Whether two transfer functions are the same variant with the same bits (a γ, or every
-/// entry of the three tables).
-const fn same_transfer(a: &TransferFunction, b: &TransferFunction) -> bool {
-    match (a, b) {
-        (TransferFunction::Linear, TransferFunction::Linear)
-        | (TransferFunction::Srgb, TransferFunction::Srgb) => true,
-        (TransferFunction::Gamma(x), TransferFunction::Gamma(y)) => x.to_bits() == y.to_bits(),
-        (TransferFunction::Lut(x), TransferFunction::Lut(y)) => {
-            let mut k = 0;
-            while k < 3 {
-                let c = crate::Rgb::ALL[k];
-                if !same_bits(x.table(c), y.table(c)) {
-                    return false;
-                }
-                k += 1;
-            }
-            true
-        }
-        _ => false,
-    }
 }

@@ -4,6 +4,7 @@
 
 use spectral_quadrature_math::{display_matrices, DisplayError, DisplayMatrices};
 
+use super::bits::{same_f32_bits, same_str};
 use super::transfer::{gamma_encoder, gamma_f32, quantize_u8, TransferFunction};
 use crate::encode::{clamp01, srgb8_not_nan};
 use crate::{Error, Rgb};
@@ -160,6 +161,26 @@ impl Display {
             a_from_rgb,
             transfer,
         })
+    }
+
+    /// Whether `other` is the same display, every field the same bits (name, chromaticities,
+    /// matrices, transfer function and its tables): `PartialEq` in a const fn, stricter only
+    /// where one field holds 0.0 and the other −0.0.
+    pub(crate) const fn same_bits(&self, other: &Display) -> bool {
+        let mut k = 0;
+        while k < 3 {
+            if !same_f32_bits(&self.primaries_xy[k], &other.primaries_xy[k])
+                || !same_f32_bits(&self.rgb_to_xyz[k], &other.rgb_to_xyz[k])
+                || !same_f32_bits(&self.xyz_to_rgb[k], &other.xyz_to_rgb[k])
+            {
+                return false;
+            }
+            k += 1;
+        }
+        same_str(self.name, other.name)
+            && same_f32_bits(&self.white_xy, &other.white_xy)
+            && same_f32_bits(&self.a_from_rgb, &other.a_from_rgb)
+            && self.transfer.same_bits(&other.transfer)
     }
 
     /// The same display with another transfer function (for example measured lookup tables).
