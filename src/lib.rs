@@ -139,11 +139,18 @@
 //!   per-pixel function's bits or bytes, and a call whose slices differ in length returns
 //!   [`Error::LengthMismatch`] before writing anything.
 //! - **One word per idea**: *samples* are the f32 values a set takes (and [`Samples`] says what
-//!   they are); *counts* are the u16 inputs of [`IntegerSet`]; an enum's text is its `name()`;
-//!   an error bound is `<WHAT>_MAX_ERROR`, with a unit suffix where the unit is not the
+//!   they are); *counts* are the u16 inputs of [`IntegerSet`]; an error bound is `<WHAT>_MAX_ERROR`, with a unit suffix where the unit is not the
 //!   quantity's own ([`INTEGER_MAX_ERROR_CODES`], [`SRGB8_MAX_ERROR_DE76`],
 //!   [`CCT_MAX_ERROR_MIRED`]); a channel of AC1C2 is a [`Channel`], of RGB an [`Rgb`], and a
 //!   sensor's channel is an index (`channel_index`).
+//! - **Names**: an enum's `name()` is its variant's identifier in kebab-case, lower-case words
+//!   joined by hyphens (`"clip"`, `"preserve-a"`, `"vanishing-norm"`, `"out-of-range"`): the
+//!   same text in every version, for CSV columns, logs and settings. Its `fmt::Display` is the
+//!   sentence for messages. The one exception is the channel selectors, named by their symbols
+//!   as the paper and colour science write them: [`Channel`] `"A"`, `"C1"`, `"C2"`, [`Rgb`]
+//!   `"R"`, `"G"`, `"B"`. A value's `name()` ([`Display::name`]) is the name it was made with
+//!   (`"sRGB"`, `"Display P3"` for the baked displays). `src/model/tests.rs` holds every public
+//!   enum to this.
 //! - **Errors**: every fallible function returns [`Error`]; a refused display is
 //!   [`Error::Display`] with the [`DisplayError`] the build-time generator reports too. Enums
 //!   that may grow (errors, problems, [`Samples`], [`GamutMapping`], [`TransferFunction`],

@@ -26,12 +26,25 @@ pub enum GamutMapping {
 }
 
 impl GamutMapping {
-    /// `"Clip"` or `"PreserveA"`: the variant's name, for logs and messages.
+    /// The mapping's identifier, `"clip"` or `"preserve-a"` (kebab-case, stable across
+    /// versions): for CSV columns, logs and settings. Its [`Display`](core::fmt::Display) is
+    /// the sentence for messages.
     pub const fn name(self) -> &'static str {
         match self {
-            GamutMapping::Clip => "Clip",
-            GamutMapping::PreserveA => "PreserveA",
+            GamutMapping::Clip => "clip",
+            GamutMapping::PreserveA => "preserve-a",
         }
+    }
+}
+
+impl core::fmt::Display for GamutMapping {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            GamutMapping::Clip => "each channel clamped to 0..=1",
+            GamutMapping::PreserveA => {
+                "the achromatic coordinate A kept, the colour moved toward the white axis"
+            }
+        })
     }
 }
 

@@ -117,16 +117,29 @@ pub enum LightGroupProblem {
 }
 
 impl LightGroupProblem {
-    /// A short description, for messages.
+    /// The problem's identifier, `"no-lights"`, `"not-reflectance"`, `"wavelengths"` or
+    /// `"display"` (kebab-case, stable across versions). Its [`Display`](fmt::Display) is the
+    /// sentence for messages.
     pub const fn name(self) -> &'static str {
         match self {
+            LightGroupProblem::NoLights => "no-lights",
+            LightGroupProblem::NotReflectance => "not-reflectance",
+            LightGroupProblem::Wavelengths => "wavelengths",
+            LightGroupProblem::Display => "display",
+        }
+    }
+}
+
+impl fmt::Display for LightGroupProblem {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
             LightGroupProblem::NoLights => "a light-group set needs at least one light",
             LightGroupProblem::NotReflectance => {
                 "the member is not a set for reflectances under a folded light"
             }
             LightGroupProblem::Wavelengths => "the member's wavelengths are not member 0's",
             LightGroupProblem::Display => "the member's display is not member 0's",
-        }
+        })
     }
 }
 
@@ -156,8 +169,7 @@ impl fmt::Display for Error {
                 problem,
             } => write!(
                 f,
-                "calibration of sensor channel {channel_index}: {}",
-                problem.name()
+                "calibration of sensor channel {channel_index}: {problem}"
             ),
             Error::InvalidWavelength { index } => write!(
                 f,
@@ -175,7 +187,7 @@ impl fmt::Display for Error {
             ),
             Error::IntegerTransfer => f.write_str("the transfer function has no integer encoder"),
             Error::LightGroup { light, problem } => {
-                write!(f, "light group {light}: {}", problem.name())
+                write!(f, "light group {light}: {problem}")
             }
         }
     }
@@ -212,12 +224,23 @@ pub enum CalibrationProblem {
 }
 
 impl CalibrationProblem {
-    /// A short description, for messages.
+    /// The problem's identifier, `"no-signal"`, `"reference"` or `"out-of-range"` (kebab-case,
+    /// stable across versions). Its [`Display`](fmt::Display) is the sentence for messages.
     pub const fn name(self) -> &'static str {
         match self {
+            CalibrationProblem::NoSignal => "no-signal",
+            CalibrationProblem::Reference => "reference",
+            CalibrationProblem::OutOfRange => "out-of-range",
+        }
+    }
+}
+
+impl fmt::Display for CalibrationProblem {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
             CalibrationProblem::NoSignal => "the white reading is not above the dark one",
             CalibrationProblem::Reference => "the reference reading is not finite and positive",
             CalibrationProblem::OutOfRange => "the gain or dark offset is out of range",
-        }
+        })
     }
 }

@@ -18,3 +18,6 @@ pub(crate) mod error;
 pub(crate) mod matrix;
 pub(crate) mod set;
 pub(crate) mod transfer;
+
+#[cfg(test)]
+mod tests;

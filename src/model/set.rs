@@ -21,7 +21,9 @@ pub enum RuleStatus {
 }
 
 impl RuleStatus {
-    /// `"defined"`, `"outside"`, `"complex"` or `"vanishing-norm"`.
+    /// The status's identifier, `"defined"`, `"outside"`, `"complex"` or `"vanishing-norm"`
+    /// (kebab-case, stable across versions; the generator's CSV files write the same words).
+    /// Its [`Display`](core::fmt::Display) is the sentence for messages.
     pub const fn name(self) -> &'static str {
         match self {
             RuleStatus::Defined => "defined",
@@ -29,6 +31,17 @@ impl RuleStatus {
             RuleStatus::Complex => "complex",
             RuleStatus::VanishingNorm => "vanishing-norm",
         }
+    }
+}
+
+impl core::fmt::Display for RuleStatus {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            RuleStatus::Defined => "all nodes real and inside the range",
+            RuleStatus::Outside => "a node outside the range",
+            RuleStatus::Complex => "complex nodes",
+            RuleStatus::VanishingNorm => "the orthogonal polynomial of this order does not exist",
+        })
     }
 }
 
