@@ -8,8 +8,9 @@
 #![forbid(unsafe_code)]
 
 use crate::model::bits::same_f32_bits;
+use crate::model::error::{check_length, planar_pixels};
 use crate::pixel::{mat_vec, mat_vec_for_encoding};
-use crate::{Display, Error, FoldedSet, GamutMapping, LightGroupProblem, Samples};
+use crate::{Display, Error, FoldedSet, GamutMapping, LengthOf, LightGroupProblem, Samples};
 
 /// N wavelengths shared by L lights, and one 3×N weight matrix (display RGB, like a
 /// [`FoldedSet`]'s) per light: the colour of a pixel lit by several lights of different
@@ -325,13 +326,14 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
     /// the same bits.
     ///
     /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless
-    /// `groups.len() == out.len()`.
+    /// `groups.len() == out.len()`: [`LengthOf::Output`], `expected` the input's pixels, `got`
+    /// the output's.
     pub fn linear_rgb_batch(
         &self,
         groups: &[[[f32; N]; L]],
         out: &mut [[f32; 3]],
     ) -> Result<(), Error> {
-        check(groups.len(), out.len())?;
+        check_length(LengthOf::Output, groups.len(), out.len())?;
         for (o, g) in out.iter_mut().zip(groups) {
             *o = self.linear_rgb(g);
         }
@@ -341,14 +343,15 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
     /// [`encode_u8`](Self::encode_u8) for every pixel, the same bytes (NaN anywhere in a
     /// pixel's sum → black). Pixel by pixel.
     ///
-    /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless the lengths agree.
+    /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless the lengths agree
+    /// ([`LengthOf::Output`]).
     pub fn encode_u8_batch(
         &self,
         mapping: GamutMapping,
         groups: &[[[f32; N]; L]],
         out: &mut [[u8; 3]],
     ) -> Result<(), Error> {
-        check(groups.len(), out.len())?;
+        check_length(LengthOf::Output, groups.len(), out.len())?;
         for (o, g) in out.iter_mut().zip(groups) {
             *o = self.encode_u8(mapping, g);
         }
@@ -358,14 +361,15 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
     /// [`encode_u16`](Self::encode_u16) for every pixel, the same values (NaN anywhere in a
     /// pixel's sum → black).
     ///
-    /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless the lengths agree.
+    /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless the lengths agree
+    /// ([`LengthOf::Output`]).
     pub fn encode_u16_batch(
         &self,
         mapping: GamutMapping,
         groups: &[[[f32; N]; L]],
         out: &mut [[u16; 3]],
     ) -> Result<(), Error> {
-        check(groups.len(), out.len())?;
+        check_length(LengthOf::Output, groups.len(), out.len())?;
         for (o, g) in out.iter_mut().zip(groups) {
             *o = self.encode_u16(mapping, g);
         }
@@ -381,9 +385,9 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
     /// and its input handling. Never panics.
     ///
     /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless every plane and every
-    /// output has the same length; `inputs` is then the length of `planes[0][0]` and `outputs`
-    /// the first length (another plane's, in light then wavelength order, or an output's) that
-    /// differs from it. With N = 0 there are no planes: the number of pixels is the length of
+    /// output has the same length, at the first that differs from `planes[0][0]`'s
+    /// (`expected`): [`LengthOf::InputPlane`] for another plane, in light then wavelength order,
+    /// [`LengthOf::OutputPlane`] for a plane of `out`. With N = 0 there are no planes: the number of pixels is the length of
     /// `out[0]`, and every pixel is `[0.0, 0.0, 0.0]`.
     pub fn linear_rgb_planar(
         &self,
@@ -404,7 +408,7 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
     ///
     /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless every plane and `out`
     /// have the same length, reported as for [`linear_rgb_planar`](Self::linear_rgb_planar)
-    /// (with N = 0, `out.len()` is the number of pixels).
+    /// ([`LengthOf::Output`] for `out`; with N = 0, `out.len()` is the number of pixels).
     pub fn encode_u8_planar_to_interleaved(
         &self,
         mapping: GamutMapping,
@@ -436,7 +440,8 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
     /// handling. As [`FoldedSet::encode_u16_planar_to_interleaved`].
     ///
     /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless every plane and `out`
-    /// have the same length, reported as for [`linear_rgb_planar`](Self::linear_rgb_planar).
+    /// have the same length, reported as for [`linear_rgb_planar`](Self::linear_rgb_planar)
+    /// ([`LengthOf::Output`] for `out`).
     pub fn encode_u16_planar_to_interleaved(
         &self,
         mapping: GamutMapping,
@@ -470,14 +475,18 @@ fn add(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
 }
 
 /// The planar functions' loop, output in planes: `out[c][p]` is channel c of `pixel` of pixel
-/// p's groups, after [`check_planes`] (nothing written on a mismatch).
+/// p's groups, after [`planar_pixels`] (nothing written on a mismatch).
 #[inline(always)]
 fn to_planes<T, const N: usize, const L: usize>(
     planes: [[&[f32]; N]; L],
     out: [&mut [T]; 3],
     pixel: impl Fn(&[[f32; N]; L]) -> [T; 3],
 ) -> Result<(), Error> {
-    let pixels = check_planes(&planes, &[out[0].len(), out[1].len(), out[2].len()])?;
+    let pixels = planar_pixels(
+        plane_lengths(&planes),
+        LengthOf::OutputPlane,
+        &[out[0].len(), out[1].len(), out[2].len()],
+    )?;
     let planes = planes.map(|light| light.map(|plane| &plane[..pixels]));
     let [r, g, b] = out;
     let (r, g, b) = (&mut r[..pixels], &mut g[..pixels], &mut b[..pixels]);
@@ -488,14 +497,14 @@ fn to_planes<T, const N: usize, const L: usize>(
 }
 
 /// The planar functions' loop, output interleaved: `out[p]` is `pixel` of pixel p's groups,
-/// after [`check_planes`] (nothing written on a mismatch).
+/// after [`planar_pixels`] (nothing written on a mismatch).
 #[inline(always)]
 fn to_interleaved<T, const N: usize, const L: usize>(
     planes: [[&[f32]; N]; L],
     out: &mut [[T; 3]],
     pixel: impl Fn(&[[f32; N]; L]) -> [T; 3],
 ) -> Result<(), Error> {
-    let pixels = check_planes(&planes, &[out.len()])?;
+    let pixels = planar_pixels(plane_lengths(&planes), LengthOf::Output, &[out.len()])?;
     let planes = planes.map(|light| light.map(|plane| &plane[..pixels]));
     for (p, o) in out[..pixels].iter_mut().enumerate() {
         *o = pixel(&gather(&planes, p));
@@ -503,40 +512,16 @@ fn to_interleaved<T, const N: usize, const L: usize>(
     Ok(())
 }
 
+/// The planes' lengths, light by light, wavelength by wavelength: the order in which
+/// [`planar_pixels`] checks them.
+fn plane_lengths<'a, const N: usize, const L: usize>(
+    planes: &'a [[&[f32]; N]; L],
+) -> impl Iterator<Item = usize> + 'a {
+    planes.iter().flatten().map(|p| p.len())
+}
+
 /// Pixel p's groups from planes that each hold more than p values.
 #[inline(always)]
 fn gather<const N: usize, const L: usize>(planes: &[[&[f32]; N]; L], p: usize) -> [[f32; N]; L] {
     planes.map(|light| light.map(|plane| plane[p]))
-}
-
-/// `Err(LengthMismatch)` unless the batch's input and output lengths agree.
-fn check(inputs: usize, outputs: usize) -> Result<(), Error> {
-    if inputs == outputs {
-        Ok(())
-    } else {
-        Err(Error::LengthMismatch { inputs, outputs })
-    }
-}
-
-/// Checks that every plane (light by light, wavelength by wavelength) has the length of
-/// `planes[0][0]` and that every output length equals it; returns that length, the number of
-/// pixels. Without planes (N = 0 or L = 0) the first output's length is the number of pixels.
-fn check_planes<const N: usize, const L: usize>(
-    planes: &[[&[f32]; N]; L],
-    outputs: &[usize],
-) -> Result<usize, Error> {
-    let mut lens = planes.iter().flatten().map(|p| p.len());
-    let pixels = match lens.next() {
-        Some(len) => len,
-        None => outputs.first().copied().unwrap_or(0),
-    };
-    for len in lens.chain(outputs.iter().copied()) {
-        if len != pixels {
-            return Err(Error::LengthMismatch {
-                inputs: pixels,
-                outputs: len,
-            });
-        }
-    }
-    Ok(pixels)
 }

@@ -137,7 +137,8 @@
 //!   channel) and planes out (one slice per output channel); `_planar_to_interleaved`, planes in
 //!   and interleaved pixels out; `_interleaved_to_planar`, the reverse. Every layout gives the
 //!   per-pixel function's bits or bytes, and a call whose slices differ in length returns
-//!   [`Error::LengthMismatch`] before writing anything.
+//!   [`Error::LengthMismatch`] before writing anything, naming what it compared ([`LengthOf`]:
+//!   the output against the input, a plane against the first) and the two lengths.
 //! - **One word per idea**: *samples* are the f32 values a set takes (and [`Samples`] says what
 //!   they are); *counts* are the u16 inputs of [`IntegerSet`]; an error bound is `<WHAT>_MAX_ERROR`, with a unit suffix where the unit is not the
 //!   quantity's own ([`INTEGER_MAX_ERROR_CODES`], [`SRGB8_MAX_ERROR_DE76`],
@@ -239,7 +240,7 @@ pub use integer::{IntegerSet, INTEGER_MAX_ERROR_CODES};
 pub use lux::LuxScale;
 pub use model::channel::{Channel, Rgb};
 pub use model::display::{Display, GamutMapping};
-pub use model::error::{CalibrationProblem, DisplayError, Error, LightGroupProblem};
+pub use model::error::{CalibrationProblem, DisplayError, Error, LengthOf, LightGroupProblem};
 pub use model::matrix::{ac1c2_from_xyz, xyz_from_ac1c2};
 pub use model::set::{FoldedSet, GaussRule, RuleStatus, Samples, WavelengthSet, MAX_WAVELENGTHS};
 pub use model::transfer::{

@@ -3,7 +3,8 @@
 
 #![forbid(unsafe_code)]
 
-use crate::Error;
+use crate::model::error::{check_length, planar_pixels};
+use crate::{Error, LengthOf};
 
 mod round_trip;
 
@@ -303,7 +304,8 @@ impl<const N: usize> Upsampling<N> {
     /// huge, subnormal) gives node values in [0, 1]; never panics, allocates nothing.
     ///
     /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless
-    /// `rgb.len() == out.len()`; `inputs` is `rgb.len()`, `outputs` `out.len()`.
+    /// `rgb.len() == out.len()`: [`LengthOf::Output`], `expected` `rgb.len()`, `got`
+    /// `out.len()`.
     ///
     /// ```
     /// use spectral_quadrature::tables::upsampling::KQ_C_4_SRGB as UP;
@@ -313,12 +315,7 @@ impl<const N: usize> Upsampling<N> {
     /// assert_eq!(out[0], UP.reflectance(rgb[0]));
     /// ```
     pub fn reflectance_batch(&self, rgb: &[[f32; 3]], out: &mut [[f32; N]]) -> Result<(), Error> {
-        if rgb.len() != out.len() {
-            return Err(Error::LengthMismatch {
-                inputs: rgb.len(),
-                outputs: out.len(),
-            });
-        }
+        check_length(LengthOf::Output, rgb.len(), out.len())?;
         for (o, p) in out.iter_mut().zip(rgb) {
             *o = self.reflectance(*p);
         }
@@ -336,8 +333,9 @@ impl<const N: usize> Upsampling<N> {
     /// Input handling as [`reflectance`](Self::reflectance); never panics, allocates nothing.
     ///
     /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless every plane of `rgb`
-    /// and `out` has the length of `rgb[0]`: `inputs` is that length, `outputs` the first length
-    /// that differs. With N = 0 there is nothing to write and only the RGB planes are checked.
+    /// and `out` has the length of `rgb[0]` (`expected`), at the first that differs:
+    /// [`LengthOf::InputPlane`] for a plane of `rgb`, [`LengthOf::OutputPlane`] for one of
+    /// `out`. With N = 0 there is nothing to write and only the RGB planes are checked.
     ///
     /// ```
     /// use spectral_quadrature::tables::upsampling::KQ_C_4_SRGB as UP;
@@ -348,13 +346,11 @@ impl<const N: usize> Upsampling<N> {
     /// assert_eq!(n.map(|plane| plane[0]), UP.reflectance([0.8, 0.2, 0.1]));
     /// ```
     pub fn reflectance_planar(&self, rgb: [&[f32]; 3], out: [&mut [f32]; N]) -> Result<(), Error> {
-        let pixels = rgb[0].len();
-        check_lengths(
-            pixels,
-            [rgb[1].len(), rgb[2].len()]
-                .into_iter()
-                .chain(out.iter().map(|o| o.len())),
-        )?;
+        let mut lengths = [0; N];
+        for (len, plane) in lengths.iter_mut().zip(&out) {
+            *len = plane.len();
+        }
+        let pixels = planar_pixels(rgb.map(|c| c.len()), LengthOf::OutputPlane, &lengths)?;
         let mut out = out;
         for p in 0..pixels {
             let px = [rgb[0][p], rgb[1][p], rgb[2][p]];
@@ -373,7 +369,8 @@ impl<const N: usize> Upsampling<N> {
     /// Input handling as [`reflectance`](Self::reflectance); never panics, allocates nothing.
     ///
     /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless every plane of `out`
-    /// has `rgb.len()` values: `inputs` is `rgb.len()`, `outputs` the first length that differs.
+    /// has `rgb.len()` values: [`LengthOf::OutputPlane`], `expected` `rgb.len()`, `got` the
+    /// first length that differs.
     ///
     /// ```
     /// use spectral_quadrature::tables::upsampling::KQ_C_4_SRGB as UP;
@@ -388,7 +385,11 @@ impl<const N: usize> Upsampling<N> {
         rgb: &[[f32; 3]],
         out: [&mut [f32]; N],
     ) -> Result<(), Error> {
-        check_lengths(rgb.len(), out.iter().map(|o| o.len()))?;
+        let mut lengths = [0; N];
+        for (len, plane) in lengths.iter_mut().zip(&out) {
+            *len = plane.len();
+        }
+        planar_pixels([rgb.len()], LengthOf::OutputPlane, &lengths)?;
         let mut out = out;
         for (p, px) in rgb.iter().enumerate() {
             for (plane, v) in out.iter_mut().zip(self.reflectance(*px)) {
@@ -397,19 +398,6 @@ impl<const N: usize> Upsampling<N> {
         }
         Ok(())
     }
-}
-
-/// `Err(LengthMismatch)` at the first length that is not `pixels`.
-fn check_lengths(pixels: usize, lengths: impl Iterator<Item = usize>) -> Result<(), Error> {
-    for len in lengths {
-        if len != pixels {
-            return Err(Error::LengthMismatch {
-                inputs: pixels,
-                outputs: len,
-            });
-        }
-    }
-    Ok(())
 }
 
 /// A build-time figure, `None` where it was not measured (NaN).

@@ -15,7 +15,7 @@ use std::hint::black_box;
 use spectral_quadrature::tables::{self, displays, folded, rules};
 use spectral_quadrature::{
     ac1c2_from_xyz, quantize_u16, quantize_u8, xyz_from_ac1c2, Channel, ChannelLuts, Display,
-    DisplayError, DynamicSet, Error, FoldedSet, GamutMapping, Rgb, TransferFunction,
+    DisplayError, DynamicSet, Error, FoldedSet, GamutMapping, LengthOf, Rgb, TransferFunction,
 };
 
 struct Counting;
@@ -254,8 +254,9 @@ fn batch_apis_do_not_allocate() {
     assert_eq!(
         results[4],
         Err(Error::LengthMismatch {
-            inputs: 256,
-            outputs: 255
+            what: LengthOf::Output,
+            expected: 256,
+            got: 255
         })
     );
     // The outputs were really written.
@@ -314,8 +315,9 @@ fn dynamic_sets_and_errors_do_not_allocate() {
     assert_eq!(
         mismatch,
         Err(Error::LengthMismatch {
-            inputs: 10,
-            outputs: 11
+            what: LengthOf::Samples,
+            expected: 11,
+            got: 10
         })
     );
     assert_eq!(capacity, Err(Error::Capacity { capacity: 4 }));
@@ -335,8 +337,9 @@ fn dynamic_sets_and_errors_do_not_allocate() {
     assert_no_alloc("Error Display", || {
         for e in [
             Error::LengthMismatch {
-                inputs: 1,
-                outputs: 2,
+                what: LengthOf::InputPlane,
+                expected: 1,
+                got: 2,
             },
             Error::Capacity { capacity: 4 },
             Error::UndefinedRule {

@@ -27,7 +27,7 @@ use proptest::test_runner::TestCaseResult;
 use spectral_quadrature::tables::{self, displays, folded, rules};
 use spectral_quadrature::{
     ac1c2_from_xyz, f32_budget, xyz_from_ac1c2, Display, DynamicSet, Error, FoldedSet,
-    GamutMapping, GaussRule, RuleStatus, WavelengthSet,
+    GamutMapping, GaussRule, LengthOf, RuleStatus, WavelengthSet,
 };
 use spectral_quadrature_generator::{derive, Derivation, Settings};
 
@@ -829,8 +829,9 @@ fn batch_case<const N: usize>(
     }
     for m in lengths {
         let expected = Err(Error::LengthMismatch {
-            inputs: n,
-            outputs: m,
+            what: LengthOf::Output,
+            expected: n,
+            got: m,
         });
         let sentinel = [-7.5f32; 3];
         let mut out = vec![sentinel; m];
@@ -1031,8 +1032,9 @@ fn p9_dynamic_set_model() {
             prop_assert_eq!(
                 set.ac1c2(&[0.0; CAP + 1][..n + 1]),
                 Err(Error::LengthMismatch {
-                    inputs: n + 1,
-                    outputs: n
+                    what: LengthOf::Samples,
+                    expected: n,
+                    got: n + 1
                 })
             );
             Ok(())

@@ -8,7 +8,9 @@ use spectral_quadrature_spectra::builtin_illuminant;
 use std::sync::OnceLock;
 
 use spectral_quadrature::tables::{folded, upsampling};
-use spectral_quadrature::{delta_e2000, lab_from_xyz, Error, FoldedSet, Samples, Upsampling};
+use spectral_quadrature::{
+    delta_e2000, lab_from_xyz, Error, FoldedSet, LengthOf, Samples, Upsampling,
+};
 use spectral_quadrature_generator::scene::{Resolved, Scene};
 use spectral_quadrature_generator::upsampling::Baked;
 
@@ -204,8 +206,9 @@ impl<const N: usize> Dyn for (Upsampling<N>, FoldedSet<N>) {
         let mismatch = self.0.reflectance_batch(rgb, &mut short);
         mismatch
             == Err(Error::LengthMismatch {
-                inputs: rgb.len(),
-                outputs: rgb.len() + 1,
+                what: LengthOf::Output,
+                expected: rgb.len(),
+                got: rgb.len() + 1,
             })
             && short.iter().all(|o| o.iter().all(|&v| v == 0.0))
             && rgb
@@ -1375,13 +1378,22 @@ fn planar_forms_are_per_pixel() {
     let mut c = [0, 1, 2, 3].map(|_| vec![-1.0f32; 300]);
     let [c0, c1, c2, c3] = &mut c;
     let short = [planes[0], &planes[1][..299], planes[2]];
-    let mismatch = Err(Error::LengthMismatch {
-        inputs: 300,
-        outputs: 299,
-    });
-    assert_eq!(u.reflectance_planar(short, [c0, c1, c2, c3]), mismatch);
+    let mismatch = |what| {
+        Err(Error::LengthMismatch {
+            what,
+            expected: 300,
+            got: 299,
+        })
+    };
+    assert_eq!(
+        u.reflectance_planar(short, [c0, c1, c2, c3]),
+        mismatch(LengthOf::InputPlane)
+    );
+    let [c0, c1, c2, c3] = &mut c;
+    let got = u.reflectance_planar(planes, [c0, c1, &mut c2[..299], c3]);
+    assert_eq!(got, mismatch(LengthOf::OutputPlane));
     let [c0, c1, c2, c3] = &mut c;
     let got = u.reflectance_interleaved_to_planar(&rgb, [c0, c1, c2, &mut c3[..299]]);
-    assert_eq!(got, mismatch);
+    assert_eq!(got, mismatch(LengthOf::OutputPlane));
     assert!(c.iter().flatten().all(|&v| v == -1.0));
 }

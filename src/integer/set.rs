@@ -14,7 +14,8 @@ use super::dsp::Packed;
 use super::fixed_point::{mac, split_at};
 #[cfg(not(arm_dsp))]
 use super::fixed_point::{mac_steps_of_2, mac_steps_of_4};
-use crate::{Display, Error, FoldedSet, Samples};
+use crate::model::error::check_length;
+use crate::{Display, Error, FoldedSet, LengthOf, Samples};
 
 /// The largest difference, in 8-bit code values per channel, between
 /// [`IntegerSet::encode_u8`] and the f32 path on the same input
@@ -289,14 +290,11 @@ impl<const N: usize> IntegerSet<N> {
 
     /// [`encode_u8`](Self::encode_u8) for every pixel: `out[p] = encode_u8(&counts[p])`.
     ///
-    /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless the lengths agree.
+    /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless the lengths agree:
+    /// [`LengthOf::Output`](crate::LengthOf::Output), `expected` the input's pixels, `got` the
+    /// output's.
     pub fn encode_u8_batch(&self, counts: &[[u16; N]], out: &mut [[u8; 3]]) -> Result<(), Error> {
-        if counts.len() != out.len() {
-            return Err(Error::LengthMismatch {
-                inputs: counts.len(),
-                outputs: out.len(),
-            });
-        }
+        check_length(LengthOf::Output, counts.len(), out.len())?;
         // As in encode_pixel, once for the whole batch.
         match self.frac_bits {
             #[cfg(arm_dsp)]

@@ -16,12 +16,16 @@ pub use spectral_quadrature_math::DisplayError;
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[non_exhaustive]
 pub enum Error {
-    /// A batch call got input and output slices of different lengths.
+    /// Two lengths that must agree do not: an output against its input, a plane against the
+    /// others, samples against a set's wavelengths, a rule's nodes against its order. Every
+    /// call that returns it has written nothing.
     LengthMismatch {
-        /// Number of pixels in the input.
-        inputs: usize,
-        /// Number of pixels in the output.
-        outputs: usize,
+        /// What was compared, and so what the two lengths count.
+        what: LengthOf,
+        /// The length it must have.
+        expected: usize,
+        /// The length it has.
+        got: usize,
     },
     /// A run-time set would need more wavelengths than its capacity.
     Capacity {
@@ -96,6 +100,102 @@ pub enum Error {
     },
 }
 
+/// What a length was compared with, in [`Error::LengthMismatch`]: says what its `expected`
+/// and `got` count.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum LengthOf {
+    /// The output of a `_batch` call, or the interleaved output of a `_planar_to_interleaved`
+    /// call: its pixels (`got`) against the input's (`expected`).
+    Output,
+    /// An input plane of a `_planar` or `_planar_to_interleaved` call: its values (`got`)
+    /// against the first input plane's (`expected`).
+    InputPlane,
+    /// An output plane of a `_planar` or `_interleaved_to_planar` call: its values (`got`)
+    /// against the input's pixels (`expected`; with no input planes, N = 0, the first output
+    /// plane's length).
+    OutputPlane,
+    /// The samples given to [`DynamicSet::ac1c2`](crate::DynamicSet::ac1c2) (`got`) against
+    /// the set's wavelengths (`expected`).
+    Samples,
+    /// The wavelengths given to [`GaussRule::new`](crate::GaussRule::new) (`got`) against its
+    /// order (`expected`; 0 for a rule that is not `Defined`).
+    RuleWavelengths,
+    /// The weights given to [`GaussRule::new`](crate::GaussRule::new) (`got`) against its order
+    /// (`expected`; 0 for a rule that is not `Defined`).
+    RuleWeights,
+}
+
+impl LengthOf {
+    /// The identifier, `"output"`, `"input-plane"`, `"output-plane"`, `"samples"`,
+    /// `"rule-wavelengths"` or `"rule-weights"` (kebab-case, stable across versions). Its
+    /// [`Display`](fmt::Display) is the sentence for messages.
+    pub const fn name(self) -> &'static str {
+        match self {
+            LengthOf::Output => "output",
+            LengthOf::InputPlane => "input-plane",
+            LengthOf::OutputPlane => "output-plane",
+            LengthOf::Samples => "samples",
+            LengthOf::RuleWavelengths => "rule-wavelengths",
+            LengthOf::RuleWeights => "rule-weights",
+        }
+    }
+}
+
+impl fmt::Display for LengthOf {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            LengthOf::Output => "an output's pixels against its input's",
+            LengthOf::InputPlane => "an input plane against the first",
+            LengthOf::OutputPlane => "an output plane against the input's pixels",
+            LengthOf::Samples => "the samples against the set's wavelengths",
+            LengthOf::RuleWavelengths => "a rule's wavelengths against its order",
+            LengthOf::RuleWeights => "a rule's weights against its order",
+        })
+    }
+}
+
+/// `Ok` where `got == expected`, else [`Error::LengthMismatch`] naming `what`: the runtime's one
+/// length check, which every layout and constructor calls (usable in consts).
+#[inline]
+pub(crate) const fn check_length(what: LengthOf, expected: usize, got: usize) -> Result<(), Error> {
+    if got == expected {
+        Ok(())
+    } else {
+        Err(Error::LengthMismatch {
+            what,
+            expected,
+            got,
+        })
+    }
+}
+
+/// The number of pixels of a planar call, checked with [`check_length`] before anything is
+/// written: the length of the first of `inputs` (its planes' lengths, or the interleaved input's
+/// pixels), which every other input ([`LengthOf::InputPlane`]) and every one of `outputs`
+/// (`output`: [`LengthOf::OutputPlane`] for planes, [`LengthOf::Output`] for interleaved pixels)
+/// must have. With no inputs (N = 0) the first output's length is the number of pixels, and no
+/// outputs, no pixels.
+pub(crate) fn planar_pixels(
+    inputs: impl IntoIterator<Item = usize>,
+    output: LengthOf,
+    outputs: &[usize],
+) -> Result<usize, Error> {
+    let mut inputs = inputs.into_iter();
+    let pixels = match inputs.next() {
+        Some(len) => len,
+        None => outputs.first().copied().unwrap_or(0),
+    };
+    for len in inputs {
+        check_length(LengthOf::InputPlane, pixels, len)?;
+    }
+    for &len in outputs {
+        check_length(output, pixels, len)?;
+    }
+    Ok(pixels)
+}
+
 /// Why a [`LightGroupSet`](crate::LightGroupSet) cannot be formed, in
 /// [`Error::LightGroup`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -146,10 +246,36 @@ impl fmt::Display for LightGroupProblem {
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {
-            Error::LengthMismatch { inputs, outputs } => write!(
-                f,
-                "batch length mismatch: {inputs} input pixels, {outputs} output pixels"
-            ),
+            Error::LengthMismatch {
+                what,
+                expected,
+                got,
+            } => match what {
+                LengthOf::Output => write!(
+                    f,
+                    "length mismatch: an output of {got} pixels for an input of {expected}"
+                ),
+                LengthOf::InputPlane => write!(
+                    f,
+                    "length mismatch: an input plane of {got} values where the first has {expected}"
+                ),
+                LengthOf::OutputPlane => write!(
+                    f,
+                    "length mismatch: an output plane of {got} values for {expected} pixels"
+                ),
+                LengthOf::Samples => write!(
+                    f,
+                    "length mismatch: {got} samples for a set of {expected} wavelengths"
+                ),
+                LengthOf::RuleWavelengths => write!(
+                    f,
+                    "length mismatch: {got} wavelengths for a rule of {expected} nodes"
+                ),
+                LengthOf::RuleWeights => write!(
+                    f,
+                    "length mismatch: {got} weights for a rule of {expected} nodes"
+                ),
+            },
             Error::Capacity { capacity } => {
                 write!(f, "the set would need more than its {capacity} wavelengths")
             }

@@ -2,7 +2,8 @@
 
 #![forbid(unsafe_code)]
 
-use crate::Channel;
+use super::error::check_length;
+use crate::{Channel, LengthOf};
 
 /// Whether a Gauss rule of some order exists, and if not, why.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -115,8 +116,10 @@ pub struct GaussRule {
 impl GaussRule {
     /// A rule of `order` nodes for `channel`, checked: with `status` [`RuleStatus::Defined`]
     /// `wavelengths_nm` and `weights` have `order` entries each, otherwise none (else
-    /// [`Error::LengthMismatch`](crate::Error::LengthMismatch) with `inputs` the count
-    /// expected and `outputs` the first count that differs); every wavelength finite, positive and
+    /// [`Error::LengthMismatch`](crate::Error::LengthMismatch) with
+    /// [`LengthOf::RuleWavelengths`](crate::LengthOf::RuleWavelengths) or
+    /// [`LengthOf::RuleWeights`](crate::LengthOf::RuleWeights), `expected` that count); every
+    /// wavelength finite, positive and
     /// above the one before (else [`Error::InvalidWavelength`](crate::Error::InvalidWavelength));
     /// every weight finite (else [`Error::InvalidWeight`](crate::Error::InvalidWeight), `row`
     /// the channel's). Never panics; usable in consts.
@@ -131,16 +134,11 @@ impl GaussRule {
             RuleStatus::Defined => order as usize,
             _ => 0,
         };
-        if wavelengths_nm.len() != expected || weights.len() != expected {
-            let outputs = if wavelengths_nm.len() != expected {
-                wavelengths_nm.len()
-            } else {
-                weights.len()
-            };
-            return Err(crate::Error::LengthMismatch {
-                inputs: expected,
-                outputs,
-            });
+        if let Err(e) = check_length(LengthOf::RuleWavelengths, expected, wavelengths_nm.len()) {
+            return Err(e);
+        }
+        if let Err(e) = check_length(LengthOf::RuleWeights, expected, weights.len()) {
+            return Err(e);
         }
         if let Err(e) = check_wavelengths(wavelengths_nm, false) {
             return Err(e);

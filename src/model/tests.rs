@@ -5,7 +5,9 @@
 use std::string::{String, ToString};
 use std::vec::Vec;
 
-use crate::{CalibrationProblem, Channel, GamutMapping, LightGroupProblem, Rgb, RuleStatus};
+use crate::{
+    CalibrationProblem, Channel, GamutMapping, LengthOf, LightGroupProblem, Rgb, RuleStatus,
+};
 
 /// Every variant of each public enum that has a `name()`. Each list is held complete by a
 /// `match` without a wildcard arm (possible here, in the crate that defines the enums): a new
@@ -72,6 +74,28 @@ fn calibration_problems() -> Vec<CalibrationProblem> {
     all.to_vec()
 }
 
+fn length_ofs() -> Vec<LengthOf> {
+    let all = [
+        LengthOf::Output,
+        LengthOf::InputPlane,
+        LengthOf::OutputPlane,
+        LengthOf::Samples,
+        LengthOf::RuleWavelengths,
+        LengthOf::RuleWeights,
+    ];
+    for w in all {
+        match w {
+            LengthOf::Output
+            | LengthOf::InputPlane
+            | LengthOf::OutputPlane
+            | LengthOf::Samples
+            | LengthOf::RuleWavelengths
+            | LengthOf::RuleWeights => {}
+        }
+    }
+    all.to_vec()
+}
+
 /// Lower-case ASCII words of letters and digits joined by single hyphens.
 fn is_kebab_case(s: &str) -> bool {
     !s.is_empty()
@@ -132,6 +156,7 @@ fn every_public_enum_names_its_variants_in_kebab_case() {
     check("RuleStatus", &rule_statuses(), |v| v.name());
     check("LightGroupProblem", &light_group_problems(), |v| v.name());
     check("CalibrationProblem", &calibration_problems(), |v| v.name());
+    check("LengthOf", &length_ofs(), |v| v.name());
 }
 
 /// The stated exception: a channel selector's name is its symbol, the variant's identifier as
