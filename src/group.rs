@@ -10,7 +10,7 @@
 use crate::model::bits::same_f32_bits;
 use crate::model::error::{check_length, planar_pixels};
 use crate::pixel::{mat_vec, mat_vec_for_encoding};
-use crate::{Display, Error, FoldedSet, GamutMapping, LengthOf, LightGroupProblem, Samples};
+use crate::{Display, Error, FoldedSet, GamutMapping, LengthOf, LightGroupProblem, Rgb, Samples};
 
 /// N wavelengths shared by L lights, and one 3×N weight matrix (display RGB, like a
 /// [`FoldedSet`]'s) per light: the colour of a pixel lit by several lights of different
@@ -110,8 +110,9 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
     /// - every wavelength finite, positive and above the one before, else
     ///   [`Error::InvalidWavelength`] at the first that is not (as [`FoldedSet::new`] for
     ///   reflectances);
-    /// - every weight finite, else [`Error::InvalidWeight`] with `row` = `3 · light + channel`
-    ///   and `index`, at the first in light, row and index order.
+    /// - every weight finite, else [`Error::LightGroup`] with the light and
+    ///   [`LightGroupProblem::InvalidWeight`] with the channel and index, at the first in light,
+    ///   channel and index order.
     pub const fn new(
         wavelengths_nm: [f32; N],
         weights: [[[f32; N]; 3]; L],
@@ -136,9 +137,12 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
             match checked {
                 Ok(_) => {}
                 Err(Error::InvalidWeight { row, index }) => {
-                    return Err(Error::InvalidWeight {
-                        row: 3 * l + row,
-                        index,
+                    return Err(Error::LightGroup {
+                        light: l,
+                        problem: LightGroupProblem::InvalidWeight {
+                            channel: Rgb::ALL[row % 3],
+                            index,
+                        },
                     })
                 }
                 Err(e) => return Err(e),

@@ -16,7 +16,7 @@ use spectral_quadrature::tables::folded::{
 };
 use spectral_quadrature::{
     f32_budget, ChannelLuts, Display, Error, FoldedSet, GamutMapping, LightGroupProblem,
-    LightGroupSet, Samples, TransferFunction,
+    LightGroupSet, Rgb, Samples, TransferFunction,
 };
 
 /// Cases per property: each case is a whole image of up to 24 pixels.
@@ -658,13 +658,37 @@ fn constructors_refuse_what_they_document() {
         LightGroupSet::from_members([c, sensor]),
         refused(1, LightGroupProblem::NotReflectance)
     );
-    // `new`: the wavelengths and weights checked as FoldedSet::new checks them, the weight's
-    // row counted across lights.
+    // `new`: the wavelengths and weights checked as FoldedSet::new checks them, a weight named
+    // by its light, channel and index.
     let mut w = [c.weights(); 2];
     w[1][2][4] = f32::INFINITY;
+    let e = LightGroupSet::new(c.wavelengths_nm(), w, ["C", "A"], display).unwrap_err();
+    assert_eq!(
+        e,
+        Error::LightGroup {
+            light: 1,
+            problem: LightGroupProblem::InvalidWeight {
+                channel: Rgb::B,
+                index: 4
+            }
+        }
+    );
+    assert_eq!(
+        e.to_string(),
+        "light group 1: weight 4 of channel B is not finite"
+    );
+    let mut w = [c.weights(); 2];
+    w[0][0][0] = f32::NAN;
+    w[1][1][3] = f32::NAN;
     assert_eq!(
         LightGroupSet::new(c.wavelengths_nm(), w, ["C", "A"], display),
-        Err(Error::InvalidWeight { row: 5, index: 4 })
+        refused(
+            0,
+            LightGroupProblem::InvalidWeight {
+                channel: Rgb::R,
+                index: 0
+            }
+        )
     );
     let mut nm = c.wavelengths_nm();
     nm.swap(1, 2);

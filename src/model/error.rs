@@ -64,11 +64,13 @@ pub enum Error {
         /// The first such wavelength's index.
         index: usize,
     },
-    /// A set's or rule's constructor got a weight that is not finite.
+    /// A set's or rule's constructor got a weight that is not finite: `weights[row][index]`
+    /// (a [`LightGroupSet`](crate::LightGroupSet)'s is [`Error::LightGroup`] with
+    /// [`LightGroupProblem::InvalidWeight`], which names the light).
     InvalidWeight {
-        /// The weight's row (the channel: A, C1, C2 or R, G, B, from 0; for a
-        /// [`LightGroupSet`](crate::LightGroupSet), `3 · light + channel`, the rows of every
-        /// light in order).
+        /// The weight's row: the channel, A, C1, C2 (a [`WavelengthSet`](crate::WavelengthSet)
+        /// or [`GaussRule`](crate::GaussRule)) or R, G, B (a
+        /// [`FoldedSet`](crate::FoldedSet)), from 0.
         row: usize,
         /// Its index in the row.
         index: usize,
@@ -197,7 +199,7 @@ pub(crate) fn planar_pixels(
 }
 
 /// Why a [`LightGroupSet`](crate::LightGroupSet) cannot be formed, in
-/// [`Error::LightGroup`].
+/// [`Error::LightGroup`] (which names the light).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[non_exhaustive]
@@ -214,11 +216,19 @@ pub enum LightGroupProblem {
     /// A member's display is not member 0's (every field the same bits): one set encodes with
     /// one display.
     Display,
+    /// A weight of the light's matrix is not finite
+    /// ([`LightGroupSet::new`](crate::LightGroupSet::new)): `weights[light][channel][index]`.
+    InvalidWeight {
+        /// The weight's channel (its row in the light's matrix).
+        channel: crate::Rgb,
+        /// Its index in the row: the node.
+        index: usize,
+    },
 }
 
 impl LightGroupProblem {
-    /// The problem's identifier, `"no-lights"`, `"not-reflectance"`, `"wavelengths"` or
-    /// `"display"` (kebab-case, stable across versions). Its [`Display`](fmt::Display) is the
+    /// The problem's identifier, `"no-lights"`, `"not-reflectance"`, `"wavelengths"`,
+    /// `"display"` or `"invalid-weight"` (kebab-case, stable across versions). Its [`Display`](fmt::Display) is the
     /// sentence for messages.
     pub const fn name(self) -> &'static str {
         match self {
@@ -226,6 +236,7 @@ impl LightGroupProblem {
             LightGroupProblem::NotReflectance => "not-reflectance",
             LightGroupProblem::Wavelengths => "wavelengths",
             LightGroupProblem::Display => "display",
+            LightGroupProblem::InvalidWeight { .. } => "invalid-weight",
         }
     }
 }
@@ -239,6 +250,13 @@ impl fmt::Display for LightGroupProblem {
             }
             LightGroupProblem::Wavelengths => "the member's wavelengths are not member 0's",
             LightGroupProblem::Display => "the member's display is not member 0's",
+            LightGroupProblem::InvalidWeight { channel, index } => {
+                return write!(
+                    f,
+                    "weight {index} of channel {} is not finite",
+                    channel.name()
+                );
+            }
         })
     }
 }

@@ -46,13 +46,18 @@ fn light_group_problems() -> Vec<LightGroupProblem> {
         LightGroupProblem::NotReflectance,
         LightGroupProblem::Wavelengths,
         LightGroupProblem::Display,
+        LightGroupProblem::InvalidWeight {
+            channel: Rgb::G,
+            index: 3,
+        },
     ];
     for p in all {
         match p {
             LightGroupProblem::NoLights
             | LightGroupProblem::NotReflectance
             | LightGroupProblem::Wavelengths
-            | LightGroupProblem::Display => {}
+            | LightGroupProblem::Display
+            | LightGroupProblem::InvalidWeight { .. } => {}
         }
     }
     all.to_vec()
@@ -120,8 +125,8 @@ fn kebab_of(identifier: &str) -> String {
     out
 }
 
-/// `name()` is the kebab-case of the variant's identifier (its `Debug`, for these unit
-/// variants), distinct within the enum; `Display` is a sentence, not the identifier.
+/// `name()` is the kebab-case of the variant's identifier (its `Debug` up to the fields, if
+/// any), distinct within the enum; `Display` is a sentence, not the identifier.
 fn check<T: core::fmt::Debug + core::fmt::Display>(
     enum_name: &str,
     all: &[T],
@@ -129,13 +134,14 @@ fn check<T: core::fmt::Debug + core::fmt::Display>(
 ) {
     let mut seen = Vec::new();
     for v in all {
-        let id = std::format!("{v:?}");
+        let debug = std::format!("{v:?}");
+        let id = debug.split([' ', '(']).next().unwrap_or_default();
         let n = name(v);
         assert!(
             is_kebab_case(n),
             "{enum_name}::{id}.name() = {n:?} is not kebab-case"
         );
-        assert_eq!(n, kebab_of(&id), "{enum_name}::{id}.name()");
+        assert_eq!(n, kebab_of(id), "{enum_name}::{id}.name()");
         assert!(!seen.contains(&n), "{enum_name}: {n:?} twice");
         seen.push(n);
         let sentence = v.to_string();
