@@ -1012,6 +1012,10 @@ fn error_messages() {
             "channel C2 order 4 is not a defined rule",
         ),
         (
+            Error::InvalidLuxScale,
+            "a lux scale needs a finite, positive illuminance per unit Y (from a finite, positive Y and illuminance)",
+        ),
+        (
             Error::InvalidLut { channel: Rgb::G },
             "lookup table for channel G needs 2 or more finite, non-decreasing entries in 0..=1",
         ),

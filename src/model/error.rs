@@ -90,6 +90,10 @@ pub enum Error {
     /// [`IntegerSet::new`](crate::IntegerSet::new) got a display whose transfer function has no
     /// integer encoder: a lookup table, or a γ that no baked display has.
     IntegerTransfer,
+    /// [`LuxScale::new`](crate::LuxScale::new) got a scale that is not finite and positive, or
+    /// [`LuxScale::from_reading`](crate::LuxScale::from_reading) a Y or an illuminance that is
+    /// not (or whose ratio overflows).
+    InvalidLuxScale,
     /// [`LightGroupSet::new`](crate::LightGroupSet::new) or
     /// [`LightGroupSet::from_members`](crate::LightGroupSet::from_members) cannot form a set
     /// from its lights.
@@ -330,6 +334,9 @@ impl fmt::Display for Error {
                 "the weights or the sample unit have no fixed-point form for u16 counts",
             ),
             Error::IntegerTransfer => f.write_str("the transfer function has no integer encoder"),
+            Error::InvalidLuxScale => f.write_str(
+                "a lux scale needs a finite, positive illuminance per unit Y (from a finite, positive Y and illuminance)",
+            ),
             Error::LightGroup { light, problem } => {
                 write!(f, "light group {light}: {problem}")
             }

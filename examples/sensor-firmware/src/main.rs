@@ -163,7 +163,7 @@ fn device() -> Option<Device> {
     let counts = float.to_counts(1.0 / SENSOR.sample_unit()).ok()?;
     // The white tile, calibrated, is the reading of the known light.
     let white = tables::AS7341.xyz(&float.apply(&DEVICE_WHITE.map(f32::from)));
-    let lux = LuxScale::from_reading(white[1], CHART_LUX)?;
+    let lux = LuxScale::from_reading(white[1], CHART_LUX).ok()?;
     Some(Device { float, counts, lux })
 }
 
@@ -216,7 +216,7 @@ fn results(out: &mut impl Write) -> core::fmt::Result {
     for g in device.counts.gain_q16 {
         write!(out, " {g}")?;
     }
-    writeln!(out, " lux_per_y {}", Bits(device.lux.lux_per_y))?;
+    writeln!(out, " lux_per_y {}", Bits(device.lux.lux_per_y()))?;
     // The white tile: CCT and Duv of the light (C: 6771 K, Duv −0.0021) as the sensor sees it.
     let w = read(&device, &DEVICE_WHITE);
     let [x, y, z] = w.xyz.map(Bits);
@@ -442,14 +442,14 @@ fn calibration_results(out: &mut impl Write) -> core::fmt::Result {
     writeln!(
         out,
         "res lux {:?} {}",
-        lux.map(|l| l.lux_per_y.to_bits()),
+        lux.map(|l| l.lux_per_y().to_bits()),
         Bits(lux.map_or(f32::NAN, |l| l.lux([0.1, 0.004, 0.2])))
     )?;
     for (y, lx) in [(0.0, 500.0), (-1.0, 500.0), (f32::NAN, 1.0), (1e-30, 1e30)] {
         writeln!(
             out,
             "res lux scale {:?}",
-            LuxScale::from_reading(y, lx).map(|l| l.lux_per_y.to_bits())
+            LuxScale::from_reading(y, lx).map(|l| l.lux_per_y().to_bits())
         )?;
     }
     Ok(())
