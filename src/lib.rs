@@ -140,7 +140,9 @@
 //!   [`Error::LengthMismatch`] before writing anything, naming what it compared ([`LengthOf`]:
 //!   the output against the input, a plane against the first) and the two lengths.
 //! - **One word per idea**: *samples* are the f32 values a set takes (and [`Samples`] says what
-//!   they are); *counts* are the u16 inputs of [`IntegerSet`]; an error bound is `<WHAT>_MAX_ERROR`, with a unit suffix where the unit is not the
+//!   they are); *counts* are the u16 inputs of [`IntegerSet`] and [`CountCalibration`], a count
+//!   standing for `sample_unit` of the samples (what [`IntegerSet::new`] and
+//!   [`Calibration::to_counts`] take); an error bound is `<WHAT>_MAX_ERROR`, with a unit suffix where the unit is not the
 //!   quantity's own ([`INTEGER_MAX_ERROR_CODES`], [`SRGB8_MAX_ERROR_DE76`],
 //!   [`CCT_MAX_ERROR_MIRED`]); a channel of AC1C2 is a [`Channel`], of RGB an [`Rgb`], and a
 //!   sensor's channel is an index (`channel_index`).
@@ -159,8 +161,11 @@
 //! - **Construction**: the baked types' fields are private; read them through `const fn`
 //!   accessors of the same names (`set.weights()`, `display.name()`), and build your own with a
 //!   checked `const fn new` ([`WavelengthSet::new`], [`FoldedSet::new`], [`GaussRule::new`],
-//!   [`Upsampling::new`], [`IntegerSet::new`], [`ChannelLuts::new`]) or [`Display::new`]. No
-//!   constructor leaves a placeholder (such as NaN) for the caller to fill.
+//!   [`LightGroupSet::new`], [`Upsampling::new`], [`IntegerSet::new`], [`ChannelLuts::new`],
+//!   [`Calibration::new`], [`LuxScale::new`]) or [`Display::new`] (f64, not `const`); where no
+//!   value can be wrong the `new` cannot fail ([`CountCalibration::new`], [`RoundTrip::new`]).
+//!   No constructor leaves a placeholder (such as NaN) for the caller to fill. A function's
+//!   result that holds no invariant is a plain record with public fields ([`Cct`]).
 //! - **Inputs**: no function panics or allocates on any input; each documents what NaN, ±Inf,
 //!   subnormal, huge and negative values yield. No f64 per pixel.
 //! - **Traits**: every public type is `Debug`, `Clone` and `PartialEq` (`Copy` where it holds no

@@ -42,7 +42,9 @@ const MAX_FRAC_BITS: i32 = 46;
 /// integer arithmetic only (no f32, no f64, no division).
 ///
 /// A count `x` stands for the f32 sample `x · sample_unit` of the folded set it was made from
-/// ([`counts_as_f32`](Self::counts_as_f32) gives those samples, for the f32 path). The baked sets
+/// ([`counts_as_f32`](Self::counts_as_f32) gives those samples, for the f32 path): the crate's
+/// one convention for the scale of counts, which
+/// [`Calibration::to_counts`](crate::Calibration::to_counts) takes too. The baked sets
 /// ([`tables::integer`](crate::tables::integer)) take 65 535 as the samples of white: a
 /// reflectance of 1 (for a set with a light folded in), a radiance of 1 (a spectrum of
 /// constant 1, the display white's luminance), or, for a sensor, the largest of its channels'

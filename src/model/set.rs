@@ -71,9 +71,10 @@ pub enum Samples {
     /// sensor file times nm.
     ///
     /// The set's XYZ from such readings is in the weights' units, dλ in nm: a calibrated white
-    /// (readings equal to the golden device's on a perfect white, `tables::<SENSOR>_WHITE`) gives
-    /// Y = [`UNIT_SPECTRUM_Y`](crate::tables::UNIT_SPECTRUM_Y) (about 106.86), not 1; divide by
-    /// it for Y = 1 at white, as the folded sets do.
+    /// (readings equal to the golden device's on a perfect white,
+    /// `tables::sensors::<NAME>_WHITE`) gives Y =
+    /// [`UNIT_SPECTRUM_Y`](crate::tables::UNIT_SPECTRUM_Y) (about 106.86), not 1; divide by it
+    /// for Y = 1 at white, as the folded sets do.
     Readings {
         /// The sensor's name in the scene.
         sensor: &'static str,
