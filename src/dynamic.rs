@@ -5,7 +5,7 @@
 use heapless::Vec;
 
 use crate::model::error::check_length;
-use crate::{Error, GaussRule, LengthOf, RuleStatus};
+use crate::{Channel, Error, GaussRule, LengthOf, RuleStatus};
 
 /// A wavelength set merged at run time from per-channel [`GaussRule`]s, for up to `CAP`
 /// distinct wavelengths, without allocating (for example A order 4 + C1 order 2 + C2 order 1
@@ -85,9 +85,9 @@ impl<const CAP: usize> DynamicSet<CAP> {
         &self.wavelengths_nm
     }
 
-    /// Channel row `c` (0 = A, 1 = C1, 2 = C2) of the weights; an empty slice for c > 2.
-    pub fn weights(&self, c: usize) -> &[f32] {
-        self.weights.get(c).map_or(&[], |r| r.as_slice())
+    /// Channel `c`'s row of the weights, one weight per wavelength (dλ in nm).
+    pub fn weights(&self, c: Channel) -> &[f32] {
+        &self.weights[c.index()]
     }
 
     /// The number of distinct wavelengths.

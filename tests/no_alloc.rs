@@ -302,7 +302,7 @@ fn dynamic_sets_and_errors_do_not_allocate() {
         let n = set.len();
         let sums = black_box(set.ac1c2(&samples[..n]));
         let mismatch = black_box(set.ac1c2(&samples[..n - 1]));
-        black_box((set.wavelengths_nm(), set.weights(1)));
+        black_box((set.wavelengths_nm(), set.weights(Channel::C1)));
         let mut small = DynamicSet::<4>::new();
         let capacity = small.add_rule(&tables::A_RULES[4]); // 5 > 4
         let undefined = small.add_rule(&tables::C1_RULES[0]);
