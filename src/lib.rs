@@ -50,8 +50,9 @@
 //! - [`FoldedSet::encode_u16`]: [`FoldedSet::linear_rgb`], [`Display::encode_u16`],
 //!   [`Display::map_gamut`], [`TransferFunction::encode_u16`] (the curve in f32) and
 //!   [`quantize_u16`].
-//! - Encoded f32 in 0..=1: [`Display::encode`], [`Display::map_gamut`] then
-//!   [`TransferFunction::encode`], the reference curve (f64, rounded once).
+//! - Encoded f32 in 0..=1, the reference (not a per-pixel function, see "Conventions"):
+//!   [`Display::encode`], [`Display::map_gamut`] then [`TransferFunction::encode`], the exact
+//!   curve in f64, rounded once.
 //!
 //! **Interleaved pixels** (`src/batch.rs`): [`WavelengthSet::ac1c2_batch`],
 //! [`FoldedSet::linear_rgb_batch`] and [`FoldedSet::encode_u16_batch`] call the per-pixel
@@ -101,9 +102,7 @@
 //!
 //! The x86-64 loops are chosen at run time: the CPU's features are detected on the first call
 //! (`cpuid`, with the `cpufeatures` crate) and cached, in `src/simd/mod.rs`. None of this uses
-//! f64: f64 is only where a user asks for it ([`TransferFunction::encode`] and
-//! [`TransferFunction::decode`], [`Display::new`], [`delta_e2000`] and the other colour
-//! differences, [`f32_budget`]).
+//! f64 (the list of per-pixel functions, and where f64 is, is in "Conventions").
 //!
 //! **Integer counts** (`src/integer/`), for microcontrollers without an FPU:
 //! [`IntegerSet::encode_u8`] (`set.rs`) takes u16 counts, sums each channel's fixed-point
@@ -167,7 +166,22 @@
 //!   No constructor leaves a placeholder (such as NaN) for the caller to fill. A function's
 //!   result that holds no invariant is a plain record with public fields ([`Cct`]).
 //! - **Inputs**: no function panics or allocates on any input; each documents what NaN, ±Inf,
-//!   subnormal, huge and negative values yield. No f64 per pixel.
+//!   subnormal, huge and negative values yield.
+//! - **No f64 per pixel**: the per-pixel functions use f32 and integers only. They are the
+//!   sets' `ac1c2`, `xyz`, `linear_rgb`, `linear_rgb_under`, `encode_u8` and `encode_u16`
+//!   ([`WavelengthSet`], [`FoldedSet`], [`LightGroupSet`], [`IntegerSet::encode_u8`]); the
+//!   display's [`Display::map_gamut`], [`Display::encode_u8`], [`Display::encode_u16`],
+//!   [`Display::linear_from_xyz`] and [`Display::xyz_from_linear`]; the transfer function's
+//!   [`TransferFunction::encode_u8`], `encode_u16` and `encode_fast`; [`srgb8_from_linear`],
+//!   [`quantize_u8`], [`quantize_u16`], [`xyz_from_ac1c2`], [`ac1c2_from_xyz`];
+//!   [`Upsampling::reflectance`] and [`Upsampling::interpolate`]; a sensor reading's
+//!   [`Calibration::apply`], [`CountCalibration::apply`], [`LuxScale::lux`],
+//!   [`PlanckianLocus::cct`] and [`uv_from_xyz`]; and every `_batch`, `_planar`,
+//!   `_planar_to_interleaved` and `_interleaved_to_planar` form of them. f64 is only in the
+//!   reference encoders, [`TransferFunction::encode`], [`TransferFunction::decode`] and
+//!   [`Display::encode`] (the exact curve rounded once, what the per-pixel encoders are
+//!   measured against), and in what runs once per display, device or test, off the pixel path:
+//!   [`Display::new`], [`delta_e2000`], [`delta_e76`], [`lab_from_xyz`], [`f32_budget`].
 //! - **Traits**: every public type is `Debug`, `Clone` and `PartialEq` (`Copy` where it holds no
 //!   buffer, `Eq` and `Hash` where it holds no float), and `defmt::Format` with the `defmt`
 //!   feature.

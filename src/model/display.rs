@@ -236,6 +236,12 @@ impl Display {
 
     /// Gamut-maps and encodes a linear colour: values in 0..=1 ready to quantize. Input handling
     /// as [`map_gamut`](Self::map_gamut) (NaN anywhere → black).
+    ///
+    /// The reference encoder, not a per-pixel function: each channel goes through
+    /// [`TransferFunction::encode`], the exact curve in f64 rounded once (soft-float on a
+    /// microcontroller without a double-precision FPU). What the per-pixel encoders
+    /// ([`encode_u8`](Self::encode_u8), [`encode_u16`](Self::encode_u16), f32 and integers
+    /// only) and the shaders' `<display>_encode` are measured against.
     pub fn encode(&self, mapping: GamutMapping, rgb: [f32; 3]) -> [f32; 3] {
         let m = self.map_gamut(mapping, rgb);
         [
