@@ -1012,6 +1012,10 @@ fn error_messages() {
             "channel C2 order 4 is not a defined rule",
         ),
         (
+            Error::UpsamplingReadings,
+            "an upsampling needs a set whose samples are at wavelengths, not a sensor's readings",
+        ),
+        (
             Error::InvalidLuxScale,
             "a lux scale needs a finite, positive illuminance per unit Y (from a finite, positive Y and illuminance)",
         ),

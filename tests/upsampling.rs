@@ -7,7 +7,7 @@ mod common;
 use spectral_quadrature_spectra::builtin_illuminant;
 use std::sync::OnceLock;
 
-use spectral_quadrature::tables::{folded, upsampling};
+use spectral_quadrature::tables::{displays, folded, upsampling};
 use spectral_quadrature::{
     delta_e2000, lab_from_xyz, Error, FoldedSet, LengthOf, Samples, Upsampling,
 };
@@ -139,7 +139,9 @@ fn each_in_parallel(f: impl Fn(&dyn Dyn, &Fresh) + Sync) {
 
 /// An upsampling and its folded set, whatever N.
 trait Dyn {
-    fn set(&self) -> &str;
+    /// Whether the upsampling's set is the folded set of its name, bit for bit.
+    fn holds_its_folded_set(&self) -> bool;
+    fn light(&self) -> &'static str;
     fn grid(&self) -> usize;
     fn lipschitz(&self) -> f32;
     fn max_round_trip(&self) -> f32;
@@ -159,8 +161,16 @@ trait Dyn {
 }
 
 impl<const N: usize> Dyn for (Upsampling<N>, FoldedSet<N>) {
-    fn set(&self) -> &str {
-        self.0.set()
+    fn holds_its_folded_set(&self) -> bool {
+        let (u, f) = (self.0.set(), self.1);
+        u == f
+            && u.weights().map(|r| r.map(f32::to_bits)) == f.weights().map(|r| r.map(f32::to_bits))
+            && u.wavelengths_nm().to_bits() == f.wavelengths_nm().to_bits()
+            && self.0.display() == f.display()
+            && self.0.wavelengths_nm() == f.wavelengths_nm()
+    }
+    fn light(&self) -> &'static str {
+        self.0.light()
     }
     fn grid(&self) -> usize {
         self.0.grid()
@@ -256,7 +266,10 @@ fn lab(u: &dyn Dyn, rgb: [f64; 3]) -> [f64; 3] {
 fn tables_equal_a_fresh_bake() {
     each(|u, f| {
         let b = f.baked;
-        assert_eq!(u.set(), b.set, "{}", f.name);
+        // The set, and so the display and the nodes, by type; the reference light the set's
+        // (D65 for a set for radiances, as the generator's own constant says).
+        assert!(u.holds_its_folded_set(), "{}", f.name);
+        assert_eq!(u.light(), b.light, "{}", f.name);
         assert_eq!(u.grid(), b.grid, "{}", f.name);
         assert_eq!(u.table(), b.codes, "{}", f.name);
         assert_eq!(u.lipschitz(), b.lipschitz as f32, "{}", f.name);
@@ -266,7 +279,9 @@ fn tables_equal_a_fresh_bake() {
     });
     assert_eq!(upsampling::KQ_C_8_SRGB.light(), "C");
     assert_eq!(upsampling::KQ_F11_6_SRGB.light(), "F11");
-    assert_eq!(upsampling::KQ_C_8_SRGB.display(), "sRGB");
+    assert_eq!(upsampling::KQ_C_8_SRGB.display(), displays::SRGB);
+    assert_eq!(upsampling::TABLE2_ROW1_REC2020.display(), displays::REC2020);
+    assert_eq!(upsampling::TABLE2_ROW1_REC2020.light(), "D65");
     assert_eq!(
         upsampling::KQ_C_8_SRGB.wavelengths_nm(),
         folded::KQ_C_8_SRGB.wavelengths_nm()
@@ -529,8 +544,14 @@ fn batch_is_per_pixel() {
 #[test]
 fn new_checks_the_table() {
     static TABLE: [[u16; 2]; 8] = [[0; 2]; 8];
-    let new =
-        |grid, table| Upsampling::new("MINE", "sRGB", "D65", [450.0, 600.0], grid, table, None);
+    let mine = FoldedSet::new(
+        [450.0, 600.0],
+        [[0.5, 0.5], [0.2, 0.8], [0.9, 0.1]],
+        Samples::Radiance,
+        displays::SRGB,
+    )
+    .unwrap();
+    let new = |grid, table| Upsampling::new(mine, grid, table, None);
     assert!(new(2, &TABLE).is_ok());
     let refused = |grid: usize, table: &[[u16; 2]]| {
         Err(Error::UpsamplingTable {
@@ -544,8 +565,37 @@ fn new_checks_the_table() {
     let u = new(2, &TABLE).unwrap();
     assert_eq!(u.reflectance([0.5; 3]), [0.0; 2]);
     assert_eq!(u.grid(), 2);
-    assert_eq!((u.set(), u.display(), u.light()), ("MINE", "sRGB", "D65"));
+    // The set's display and nodes; D65 for a set for radiances, the set's light otherwise.
+    assert_eq!(
+        (u.set(), u.display(), u.light()),
+        (mine, displays::SRGB, "D65")
+    );
     assert_eq!(u.wavelengths_nm(), [450.0, 600.0]);
+    let under_a = FoldedSet::new(
+        mine.wavelengths_nm(),
+        mine.weights(),
+        Samples::Reflectance { light: "A" },
+        displays::DISPLAY_P3,
+    )
+    .unwrap();
+    let u = Upsampling::new(under_a, 2, &TABLE, None).unwrap();
+    assert_eq!((u.display(), u.light()), (displays::DISPLAY_P3, "A"));
+    // A sensor's readings are not values at wavelengths: nothing to upsample to.
+    let readings = Samples::Readings {
+        sensor: "S",
+        light: Some("C"),
+    };
+    let sensor = FoldedSet::new(
+        mine.wavelengths_nm(),
+        mine.weights(),
+        readings,
+        displays::SRGB,
+    )
+    .unwrap();
+    assert_eq!(
+        Upsampling::new(sensor, 2, &TABLE, None),
+        Err(Error::UpsamplingReadings)
+    );
     // Made at run time: no measured figures, and no NaN standing in for them.
     assert_eq!(u.lipschitz(), None);
     assert_eq!(u.max_round_trip_delta_e00(), None);

@@ -83,6 +83,10 @@ pub enum Error {
         /// Entries in the table.
         entries: usize,
     },
+    /// [`Upsampling::new`](crate::Upsampling::new) got a set for a sensor's readings
+    /// ([`Samples::Readings`](crate::Samples::Readings)): its samples are channel readings,
+    /// not values at wavelengths, so there are no node reflectances to upsample to.
+    UpsamplingReadings,
     /// [`IntegerSet::new`](crate::IntegerSet::new) got a weight that is not finite, a sample
     /// unit that is not finite and positive, or weights too large for 32-bit sums of u16
     /// counts.
@@ -329,6 +333,9 @@ impl fmt::Display for Error {
             Error::UpsamplingTable { grid, entries } => write!(
                 f,
                 "an upsampling table of {entries} entries is not grid³ for a grid of {grid} (≥ 2)"
+            ),
+            Error::UpsamplingReadings => f.write_str(
+                "an upsampling needs a set whose samples are at wavelengths, not a sensor's readings",
             ),
             Error::IntegerRange => f.write_str(
                 "the weights or the sample unit have no fixed-point form for u16 counts",
