@@ -6,7 +6,7 @@ use std::string::{String, ToString};
 use std::vec::Vec;
 
 use crate::{
-    CalibrationProblem, Channel, GamutMapping, LengthOf, LightGroupProblem, Rgb, RuleStatus,
+    CalibrationProblem, Channel, GamutMapping, LengthOf, LightGroupProblem, Point, Rgb, RuleStatus,
 };
 
 /// Every variant of each public enum that has a `name()`. Each list is held complete by a
@@ -101,6 +101,17 @@ fn length_ofs() -> Vec<LengthOf> {
     all.to_vec()
 }
 
+/// The math crate's, re-exported by the runtime (`DisplayError::Chromaticity` names one).
+fn points() -> Vec<Point> {
+    let all = [Point::Red, Point::Green, Point::Blue, Point::White];
+    for p in all {
+        match p {
+            Point::Red | Point::Green | Point::Blue | Point::White => {}
+        }
+    }
+    all.to_vec()
+}
+
 /// Lower-case ASCII words of letters and digits joined by single hyphens.
 fn is_kebab_case(s: &str) -> bool {
     !s.is_empty()
@@ -163,6 +174,7 @@ fn every_public_enum_names_its_variants_in_kebab_case() {
     check("LightGroupProblem", &light_group_problems(), |v| v.name());
     check("CalibrationProblem", &calibration_problems(), |v| v.name());
     check("LengthOf", &length_ofs(), |v| v.name());
+    check("Point", &points(), |v| v.name());
 }
 
 /// The stated exception: a channel selector's name is its symbol, the variant's identifier as
