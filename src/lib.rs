@@ -153,10 +153,15 @@
 //!   `"R"`, `"G"`, `"B"`. A value's `name()` ([`Display::name`]) is the name it was made with
 //!   (`"sRGB"`, `"Display P3"` for the baked displays). `src/model/tests.rs` holds every public
 //!   enum to this.
-//! - **Errors**: every fallible function returns [`Error`]; a refused display is
-//!   [`Error::Display`] with the [`DisplayError`] the build-time generator reports too. Enums
-//!   that may grow (errors, problems, [`Samples`], [`GamutMapping`], [`TransferFunction`],
-//!   [`RuleStatus`]) are `#[non_exhaustive]`.
+//! - **Errors**: every fallible function (one that can refuse its arguments) returns
+//!   `Result<_, `[`Error`]`>`; a refused display is [`Error::Display`] with the [`DisplayError`]
+//!   the build-time generator reports too. `Option` is for an answer that may not exist for
+//!   any argument, never for a refusal: no CCT beyond |Duv| = 0.05 or without a chromaticity
+//!   ([`PlanckianLocus::cct`], [`uv_from_xyz`]), no member beyond L
+//!   ([`LightGroupSet::member`]), no figure the build did not measure
+//!   ([`Upsampling::lipschitz`]). Enums that may grow (errors, problems, [`LengthOf`],
+//!   [`Samples`], [`GamutMapping`], [`TransferFunction`], [`RuleStatus`]) are
+//!   `#[non_exhaustive]`.
 //! - **Construction**: the baked types' fields are private; read them through `const fn`
 //!   accessors of the same names (`set.weights()`, `display.name()`), and build your own with a
 //!   checked `const fn new` ([`WavelengthSet::new`], [`FoldedSet::new`], [`GaussRule::new`],
