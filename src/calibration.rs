@@ -16,8 +16,8 @@ use crate::{CalibrationProblem, Error};
 /// readings the golden device would have given, in the units of the reference it was formed
 /// against.
 ///
-/// Formed against a baked sensor's white (`tables::sensors::<NAME>_WHITE`), a calibrated white tile
-/// gives the sensor set's XYZ with Y = [`UNIT_SPECTRUM_Y`](crate::tables::UNIT_SPECTRUM_Y)
+/// Formed against a baked sensor's white (`tables::sensors::<NAME>_WHITE`), a calibrated white
+/// tile gives the sensor set's XYZ with Y = [`UNIT_SPECTRUM_Y`](crate::tables::UNIT_SPECTRUM_Y)
 /// (about 106.86, the weights being for dλ in nm), not 1: divide by it for Y = 1 at white.
 ///
 /// ```

@@ -141,9 +141,9 @@
 //! - **One word per idea**: *samples* are the f32 values a set takes (and [`Samples`] says what
 //!   they are); *counts* are the u16 inputs of [`IntegerSet`] and [`CountCalibration`], a count
 //!   standing for `sample_unit` of the samples (what [`IntegerSet::new`] and
-//!   [`Calibration::to_counts`] take); an error bound is `<WHAT>_MAX_ERROR`, with a unit suffix where the unit is not the
-//!   quantity's own ([`INTEGER_MAX_ERROR_CODES`], [`SRGB8_MAX_ERROR_DE76`],
-//!   [`CCT_MAX_ERROR_MIRED`]); a channel of AC1C2 is a [`Channel`], of RGB an [`Rgb`], and a
+//!   [`Calibration::to_counts`] take); an error bound is `<WHAT>_MAX_ERROR`, with a unit
+//!   suffix where the unit is not the quantity's own ([`INTEGER_MAX_ERROR_CODES`],
+//!   [`SRGB8_MAX_ERROR_DE76`], [`CCT_MAX_ERROR_MIRED`]); a channel of AC1C2 is a [`Channel`], of RGB an [`Rgb`], and a
 //!   sensor's channel is an index (`channel_index`).
 //! - **Names**: an enum's `name()` is its variant's identifier in kebab-case, lower-case words
 //!   joined by hyphens (`"clip"`, `"preserve-a"`, `"vanishing-norm"`, `"out-of-range"`): the
