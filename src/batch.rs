@@ -4,24 +4,18 @@
 
 #![forbid(unsafe_code)]
 
-use crate::{Error, FoldedSet, GamutMapping, WavelengthSet};
-
-fn check(inputs: usize, outputs: usize) -> Result<(), Error> {
-    if inputs == outputs {
-        Ok(())
-    } else {
-        Err(Error::LengthMismatch { inputs, outputs })
-    }
-}
+use crate::model::error::check_length;
+use crate::{Error, FoldedSet, GamutMapping, LengthOf, WavelengthSet};
 
 impl<const N: usize> WavelengthSet<N> {
     /// [`ac1c2`](Self::ac1c2) for every pixel: `out[p] = ac1c2(&samples[p])`.
     ///
     /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless
-    /// `samples.len() == out.len()`. Per-pixel input handling as [`ac1c2`](Self::ac1c2); with
+    /// `samples.len() == out.len()`: [`LengthOf::Output`], `expected` the input's pixels, `got`
+    /// the output's. Per-pixel input handling as [`ac1c2`](Self::ac1c2); with
     /// N = 0 every pixel is `[0.0, 0.0, 0.0]`.
     pub fn ac1c2_batch(&self, samples: &[[f32; N]], out: &mut [[f32; 3]]) -> Result<(), Error> {
-        check(samples.len(), out.len())?;
+        check_length(LengthOf::Output, samples.len(), out.len())?;
         for (o, s) in out.iter_mut().zip(samples) {
             *o = self.ac1c2(s);
         }
@@ -32,13 +26,14 @@ impl<const N: usize> WavelengthSet<N> {
 impl<const N: usize> FoldedSet<N> {
     /// [`linear_rgb`](Self::linear_rgb) for every pixel (with N = 0, `[0.0, 0.0, 0.0]`).
     ///
-    /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless the lengths agree.
+    /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless the lengths agree
+    /// ([`LengthOf::Output`], as for [`WavelengthSet::ac1c2_batch`]).
     pub fn linear_rgb_batch(
         &self,
         samples: &[[f32; N]],
         out: &mut [[f32; 3]],
     ) -> Result<(), Error> {
-        check(samples.len(), out.len())?;
+        check_length(LengthOf::Output, samples.len(), out.len())?;
         for (o, s) in out.iter_mut().zip(samples) {
             *o = self.linear_rgb(s);
         }
@@ -59,7 +54,8 @@ impl<const N: usize> FoldedSet<N> {
     /// of black for every pixel). N above [`MAX_WAVELENGTHS`](crate::MAX_WAVELENGTHS) does not
     /// compile (the vector loops' stack use grows with N).
     ///
-    /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless the lengths agree.
+    /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless the lengths agree
+    /// ([`LengthOf::Output`], as for [`WavelengthSet::ac1c2_batch`]).
     pub fn encode_u8_batch(
         &self,
         mapping: GamutMapping,
@@ -67,7 +63,7 @@ impl<const N: usize> FoldedSet<N> {
         out: &mut [[u8; 3]],
     ) -> Result<(), Error> {
         crate::model::set::assert_width::<N>();
-        check(samples.len(), out.len())?;
+        check_length(LengthOf::Output, samples.len(), out.len())?;
         let srgb_clip = self.display.is_srgb_clip(mapping);
         let vector_units = crate::planar::portable::VECTOR_UNITS && crate::simd::allowed!(Portable);
         // For the sRGB curve with `Clip` on a target with vector units: the AVX-512 or AVX2
@@ -96,14 +92,15 @@ impl<const N: usize> FoldedSet<N> {
     /// [`encode_u16`](Self::encode_u16) for every pixel (NaN anywhere in a pixel → black; with
     /// N = 0, the display's encoding of black).
     ///
-    /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless the lengths agree.
+    /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless the lengths agree
+    /// ([`LengthOf::Output`], as for [`WavelengthSet::ac1c2_batch`]).
     pub fn encode_u16_batch(
         &self,
         mapping: GamutMapping,
         samples: &[[f32; N]],
         out: &mut [[u16; 3]],
     ) -> Result<(), Error> {
-        check(samples.len(), out.len())?;
+        check_length(LengthOf::Output, samples.len(), out.len())?;
         for (o, s) in out.iter_mut().zip(samples) {
             *o = self.encode_u16(mapping, s);
         }

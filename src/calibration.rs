@@ -16,8 +16,8 @@ use crate::{CalibrationProblem, Error};
 /// readings the golden device would have given, in the units of the reference it was formed
 /// against.
 ///
-/// Formed against a baked sensor's white (`tables::<SENSOR>_WHITE`), a calibrated white tile
-/// gives the sensor set's XYZ with Y = [`UNIT_SPECTRUM_Y`](crate::tables::UNIT_SPECTRUM_Y)
+/// Formed against a baked sensor's white (`tables::sensors::<NAME>_WHITE`), a calibrated white
+/// tile gives the sensor set's XYZ with Y = [`UNIT_SPECTRUM_Y`](crate::tables::UNIT_SPECTRUM_Y)
 /// (about 106.86, the weights being for dλ in nm), not 1: divide by it for Y = 1 at white.
 ///
 /// ```
@@ -30,10 +30,13 @@ use crate::{CalibrationProblem, Error};
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Calibration<const N: usize> {
-    /// Each channel's reading in the dark, subtracted first.
-    pub dark: [f32; N],
-    /// Each channel's gain, multiplied after the dark offset is subtracted.
-    pub gain: [f32; N],
+    // `pub(crate)`: the baked tables (`crate::tables`, a sensor's fitted `<NAME>_CALIBRATION`)
+    // set them; users call `new` or `from_dark_white`.
+    /// Each channel's reading in the dark, subtracted first: finite.
+    pub(crate) dark: [f32; N],
+    /// Each channel's gain, multiplied after the dark offset is subtracted: finite and
+    /// positive.
+    pub(crate) gain: [f32; N],
 }
 
 impl<const N: usize> Calibration<N> {
@@ -42,6 +45,47 @@ impl<const N: usize> Calibration<N> {
         dark: [0.0; N],
         gain: [1.0; N],
     };
+
+    /// A calibration of your own: each channel's dark offset and gain, in the readings' units.
+    /// Checked, never a panic, usable in consts: [`Error::Calibration`] with
+    /// [`CalibrationProblem::OutOfRange`] for the first channel whose dark offset is not finite
+    /// or whose gain is not finite and positive.
+    ///
+    /// ```
+    /// use spectral_quadrature::{Calibration, CalibrationProblem, Error};
+    /// const DEVICE: Calibration<2> = match Calibration::new([12.0, 30.0], [0.001, 0.0012]) {
+    ///     Ok(cal) => cal,
+    ///     Err(_) => panic!("not a calibration"),
+    /// };
+    /// assert_eq!(DEVICE.dark(), [12.0, 30.0]);
+    /// assert_eq!(
+    ///     Calibration::new([0.0, 0.0], [1.0, -1.0]),
+    ///     Err(Error::Calibration { channel_index: 1, problem: CalibrationProblem::OutOfRange })
+    /// );
+    /// ```
+    pub const fn new(dark: [f32; N], gain: [f32; N]) -> Result<Calibration<N>, Error> {
+        let mut k = 0;
+        while k < N {
+            if !(dark[k].is_finite() && gain[k].is_finite() && gain[k] > 0.0) {
+                return Err(Error::Calibration {
+                    channel_index: k,
+                    problem: CalibrationProblem::OutOfRange,
+                });
+            }
+            k += 1;
+        }
+        Ok(Calibration { dark, gain })
+    }
+
+    /// Each channel's reading in the dark, subtracted first.
+    pub const fn dark(&self) -> [f32; N] {
+        self.dark
+    }
+
+    /// Each channel's gain, multiplied after the dark offset is subtracted.
+    pub const fn gain(&self) -> [f32; N] {
+        self.gain
+    }
 
     /// From a reading in the dark and a reading of a white reference, and `reference`, what the
     /// golden device reads on that white under that light: `dark` as it is, and
@@ -95,14 +139,19 @@ impl<const N: usize> Calibration<N> {
     }
 
     /// The same calibration for integer counts: readings in counts in, the golden device's
-    /// readings times `counts_per_unit` out (the scale of the integer path's input), dark
-    /// offsets rounded to whole counts and gains to 16 fractional bits.
+    /// readings in counts of `sample_unit` out, dark offsets rounded to whole counts and gains
+    /// `gain / sample_unit` to 16 fractional bits.
+    ///
+    /// `sample_unit` is what one output count stands for, in the golden device's units: the
+    /// convention of [`IntegerSet::new`](crate::IntegerSet::new), so that
+    /// `cal.to_counts(set.sample_unit())` feeds the integer set `set`.
     ///
     /// # Errors
     /// [`Error::Calibration`] with [`CalibrationProblem::OutOfRange`] for the first channel
-    /// whose dark offset, rounded, is outside 0..=65 535 or whose gain · `counts_per_unit` is
-    /// negative, not finite or 65 536 or more.
-    pub fn to_counts(&self, counts_per_unit: f32) -> Result<CountCalibration<N>, Error> {
+    /// whose dark offset, rounded, is outside 0..=65 535 or whose gain / `sample_unit` is
+    /// negative, not finite or 65 536 or more, and for channel 0 where `sample_unit` is not
+    /// finite and positive.
+    pub fn to_counts(&self, sample_unit: f32) -> Result<CountCalibration<N>, Error> {
         let mut out = CountCalibration {
             dark: [0; N],
             gain_q16: [0; N],
@@ -112,8 +161,11 @@ impl<const N: usize> Calibration<N> {
                 channel_index: k,
                 problem: CalibrationProblem::OutOfRange,
             });
+            if !(sample_unit.is_finite() && sample_unit > 0.0) {
+                return out_of_range;
+            }
             let dark = self.dark[k] + 0.5;
-            let gain = self.gain[k] * counts_per_unit * 65_536.0 + 0.5;
+            let gain = self.gain[k] / sample_unit * 65_536.0 + 0.5;
             // 65 536 · 65 536 = 2³²: the largest gain that fits u32 with 16 fractional bits.
             if !((0.0..65_536.0).contains(&dark) && (0.0..4_294_967_296.0).contains(&gain)) {
                 return out_of_range;
@@ -140,9 +192,9 @@ impl<const N: usize> Calibration<N> {
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct CountCalibration<const N: usize> {
     /// Each channel's counts in the dark, subtracted first (saturating at 0).
-    pub dark: [u16; N],
+    dark: [u16; N],
     /// Each channel's gain with 16 fractional bits: 65 536 is 1.
-    pub gain_q16: [u32; N],
+    gain_q16: [u32; N],
 }
 
 impl<const N: usize> CountCalibration<N> {
@@ -151,6 +203,23 @@ impl<const N: usize> CountCalibration<N> {
         dark: [0; N],
         gain_q16: [1 << 16; N],
     };
+
+    /// A calibration of your own: each channel's dark offset in counts and gain with 16
+    /// fractional bits (65 536 is 1). Every value is valid (`apply` cannot overflow for any),
+    /// so there is nothing to check: a `const fn` that cannot fail.
+    pub const fn new(dark: [u16; N], gain_q16: [u32; N]) -> CountCalibration<N> {
+        CountCalibration { dark, gain_q16 }
+    }
+
+    /// Each channel's counts in the dark, subtracted first (saturating at 0).
+    pub const fn dark(&self) -> [u16; N] {
+        self.dark
+    }
+
+    /// Each channel's gain with 16 fractional bits: 65 536 is 1.
+    pub const fn gain_q16(&self) -> [u32; N] {
+        self.gain_q16
+    }
 
     /// From counts in the dark, counts of a white reference, and `reference`, the golden
     /// device's counts on that white: `dark` as it is and

@@ -74,7 +74,13 @@ pub struct PlanckianLocus<const K: usize> {
     pub(crate) uv: [[f32; 2]; K],
     pub(crate) tangent: [[f32; 2]; K],
     pub(crate) chord: [[f32; 2]; K],
+    /// The unit tangent at each node in 1.14 fixed point (16 384 is 1): the binary search over
+    /// the nodes runs in integers, where an f32 operation is a library call of a hundred
+    /// instructions.
     pub(crate) unit_tangent_q14: [[i16; 2]; K],
+    /// `L · T̂` at each node, the point in 16 fractional bits times the unit tangent above (30
+    /// fractional bits): a point P (16 fractional bits) lies on the hot side of the node's
+    /// isotemperature line where `P · T̂ − L · T̂ ≥ 0`.
     pub(crate) along_q30: [i32; K],
 }
 
@@ -149,22 +155,6 @@ impl<const K: usize> PlanckianLocus<K> {
     /// `uv[i] + h·tangent[i]·(t − 2t² + t³) + chord[i]·(3t² − 2t³) + h·tangent[i + 1]·(t³ − t²)`.
     pub const fn chord(&self) -> &[[f32; 2]; K] {
         &self.chord
-    }
-
-    /// Internal, for the crate's tests: the unit tangent at each node in 1.14 fixed point
-    /// (16 384 is 1). The binary search over the nodes runs in integers, where an f32
-    /// operation is a library call of a hundred instructions.
-    #[doc(hidden)]
-    pub const fn unit_tangent_q14(&self) -> &[[i16; 2]; K] {
-        &self.unit_tangent_q14
-    }
-
-    /// Internal, for the crate's tests: `L · T̂` at each node, the point in 16 fractional bits
-    /// times the unit tangent above (30 fractional bits): a point P (16 fractional bits) lies
-    /// on the hot side of the node's isotemperature line where `P · T̂ − L · T̂ ≥ 0`.
-    #[doc(hidden)]
-    pub const fn along_q30(&self) -> &[i32; K] {
-        &self.along_q30
     }
 
     /// The temperatures the table covers, lowest first: `[10⁶ / mired[K − 1], 10⁶ / mired[0]]`

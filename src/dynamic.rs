@@ -4,7 +4,8 @@
 
 use heapless::Vec;
 
-use crate::{Error, GaussRule, RuleStatus};
+use crate::model::error::check_length;
+use crate::{Channel, Error, GaussRule, LengthOf, RuleStatus};
 
 /// A wavelength set merged at run time from per-channel [`GaussRule`]s, for up to `CAP`
 /// distinct wavelengths, without allocating (for example A order 4 + C1 order 2 + C2 order 1
@@ -84,9 +85,9 @@ impl<const CAP: usize> DynamicSet<CAP> {
         &self.wavelengths_nm
     }
 
-    /// Channel row `c` (0 = A, 1 = C1, 2 = C2) of the weights; an empty slice for c > 2.
-    pub fn weights(&self, c: usize) -> &[f32] {
-        self.weights.get(c).map_or(&[], |r| r.as_slice())
+    /// Channel `c`'s row of the weights, one weight per wavelength (dλ in nm).
+    pub fn weights(&self, c: Channel) -> &[f32] {
+        &self.weights[c.index()]
     }
 
     /// The number of distinct wavelengths.
@@ -100,15 +101,11 @@ impl<const CAP: usize> DynamicSet<CAP> {
     }
 
     /// `[A, C1, C2]` from samples at [`wavelengths_nm`](Self::wavelengths_nm).
-    /// [`Error::LengthMismatch`] unless `samples.len() == self.len()`. IEEE arithmetic as
+    /// [`Error::LengthMismatch`] unless `samples.len() == self.len()`: [`LengthOf::Samples`],
+    /// `expected` the set's wavelengths, `got` the samples. IEEE arithmetic as
     /// [`WavelengthSet::ac1c2`](crate::WavelengthSet::ac1c2).
     pub fn ac1c2(&self, samples: &[f32]) -> Result<[f32; 3], Error> {
-        if samples.len() != self.len() {
-            return Err(Error::LengthMismatch {
-                inputs: samples.len(),
-                outputs: self.len(),
-            });
-        }
+        check_length(LengthOf::Samples, self.len(), samples.len())?;
         let mut out = [0.0f32; 3];
         for (o, row) in out.iter_mut().zip(&self.weights) {
             let mut acc = 0.0f32;

@@ -7,10 +7,10 @@
 
 #![forbid(unsafe_code)]
 
+use crate::model::bits::same_f32_bits;
+use crate::model::error::{check_length, planar_pixels};
 use crate::pixel::{mat_vec, mat_vec_for_encoding};
-use crate::{
-    Display, Error, FoldedSet, GamutMapping, LightGroupProblem, Samples, TransferFunction,
-};
+use crate::{Display, Error, FoldedSet, GamutMapping, LengthOf, LightGroupProblem, Rgb, Samples};
 
 /// N wavelengths shared by L lights, and one 3×N weight matrix (display RGB, like a
 /// [`FoldedSet`]'s) per light: the colour of a pixel lit by several lights of different
@@ -110,8 +110,9 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
     /// - every wavelength finite, positive and above the one before, else
     ///   [`Error::InvalidWavelength`] at the first that is not (as [`FoldedSet::new`] for
     ///   reflectances);
-    /// - every weight finite, else [`Error::InvalidWeight`] with `row` = `3 · light + channel`
-    ///   and `index`, at the first in light, row and index order.
+    /// - every weight finite, else [`Error::LightGroup`] with the light and
+    ///   [`LightGroupProblem::InvalidWeight`] with the channel and index, at the first in light,
+    ///   channel and index order.
     pub const fn new(
         wavelengths_nm: [f32; N],
         weights: [[[f32; N]; 3]; L],
@@ -136,9 +137,12 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
             match checked {
                 Ok(_) => {}
                 Err(Error::InvalidWeight { row, index }) => {
-                    return Err(Error::InvalidWeight {
-                        row: 3 * l + row,
-                        index,
+                    return Err(Error::LightGroup {
+                        light: l,
+                        problem: LightGroupProblem::InvalidWeight {
+                            channel: Rgb::ALL[row % 3],
+                            index,
+                        },
                     })
                 }
                 Err(e) => return Err(e),
@@ -184,9 +188,9 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
             let problem = match m.samples {
                 Samples::Reflectance { light } => {
                     lights[l] = light;
-                    if !same_bits(&m.wavelengths_nm, &first.wavelengths_nm) {
+                    if !same_f32_bits(&m.wavelengths_nm, &first.wavelengths_nm) {
                         Some(LightGroupProblem::Wavelengths)
-                    } else if !same_display(&m.display, &first.display) {
+                    } else if !m.display.same_bits(&first.display) {
                         Some(LightGroupProblem::Display)
                     } else {
                         None
@@ -326,13 +330,14 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
     /// the same bits.
     ///
     /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless
-    /// `groups.len() == out.len()`.
+    /// `groups.len() == out.len()`: [`LengthOf::Output`], `expected` the input's pixels, `got`
+    /// the output's.
     pub fn linear_rgb_batch(
         &self,
         groups: &[[[f32; N]; L]],
         out: &mut [[f32; 3]],
     ) -> Result<(), Error> {
-        check(groups.len(), out.len())?;
+        check_length(LengthOf::Output, groups.len(), out.len())?;
         for (o, g) in out.iter_mut().zip(groups) {
             *o = self.linear_rgb(g);
         }
@@ -342,14 +347,15 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
     /// [`encode_u8`](Self::encode_u8) for every pixel, the same bytes (NaN anywhere in a
     /// pixel's sum → black). Pixel by pixel.
     ///
-    /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless the lengths agree.
+    /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless the lengths agree
+    /// ([`LengthOf::Output`]).
     pub fn encode_u8_batch(
         &self,
         mapping: GamutMapping,
         groups: &[[[f32; N]; L]],
         out: &mut [[u8; 3]],
     ) -> Result<(), Error> {
-        check(groups.len(), out.len())?;
+        check_length(LengthOf::Output, groups.len(), out.len())?;
         for (o, g) in out.iter_mut().zip(groups) {
             *o = self.encode_u8(mapping, g);
         }
@@ -359,14 +365,15 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
     /// [`encode_u16`](Self::encode_u16) for every pixel, the same values (NaN anywhere in a
     /// pixel's sum → black).
     ///
-    /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless the lengths agree.
+    /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless the lengths agree
+    /// ([`LengthOf::Output`]).
     pub fn encode_u16_batch(
         &self,
         mapping: GamutMapping,
         groups: &[[[f32; N]; L]],
         out: &mut [[u16; 3]],
     ) -> Result<(), Error> {
-        check(groups.len(), out.len())?;
+        check_length(LengthOf::Output, groups.len(), out.len())?;
         for (o, g) in out.iter_mut().zip(groups) {
             *o = self.encode_u16(mapping, g);
         }
@@ -382,9 +389,9 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
     /// and its input handling. Never panics.
     ///
     /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless every plane and every
-    /// output has the same length; `inputs` is then the length of `planes[0][0]` and `outputs`
-    /// the first length (another plane's, in light then wavelength order, or an output's) that
-    /// differs from it. With N = 0 there are no planes: the number of pixels is the length of
+    /// output has the same length, at the first that differs from `planes[0][0]`'s
+    /// (`expected`): [`LengthOf::InputPlane`] for another plane, in light then wavelength order,
+    /// [`LengthOf::OutputPlane`] for a plane of `out`. With N = 0 there are no planes: the number of pixels is the length of
     /// `out[0]`, and every pixel is `[0.0, 0.0, 0.0]`.
     pub fn linear_rgb_planar(
         &self,
@@ -405,7 +412,7 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
     ///
     /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless every plane and `out`
     /// have the same length, reported as for [`linear_rgb_planar`](Self::linear_rgb_planar)
-    /// (with N = 0, `out.len()` is the number of pixels).
+    /// ([`LengthOf::Output`] for `out`; with N = 0, `out.len()` is the number of pixels).
     pub fn encode_u8_planar_to_interleaved(
         &self,
         mapping: GamutMapping,
@@ -437,7 +444,8 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
     /// handling. As [`FoldedSet::encode_u16_planar_to_interleaved`].
     ///
     /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless every plane and `out`
-    /// have the same length, reported as for [`linear_rgb_planar`](Self::linear_rgb_planar).
+    /// have the same length, reported as for [`linear_rgb_planar`](Self::linear_rgb_planar)
+    /// ([`LengthOf::Output`] for `out`).
     pub fn encode_u16_planar_to_interleaved(
         &self,
         mapping: GamutMapping,
@@ -471,14 +479,18 @@ fn add(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
 }
 
 /// The planar functions' loop, output in planes: `out[c][p]` is channel c of `pixel` of pixel
-/// p's groups, after [`check_planes`] (nothing written on a mismatch).
+/// p's groups, after [`planar_pixels`] (nothing written on a mismatch).
 #[inline(always)]
 fn to_planes<T, const N: usize, const L: usize>(
     planes: [[&[f32]; N]; L],
     out: [&mut [T]; 3],
     pixel: impl Fn(&[[f32; N]; L]) -> [T; 3],
 ) -> Result<(), Error> {
-    let pixels = check_planes(&planes, &[out[0].len(), out[1].len(), out[2].len()])?;
+    let pixels = planar_pixels(
+        plane_lengths(&planes),
+        LengthOf::OutputPlane,
+        &[out[0].len(), out[1].len(), out[2].len()],
+    )?;
     let planes = planes.map(|light| light.map(|plane| &plane[..pixels]));
     let [r, g, b] = out;
     let (r, g, b) = (&mut r[..pixels], &mut g[..pixels], &mut b[..pixels]);
@@ -489,14 +501,14 @@ fn to_planes<T, const N: usize, const L: usize>(
 }
 
 /// The planar functions' loop, output interleaved: `out[p]` is `pixel` of pixel p's groups,
-/// after [`check_planes`] (nothing written on a mismatch).
+/// after [`planar_pixels`] (nothing written on a mismatch).
 #[inline(always)]
 fn to_interleaved<T, const N: usize, const L: usize>(
     planes: [[&[f32]; N]; L],
     out: &mut [[T; 3]],
     pixel: impl Fn(&[[f32; N]; L]) -> [T; 3],
 ) -> Result<(), Error> {
-    let pixels = check_planes(&planes, &[out.len()])?;
+    let pixels = planar_pixels(plane_lengths(&planes), LengthOf::Output, &[out.len()])?;
     let planes = planes.map(|light| light.map(|plane| &plane[..pixels]));
     for (p, o) in out[..pixels].iter_mut().enumerate() {
         *o = pixel(&gather(&planes, p));
@@ -504,112 +516,16 @@ fn to_interleaved<T, const N: usize, const L: usize>(
     Ok(())
 }
 
+/// The planes' lengths, light by light, wavelength by wavelength: the order in which
+/// [`planar_pixels`] checks them.
+fn plane_lengths<'a, const N: usize, const L: usize>(
+    planes: &'a [[&[f32]; N]; L],
+) -> impl Iterator<Item = usize> + 'a {
+    planes.iter().flatten().map(|p| p.len())
+}
+
 /// Pixel p's groups from planes that each hold more than p values.
 #[inline(always)]
 fn gather<const N: usize, const L: usize>(planes: &[[&[f32]; N]; L], p: usize) -> [[f32; N]; L] {
     planes.map(|light| light.map(|plane| plane[p]))
-}
-
-/// `Err(LengthMismatch)` unless the batch's input and output lengths agree.
-fn check(inputs: usize, outputs: usize) -> Result<(), Error> {
-    if inputs == outputs {
-        Ok(())
-    } else {
-        Err(Error::LengthMismatch { inputs, outputs })
-    }
-}
-
-/// Checks that every plane (light by light, wavelength by wavelength) has the length of
-/// `planes[0][0]` and that every output length equals it; returns that length, the number of
-/// pixels. Without planes (N = 0 or L = 0) the first output's length is the number of pixels.
-fn check_planes<const N: usize, const L: usize>(
-    planes: &[[&[f32]; N]; L],
-    outputs: &[usize],
-) -> Result<usize, Error> {
-    let mut lens = planes.iter().flatten().map(|p| p.len());
-    let pixels = match lens.next() {
-        Some(len) => len,
-        None => outputs.first().copied().unwrap_or(0),
-    };
-    for len in lens.chain(outputs.iter().copied()) {
-        if len != pixels {
-            return Err(Error::LengthMismatch {
-                inputs: pixels,
-                outputs: len,
-            });
-        }
-    }
-    Ok(pixels)
-}
-
-/// Whether two arrays hold the same f32 bit patterns.
-const fn same_bits(a: &[f32], b: &[f32]) -> bool {
-    if a.len() != b.len() {
-        return false;
-    }
-    let mut i = 0;
-    while i < a.len() {
-        if a[i].to_bits() != b[i].to_bits() {
-            return false;
-        }
-        i += 1;
-    }
-    true
-}
-
-/// Whether two strings are the same text.
-const fn same_str(a: &str, b: &str) -> bool {
-    let (a, b) = (a.as_bytes(), b.as_bytes());
-    if a.len() != b.len() {
-        return false;
-    }
-    let mut i = 0;
-    while i < a.len() {
-        if a[i] != b[i] {
-            return false;
-        }
-        i += 1;
-    }
-    true
-}
-
-/// Whether two displays are the same, every field the same bits: `PartialEq` in a const fn
-/// (stricter only where one field holds 0.0 and the other −0.0).
-const fn same_display(a: &Display, b: &Display) -> bool {
-    let mut k = 0;
-    while k < 3 {
-        if !same_bits(&a.primaries_xy[k], &b.primaries_xy[k])
-            || !same_bits(&a.rgb_to_xyz[k], &b.rgb_to_xyz[k])
-            || !same_bits(&a.xyz_to_rgb[k], &b.xyz_to_rgb[k])
-        {
-            return false;
-        }
-        k += 1;
-    }
-    same_str(a.name, b.name)
-        && same_bits(&a.white_xy, &b.white_xy)
-        && same_bits(&a.a_from_rgb, &b.a_from_rgb)
-        && same_transfer(&a.transfer, &b.transfer)
-}
-
-/// Whether two transfer functions are the same variant with the same bits (a γ, or every
-/// entry of the three tables).
-const fn same_transfer(a: &TransferFunction, b: &TransferFunction) -> bool {
-    match (a, b) {
-        (TransferFunction::Linear, TransferFunction::Linear)
-        | (TransferFunction::Srgb, TransferFunction::Srgb) => true,
-        (TransferFunction::Gamma(x), TransferFunction::Gamma(y)) => x.to_bits() == y.to_bits(),
-        (TransferFunction::Lut(x), TransferFunction::Lut(y)) => {
-            let mut k = 0;
-            while k < 3 {
-                let c = crate::Rgb::ALL[k];
-                if !same_bits(x.table(c), y.table(c)) {
-                    return false;
-                }
-                k += 1;
-            }
-            true
-        }
-        _ => false,
-    }
 }

@@ -50,8 +50,9 @@
 //! - [`FoldedSet::encode_u16`]: [`FoldedSet::linear_rgb`], [`Display::encode_u16`],
 //!   [`Display::map_gamut`], [`TransferFunction::encode_u16`] (the curve in f32) and
 //!   [`quantize_u16`].
-//! - Encoded f32 in 0..=1: [`Display::encode`], [`Display::map_gamut`] then
-//!   [`TransferFunction::encode`], the reference curve (f64, rounded once).
+//! - Encoded f32 in 0..=1, the reference (not a per-pixel function, see "Conventions"):
+//!   [`Display::encode`], [`Display::map_gamut`] then [`TransferFunction::encode`], the exact
+//!   curve in f64, rounded once.
 //!
 //! **Interleaved pixels** (`src/batch.rs`): [`WavelengthSet::ac1c2_batch`],
 //! [`FoldedSet::linear_rgb_batch`] and [`FoldedSet::encode_u16_batch`] call the per-pixel
@@ -101,9 +102,7 @@
 //!
 //! The x86-64 loops are chosen at run time: the CPU's features are detected on the first call
 //! (`cpuid`, with the `cpufeatures` crate) and cached, in `src/simd/mod.rs`. None of this uses
-//! f64: f64 is only where a user asks for it ([`TransferFunction::encode`] and
-//! [`TransferFunction::decode`], [`Display::new`], [`delta_e2000`] and the other colour
-//! differences, [`f32_budget`]).
+//! f64 (the list of per-pixel functions, and where f64 is, is in "Conventions").
 //!
 //! **Integer counts** (`src/integer/`), for microcontrollers without an FPU:
 //! [`IntegerSet::encode_u8`] (`set.rs`) takes u16 counts, sums each channel's fixed-point
@@ -137,24 +136,57 @@
 //!   channel) and planes out (one slice per output channel); `_planar_to_interleaved`, planes in
 //!   and interleaved pixels out; `_interleaved_to_planar`, the reverse. Every layout gives the
 //!   per-pixel function's bits or bytes, and a call whose slices differ in length returns
-//!   [`Error::LengthMismatch`] before writing anything.
+//!   [`Error::LengthMismatch`] before writing anything, naming what it compared ([`LengthOf`]:
+//!   the output against the input, a plane against the first) and the two lengths.
 //! - **One word per idea**: *samples* are the f32 values a set takes (and [`Samples`] says what
-//!   they are); *counts* are the u16 inputs of [`IntegerSet`]; an enum's text is its `name()`;
-//!   an error bound is `<WHAT>_MAX_ERROR`, with a unit suffix where the unit is not the
-//!   quantity's own ([`INTEGER_MAX_ERROR_CODES`], [`SRGB8_MAX_ERROR_DE76`],
-//!   [`CCT_MAX_ERROR_MIRED`]); a channel of AC1C2 is a [`Channel`], of RGB an [`Rgb`], and a
+//!   they are); *counts* are the u16 inputs of [`IntegerSet`] and [`CountCalibration`], a count
+//!   standing for `sample_unit` of the samples (what [`IntegerSet::new`] and
+//!   [`Calibration::to_counts`] take); an error bound is `<WHAT>_MAX_ERROR`, with a unit
+//!   suffix where the unit is not the quantity's own ([`INTEGER_MAX_ERROR_CODES`],
+//!   [`SRGB8_MAX_ERROR_DE76`], [`CCT_MAX_ERROR_MIRED`]); a channel of AC1C2 is a [`Channel`], of RGB an [`Rgb`], and a
 //!   sensor's channel is an index (`channel_index`).
-//! - **Errors**: every fallible function returns [`Error`]; a refused display is
-//!   [`Error::Display`] with the [`DisplayError`] the build-time generator reports too. Enums
-//!   that may grow (errors, problems, [`Samples`], [`GamutMapping`], [`TransferFunction`],
-//!   [`RuleStatus`]) are `#[non_exhaustive]`.
+//! - **Names**: an enum's `name()` is its variant's identifier in kebab-case, lower-case words
+//!   joined by hyphens (`"clip"`, `"preserve-a"`, `"vanishing-norm"`, `"out-of-range"`): the
+//!   same text in every version, for CSV columns, logs and settings. Its `fmt::Display` is the
+//!   sentence for messages. The one exception is the channel selectors, named by their symbols
+//!   as the paper and colour science write them: [`Channel`] `"A"`, `"C1"`, `"C2"`, [`Rgb`]
+//!   `"R"`, `"G"`, `"B"`. A value's `name()` ([`Display::name`]) is the name it was made with
+//!   (`"sRGB"`, `"Display P3"` for the baked displays). `src/model/tests.rs` holds every public
+//!   enum to this.
+//! - **Errors**: every fallible function (one that can refuse its arguments) returns
+//!   `Result<_, `[`Error`]`>`; a refused display is [`Error::Display`] with the [`DisplayError`]
+//!   the build-time generator reports too. `Option` is for an answer that may not exist for
+//!   any argument, never for a refusal: no CCT beyond |Duv| = 0.05 or without a chromaticity
+//!   ([`PlanckianLocus::cct`], [`uv_from_xyz`]), no member beyond L
+//!   ([`LightGroupSet::member`]), no figure the build did not measure
+//!   ([`Upsampling::lipschitz`]). Enums that may grow (errors, problems, [`LengthOf`],
+//!   [`Samples`], [`GamutMapping`], [`TransferFunction`], [`RuleStatus`]) are
+//!   `#[non_exhaustive]`.
 //! - **Construction**: the baked types' fields are private; read them through `const fn`
 //!   accessors of the same names (`set.weights()`, `display.name()`), and build your own with a
 //!   checked `const fn new` ([`WavelengthSet::new`], [`FoldedSet::new`], [`GaussRule::new`],
-//!   [`Upsampling::new`], [`IntegerSet::new`], [`ChannelLuts::new`]) or [`Display::new`]. No
-//!   constructor leaves a placeholder (such as NaN) for the caller to fill.
+//!   [`LightGroupSet::new`], [`Upsampling::new`], [`IntegerSet::new`], [`ChannelLuts::new`],
+//!   [`Calibration::new`], [`LuxScale::new`]) or [`Display::new`] (f64, not `const`); where no
+//!   value can be wrong the `new` cannot fail ([`CountCalibration::new`], [`RoundTrip::new`]).
+//!   No constructor leaves a placeholder (such as NaN) for the caller to fill. A function's
+//!   result that holds no invariant is a plain record with public fields ([`Cct`]).
 //! - **Inputs**: no function panics or allocates on any input; each documents what NaN, ±Inf,
-//!   subnormal, huge and negative values yield. No f64 per pixel.
+//!   subnormal, huge and negative values yield.
+//! - **No f64 per pixel**: the per-pixel functions use f32 and integers only. They are the
+//!   sets' `ac1c2`, `xyz`, `linear_rgb`, `linear_rgb_under`, `encode_u8` and `encode_u16`
+//!   ([`WavelengthSet`], [`FoldedSet`], [`LightGroupSet`], [`IntegerSet::encode_u8`]); the
+//!   display's [`Display::map_gamut`], [`Display::encode_u8`], [`Display::encode_u16`],
+//!   [`Display::linear_from_xyz`] and [`Display::xyz_from_linear`]; the transfer function's
+//!   [`TransferFunction::encode_u8`], `encode_u16` and `encode_fast`; [`srgb8_from_linear`],
+//!   [`quantize_u8`], [`quantize_u16`], [`xyz_from_ac1c2`], [`ac1c2_from_xyz`];
+//!   [`Upsampling::reflectance`] and [`Upsampling::interpolate`]; a sensor reading's
+//!   [`Calibration::apply`], [`CountCalibration::apply`], [`LuxScale::lux`],
+//!   [`PlanckianLocus::cct`] and [`uv_from_xyz`]; and every `_batch`, `_planar`,
+//!   `_planar_to_interleaved` and `_interleaved_to_planar` form of them. f64 is only in the
+//!   reference encoders, [`TransferFunction::encode`], [`TransferFunction::decode`] and
+//!   [`Display::encode`] (the exact curve rounded once, what the per-pixel encoders are
+//!   measured against), and in what runs once per display, device or test, off the pixel path:
+//!   [`Display::new`], [`delta_e2000`], [`delta_e76`], [`lab_from_xyz`], [`f32_budget`].
 //! - **Traits**: every public type is `Debug`, `Clone` and `PartialEq` (`Copy` where it holds no
 //!   buffer, `Eq` and `Hash` where it holds no float), and `defmt::Format` with the `defmt`
 //!   feature.
@@ -232,7 +264,7 @@ pub use integer::{IntegerSet, INTEGER_MAX_ERROR_CODES};
 pub use lux::LuxScale;
 pub use model::channel::{Channel, Rgb};
 pub use model::display::{Display, GamutMapping};
-pub use model::error::{CalibrationProblem, DisplayError, Error, LightGroupProblem};
+pub use model::error::{CalibrationProblem, DisplayError, Error, LengthOf, LightGroupProblem};
 pub use model::matrix::{ac1c2_from_xyz, xyz_from_ac1c2};
 pub use model::set::{FoldedSet, GaussRule, RuleStatus, Samples, WavelengthSet, MAX_WAVELENGTHS};
 pub use model::transfer::{

@@ -2,6 +2,8 @@
 
 #![forbid(unsafe_code)]
 
+use crate::Error;
+
 /// Lux per unit of a set's Y: what turns the luminance a set gives into illuminance.
 ///
 /// Two ways to know it: from the units of the samples (spectral irradiance in W·m⁻²·nm⁻¹
@@ -20,8 +22,8 @@
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct LuxScale {
-    /// Illuminance in lux for Y = 1.
-    pub lux_per_y: f32,
+    /// Illuminance in lux for Y = 1, finite and positive.
+    lux_per_y: f32,
 }
 
 impl LuxScale {
@@ -39,12 +41,39 @@ impl LuxScale {
     /// the scene's ȳ is that observer's, not V(λ).
     pub const SPECTRAL_IRRADIANCE: LuxScale = LuxScale { lux_per_y: 683.002 };
 
+    /// A scale of your own: `lux_per_y`, the illuminance in lux for Y = 1. Checked, never a
+    /// panic, usable in consts: [`Error::InvalidLuxScale`] unless it is finite and positive.
+    ///
+    /// ```
+    /// use spectral_quadrature::{Error, LuxScale};
+    /// const METER: LuxScale = match LuxScale::new(40_000.0) {
+    ///     Ok(scale) => scale,
+    ///     Err(_) => panic!("not a scale"),
+    /// };
+    /// assert_eq!(METER.lux_per_y(), 40_000.0);
+    /// assert_eq!(LuxScale::new(0.0), Err(Error::InvalidLuxScale));
+    /// ```
+    pub const fn new(lux_per_y: f32) -> Result<LuxScale, Error> {
+        if lux_per_y.is_finite() && lux_per_y > 0.0 {
+            Ok(LuxScale { lux_per_y })
+        } else {
+            Err(Error::InvalidLuxScale)
+        }
+    }
+
     /// From one reading of a known light: `y`, the Y the set gave for it, and `lux`, its
-    /// illuminance. `None` unless both are finite and positive (or if their ratio overflows).
-    pub fn from_reading(y: f32, lux: f32) -> Option<LuxScale> {
-        let lux_per_y = lux / y;
-        (y > 0.0 && lux > 0.0 && y.is_finite() && lux.is_finite() && lux_per_y.is_finite())
-            .then_some(LuxScale { lux_per_y })
+    /// illuminance. Never panics: [`Error::InvalidLuxScale`] unless both are finite and
+    /// positive and their ratio is finite (a tiny `y` can overflow it).
+    pub fn from_reading(y: f32, lux: f32) -> Result<LuxScale, Error> {
+        if !(y > 0.0 && lux > 0.0 && y.is_finite() && lux.is_finite()) {
+            return Err(Error::InvalidLuxScale);
+        }
+        LuxScale::new(lux / y)
+    }
+
+    /// Illuminance in lux for Y = 1: finite and positive.
+    pub const fn lux_per_y(&self) -> f32 {
+        self.lux_per_y
     }
 
     /// The illuminance of `xyz`: [`lux_per_y`](Self::lux_per_y) · Y, in f32. IEEE arithmetic:

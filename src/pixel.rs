@@ -96,7 +96,7 @@ impl<const N: usize> FoldedSet<N> {
     /// NaN anywhere → black; see [`Display::encode_u8`](crate::Display::encode_u8). With N = 0,
     /// the display's encoding of black (`[0, 0, 0]` for every built-in transfer function).
     ///
-    /// The bytes of `self.display.encode_u8(self.linear_rgb(samples), mapping)`. Each channel's
+    /// The bytes of `self.display().encode_u8(mapping, self.linear_rgb(samples))`. Each channel's
     /// sum starts from its first product instead of 0.0 (one addition less), which differs
     /// only where the sum is an exact zero (−0.0 instead of +0.0, and both encode to 0). On
     /// x86-64, the sRGB curve with `Clip` runs with the three channels in one SSE2 register:

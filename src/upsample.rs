@@ -3,7 +3,8 @@
 
 #![forbid(unsafe_code)]
 
-use crate::Error;
+use crate::model::error::{check_length, planar_pixels};
+use crate::{Display, Error, FoldedSet, LengthOf, Samples};
 
 mod round_trip;
 
@@ -12,8 +13,16 @@ pub use round_trip::RoundTrip;
 /// The 16-bit code of a node value of 1 in an [`Upsampling`]'s table: value = code / 65535.
 pub const UPSAMPLING_CODE_ONE: u16 = u16::MAX;
 
-/// An upsampling baked for one set and one display: linear RGB of the display, white-balanced
-/// under the set's reference light, to the set's N node reflectances.
+/// The reference light of an upsampling for a set for radiances, whose weights hold no light:
+/// CIE illuminant D65, the white of the displays' RGB (the generator's
+/// `RADIANCE_REFERENCE_LIGHT`; `tests/upsampling.rs` holds the two to the same name).
+const RADIANCE_REFERENCE_LIGHT: &str = "D65";
+
+/// An upsampling baked for one folded set, and so for its display: linear RGB of that display,
+/// white-balanced under the set's reference light, to the set's N node reflectances. The
+/// upsampling holds its [`FoldedSet`] ([`set`](Self::set)), so the display whose RGB it takes,
+/// the wavelengths of its node values and the reference light are the set's, by type: no
+/// upsampling can be paired with another set's display or light.
 ///
 /// Build time fits a least-squares map on measured reflectances, then moves each point of a
 /// `grid`³ lattice of the RGB cube to the nearest node values in [0, 1] that the set encodes
@@ -47,10 +56,9 @@ pub struct Upsampling<const N: usize> {
     // `pub(crate)`: the baked tables (`crate::tables`) set them; users call `new`. The three
     // figures are NaN where `new` made the upsampling (not measured; their accessors say
     // `None`).
-    pub(crate) set: &'static str,
-    pub(crate) display: &'static str,
-    pub(crate) light: &'static str,
-    pub(crate) wavelengths_nm: [f32; N],
+    /// The folded set whose node values it gives: for reflectances under a light, or for
+    /// radiances (never a sensor's readings).
+    pub(crate) set: FoldedSet<N>,
     pub(crate) lipschitz: f32,
     pub(crate) max_round_trip_delta_e00: f32,
     pub(crate) reachable_share: f32,
@@ -64,24 +72,42 @@ pub struct Upsampling<const N: usize> {
 
 impl<const N: usize> Upsampling<N> {
     /// An upsampling of your own (the baked ones are in
-    /// [`tables::upsampling`](crate::tables::upsampling)): the set's, display's and reference
-    /// light's names, the set's wavelengths (the order of the node values), a table of `grid³`
-    /// entries (index `(r · grid + g) · grid + b`, node values in 65535ths) and, if the edge
-    /// cells are to be corrected, a [`RoundTrip`]. Its measured figures
-    /// ([`lipschitz`](Self::lipschitz), [`max_round_trip_delta_e00`](Self::max_round_trip_delta_e00),
+    /// [`tables::upsampling`](crate::tables::upsampling)) for the folded set `set`, which gives
+    /// it the display whose linear RGB it takes, the wavelengths of its node values and its
+    /// reference light: a table of `grid³` entries (index `(r · grid + g) · grid + b`, node
+    /// values in 65535ths) and, if the edge cells are to be corrected, a [`RoundTrip`]. Its
+    /// measured figures ([`lipschitz`](Self::lipschitz),
+    /// [`max_round_trip_delta_e00`](Self::max_round_trip_delta_e00),
     /// [`reachable_share`](Self::reachable_share)) are `None`: only the build measures them.
     ///
-    /// Errors, never a panic, usable in consts: [`Error::UpsamplingTable`] unless `grid ≥ 2`
-    /// and `table.len() == grid³`.
+    /// Errors, never a panic, usable in consts: [`Error::UpsamplingReadings`] for a set for a
+    /// sensor's readings ([`Samples::Readings`]: its samples are channel readings, not
+    /// values at wavelengths); [`Error::UpsamplingTable`] unless `grid ≥ 2` and
+    /// `table.len() == grid³`.
+    ///
+    /// ```
+    /// use spectral_quadrature::tables::folded::KQ_C_4_SRGB;
+    /// use spectral_quadrature::Upsampling;
+    /// // A 2³ table: black at (0, 0, 0), white everywhere else.
+    /// static TABLE: [[u16; 4]; 8] = {
+    ///     let mut t = [[u16::MAX; 4]; 8];
+    ///     t[0] = [0; 4];
+    ///     t
+    /// };
+    /// let up = Upsampling::new(KQ_C_4_SRGB, 2, &TABLE, None).unwrap();
+    /// assert_eq!(up.display().name(), "sRGB");
+    /// assert_eq!(up.light(), "C");
+    /// assert_eq!(up.reflectance([1.0; 3]), [1.0; 4]);
+    /// ```
     pub const fn new(
-        set: &'static str,
-        display: &'static str,
-        light: &'static str,
-        wavelengths_nm: [f32; N],
+        set: FoldedSet<N>,
         grid: usize,
         table: &'static [[u16; N]],
         round_trip: Option<RoundTrip<N>>,
     ) -> Result<Self, Error> {
+        if let Samples::Readings { .. } = set.samples {
+            return Err(Error::UpsamplingReadings);
+        }
         let refused = Err(Error::UpsamplingTable {
             grid,
             entries: table.len(),
@@ -97,9 +123,6 @@ impl<const N: usize> Upsampling<N> {
         }
         Ok(Upsampling {
             set,
-            display,
-            light,
-            wavelengths_nm,
             lipschitz: f32::NAN,
             max_round_trip_delta_e00: f32::NAN,
             reachable_share: f32::NAN,
@@ -109,24 +132,30 @@ impl<const N: usize> Upsampling<N> {
         })
     }
 
-    /// The set's name (`"KQ_C_8"`).
-    pub const fn set(&self) -> &'static str {
+    /// The folded set whose node values it gives (`tables::folded::KQ_C_8_SRGB` for
+    /// `tables::upsampling::KQ_C_8_SRGB`): its weights take the node values to linear RGB of
+    /// [`display`](Self::display).
+    pub const fn set(&self) -> FoldedSet<N> {
         self.set
     }
 
-    /// The display whose linear RGB it takes (`"sRGB"`).
-    pub const fn display(&self) -> &'static str {
-        self.display
+    /// The display whose linear RGB it takes: the set's.
+    pub const fn display(&self) -> Display {
+        self.set.display
     }
 
-    /// The reference light: the set's folded light, or `"D65"` for a set for radiances.
+    /// The reference light, under which the RGB is white-balanced: the set's folded light
+    /// ([`Samples::Reflectance`]), or `"D65"` for a set for radiances.
     pub const fn light(&self) -> &'static str {
-        self.light
+        match self.set.samples {
+            Samples::Reflectance { light } => light,
+            _ => RADIANCE_REFERENCE_LIGHT,
+        }
     }
 
     /// The set's wavelengths in nm: the order of the node values.
     pub const fn wavelengths_nm(&self) -> [f32; N] {
-        self.wavelengths_nm
+        self.set.wavelengths_nm
     }
 
     /// A Lipschitz constant of [`interpolate`](Self::interpolate) (and of
@@ -303,7 +332,8 @@ impl<const N: usize> Upsampling<N> {
     /// huge, subnormal) gives node values in [0, 1]; never panics, allocates nothing.
     ///
     /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless
-    /// `rgb.len() == out.len()`; `inputs` is `rgb.len()`, `outputs` `out.len()`.
+    /// `rgb.len() == out.len()`: [`LengthOf::Output`], `expected` `rgb.len()`, `got`
+    /// `out.len()`.
     ///
     /// ```
     /// use spectral_quadrature::tables::upsampling::KQ_C_4_SRGB as UP;
@@ -313,12 +343,7 @@ impl<const N: usize> Upsampling<N> {
     /// assert_eq!(out[0], UP.reflectance(rgb[0]));
     /// ```
     pub fn reflectance_batch(&self, rgb: &[[f32; 3]], out: &mut [[f32; N]]) -> Result<(), Error> {
-        if rgb.len() != out.len() {
-            return Err(Error::LengthMismatch {
-                inputs: rgb.len(),
-                outputs: out.len(),
-            });
-        }
+        check_length(LengthOf::Output, rgb.len(), out.len())?;
         for (o, p) in out.iter_mut().zip(rgb) {
             *o = self.reflectance(*p);
         }
@@ -336,8 +361,9 @@ impl<const N: usize> Upsampling<N> {
     /// Input handling as [`reflectance`](Self::reflectance); never panics, allocates nothing.
     ///
     /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless every plane of `rgb`
-    /// and `out` has the length of `rgb[0]`: `inputs` is that length, `outputs` the first length
-    /// that differs. With N = 0 there is nothing to write and only the RGB planes are checked.
+    /// and `out` has the length of `rgb[0]` (`expected`), at the first that differs:
+    /// [`LengthOf::InputPlane`] for a plane of `rgb`, [`LengthOf::OutputPlane`] for one of
+    /// `out`. With N = 0 there is nothing to write and only the RGB planes are checked.
     ///
     /// ```
     /// use spectral_quadrature::tables::upsampling::KQ_C_4_SRGB as UP;
@@ -348,13 +374,11 @@ impl<const N: usize> Upsampling<N> {
     /// assert_eq!(n.map(|plane| plane[0]), UP.reflectance([0.8, 0.2, 0.1]));
     /// ```
     pub fn reflectance_planar(&self, rgb: [&[f32]; 3], out: [&mut [f32]; N]) -> Result<(), Error> {
-        let pixels = rgb[0].len();
-        check_lengths(
-            pixels,
-            [rgb[1].len(), rgb[2].len()]
-                .into_iter()
-                .chain(out.iter().map(|o| o.len())),
-        )?;
+        let mut lengths = [0; N];
+        for (len, plane) in lengths.iter_mut().zip(&out) {
+            *len = plane.len();
+        }
+        let pixels = planar_pixels(rgb.map(|c| c.len()), LengthOf::OutputPlane, &lengths)?;
         let mut out = out;
         for p in 0..pixels {
             let px = [rgb[0][p], rgb[1][p], rgb[2][p]];
@@ -373,7 +397,8 @@ impl<const N: usize> Upsampling<N> {
     /// Input handling as [`reflectance`](Self::reflectance); never panics, allocates nothing.
     ///
     /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless every plane of `out`
-    /// has `rgb.len()` values: `inputs` is `rgb.len()`, `outputs` the first length that differs.
+    /// has `rgb.len()` values: [`LengthOf::OutputPlane`], `expected` `rgb.len()`, `got` the
+    /// first length that differs.
     ///
     /// ```
     /// use spectral_quadrature::tables::upsampling::KQ_C_4_SRGB as UP;
@@ -388,7 +413,11 @@ impl<const N: usize> Upsampling<N> {
         rgb: &[[f32; 3]],
         out: [&mut [f32]; N],
     ) -> Result<(), Error> {
-        check_lengths(rgb.len(), out.iter().map(|o| o.len()))?;
+        let mut lengths = [0; N];
+        for (len, plane) in lengths.iter_mut().zip(&out) {
+            *len = plane.len();
+        }
+        planar_pixels([rgb.len()], LengthOf::OutputPlane, &lengths)?;
         let mut out = out;
         for (p, px) in rgb.iter().enumerate() {
             for (plane, v) in out.iter_mut().zip(self.reflectance(*px)) {
@@ -397,19 +426,6 @@ impl<const N: usize> Upsampling<N> {
         }
         Ok(())
     }
-}
-
-/// `Err(LengthMismatch)` at the first length that is not `pixels`.
-fn check_lengths(pixels: usize, lengths: impl Iterator<Item = usize>) -> Result<(), Error> {
-    for len in lengths {
-        if len != pixels {
-            return Err(Error::LengthMismatch {
-                inputs: pixels,
-                outputs: len,
-            });
-        }
-    }
-    Ok(())
 }
 
 /// A build-time figure, `None` where it was not measured (NaN).

@@ -31,7 +31,9 @@ fn dark_and_white_make_the_white_read_as_the_reference() {
     let white = [1010.0, 700.5, 3.0];
     let reference = [0.5, 2.0, 3.0];
     let cal = Calibration::from_dark_white(&dark, &white, &reference).unwrap();
-    assert_eq!(cal.dark, dark);
+    assert_eq!(cal.dark(), dark);
+    assert_eq!(cal.gain(), [0.0005, 0.004, 1.0]);
+    assert_eq!(Calibration::new(dark, cal.gain()), Ok(cal));
     assert_eq!(cal.apply(&white), reference);
     assert_eq!(cal.apply(&dark), [0.0; 3]);
     // Below the dark offset: negative, as it is (noise averages out).
@@ -114,18 +116,13 @@ fn counts_saturate_and_round() {
     for x in [0u16, 1, 1000, 65_535] {
         assert_eq!(one.apply(&[x]), [x]);
     }
-    let half = CountCalibration {
-        dark: [10],
-        gain_q16: [1 << 15],
-    };
+    let half = CountCalibration::new([10], [1 << 15]);
+    assert_eq!((half.dark(), half.gain_q16()), ([10], [1 << 15]));
     // (13 − 10) / 2 = 1.5 rounds up to 2; (12 − 10) / 2 = 1; below the dark offset: 0.
     assert_eq!(half.apply(&[13]), [2]);
     assert_eq!(half.apply(&[12]), [1]);
     assert_eq!(half.apply(&[3]), [0]);
-    let largest = CountCalibration {
-        dark: [0],
-        gain_q16: [u32::MAX],
-    };
+    let largest = CountCalibration::new([0], [u32::MAX]);
     assert_eq!(largest.apply(&[65_535]), [65_535]);
     assert_eq!(largest.apply(&[1]), [65_535]);
     assert_eq!(largest.apply(&[0]), [0]);
@@ -142,52 +139,72 @@ fn counts_saturate_and_round() {
 }
 
 /// `to_counts` gives the integer form of the same calibration: within one count of the f32
-/// form's result times the scale, for every reading.
+/// form's result in counts of the sample unit, for every reading.
 #[test]
 fn the_integer_form_follows_the_float_form() {
     common::check_property(
         10_000,
         "to_counts",
-        (0.0f32..3000.0, 0.5f32..2.0, 1.0f32..40_000.0, 0u16..=65_535),
-        |(dark, gain, scale, x)| {
-            let cal = Calibration {
-                dark: [dark],
-                gain: [gain / scale],
-            };
-            let counts = cal.to_counts(scale).unwrap();
-            let want = (f64::from(x) - f64::from(counts.dark[0])).max(0.0)
-                * f64::from(gain / scale)
-                * f64::from(scale);
+        (0.0f32..3000.0, 0.5f32..2.0, 2.5e-5f32..1.0, 0u16..=65_535),
+        |(dark, gain, sample_unit, x)| {
+            // A gain of about `gain` counts per count.
+            let cal = Calibration::new([dark], [gain * sample_unit]).unwrap();
+            let counts = cal.to_counts(sample_unit).unwrap();
+            let want = (f64::from(x) - f64::from(counts.dark()[0])).max(0.0)
+                * f64::from(cal.gain()[0])
+                / f64::from(sample_unit);
             let got = f64::from(counts.apply(&[x])[0]);
-            // The gain rounds to 2⁻¹⁶ (half of that, times up to 65 535 counts: half a
-            // count), the f32 products to a few ulps, and the result to half a count.
-            prop_assert!((got - want.min(65_535.0)).abs() <= 1.0, "{got} vs {want}");
+            // The result rounds to half a count. The gain: the f32 quotient gain / sample_unit
+            // rounds by ε/2 (relative: ε/2 of `want`); times 2¹⁶ is exact; + 0.5 rounds to
+            // half an ulp of values below 2¹⁸ (gains below 4), 2⁻⁷; the cast to an integer
+            // to half a unit of 2⁻¹⁶. Those last two, times x counts of 2¹⁶ units.
+            let x_units = f64::from(x) / 65_536.0;
+            let bound = 0.5 + (0.5 + 1.0 / 128.0) * x_units + 0.5 * f64::from(f32::EPSILON) * want;
+            prop_assert!((got - want.min(65_535.0)).abs() <= bound, "{got} vs {want}");
             Ok(())
         },
     );
-    let out_of_range = Err(Error::Calibration {
+    let out_of_range = Error::Calibration {
         channel_index: 0,
         problem: CalibrationProblem::OutOfRange,
-    });
-    let cal = |dark: f32, gain: f32| Calibration {
-        dark: [dark],
-        gain: [gain],
     };
-    assert_eq!(cal(-1.0, 1.0).to_counts(1.0), out_of_range);
-    assert_eq!(cal(65_535.6, 1.0).to_counts(1.0), out_of_range);
-    assert_eq!(cal(0.0, 65_536.0).to_counts(1.0), out_of_range);
-    assert_eq!(cal(0.0, -1.0).to_counts(1.0), out_of_range);
-    assert_eq!(cal(f32::NAN, 1.0).to_counts(1.0), out_of_range);
-    assert_eq!(cal(0.0, 1.0).to_counts(f32::INFINITY), out_of_range);
+    let cal = |dark: f32, gain: f32| Calibration::new([dark], [gain]);
+    let counts = |cal: Result<Calibration<1>, Error>, unit| cal.unwrap().to_counts(unit);
+    assert_eq!(counts(cal(-1.0, 1.0), 1.0), Err(out_of_range));
+    assert_eq!(counts(cal(65_535.6, 1.0), 1.0), Err(out_of_range));
+    assert_eq!(counts(cal(0.0, 65_536.0), 1.0), Err(out_of_range));
+    assert_eq!(counts(cal(0.0, 1.0), 1.0 / 65_536.0), Err(out_of_range));
+    for bad in [0.0, -1.0, f32::INFINITY, f32::NAN] {
+        assert_eq!(counts(cal(0.0, 1.0), bad), Err(out_of_range), "{bad}");
+    }
+    // `new` refuses what no calibration is: a dark offset that is not finite, a gain that is
+    // not finite and positive.
+    for (dark, gain) in [
+        (f32::NAN, 1.0),
+        (f32::INFINITY, 1.0),
+        (0.0, -1.0),
+        (0.0, 0.0),
+        (0.0, f32::NAN),
+    ] {
+        assert_eq!(cal(dark, gain), Err(out_of_range), "{dark} {gain}");
+    }
+    assert_eq!(
+        Calibration::new([1.0, 2.0], [1.0, f32::INFINITY]),
+        Err(Error::Calibration {
+            channel_index: 1,
+            problem: CalibrationProblem::OutOfRange,
+        })
+    );
     // The largest gains fit: 65 535.5 · 2¹⁶ is exact in f32 and in u32; a dark offset of
     // −0.4 rounds to 0.
     assert_eq!(
-        cal(-0.4, 65_535.5).to_counts(1.0).unwrap(),
-        CountCalibration {
-            dark: [0],
-            gain_q16: [4_294_934_528],
-        }
+        cal(-0.4, 65_535.5).unwrap().to_counts(1.0).unwrap(),
+        CountCalibration::new([0], [4_294_934_528])
     );
+    // With an integer set's sample unit: its white (65 535 counts) in counts.
+    let unit = 1.0 / 65_535.0;
+    let counts = Calibration::<1>::IDENTITY.to_counts(unit).unwrap();
+    assert_eq!(counts.apply(&[65_535]), [65_535]);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -396,10 +413,11 @@ fn corrected(cal: &Calibration<8>, frame: &[[u16; 8]]) -> Vec<[f32; 8]> {
 
 /// The run-time form of a fit.
 fn to_calibration(fit: &calibration::ChannelFit) -> Calibration<8> {
-    Calibration {
-        dark: core::array::from_fn(|k| fit.dark[k] as f32),
-        gain: core::array::from_fn(|k| fit.gain[k] as f32),
-    }
+    Calibration::new(
+        core::array::from_fn(|k| fit.dark[k] as f32),
+        core::array::from_fn(|k| fit.gain[k] as f32),
+    )
+    .expect("a fitted calibration")
 }
 
 /// ΔE00 of a reading in golden units against the exact colour `exact`.

@@ -12,8 +12,8 @@ use common::MAPPINGS;
 use spectral_quadrature::tables::{self, displays, folded, rules};
 use spectral_quadrature::{
     ac1c2_from_xyz, f32_budget, quantize_u16, quantize_u8, xyz_from_ac1c2, Channel, ChannelLuts,
-    Display, DisplayError, DynamicSet, Error, FoldedSet, GamutMapping, Point, Rgb,
-    TransferFunction, WavelengthSet, MAX_PRIMARIES_CONDITION,
+    Display, DisplayError, DynamicSet, Error, FoldedSet, GamutMapping, GaussRule, LengthOf, Point,
+    Rgb, RuleStatus, TransferFunction, WavelengthSet, MAX_PRIMARIES_CONDITION,
 };
 
 const NAN: f32 = f32::NAN;
@@ -858,8 +858,9 @@ fn dynamic_set_rejects_wrong_lengths_and_follows_ieee() {
         assert_eq!(
             set.ac1c2(&s),
             Err(Error::LengthMismatch {
-                inputs: n,
-                outputs: 3
+                what: LengthOf::Samples,
+                expected: 3,
+                got: n
             })
         );
     }
@@ -879,8 +880,9 @@ fn dynamic_set_rejects_wrong_lengths_and_follows_ieee() {
     assert_eq!(
         empty.ac1c2(&[1.0]),
         Err(Error::LengthMismatch {
-            inputs: 1,
-            outputs: 0
+            what: LengthOf::Samples,
+            expected: 0,
+            got: 1
         })
     );
     // Capacity 0: any rule overflows, with the capacity named.
@@ -890,15 +892,99 @@ fn dynamic_set_rejects_wrong_lengths_and_follows_ieee() {
     );
 }
 
+/// `GaussRule::new` refuses lengths that are not the order's (none for a rule that is not
+/// `Defined`), naming which of its slices is wrong, then wavelengths and weights as the sets do.
+#[test]
+fn gauss_rule_new_checks_its_lengths_and_values() {
+    static NM: [f32; 2] = [450.0, 600.0];
+    static W: [f32; 2] = [1.0, 2.0];
+    let mismatch = |what, expected, got| {
+        Err(Error::LengthMismatch {
+            what,
+            expected,
+            got,
+        })
+    };
+    let rule = GaussRule::new(Channel::C1, 2, RuleStatus::Defined, &NM, &W).unwrap();
+    assert_eq!((rule.channel(), rule.order()), (Channel::C1, 2));
+    assert_eq!(
+        GaussRule::new(Channel::A, 3, RuleStatus::Defined, &NM, &W),
+        mismatch(LengthOf::RuleWavelengths, 3, 2)
+    );
+    assert_eq!(
+        GaussRule::new(Channel::A, 2, RuleStatus::Defined, &NM, &W[..1]),
+        mismatch(LengthOf::RuleWeights, 2, 1)
+    );
+    // A rule that does not exist has no nodes.
+    assert!(GaussRule::new(Channel::C2, 2, RuleStatus::Complex, &[], &[]).is_ok());
+    assert_eq!(
+        GaussRule::new(Channel::C2, 2, RuleStatus::Complex, &NM, &[]),
+        mismatch(LengthOf::RuleWavelengths, 0, 2)
+    );
+    static DOWN: [f32; 2] = [600.0, 450.0];
+    assert_eq!(
+        GaussRule::new(Channel::A, 2, RuleStatus::Defined, &DOWN, &W),
+        Err(Error::InvalidWavelength { index: 1 })
+    );
+    static NAN_W: [f32; 2] = [1.0, NAN];
+    assert_eq!(
+        GaussRule::new(Channel::C2, 2, RuleStatus::Defined, &NM, &NAN_W),
+        Err(Error::InvalidWeight { row: 2, index: 1 })
+    );
+}
+
 #[test]
 fn error_messages() {
     let cases = [
+        // Each kind of length mismatch in its own words: what was compared, and the two
+        // lengths in its units.
         (
             Error::LengthMismatch {
-                inputs: 3,
-                outputs: 5,
+                what: LengthOf::Output,
+                expected: 3,
+                got: 5,
             },
-            "batch length mismatch: 3 input pixels, 5 output pixels",
+            "length mismatch: an output of 5 pixels for an input of 3",
+        ),
+        (
+            Error::LengthMismatch {
+                what: LengthOf::InputPlane,
+                expected: 20,
+                got: 19,
+            },
+            "length mismatch: an input plane of 19 values where the first has 20",
+        ),
+        (
+            Error::LengthMismatch {
+                what: LengthOf::OutputPlane,
+                expected: 20,
+                got: 21,
+            },
+            "length mismatch: an output plane of 21 values for 20 pixels",
+        ),
+        (
+            Error::LengthMismatch {
+                what: LengthOf::Samples,
+                expected: 3,
+                got: 4,
+            },
+            "length mismatch: 4 samples for a set of 3 wavelengths",
+        ),
+        (
+            Error::LengthMismatch {
+                what: LengthOf::RuleWavelengths,
+                expected: 4,
+                got: 3,
+            },
+            "length mismatch: 3 wavelengths for a rule of 4 nodes",
+        ),
+        (
+            Error::LengthMismatch {
+                what: LengthOf::RuleWeights,
+                expected: 0,
+                got: 2,
+            },
+            "length mismatch: 2 weights for a rule of 0 nodes",
         ),
         (
             Error::Capacity { capacity: 16 },
@@ -926,6 +1012,14 @@ fn error_messages() {
             "channel C2 order 4 is not a defined rule",
         ),
         (
+            Error::UpsamplingReadings,
+            "an upsampling needs a set whose samples are at wavelengths, not a sensor's readings",
+        ),
+        (
+            Error::InvalidLuxScale,
+            "a lux scale needs a finite, positive illuminance per unit Y (from a finite, positive Y and illuminance)",
+        ),
+        (
             Error::InvalidLut { channel: Rgb::G },
             "lookup table for channel G needs 2 or more finite, non-decreasing entries in 0..=1",
         ),
@@ -945,8 +1039,9 @@ fn batch_length_mismatch_on_empty_inputs() {
     assert_eq!(
         set.linear_rgb_batch(&[], &mut out),
         Err(Error::LengthMismatch {
-            inputs: 0,
-            outputs: 2
+            what: LengthOf::Output,
+            expected: 0,
+            got: 2
         })
     );
     assert_eq!(out, [[3.0; 3]; 2]);
@@ -954,8 +1049,9 @@ fn batch_length_mismatch_on_empty_inputs() {
     assert_eq!(
         tables::TABLE2_ROW2.ac1c2_batch(&[[NAN; 4]], &mut []),
         Err(Error::LengthMismatch {
-            inputs: 1,
-            outputs: 0
+            what: LengthOf::Output,
+            expected: 1,
+            got: 0
         })
     );
 }

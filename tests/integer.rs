@@ -19,7 +19,7 @@ mod common;
 
 use spectral_quadrature::tables::{displays, folded, integer};
 use spectral_quadrature::{
-    f32_budget, Display, Error, FoldedSet, GamutMapping, IntegerSet, Samples,
+    f32_budget, Display, Error, FoldedSet, GamutMapping, IntegerSet, LengthOf, Samples,
     INTEGER_MAX_ERROR_CODES,
 };
 
@@ -371,8 +371,9 @@ fn batch_equals_per_pixel_and_checks_lengths() {
     assert_eq!(
         set.encode_u8_batch(&counts, &mut short),
         Err(Error::LengthMismatch {
-            inputs: 1000,
-            outputs: 3
+            what: LengthOf::Output,
+            expected: 1000,
+            got: 3
         })
     );
     assert_eq!(short, vec![[7u8; 3]; 3], "nothing written");

@@ -16,7 +16,7 @@ use spectral_quadrature::tables::folded::{
 };
 use spectral_quadrature::{
     f32_budget, ChannelLuts, Display, Error, FoldedSet, GamutMapping, LightGroupProblem,
-    LightGroupSet, Samples, TransferFunction,
+    LightGroupSet, Rgb, Samples, TransferFunction,
 };
 
 /// Cases per property: each case is a whole image of up to 24 pixels.
@@ -658,13 +658,37 @@ fn constructors_refuse_what_they_document() {
         LightGroupSet::from_members([c, sensor]),
         refused(1, LightGroupProblem::NotReflectance)
     );
-    // `new`: the wavelengths and weights checked as FoldedSet::new checks them, the weight's
-    // row counted across lights.
+    // `new`: the wavelengths and weights checked as FoldedSet::new checks them, a weight named
+    // by its light, channel and index.
     let mut w = [c.weights(); 2];
     w[1][2][4] = f32::INFINITY;
+    let e = LightGroupSet::new(c.wavelengths_nm(), w, ["C", "A"], display).unwrap_err();
+    assert_eq!(
+        e,
+        Error::LightGroup {
+            light: 1,
+            problem: LightGroupProblem::InvalidWeight {
+                channel: Rgb::B,
+                index: 4
+            }
+        }
+    );
+    assert_eq!(
+        e.to_string(),
+        "light group 1: weight 4 of channel B is not finite"
+    );
+    let mut w = [c.weights(); 2];
+    w[0][0][0] = f32::NAN;
+    w[1][1][3] = f32::NAN;
     assert_eq!(
         LightGroupSet::new(c.wavelengths_nm(), w, ["C", "A"], display),
-        Err(Error::InvalidWeight { row: 5, index: 4 })
+        refused(
+            0,
+            LightGroupProblem::InvalidWeight {
+                channel: Rgb::R,
+                index: 0
+            }
+        )
     );
     let mut nm = c.wavelengths_nm();
     nm.swap(1, 2);
@@ -689,21 +713,28 @@ fn constructors_refuse_what_they_document() {
 fn length_mismatches_are_errors_and_write_nothing() {
     let set = LightGroupSet::from_members([KQ_C_8_SRGB, other_light(KQ_C_8_SRGB, "A")]).unwrap();
     let px = vec![[[0.5f32; 8]; 2]; 5];
-    let mismatch = |inputs, outputs| Err(Error::LengthMismatch { inputs, outputs });
+    let mismatch = |what, expected, got| {
+        Err(Error::LengthMismatch {
+            what,
+            expected,
+            got,
+        })
+    };
+    use spectral_quadrature::LengthOf::{InputPlane, Output, OutputPlane};
 
     let mut out = [[7.0f32; 3]; 4];
-    assert_eq!(set.linear_rgb_batch(&px, &mut out), mismatch(5, 4));
+    assert_eq!(set.linear_rgb_batch(&px, &mut out), mismatch(Output, 5, 4));
     assert_eq!(out, [[7.0; 3]; 4]);
     let mut out8 = [[7u8; 3]; 6];
     assert_eq!(
         set.encode_u8_batch(GamutMapping::Clip, &px, &mut out8),
-        mismatch(5, 6)
+        mismatch(Output, 5, 6)
     );
     assert_eq!(out8, [[7; 3]; 6]);
     let mut out16 = [[7u16; 3]; 4];
     assert_eq!(
         set.encode_u16_batch(GamutMapping::Clip, &px, &mut out16),
-        mismatch(5, 4)
+        mismatch(Output, 5, 4)
     );
     assert_eq!(out16, [[7; 3]; 4]);
 
@@ -715,13 +746,13 @@ fn length_mismatches_are_errors_and_write_nothing() {
     let mut out = [[7u8; 3]; 5];
     assert_eq!(
         set.encode_u8_planar_to_interleaved(GamutMapping::Clip, planes, &mut out),
-        mismatch(5, 4)
+        mismatch(InputPlane, 5, 4)
     );
     assert_eq!(out, [[7; 3]; 5]);
     let (mut r, mut g, mut b) = ([7.0f32; 5], [7.0f32; 5], [7.0f32; 5]);
     assert_eq!(
         set.linear_rgb_planar(planes, [&mut r, &mut g, &mut b]),
-        mismatch(5, 4)
+        mismatch(InputPlane, 5, 4)
     );
     assert_eq!(r, [7.0; 5]);
     // Outputs of the wrong length.
@@ -729,18 +760,18 @@ fn length_mismatches_are_errors_and_write_nothing() {
     let (mut r, mut g, mut b) = ([7u8; 5], [7u8; 5], [7u8; 3]);
     assert_eq!(
         set.encode_u8_planar(GamutMapping::Clip, planes, [&mut r, &mut g, &mut b]),
-        mismatch(5, 3)
+        mismatch(OutputPlane, 5, 3)
     );
     assert_eq!(r, [7; 5]);
     let (mut r, mut g, mut b) = ([7u16; 5], [7u16; 6], [7u16; 5]);
     assert_eq!(
         set.encode_u16_planar(GamutMapping::Clip, planes, [&mut r, &mut g, &mut b]),
-        mismatch(5, 6)
+        mismatch(OutputPlane, 5, 6)
     );
     let mut out16 = [[7u16; 3]; 2];
     assert_eq!(
         set.encode_u16_planar_to_interleaved(GamutMapping::Clip, planes, &mut out16),
-        mismatch(5, 2)
+        mismatch(Output, 5, 2)
     );
     assert_eq!(out16, [[7; 3]; 2]);
 }

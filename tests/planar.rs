@@ -26,7 +26,7 @@ use proptest::test_runner::TestCaseResult;
 use spectral_quadrature::tables::{displays, folded};
 use spectral_quadrature::{
     delta_e76, f32_budget, lab_from_xyz, quantize_u8, srgb8_from_linear, Error, FoldedSet,
-    GamutMapping, Rgb, Samples, TransferFunction, SRGB8_MAX_ERROR, SRGB8_MAX_ERROR_DE76,
+    GamutMapping, LengthOf, Rgb, Samples, TransferFunction, SRGB8_MAX_ERROR, SRGB8_MAX_ERROR_DE76,
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -634,9 +634,11 @@ fn length_mismatches_are_errors_and_write_nothing() {
         let mut pl = pl.clone();
         pl[plane].resize(len, 0.5);
         let samples = plane_refs(&pl);
+        // Named after plane 0: the first plane that differs from it.
         let expected = Err(Error::LengthMismatch {
-            inputs: pl[0].len(),
-            outputs: if plane == 0 { 20 } else { len },
+            what: LengthOf::InputPlane,
+            expected: pl[0].len(),
+            got: if plane == 0 { 20 } else { len },
         });
         let mut out = vec![[9u8; 3]; 20];
         let r = set.encode_u8_planar_to_interleaved(GamutMapping::Clip, samples, &mut out);
@@ -654,19 +656,25 @@ fn length_mismatches_are_errors_and_write_nothing() {
     // Outputs of the wrong length, the samples all 20 pixels long.
     let samples = plane_refs(&pl);
     for len in [0, 19, 21, 32] {
-        let expected = Err(Error::LengthMismatch {
-            inputs: 20,
-            outputs: len,
-        });
+        let expected = |what| {
+            Err(Error::LengthMismatch {
+                what,
+                expected: 20,
+                got: len,
+            })
+        };
         let mut out = vec![[9u8; 3]; len];
         let r = set.encode_u8_planar_to_interleaved(GamutMapping::Clip, samples, &mut out);
-        assert_eq!(r, expected);
+        assert_eq!(r, expected(LengthOf::Output));
         assert!(out.iter().all(|o| *o == [9; 3]));
         for c in 0..3 {
             let mut lin = [0, 1, 2].map(|_| vec![-7.5f32; 20]);
             lin[c] = vec![-7.5; len];
             let [r, g, b] = &mut lin;
-            assert_eq!(set.linear_rgb_planar(samples, [r, g, b]), expected);
+            assert_eq!(
+                set.linear_rgb_planar(samples, [r, g, b]),
+                expected(LengthOf::OutputPlane)
+            );
             assert!(lin.iter().flatten().all(|v| *v == -7.5));
         }
     }
@@ -676,22 +684,24 @@ fn length_mismatches_are_errors_and_write_nothing() {
 fn new_layouts_refuse_length_mismatches_and_write_nothing() {
     let set = folded::TABLE2_ROW2_SRGB;
     let (a, short) = ([0.5f32; 70], [0.5f32; 69]);
-    let mismatch = |outputs| {
+    let mismatch = |what, got| {
         Err(Error::LengthMismatch {
-            inputs: 70,
-            outputs,
+            what,
+            expected: 70,
+            got,
         })
     };
+    use LengthOf::{InputPlane, Output, OutputPlane};
     for mapping in MAPPINGS {
         // A short sample plane.
         let mut p8 = [[9u8; 70]; 3];
         let [r, g, b] = &mut p8;
         let got = set.encode_u8_planar(mapping, [&a, &a, &short, &a], [r, g, b]);
-        assert_eq!(got, mismatch(69));
+        assert_eq!(got, mismatch(InputPlane, 69));
         // A short output plane, after a full chunk: nothing is written, not even the first.
         let (mut r, mut g, mut b) = ([9u8; 70], [9u8; 70], [9u8; 69]);
         let got = set.encode_u8_planar(mapping, [&a; 4], [&mut r, &mut g, &mut b]);
-        assert_eq!(got, mismatch(69));
+        assert_eq!(got, mismatch(OutputPlane, 69));
         assert!(p8
             .iter()
             .flatten()
@@ -701,10 +711,10 @@ fn new_layouts_refuse_length_mismatches_and_write_nothing() {
             .all(|&v| v == 9));
         let mut i16 = [[9u16; 3]; 71];
         let got = set.encode_u16_planar_to_interleaved(mapping, [&a; 4], &mut i16);
-        assert_eq!(got, mismatch(71));
+        assert_eq!(got, mismatch(Output, 71));
         let (mut r, mut g, mut b) = ([9u16; 70], [9u16; 71], [9u16; 70]);
         let got = set.encode_u16_planar(mapping, [&a; 4], [&mut r, &mut g, &mut b]);
-        assert_eq!(got, mismatch(71));
+        assert_eq!(got, mismatch(OutputPlane, 71));
         assert!(i16
             .iter()
             .flatten()

@@ -26,8 +26,8 @@ use proptest::prelude::*;
 use proptest::test_runner::TestCaseResult;
 use spectral_quadrature::tables::{self, displays, folded, rules};
 use spectral_quadrature::{
-    ac1c2_from_xyz, f32_budget, xyz_from_ac1c2, Display, DynamicSet, Error, FoldedSet,
-    GamutMapping, GaussRule, RuleStatus, WavelengthSet,
+    ac1c2_from_xyz, f32_budget, xyz_from_ac1c2, Channel, Display, DynamicSet, Error, FoldedSet,
+    GamutMapping, GaussRule, LengthOf, RuleStatus, WavelengthSet,
 };
 use spectral_quadrature_generator::{derive, Derivation, Settings};
 
@@ -829,8 +829,9 @@ fn batch_case<const N: usize>(
     }
     for m in lengths {
         let expected = Err(Error::LengthMismatch {
-            inputs: n,
-            outputs: m,
+            what: LengthOf::Output,
+            expected: n,
+            got: m,
         });
         let sentinel = [-7.5f32; 3];
         let mut out = vec![sentinel; m];
@@ -898,14 +899,14 @@ fn p9_dynamic_set_rebuilds_table2_row1_exactly() {
         set.wavelengths_nm(),
         tables::TABLE2_ROW1.wavelengths_nm().as_slice()
     );
-    for c in 0..3 {
+    for c in Channel::ALL {
         assert_eq!(
             set.weights(c),
-            tables::TABLE2_ROW1.weights()[c].as_slice(),
-            "row {c}"
+            tables::TABLE2_ROW1.weights()[c.index()].as_slice(),
+            "{}",
+            c.name()
         );
     }
-    assert!(set.weights(3).is_empty());
 }
 
 /// All 48 baked rules.
@@ -976,8 +977,8 @@ fn p9_dynamic_set_model() {
                 // Exact agreement with the model (wavelengths positive: bit order = numeric order).
                 let model_nm: Vec<f32> = model.keys().map(|&b| f32::from_bits(b)).collect();
                 prop_assert_eq!(set.wavelengths_nm(), model_nm.as_slice());
-                for c in 0..3 {
-                    let row: Vec<f32> = model.values().map(|w| w[c]).collect();
+                for c in Channel::ALL {
+                    let row: Vec<f32> = model.values().map(|w| w[c.index()]).collect();
                     prop_assert_eq!(set.weights(c), row.as_slice());
                 }
             }
@@ -1031,8 +1032,9 @@ fn p9_dynamic_set_model() {
             prop_assert_eq!(
                 set.ac1c2(&[0.0; CAP + 1][..n + 1]),
                 Err(Error::LengthMismatch {
-                    inputs: n + 1,
-                    outputs: n
+                    what: LengthOf::Samples,
+                    expected: n,
+                    got: n + 1
                 })
             );
             Ok(())

@@ -8,7 +8,7 @@
 mod common;
 
 use spectral_quadrature::tables::PLANCKIAN_LOCUS;
-use spectral_quadrature::{LuxScale, Samples, WavelengthSet};
+use spectral_quadrature::{Error, LuxScale, Samples, WavelengthSet};
 use spectral_quadrature_spectra::{builtin_illuminant, builtin_lights, Curve};
 use std::path::Path;
 
@@ -160,4 +160,37 @@ fn spectral_irradiance_y_against_cie_015s_range() {
     }
     println!("largest: {:.1e} ({})", worst.0, worst.1);
     assert!(worst.0 < 1e-5, "{worst:?}");
+}
+
+/// `LuxScale::new` and `from_reading` refuse whatever gives no finite, positive scale, with
+/// `Error::InvalidLuxScale`, and never panic; what they accept is the ratio, exactly.
+#[test]
+fn lux_scale_refuses_what_gives_no_scale() {
+    let refused = Err(Error::InvalidLuxScale);
+    assert_eq!(LuxScale::new(683.002), Ok(LuxScale::SPECTRAL_IRRADIANCE));
+    assert_eq!(
+        LuxScale::new(f32::MIN_POSITIVE / 2.0).map(|s| s.lux_per_y()),
+        Ok(f32::MIN_POSITIVE / 2.0)
+    );
+    for bad in [0.0, -0.0, -1.0, f32::NAN, f32::INFINITY, -f32::INFINITY] {
+        assert_eq!(LuxScale::new(bad), refused, "{bad}");
+    }
+    assert_eq!(
+        LuxScale::from_reading(0.0125, 500.0),
+        LuxScale::new(40_000.0)
+    );
+    for (y, lux) in [
+        (0.0, 500.0),
+        (-1.0, 500.0),
+        (f32::NAN, 1.0),
+        (1.0, f32::NAN),
+        (1.0, 0.0),
+        (1.0, -3.0),
+        (f32::INFINITY, 1.0),
+        (1.0, f32::INFINITY),
+        // The ratio overflows f32.
+        (1e-30, 1e30),
+    ] {
+        assert_eq!(LuxScale::from_reading(y, lux), refused, "{y} {lux}");
+    }
 }

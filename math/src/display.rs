@@ -35,14 +35,27 @@ pub enum Point {
 }
 
 impl Point {
-    /// `"red primary"`, `"green primary"`, `"blue primary"` or `"white"`.
+    /// The point's identifier, `"red"`, `"green"`, `"blue"` or `"white"` (kebab-case, stable
+    /// across versions, as every enum's `name()` in the runtime that re-exports it). Its
+    /// [`Display`](fmt::Display) is the phrase for messages (`"red primary"`).
     pub const fn name(self) -> &'static str {
         match self {
+            Point::Red => "red",
+            Point::Green => "green",
+            Point::Blue => "blue",
+            Point::White => "white",
+        }
+    }
+}
+
+impl fmt::Display for Point {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
             Point::Red => "red primary",
             Point::Green => "green primary",
             Point::Blue => "blue primary",
-            Point::White => "white",
-        }
+            Point::White => "white point",
+        })
     }
 }
 
@@ -91,8 +104,7 @@ impl fmt::Display for DisplayError {
         match *self {
             DisplayError::Chromaticity { point, xy } => write!(
                 f,
-                "{} chromaticity ({}, {}) is not finite, is negative, or has y <= 0 or x + y > 1",
-                point.name(),
+                "{point} chromaticity ({}, {}) is not finite, is negative, or has y <= 0 or x + y > 1",
                 xy[0],
                 xy[1]
             ),

@@ -136,7 +136,7 @@ fn invalid_chromaticities_are_refused_naming_the_first() {
             ),
             "{e:?}"
         );
-        assert!(e.to_string().starts_with("white chromaticity"), "{e}");
+        assert!(e.to_string().starts_with("white point chromaticity"), "{e}");
     }
     // The edges of the valid range are valid.
     assert!(xyz_from_xy([0.0, 1.0]).is_some() && xyz_from_xy([0.5, 0.5]).is_some());

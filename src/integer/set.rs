@@ -14,7 +14,8 @@ use super::dsp::Packed;
 use super::fixed_point::{mac, split_at};
 #[cfg(not(arm_dsp))]
 use super::fixed_point::{mac_steps_of_2, mac_steps_of_4};
-use crate::{Display, Error, FoldedSet, Samples};
+use crate::model::error::check_length;
+use crate::{Display, Error, FoldedSet, LengthOf, Samples};
 
 /// The largest difference, in 8-bit code values per channel, between
 /// [`IntegerSet::encode_u8`] and the f32 path on the same input
@@ -41,7 +42,9 @@ const MAX_FRAC_BITS: i32 = 46;
 /// integer arithmetic only (no f32, no f64, no division).
 ///
 /// A count `x` stands for the f32 sample `x · sample_unit` of the folded set it was made from
-/// ([`counts_as_f32`](Self::counts_as_f32) gives those samples, for the f32 path). The baked sets
+/// ([`counts_as_f32`](Self::counts_as_f32) gives those samples, for the f32 path): the crate's
+/// one convention for the scale of counts, which
+/// [`Calibration::to_counts`](crate::Calibration::to_counts) takes too. The baked sets
 /// ([`tables::integer`](crate::tables::integer)) take 65 535 as the samples of white: a
 /// reflectance of 1 (for a set with a light folded in), a radiance of 1 (a spectrum of
 /// constant 1, the display white's luminance), or, for a sensor, the largest of its channels'
@@ -289,14 +292,11 @@ impl<const N: usize> IntegerSet<N> {
 
     /// [`encode_u8`](Self::encode_u8) for every pixel: `out[p] = encode_u8(&counts[p])`.
     ///
-    /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless the lengths agree.
+    /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless the lengths agree:
+    /// [`LengthOf::Output`](crate::LengthOf::Output), `expected` the input's pixels, `got` the
+    /// output's.
     pub fn encode_u8_batch(&self, counts: &[[u16; N]], out: &mut [[u8; 3]]) -> Result<(), Error> {
-        if counts.len() != out.len() {
-            return Err(Error::LengthMismatch {
-                inputs: counts.len(),
-                outputs: out.len(),
-            });
-        }
+        check_length(LengthOf::Output, counts.len(), out.len())?;
         // As in encode_pixel, once for the whole batch.
         match self.frac_bits {
             #[cfg(arm_dsp)]

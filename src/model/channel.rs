@@ -29,7 +29,9 @@ impl Channel {
         }
     }
 
-    /// `"A"`, `"C1"` or `"C2"`.
+    /// The channel's symbol, `"A"`, `"C1"` or `"C2"`, as the paper writes it: the one exception
+    /// to the crate's kebab-case identifiers (see the crate's conventions), a symbol being
+    /// written as colour science writes it.
     pub const fn name(self) -> &'static str {
         match self {
             Channel::A => "A",
@@ -65,7 +67,8 @@ impl Rgb {
         }
     }
 
-    /// `"R"`, `"G"` or `"B"`.
+    /// The channel's symbol, `"R"`, `"G"` or `"B"`: like [`Channel::name`], a symbol written as
+    /// colour science writes it.
     pub const fn name(self) -> &'static str {
         match self {
             Rgb::R => "R",

@@ -4,6 +4,7 @@
 
 use spectral_quadrature_math::{display_matrices, DisplayError, DisplayMatrices};
 
+use super::bits::{same_f32_bits, same_str};
 use super::transfer::{gamma_encoder, gamma_f32, quantize_u8, TransferFunction};
 use crate::encode::{clamp01, srgb8_not_nan};
 use crate::{Error, Rgb};
@@ -25,12 +26,25 @@ pub enum GamutMapping {
 }
 
 impl GamutMapping {
-    /// `"Clip"` or `"PreserveA"`: the variant's name, for logs and messages.
+    /// The mapping's identifier, `"clip"` or `"preserve-a"` (kebab-case, stable across
+    /// versions): for CSV columns, logs and settings. Its [`Display`](core::fmt::Display) is
+    /// the sentence for messages.
     pub const fn name(self) -> &'static str {
         match self {
-            GamutMapping::Clip => "Clip",
-            GamutMapping::PreserveA => "PreserveA",
+            GamutMapping::Clip => "clip",
+            GamutMapping::PreserveA => "preserve-a",
         }
+    }
+}
+
+impl core::fmt::Display for GamutMapping {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            GamutMapping::Clip => "each channel clamped to 0..=1",
+            GamutMapping::PreserveA => {
+                "the achromatic coordinate A kept, the colour moved toward the white axis"
+            }
+        })
     }
 }
 
@@ -162,6 +176,26 @@ impl Display {
         })
     }
 
+    /// Whether `other` is the same display, every field the same bits (name, chromaticities,
+    /// matrices, transfer function and its tables): `PartialEq` in a const fn, stricter only
+    /// where one field holds 0.0 and the other −0.0.
+    pub(crate) const fn same_bits(&self, other: &Display) -> bool {
+        let mut k = 0;
+        while k < 3 {
+            if !same_f32_bits(&self.primaries_xy[k], &other.primaries_xy[k])
+                || !same_f32_bits(&self.rgb_to_xyz[k], &other.rgb_to_xyz[k])
+                || !same_f32_bits(&self.xyz_to_rgb[k], &other.xyz_to_rgb[k])
+            {
+                return false;
+            }
+            k += 1;
+        }
+        same_str(self.name, other.name)
+            && same_f32_bits(&self.white_xy, &other.white_xy)
+            && same_f32_bits(&self.a_from_rgb, &other.a_from_rgb)
+            && self.transfer.same_bits(&other.transfer)
+    }
+
     /// The same display with another transfer function (for example measured lookup tables).
     pub const fn with_transfer(mut self, transfer: TransferFunction) -> Display {
         self.transfer = transfer;
@@ -202,6 +236,12 @@ impl Display {
 
     /// Gamut-maps and encodes a linear colour: values in 0..=1 ready to quantize. Input handling
     /// as [`map_gamut`](Self::map_gamut) (NaN anywhere → black).
+    ///
+    /// The reference encoder, not a per-pixel function: each channel goes through
+    /// [`TransferFunction::encode`], the exact curve in f64 rounded once (soft-float on a
+    /// microcontroller without a double-precision FPU). What the per-pixel encoders
+    /// ([`encode_u8`](Self::encode_u8), [`encode_u16`](Self::encode_u16), f32 and integers
+    /// only) and the shaders' `<display>_encode` are measured against.
     pub fn encode(&self, mapping: GamutMapping, rgb: [f32; 3]) -> [f32; 3] {
         let m = self.map_gamut(mapping, rgb);
         [

@@ -16,12 +16,16 @@ pub use spectral_quadrature_math::DisplayError;
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[non_exhaustive]
 pub enum Error {
-    /// A batch call got input and output slices of different lengths.
+    /// Two lengths that must agree do not: an output against its input, a plane against the
+    /// others, samples against a set's wavelengths, a rule's nodes against its order. Every
+    /// call that returns it has written nothing.
     LengthMismatch {
-        /// Number of pixels in the input.
-        inputs: usize,
-        /// Number of pixels in the output.
-        outputs: usize,
+        /// What was compared, and so what the two lengths count.
+        what: LengthOf,
+        /// The length it must have.
+        expected: usize,
+        /// The length it has.
+        got: usize,
     },
     /// A run-time set would need more wavelengths than its capacity.
     Capacity {
@@ -60,11 +64,13 @@ pub enum Error {
         /// The first such wavelength's index.
         index: usize,
     },
-    /// A set's or rule's constructor got a weight that is not finite.
+    /// A set's or rule's constructor got a weight that is not finite: `weights[row][index]`
+    /// (a [`LightGroupSet`](crate::LightGroupSet)'s is [`Error::LightGroup`] with
+    /// [`LightGroupProblem::InvalidWeight`], which names the light).
     InvalidWeight {
-        /// The weight's row (the channel: A, C1, C2 or R, G, B, from 0; for a
-        /// [`LightGroupSet`](crate::LightGroupSet), `3 · light + channel`, the rows of every
-        /// light in order).
+        /// The weight's row: the channel, A, C1, C2 (a [`WavelengthSet`](crate::WavelengthSet)
+        /// or [`GaussRule`](crate::GaussRule)) or R, G, B (a
+        /// [`FoldedSet`](crate::FoldedSet)), from 0.
         row: usize,
         /// Its index in the row.
         index: usize,
@@ -77,6 +83,10 @@ pub enum Error {
         /// Entries in the table.
         entries: usize,
     },
+    /// [`Upsampling::new`](crate::Upsampling::new) got a set for a sensor's readings
+    /// ([`Samples::Readings`](crate::Samples::Readings)): its samples are channel readings,
+    /// not values at wavelengths, so there are no node reflectances to upsample to.
+    UpsamplingReadings,
     /// [`IntegerSet::new`](crate::IntegerSet::new) got a weight that is not finite, a sample
     /// unit that is not finite and positive, or weights too large for 32-bit sums of u16
     /// counts.
@@ -84,6 +94,10 @@ pub enum Error {
     /// [`IntegerSet::new`](crate::IntegerSet::new) got a display whose transfer function has no
     /// integer encoder: a lookup table, or a γ that no baked display has.
     IntegerTransfer,
+    /// [`LuxScale::new`](crate::LuxScale::new) got a scale that is not finite and positive, or
+    /// [`LuxScale::from_reading`](crate::LuxScale::from_reading) a Y or an illuminance that is
+    /// not (or whose ratio overflows).
+    InvalidLuxScale,
     /// [`LightGroupSet::new`](crate::LightGroupSet::new) or
     /// [`LightGroupSet::from_members`](crate::LightGroupSet::from_members) cannot form a set
     /// from its lights.
@@ -96,8 +110,104 @@ pub enum Error {
     },
 }
 
+/// What a length was compared with, in [`Error::LengthMismatch`]: says what its `expected`
+/// and `got` count.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum LengthOf {
+    /// The output of a `_batch` call, or the interleaved output of a `_planar_to_interleaved`
+    /// call: its pixels (`got`) against the input's (`expected`).
+    Output,
+    /// An input plane of a `_planar` or `_planar_to_interleaved` call: its values (`got`)
+    /// against the first input plane's (`expected`).
+    InputPlane,
+    /// An output plane of a `_planar` or `_interleaved_to_planar` call: its values (`got`)
+    /// against the input's pixels (`expected`; with no input planes, N = 0, the first output
+    /// plane's length).
+    OutputPlane,
+    /// The samples given to [`DynamicSet::ac1c2`](crate::DynamicSet::ac1c2) (`got`) against
+    /// the set's wavelengths (`expected`).
+    Samples,
+    /// The wavelengths given to [`GaussRule::new`](crate::GaussRule::new) (`got`) against its
+    /// order (`expected`; 0 for a rule that is not `Defined`).
+    RuleWavelengths,
+    /// The weights given to [`GaussRule::new`](crate::GaussRule::new) (`got`) against its order
+    /// (`expected`; 0 for a rule that is not `Defined`).
+    RuleWeights,
+}
+
+impl LengthOf {
+    /// The identifier, `"output"`, `"input-plane"`, `"output-plane"`, `"samples"`,
+    /// `"rule-wavelengths"` or `"rule-weights"` (kebab-case, stable across versions). Its
+    /// [`Display`](fmt::Display) is the sentence for messages.
+    pub const fn name(self) -> &'static str {
+        match self {
+            LengthOf::Output => "output",
+            LengthOf::InputPlane => "input-plane",
+            LengthOf::OutputPlane => "output-plane",
+            LengthOf::Samples => "samples",
+            LengthOf::RuleWavelengths => "rule-wavelengths",
+            LengthOf::RuleWeights => "rule-weights",
+        }
+    }
+}
+
+impl fmt::Display for LengthOf {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            LengthOf::Output => "an output's pixels against its input's",
+            LengthOf::InputPlane => "an input plane against the first",
+            LengthOf::OutputPlane => "an output plane against the input's pixels",
+            LengthOf::Samples => "the samples against the set's wavelengths",
+            LengthOf::RuleWavelengths => "a rule's wavelengths against its order",
+            LengthOf::RuleWeights => "a rule's weights against its order",
+        })
+    }
+}
+
+/// `Ok` where `got == expected`, else [`Error::LengthMismatch`] naming `what`: the runtime's one
+/// length check, which every layout and constructor calls (usable in consts).
+#[inline]
+pub(crate) const fn check_length(what: LengthOf, expected: usize, got: usize) -> Result<(), Error> {
+    if got == expected {
+        Ok(())
+    } else {
+        Err(Error::LengthMismatch {
+            what,
+            expected,
+            got,
+        })
+    }
+}
+
+/// The number of pixels of a planar call, checked with [`check_length`] before anything is
+/// written: the length of the first of `inputs` (its planes' lengths, or the interleaved input's
+/// pixels), which every other input ([`LengthOf::InputPlane`]) and every one of `outputs`
+/// (`output`: [`LengthOf::OutputPlane`] for planes, [`LengthOf::Output`] for interleaved pixels)
+/// must have. With no inputs (N = 0) the first output's length is the number of pixels, and no
+/// outputs, no pixels.
+pub(crate) fn planar_pixels(
+    inputs: impl IntoIterator<Item = usize>,
+    output: LengthOf,
+    outputs: &[usize],
+) -> Result<usize, Error> {
+    let mut inputs = inputs.into_iter();
+    let pixels = match inputs.next() {
+        Some(len) => len,
+        None => outputs.first().copied().unwrap_or(0),
+    };
+    for len in inputs {
+        check_length(LengthOf::InputPlane, pixels, len)?;
+    }
+    for &len in outputs {
+        check_length(output, pixels, len)?;
+    }
+    Ok(pixels)
+}
+
 /// Why a [`LightGroupSet`](crate::LightGroupSet) cannot be formed, in
-/// [`Error::LightGroup`].
+/// [`Error::LightGroup`] (which names the light).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[non_exhaustive]
@@ -114,29 +224,84 @@ pub enum LightGroupProblem {
     /// A member's display is not member 0's (every field the same bits): one set encodes with
     /// one display.
     Display,
+    /// A weight of the light's matrix is not finite
+    /// ([`LightGroupSet::new`](crate::LightGroupSet::new)): `weights[light][channel][index]`.
+    InvalidWeight {
+        /// The weight's channel (its row in the light's matrix).
+        channel: crate::Rgb,
+        /// Its index in the row: the node.
+        index: usize,
+    },
 }
 
 impl LightGroupProblem {
-    /// A short description, for messages.
+    /// The problem's identifier, `"no-lights"`, `"not-reflectance"`, `"wavelengths"`,
+    /// `"display"` or `"invalid-weight"` (kebab-case, stable across versions). Its [`Display`](fmt::Display) is the
+    /// sentence for messages.
     pub const fn name(self) -> &'static str {
         match self {
+            LightGroupProblem::NoLights => "no-lights",
+            LightGroupProblem::NotReflectance => "not-reflectance",
+            LightGroupProblem::Wavelengths => "wavelengths",
+            LightGroupProblem::Display => "display",
+            LightGroupProblem::InvalidWeight { .. } => "invalid-weight",
+        }
+    }
+}
+
+impl fmt::Display for LightGroupProblem {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
             LightGroupProblem::NoLights => "a light-group set needs at least one light",
             LightGroupProblem::NotReflectance => {
                 "the member is not a set for reflectances under a folded light"
             }
             LightGroupProblem::Wavelengths => "the member's wavelengths are not member 0's",
             LightGroupProblem::Display => "the member's display is not member 0's",
-        }
+            LightGroupProblem::InvalidWeight { channel, index } => {
+                return write!(
+                    f,
+                    "weight {index} of channel {} is not finite",
+                    channel.name()
+                );
+            }
+        })
     }
 }
 
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {
-            Error::LengthMismatch { inputs, outputs } => write!(
-                f,
-                "batch length mismatch: {inputs} input pixels, {outputs} output pixels"
-            ),
+            Error::LengthMismatch {
+                what,
+                expected,
+                got,
+            } => match what {
+                LengthOf::Output => write!(
+                    f,
+                    "length mismatch: an output of {got} pixels for an input of {expected}"
+                ),
+                LengthOf::InputPlane => write!(
+                    f,
+                    "length mismatch: an input plane of {got} values where the first has {expected}"
+                ),
+                LengthOf::OutputPlane => write!(
+                    f,
+                    "length mismatch: an output plane of {got} values for {expected} pixels"
+                ),
+                LengthOf::Samples => write!(
+                    f,
+                    "length mismatch: {got} samples for a set of {expected} wavelengths"
+                ),
+                LengthOf::RuleWavelengths => write!(
+                    f,
+                    "length mismatch: {got} wavelengths for a rule of {expected} nodes"
+                ),
+                LengthOf::RuleWeights => write!(
+                    f,
+                    "length mismatch: {got} weights for a rule of {expected} nodes"
+                ),
+            },
             Error::Capacity { capacity } => {
                 write!(f, "the set would need more than its {capacity} wavelengths")
             }
@@ -156,8 +321,7 @@ impl fmt::Display for Error {
                 problem,
             } => write!(
                 f,
-                "calibration of sensor channel {channel_index}: {}",
-                problem.name()
+                "calibration of sensor channel {channel_index}: {problem}"
             ),
             Error::InvalidWavelength { index } => write!(
                 f,
@@ -170,12 +334,18 @@ impl fmt::Display for Error {
                 f,
                 "an upsampling table of {entries} entries is not grid³ for a grid of {grid} (≥ 2)"
             ),
+            Error::UpsamplingReadings => f.write_str(
+                "an upsampling needs a set whose samples are at wavelengths, not a sensor's readings",
+            ),
             Error::IntegerRange => f.write_str(
                 "the weights or the sample unit have no fixed-point form for u16 counts",
             ),
             Error::IntegerTransfer => f.write_str("the transfer function has no integer encoder"),
+            Error::InvalidLuxScale => f.write_str(
+                "a lux scale needs a finite, positive illuminance per unit Y (from a finite, positive Y and illuminance)",
+            ),
             Error::LightGroup { light, problem } => {
-                write!(f, "light group {light}: {}", problem.name())
+                write!(f, "light group {light}: {problem}")
             }
         }
     }
@@ -212,12 +382,23 @@ pub enum CalibrationProblem {
 }
 
 impl CalibrationProblem {
-    /// A short description, for messages.
+    /// The problem's identifier, `"no-signal"`, `"reference"` or `"out-of-range"` (kebab-case,
+    /// stable across versions). Its [`Display`](fmt::Display) is the sentence for messages.
     pub const fn name(self) -> &'static str {
         match self {
+            CalibrationProblem::NoSignal => "no-signal",
+            CalibrationProblem::Reference => "reference",
+            CalibrationProblem::OutOfRange => "out-of-range",
+        }
+    }
+}
+
+impl fmt::Display for CalibrationProblem {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
             CalibrationProblem::NoSignal => "the white reading is not above the dark one",
             CalibrationProblem::Reference => "the reference reading is not finite and positive",
             CalibrationProblem::OutOfRange => "the gain or dark offset is out of range",
-        }
+        })
     }
 }

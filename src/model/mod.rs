@@ -1,5 +1,5 @@
 //! The model: the value types every path of the runtime computes with, and their own
-//! arithmetic. From the bottom: `channel` (the channel selectors `Channel` and `Rgb`), `error`
+//! arithmetic. From the bottom: `bits` (equality by bits in const fns), `channel` (the channel selectors `Channel` and `Rgb`), `error`
 //! (the one error type, which names them), `matrix` (3×3 products, and AC1C2 ↔ XYZ with the
 //! observer's baked matrices), `transfer` (transfer functions), `display` (a display: its
 //! matrices, gamut mapping, encoding) and `set` (the set and rule types, their constructors and
@@ -11,9 +11,13 @@
 
 #![forbid(unsafe_code)]
 
+pub(crate) mod bits;
 pub(crate) mod channel;
 pub(crate) mod display;
 pub(crate) mod error;
 pub(crate) mod matrix;
 pub(crate) mod set;
 pub(crate) mod transfer;
+
+#[cfg(test)]
+mod tests;

@@ -2,7 +2,8 @@
 
 #![forbid(unsafe_code)]
 
-use crate::Channel;
+use super::error::check_length;
+use crate::{Channel, LengthOf};
 
 /// Whether a Gauss rule of some order exists, and if not, why.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -21,7 +22,9 @@ pub enum RuleStatus {
 }
 
 impl RuleStatus {
-    /// `"defined"`, `"outside"`, `"complex"` or `"vanishing-norm"`.
+    /// The status's identifier, `"defined"`, `"outside"`, `"complex"` or `"vanishing-norm"`
+    /// (kebab-case, stable across versions; the generator's CSV files write the same words).
+    /// Its [`Display`](core::fmt::Display) is the sentence for messages.
     pub const fn name(self) -> &'static str {
         match self {
             RuleStatus::Defined => "defined",
@@ -29,6 +32,17 @@ impl RuleStatus {
             RuleStatus::Complex => "complex",
             RuleStatus::VanishingNorm => "vanishing-norm",
         }
+    }
+}
+
+impl core::fmt::Display for RuleStatus {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            RuleStatus::Defined => "all nodes real and inside the range",
+            RuleStatus::Outside => "a node outside the range",
+            RuleStatus::Complex => "complex nodes",
+            RuleStatus::VanishingNorm => "the orthogonal polynomial of this order does not exist",
+        })
     }
 }
 
@@ -57,9 +71,10 @@ pub enum Samples {
     /// sensor file times nm.
     ///
     /// The set's XYZ from such readings is in the weights' units, dλ in nm: a calibrated white
-    /// (readings equal to the golden device's on a perfect white, `tables::<SENSOR>_WHITE`) gives
-    /// Y = [`UNIT_SPECTRUM_Y`](crate::tables::UNIT_SPECTRUM_Y) (about 106.86), not 1; divide by
-    /// it for Y = 1 at white, as the folded sets do.
+    /// (readings equal to the golden device's on a perfect white,
+    /// `tables::sensors::<NAME>_WHITE`) gives Y =
+    /// [`UNIT_SPECTRUM_Y`](crate::tables::UNIT_SPECTRUM_Y) (about 106.86), not 1; divide by it
+    /// for Y = 1 at white, as the folded sets do.
     Readings {
         /// The sensor's name in the scene.
         sensor: &'static str,
@@ -102,8 +117,10 @@ pub struct GaussRule {
 impl GaussRule {
     /// A rule of `order` nodes for `channel`, checked: with `status` [`RuleStatus::Defined`]
     /// `wavelengths_nm` and `weights` have `order` entries each, otherwise none (else
-    /// [`Error::LengthMismatch`](crate::Error::LengthMismatch) with `inputs` the count
-    /// expected and `outputs` the first count that differs); every wavelength finite, positive and
+    /// [`Error::LengthMismatch`](crate::Error::LengthMismatch) with
+    /// [`LengthOf::RuleWavelengths`](crate::LengthOf::RuleWavelengths) or
+    /// [`LengthOf::RuleWeights`](crate::LengthOf::RuleWeights), `expected` that count); every
+    /// wavelength finite, positive and
     /// above the one before (else [`Error::InvalidWavelength`](crate::Error::InvalidWavelength));
     /// every weight finite (else [`Error::InvalidWeight`](crate::Error::InvalidWeight), `row`
     /// the channel's). Never panics; usable in consts.
@@ -118,16 +135,11 @@ impl GaussRule {
             RuleStatus::Defined => order as usize,
             _ => 0,
         };
-        if wavelengths_nm.len() != expected || weights.len() != expected {
-            let outputs = if wavelengths_nm.len() != expected {
-                wavelengths_nm.len()
-            } else {
-                weights.len()
-            };
-            return Err(crate::Error::LengthMismatch {
-                inputs: expected,
-                outputs,
-            });
+        if let Err(e) = check_length(LengthOf::RuleWavelengths, expected, wavelengths_nm.len()) {
+            return Err(e);
+        }
+        if let Err(e) = check_length(LengthOf::RuleWeights, expected, weights.len()) {
+            return Err(e);
         }
         if let Err(e) = check_wavelengths(wavelengths_nm, false) {
             return Err(e);

@@ -3,6 +3,7 @@
 
 #![forbid(unsafe_code)]
 
+use super::bits::same_f32_bits;
 use crate::encode::{clamp01, GammaEncoder8};
 use crate::{Error, Rgb};
 
@@ -162,6 +163,28 @@ impl TransferFunction {
             TransferFunction::Lut(l) => lut_encode(l.table(c), linear),
         };
         quantize_u16(e)
+    }
+
+    /// Whether `other` is the same variant with the same bits (a γ, or every entry of the three
+    /// tables): `PartialEq` in a const fn.
+    pub(crate) const fn same_bits(&self, other: &TransferFunction) -> bool {
+        match (self, other) {
+            (TransferFunction::Linear, TransferFunction::Linear)
+            | (TransferFunction::Srgb, TransferFunction::Srgb) => true,
+            (TransferFunction::Gamma(x), TransferFunction::Gamma(y)) => x.to_bits() == y.to_bits(),
+            (TransferFunction::Lut(x), TransferFunction::Lut(y)) => {
+                let mut k = 0;
+                while k < 3 {
+                    let c = Rgb::ALL[k];
+                    if !same_f32_bits(x.table(c), y.table(c)) {
+                        return false;
+                    }
+                    k += 1;
+                }
+                true
+            }
+            _ => false,
+        }
     }
 
     /// Decodes a display value on channel `c` back to linear light: the inverse of

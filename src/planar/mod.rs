@@ -13,32 +13,9 @@
 pub(crate) mod portable;
 mod scalar;
 
-use crate::{Error, FoldedSet, GamutMapping};
+use crate::model::error::planar_pixels;
+use crate::{Error, FoldedSet, GamutMapping, LengthOf};
 use portable::{encode_srgb8_planar_portable, linear_planar_portable, VECTOR_UNITS};
-
-/// Checks that every sample plane has the length of plane 0 and that every output length
-/// equals it; returns that length, the number of pixels. Without planes (N = 0) the first
-/// output's length is the number of pixels, as the length of the slice of pixels is for the
-/// interleaved path.
-fn check_planes<const N: usize>(samples: &[&[f32]; N], outputs: &[usize]) -> Result<usize, Error> {
-    let pixels = match samples.first() {
-        Some(plane) => plane.len(),
-        None => outputs.first().copied().unwrap_or(0),
-    };
-    for len in samples
-        .iter()
-        .map(|p| p.len())
-        .chain(outputs.iter().copied())
-    {
-        if len != pixels {
-            return Err(Error::LengthMismatch {
-                inputs: pixels,
-                outputs: len,
-            });
-        }
-    }
-    Ok(pixels)
-}
 
 impl<const N: usize> FoldedSet<N> {
     /// [`linear_rgb`](Self::linear_rgb) for planar samples: `samples[i][p]` is pixel p's sample
@@ -60,11 +37,12 @@ impl<const N: usize> FoldedSet<N> {
     /// each call's output cached for what reads it next.
     ///
     /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless every plane and every
-    /// output has the same length; `inputs` is then the length of `samples[0]` and `outputs`
-    /// the first length (another plane's or an output's) that differs from it.
+    /// output has the same length, at the first that differs from `samples[0]`'s (`expected`):
+    /// [`LengthOf::InputPlane`] for another plane of `samples`, [`LengthOf::OutputPlane`] for a
+    /// plane of `out`.
     ///
     /// With N = 0 there are no planes: the number of pixels is the length of `out[0]`
-    /// (`inputs` in the error), the other outputs must have it too, and every pixel is
+    /// (`expected` in the error), the other outputs must have it too, and every pixel is
     /// [`linear_rgb`](Self::linear_rgb) of no samples, `[0.0, 0.0, 0.0]`, as for
     /// [`linear_rgb_batch`](Self::linear_rgb_batch) with that many pixels. N above
     /// [`MAX_WAVELENGTHS`](crate::MAX_WAVELENGTHS) does not compile (its stack use grows with
@@ -83,7 +61,11 @@ impl<const N: usize> FoldedSet<N> {
         out: [&mut [f32]; 3],
     ) -> Result<(), Error> {
         crate::model::set::assert_width::<N>();
-        check_planes(&samples, &[out[0].len(), out[1].len(), out[2].len()])?;
+        planar_pixels(
+            samples.iter().map(|p| p.len()),
+            LengthOf::OutputPlane,
+            &[out[0].len(), out[1].len(), out[2].len()],
+        )?;
         let [r, g, b] = out;
         // The AVX-512 or AVX2 loop where the CPU has one (the same bits; see `simd`), then the
         // rest in the portable one.
@@ -129,7 +111,8 @@ impl<const N: usize> FoldedSet<N> {
     /// channels clip to 0 or 255; never panics.
     ///
     /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless every plane and `out`
-    /// have the same length, reported as for [`linear_rgb_planar`](Self::linear_rgb_planar).
+    /// have the same length, reported as for [`linear_rgb_planar`](Self::linear_rgb_planar)
+    /// ([`LengthOf::Output`] for `out`).
     ///
     /// With N = 0 there are no planes: `out.len()` is the number of pixels, and every pixel is
     /// [`encode_u8`](Self::encode_u8) of no samples (the display's encoding of black,
@@ -158,7 +141,11 @@ impl<const N: usize> FoldedSet<N> {
         out: &mut [[u8; 3]],
     ) -> Result<(), Error> {
         crate::model::set::assert_width::<N>();
-        let pixels = check_planes(&samples, &[out.len()])?;
+        let pixels = planar_pixels(
+            samples.iter().map(|p| p.len()),
+            LengthOf::Output,
+            &[out.len()],
+        )?;
         let srgb_clip = self.display.is_srgb_clip(mapping);
         let vector_units = VECTOR_UNITS && crate::simd::allowed!(Portable);
         if !(vector_units && srgb_clip) {
@@ -215,7 +202,11 @@ impl<const N: usize> FoldedSet<N> {
         out: [&mut [u8]; 3],
     ) -> Result<(), Error> {
         crate::model::set::assert_width::<N>();
-        let pixels = check_planes(&samples, &[out[0].len(), out[1].len(), out[2].len()])?;
+        let pixels = planar_pixels(
+            samples.iter().map(|p| p.len()),
+            LengthOf::OutputPlane,
+            &[out[0].len(), out[1].len(), out[2].len()],
+        )?;
         let [r, g, b] = out;
         let mut buf = [[0u8; 3]; CHUNK];
         let mut start = 0;
@@ -240,7 +231,7 @@ impl<const N: usize> FoldedSet<N> {
     ///
     /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless every plane and `out`
     /// have the same length, reported as for [`linear_rgb_planar`](Self::linear_rgb_planar)
-    /// (with N = 0, `out.len()` is the number of pixels). N above
+    /// ([`LengthOf::Output`] for `out`; with N = 0, `out.len()` is the number of pixels). N above
     /// [`MAX_WAVELENGTHS`](crate::MAX_WAVELENGTHS) does not compile.
     ///
     /// ```
@@ -259,7 +250,11 @@ impl<const N: usize> FoldedSet<N> {
         out: &mut [[u16; 3]],
     ) -> Result<(), Error> {
         crate::model::set::assert_width::<N>();
-        let pixels = check_planes(&samples, &[out.len()])?;
+        let pixels = planar_pixels(
+            samples.iter().map(|p| p.len()),
+            LengthOf::Output,
+            &[out.len()],
+        )?;
         let planes: [&[f32]; N] = samples.map(|plane| &plane[..pixels]);
         for (p, o) in out[..pixels].iter_mut().enumerate() {
             let s: [f32; N] = core::array::from_fn(|i| planes[i][p]);
@@ -293,7 +288,11 @@ impl<const N: usize> FoldedSet<N> {
         out: [&mut [u16]; 3],
     ) -> Result<(), Error> {
         crate::model::set::assert_width::<N>();
-        let pixels = check_planes(&samples, &[out[0].len(), out[1].len(), out[2].len()])?;
+        let pixels = planar_pixels(
+            samples.iter().map(|p| p.len()),
+            LengthOf::OutputPlane,
+            &[out[0].len(), out[1].len(), out[2].len()],
+        )?;
         let planes: [&[f32]; N] = samples.map(|plane| &plane[..pixels]);
         let [r, g, b] = out;
         let (r, g, b) = (&mut r[..pixels], &mut g[..pixels], &mut b[..pixels]);

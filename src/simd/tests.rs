@@ -514,8 +514,9 @@ fn no_wavelengths_give_the_colour_of_no_signal_on_every_path() {
                 assert_eq!(
                     set.linear_rgb_planar([], [r, g, b]),
                     Err(crate::Error::LengthMismatch {
-                        inputs: pixels,
-                        outputs: pixels + 1
+                        what: crate::LengthOf::OutputPlane,
+                        expected: pixels,
+                        got: pixels + 1
                     })
                 );
                 assert!(lin.iter().flatten().all(|v| *v == -7.5 || *v == 1.0));

@@ -160,10 +160,10 @@ fn device() -> Option<Device> {
     )
     .ok()?;
     // The same calibration for counts: one count is the integer set's sample unit.
-    let counts = float.to_counts(1.0 / SENSOR.sample_unit()).ok()?;
+    let counts = float.to_counts(SENSOR.sample_unit()).ok()?;
     // The white tile, calibrated, is the reading of the known light.
     let white = tables::AS7341.xyz(&float.apply(&DEVICE_WHITE.map(f32::from)));
-    let lux = LuxScale::from_reading(white[1], CHART_LUX)?;
+    let lux = LuxScale::from_reading(white[1], CHART_LUX).ok()?;
     Some(Device { float, counts, lux })
 }
 
@@ -209,14 +209,14 @@ fn results(out: &mut impl Write) -> core::fmt::Result {
         return writeln!(out, "res the device's calibration failed");
     };
     write!(out, "res device dark")?;
-    for d in device.counts.dark {
+    for d in device.counts.dark() {
         write!(out, " {d}")?;
     }
     write!(out, " gain_q16")?;
-    for g in device.counts.gain_q16 {
+    for g in device.counts.gain_q16() {
         write!(out, " {g}")?;
     }
-    writeln!(out, " lux_per_y {}", Bits(device.lux.lux_per_y))?;
+    writeln!(out, " lux_per_y {}", Bits(device.lux.lux_per_y()))?;
     // The white tile: CCT and Duv of the light (C: 6771 K, Duv −0.0021) as the sensor sees it.
     let w = read(&device, &DEVICE_WHITE);
     let [x, y, z] = w.xyz.map(Bits);
@@ -414,7 +414,7 @@ fn calibration_results(out: &mut impl Write) -> core::fmt::Result {
     writeln!(
         out,
         "res calibration counts {:?}",
-        count_cal.map(|c| c.gain_q16)
+        count_cal.map(|c| c.gain_q16())
     )?;
     writeln!(out, "res calibration floats {}", float_cal.is_ok())?;
     if let (Ok(c), Ok(f)) = (count_cal, float_cal) {
@@ -428,7 +428,7 @@ fn calibration_results(out: &mut impl Write) -> core::fmt::Result {
             }
             writeln!(out)?;
         }
-        let to_counts = f.to_counts(50_000.0).map(|c| c.gain_q16);
+        let to_counts = f.to_counts(1.0 / 50_000.0).map(|c| c.gain_q16());
         writeln!(out, "res to_counts {to_counts:?}")?;
     }
     // The golden white in counts against the device's own white, in integers only.
@@ -436,20 +436,20 @@ fn calibration_results(out: &mut impl Write) -> core::fmt::Result {
     writeln!(
         out,
         "res device integer gains {:?}",
-        direct.map(|c| c.gain_q16)
+        direct.map(|c| c.gain_q16())
     )?;
     let lux = LuxScale::from_reading(0.0125, 500.0);
     writeln!(
         out,
         "res lux {:?} {}",
-        lux.map(|l| l.lux_per_y.to_bits()),
+        lux.map(|l| l.lux_per_y().to_bits()),
         Bits(lux.map_or(f32::NAN, |l| l.lux([0.1, 0.004, 0.2])))
     )?;
     for (y, lx) in [(0.0, 500.0), (-1.0, 500.0), (f32::NAN, 1.0), (1e-30, 1e30)] {
         writeln!(
             out,
             "res lux scale {:?}",
-            LuxScale::from_reading(y, lx).map(|l| l.lux_per_y.to_bits())
+            LuxScale::from_reading(y, lx).map(|l| l.lux_per_y().to_bits())
         )?;
     }
     Ok(())
@@ -691,7 +691,7 @@ fn calibration_benches<W: Write, T: FnMut() -> u32>(b: &mut Bench<'_, W, T>) -> 
                 black_box(&DEVICE_WHITE),
                 black_box(&reference),
             ) {
-                gains = black_box(c.gain_q16);
+                gains = black_box(c.gain_q16());
             }
         }
     })?;

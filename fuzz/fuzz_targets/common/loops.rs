@@ -25,7 +25,7 @@ use std::ptr::NonNull;
 
 use spectral_quadrature::__fuzzing::{force, take_ran, Loops};
 use spectral_quadrature::tables::displays;
-use spectral_quadrature::{Display, Error, FoldedSet, GamutMapping, WavelengthSet};
+use spectral_quadrature::{Display, Error, FoldedSet, GamutMapping, LengthOf, WavelengthSet};
 
 use super::{same, step_ulps, Bytes, FOLDED_ROW1, FOLDED_ROW2, INTERESTING, MAPPINGS};
 
@@ -422,21 +422,30 @@ fn mismatches<const N: usize>(c: &Case<N>, planes: &[Placed<f32>; N]) {
             n
         }
     };
-    // What the docs say: `inputs` is plane 0's length (the first output's without planes),
-    // `outputs` the first length that differs from it, planes first, then outputs in order.
-    let expect = |outputs: &[usize]| {
+    // What the docs say: `expected` is plane 0's length (the first output's without planes),
+    // `got` the first length that differs from it, planes first (`InputPlane`), then outputs in
+    // order (`output`: `OutputPlane` for planes, `Output` for interleaved pixels).
+    let expect = |output: LengthOf, outputs: &[usize]| {
         let lengths: Vec<usize> = (0..N).map(len_of).chain(outputs.iter().copied()).collect();
-        let inputs = lengths[0];
+        let expected = lengths[0];
         lengths
             .iter()
-            .find(|&&l| l != inputs)
-            .map(|&outputs| Err(Error::LengthMismatch { inputs, outputs }))
+            .enumerate()
+            .find(|&(_, &l)| l != expected)
+            .map(|(i, &got)| {
+                let what = if i < N { LengthOf::InputPlane } else { output };
+                Err(Error::LengthMismatch {
+                    what,
+                    expected,
+                    got,
+                })
+            })
             .unwrap_or(Ok(()))
     };
 
     let mut lin: [Placed<f32>; 3] =
         std::array::from_fn(|k| Placed::new(&vec![-7.5; out_len(k)], c.out_leads[k], 0.0));
-    let want = expect(&[out_len(0), out_len(1), out_len(2)]);
+    let want = expect(LengthOf::OutputPlane, &[out_len(0), out_len(1), out_len(2)]);
     {
         let [r, g, b] = &mut lin;
         let got = set.linear_rgb_planar(samples, [r.get_mut(), g.get_mut(), b.get_mut()]);
@@ -452,7 +461,7 @@ fn mismatches<const N: usize>(c: &Case<N>, planes: &[Placed<f32>; N]) {
     // outputs' lengths play no part.
     let len8 = if which == N + 2 { other } else { n };
     let mut out8 = Placed::new(&vec![[9u8; 3]; len8], c.out_leads[3], [0x5A; 3]);
-    let want = expect(&[len8]);
+    let want = expect(LengthOf::Output, &[len8]);
     let got = set.encode_u8_planar_to_interleaved(c.mapping, samples, out8.get_mut());
     assert_eq!(
         got, want,
@@ -466,8 +475,9 @@ fn mismatches<const N: usize>(c: &Case<N>, planes: &[Placed<f32>; N]) {
     assert_eq!(
         set.encode_u8_batch(c.mapping, &c.pixels, &mut bad),
         Err(Error::LengthMismatch {
-            inputs: n,
-            outputs: other
+            what: LengthOf::Output,
+            expected: n,
+            got: other
         })
     );
     assert!(bad.iter().all(|o| *o == [9; 3]));
@@ -475,8 +485,9 @@ fn mismatches<const N: usize>(c: &Case<N>, planes: &[Placed<f32>; N]) {
     assert_eq!(
         set.linear_rgb_batch(&c.pixels, &mut bad),
         Err(Error::LengthMismatch {
-            inputs: n,
-            outputs: other
+            what: LengthOf::Output,
+            expected: n,
+            got: other
         })
     );
     assert!(bad.iter().flatten().all(|v| *v == -7.5));

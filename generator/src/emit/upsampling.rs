@@ -100,20 +100,16 @@ pub(crate) fn upsampling_rs(
                 ],
             )],
         );
-        let f32s = |v: &[f64]| -> Result<Expr, Error> {
-            v.iter()
-                .map(|&x| f32_literal(x).map(Expr::Atom))
-                .collect::<Result<Vec<_>, _>>()
-                .map(Expr::Array)
-        };
-        let quoted = |s: &str| Expr::atom(std::format!("{s:?}"));
+        // The folded set of the same name (`folded_rs` bakes every colour set for every
+        // display): the display, the nodes and the reference light are the set's.
+        let folded = Expr::atom(std::format!(
+            "super::folded::{}",
+            const_name(&u.set, &u.display)
+        ));
         let value = Expr::Struct(
             "Upsampling".into(),
             std::vec![
-                ("set".into(), quoted(&u.set)),
-                ("display".into(), quoted(&spec.label)),
-                ("light".into(), quoted(&u.light)),
-                ("wavelengths_nm".into(), f32s(&u.wavelengths_nm)?),
+                ("set".into(), folded),
                 ("lipschitz".into(), Expr::Atom(f32_literal(u.lipschitz)?)),
                 (
                     "max_round_trip_delta_e00".into(),

@@ -347,7 +347,7 @@ fn invalid_chromaticities_are_refused() {
                 Error::Display {
                     problem: DisplayError::Chromaticity { point, .. },
                     ..
-                } if point.name() == "red primary"
+                } if *point == spectral_quadrature_math::Point::Red
             ),
             "{e:?}"
         );

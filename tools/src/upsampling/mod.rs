@@ -155,8 +155,11 @@ pub fn bounded_exact_linear_residual(encoding: &[Vec<f64>; 3]) -> Result<f64, Er
 /// The node values the runtime's f32 `Upsampling` gives at each RGB, on a bake's codes: what
 /// firmware or a shader would get from the same table. `None` for a node count the runtime's
 /// type is not instantiated for here (4, 6 and 8 are: the sizes the report and the Cornell box
-/// compare).
+/// compare), or for a bake for another display than sRGB (the one both bake for).
 pub fn runtime_values(b: &Baked, rgb: &[[f64; 3]]) -> Result<Option<Vec<Vec<f64>>>, Error> {
+    if b.display != "SRGB" {
+        return Ok(None);
+    }
     fn run<const N: usize>(b: &Baked, rgb: &[[f64; 3]]) -> Result<Vec<Vec<f64>>, Error> {
         let table: Vec<[u16; N]> = b
             .codes
@@ -165,14 +168,23 @@ pub fn runtime_values(b: &Baked, rgb: &[[f64; 3]]) -> Result<Option<Vec<Vec<f64>
             .collect();
         // The runtime's tables are 'static (baked into the binary); the tool leaks its few.
         let table: &'static [[u16; N]] = Box::leak(table.into_boxed_slice());
-        let wavelengths_nm = core::array::from_fn(|i| b.wavelengths_nm[i] as f32);
-        let u =
-            spectral_quadrature::Upsampling::new("", "", "", wavelengths_nm, b.grid, table, None)
-                .map_err(|e| {
-                Error::Derive(spectral_quadrature_generator::Error::Numerical(
-                    e.to_string(),
-                ))
-            })?;
+        let runtime = |e: spectral_quadrature::Error| {
+            Error::Derive(spectral_quadrature_generator::Error::Numerical(
+                e.to_string(),
+            ))
+        };
+        // The set the bake is for, as the runtime holds it: the nodes, the bake's encoding
+        // (node values to the display's RGB under the reference light), that light, and the
+        // display (sRGB: the one the report and the Cornell box bake for).
+        let light: &'static str = Box::leak(b.light.clone().into_boxed_str());
+        let set = spectral_quadrature::FoldedSet::new(
+            core::array::from_fn(|i| b.wavelengths_nm[i] as f32),
+            core::array::from_fn(|c| core::array::from_fn(|i| b.encoding[c][i] as f32)),
+            spectral_quadrature::Samples::Reflectance { light },
+            spectral_quadrature::tables::displays::SRGB,
+        )
+        .map_err(runtime)?;
+        let u = spectral_quadrature::Upsampling::new(set, b.grid, table, None).map_err(runtime)?;
         Ok(rgb
             .iter()
             .map(|p| {
