@@ -8,9 +8,10 @@ use std::path::{Path, PathBuf};
 use plotters::prelude::*;
 
 use crate::plot::plot_err;
+use crate::timing::time_set;
 use crate::tools::budget::{self, Entry, LIGHTS, METHODS};
 use crate::tools::csv_table::Table;
-use crate::{time_set, Error};
+use crate::Error;
 use spectral_quadrature_generator::{shared, Derivation};
 use spectral_quadrature_spectra::{builtin_illuminant, surfaces_under_lights, Curve, EvalSet};
 

@@ -18,7 +18,7 @@ use spectral_quadrature_generator::Derivation;
 use spectral_quadrature_spectra::{builtin_illuminant, Curve, Spectra};
 
 use crate::plot::{legend, legend_height, plot_err};
-use crate::random::ROUND;
+use crate::random_wavelengths::ROUND;
 use crate::tools::csv_table::Table;
 use crate::tools::interreflection::{
     self as ir, fixed_sets, forms, mean_p95, Form, Judged, Sets, METHODS, POWERS,

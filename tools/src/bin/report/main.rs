@@ -24,29 +24,30 @@
 //! is an error naming its line and column, unless `--clamp-negatives` reads it as 0 too.
 
 mod budget;
-mod groups;
+mod error_vs_time;
+mod fig6_fig7;
+mod inputs;
 mod interreflection;
+mod light_groups;
 mod plot;
-mod random;
-use spectral_quadrature_tools as tools;
-use tools::Error;
+mod random_wavelengths;
 mod stability;
+mod table2;
+mod timing;
 mod upsampling;
 mod user;
 
-use std::fmt::Write as _;
+use spectral_quadrature_tools as tools;
+use tools::Error;
+
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use clap::Parser;
-use spectral_quadrature::{tables, FoldedSet, WavelengthSet};
-use spectral_quadrature_generator::Derivation;
 use spectral_quadrature_spectra::{
-    builtin_illuminant, emissions, surfaces_under_lights, Curve, Errors, EvalSet, Reference,
-    Spectra, Stimulus,
+    builtin_illuminant, surfaces_under_lights, Errors, EvalSet, Reference, Spectra, Stimulus,
 };
-use tools::csv_table::Table;
 
 /// Error against run time for Meyer's wavelength sets and their alternatives.
 #[derive(Parser)]
@@ -86,8 +87,6 @@ struct Args {
     #[arg(long, default_value_t = 1988)]
     seed: u64,
 }
-
-const DEFAULT_ILLUMINANTS: [&str; 6] = ["C", "D65", "A", "F2", "F11", "LED_B2"];
 
 fn main() {
     let args = Args::parse();
@@ -175,18 +174,6 @@ impl Work {
     }
 }
 
-/// One row of section 4.
-struct Row {
-    set: EvalSet,
-    /// Samples per pixel: the set's wavelengths, or a sensor's channels.
-    samples: usize,
-    errors: Errors,
-    ns_per_pixel: f64,
-    /// What the set is judged on, when not every stimulus (a set with a light folded in is
-    /// judged under that light only).
-    judged_on: Option<String>,
-}
-
 fn run(args: &Args) -> Result<(), Error> {
     let work = Work::of(args);
     let mut progress = Progress {
@@ -201,7 +188,7 @@ fn run(args: &Args) -> Result<(), Error> {
     let reference_set = d.observer.full_integration(range, 1.0)?;
 
     progress.next();
-    let inputs = load_inputs(args, range)?;
+    let inputs = inputs::load(&args.spectra, range)?;
     let stimuli = inputs.stimuli.clone();
     // The scene is read with the spectra, so that a mistake in it stops the report at once.
     let scene_extras = match &args.scene {
@@ -243,8 +230,9 @@ fn run(args: &Args) -> Result<(), Error> {
     let mut table2 = Vec::new();
     if !args.csv {
         progress.next();
-        table2 = table2_rows(&d, &cc_under_c, &cc_reference);
-        print_intro_and_table2(&mut text, &stimuli, &table2);
+        table2 = table2::rows(&d, &cc_under_c, &cc_reference);
+        table2::header(&mut text, &stimuli);
+        table2::text(&mut text, &table2);
         print!("{text}");
         std::io::stdout().flush().ok();
     }
@@ -269,54 +257,7 @@ fn run(args: &Args) -> Result<(), Error> {
         e
     };
 
-    let mut sets: Vec<EvalSet> = spaces[0].1.clone();
-    for set in &d.table2 {
-        sets.push(EvalSet {
-            name: table2_name(&set.name),
-            ..d.eval_set(set, "Table 2")
-        });
-    }
-    // Gauss rules in XYZ space: each number of distinct wavelengths' best is shown.
-    sets.extend(spaces[1].1.iter().filter(|s| s.len() <= 16).cloned());
-    for n in (3..=16).chain([24, 32]) {
-        sets.push(d.observer.uniform_set(range, n));
-    }
-    // The shared sets for radiances (the lights here are many; section 5 folds each one in),
-    // method (a) for comparison, and sampling every 10 and 20 nm with linear interpolation.
     let radiance = tools::budget::shared_sets_sized(&d, None, work.shared_sizes.clone())?;
-    sets.extend(radiance.iter().cloned());
-    for n in tools::budget::BUDGETS {
-        if let Ok(a) = spectral_quadrature_generator::catalog::resolve(&d, &format!("INTERP_A_{n}"))
-        {
-            sets.push(d.eval_set(&a, "interp A"));
-        }
-    }
-    let flat = Curve::constant("equal energy", 1.0, range);
-    for step in [10.0, 20.0] {
-        sets.push(tools::budget::interval_set(&d, &flat, step)?);
-    }
-    sets.push(d.observer.full_integration(range, 5.0)?);
-    sets.push(reference_set.clone());
-    let errs = par_errors(&reference, &sets, &stimuli);
-    let total = sets.len();
-    let mut rows = Vec::with_capacity(total);
-    for (k, (set, errors)) in sets.into_iter().zip(errs).enumerate() {
-        if (k + 1) % total.div_ceil(4).max(1) == 0 || k + 1 == total {
-            eprintln!("      timed {}/{total} sets", k + 1);
-        }
-        let ns_per_pixel = time_set(&set, &stimuli, work.runs)?;
-        rows.push(Row {
-            samples: set.len(),
-            set,
-            errors,
-            ns_per_pixel,
-            judged_on: None,
-        });
-    }
-    // The user's: shared sets folded for each light of --illuminants, and a scene's sets. A
-    // set already measured (a scene naming a light of --illuminants, or a set of the
-    // report's own) is measured once; a set judged on exactly the report's stimuli (the only
-    // light's folded sets) is labelled as judged on all of them, as the report's own are.
     let folded_user = user::folded_for_lights(
         &d,
         &inputs.user_lights,
@@ -325,27 +266,18 @@ fn run(args: &Args) -> Result<(), Error> {
     )?;
     let mut extras = user::light_extras(&folded_user, &inputs.surfaces_from);
     extras.extend(scene_extras);
-    for x in extras {
-        if rows.iter().any(|r| r.set.name == x.set.name) {
-            continue;
-        }
-        let (own, judged_on) = match x.judged_on {
-            Some((s, what)) if !same_stimuli(&s, &stimuli, range) => (s, Some(what)),
-            _ => (stimuli.clone(), None),
-        };
-        let errors = Reference::new(reference_set.clone(), &own).errors(&x.set, &own);
-        let ns_per_pixel = time_set(&x.timing, &own, work.runs)?;
-        rows.push(Row {
-            set: x.set,
-            samples: x.samples,
-            errors,
-            ns_per_pixel,
-            judged_on,
-        });
-    }
+    let rows = error_vs_time::rows(error_vs_time::Inputs {
+        d: &d,
+        stimuli: &stimuli,
+        reference: &reference,
+        spaces: &spaces,
+        radiance: &radiance,
+        extras,
+        runs: work.runs,
+    })?;
 
     if args.csv {
-        section4_csv(&rows).print()?;
+        error_vs_time::csv(&rows).print()?;
         eprintln!(
             "done in {:.1} s: {} stimuli, {} sets timed (section 4 only, --csv)",
             progress.start.elapsed().as_secs_f64(),
@@ -358,12 +290,12 @@ fn run(args: &Args) -> Result<(), Error> {
     progress.next();
     let out = &args.out;
     let mut files = Vec::new();
-    files.push(section4_csv(&rows).write(out, "error_vs_time.csv")?);
-    files.push(table2_csv(&table2).write(out, "table2.csv")?);
-    let fig6 = fig6_data(&spaces, &space_errors);
-    files.push(fig6_csv(&fig6).write(out, "fig6.csv")?);
-    let fig7 = fig7_data(&spaces[0].1, &space_errors[0]);
-    files.push(fig7_csv(&fig7).write(out, "fig7.csv")?);
+    files.push(error_vs_time::csv(&rows).write(out, "error_vs_time.csv")?);
+    files.push(table2::csv(&table2).write(out, "table2.csv")?);
+    let fig6 = fig6_fig7::fig6_data(&spaces, &space_errors);
+    files.push(fig6_fig7::fig6_csv(&fig6).write(out, "fig6.csv")?);
+    let fig7 = fig6_fig7::fig7_data(&spaces[0].1, &space_errors[0]);
+    files.push(fig6_fig7::fig7_csv(&fig7).write(out, "fig7.csv")?);
     files.push(plot::fig6(out, &fig6)?);
     files.push(plot::fig7(out, &fig7)?);
     files.push(plot::error_vs_time(out, &rows)?);
@@ -396,8 +328,8 @@ fn run(args: &Args) -> Result<(), Error> {
         .find(|r| r.set.name == "table2 row2")
         .map(|r| r.set.clone())
         .ok_or_else(|| Error::Plot("Table 2 row 2 is missing from section 4".into()))?;
-    let (random_text, random_files) = random::section(
-        &random::Inputs {
+    let (random_text, random_files) = random_wavelengths::section(
+        &random_wavelengths::Inputs {
             d: &d,
             stimuli: &stimuli,
             reference: &reference,
@@ -437,8 +369,8 @@ fn run(args: &Args) -> Result<(), Error> {
     files.extend(upsampling_files);
 
     progress.next();
-    let (groups_text, groups_files) = groups::section(
-        &groups::Inputs {
+    let (groups_text, groups_files) = light_groups::section(
+        &light_groups::Inputs {
             d: &d,
             reflectances: users_reflectances,
             lights: users_lights,
@@ -463,7 +395,8 @@ fn run(args: &Args) -> Result<(), Error> {
     files.extend(bounce_files);
 
     let mut rest = String::new();
-    print_sections_2_to_4(&mut rest, fig_stimuli, &fig6, &fig7, &rows);
+    fig6_fig7::text(&mut rest, fig_stimuli, &fig6, &fig7);
+    error_vs_time::text(&mut rest, &rows);
     rest.push('\n');
     rest.push_str(&budget_text);
     rest.push('\n');
@@ -493,496 +426,9 @@ fn run(args: &Args) -> Result<(), Error> {
     Ok(())
 }
 
-/// What the report measures on.
-struct Inputs {
-    /// Every stimulus: surfaces under lights, or lights seen directly.
-    stimuli: Vec<Stimulus>,
-    /// The surfaces (the user's, or the ColorChecker and the CIE test colours).
-    surfaces: Vec<Curve>,
-    /// Where the surfaces come from, in words.
-    surfaces_from: String,
-    /// The lights of --illuminants (empty without it).
-    user_lights: Vec<Curve>,
-    /// The lights the surfaces are under: the user's or the default ones (empty for
-    /// --emission).
-    lights: Vec<Curve>,
-}
-
-fn load_inputs(args: &Args, range: [f64; 2]) -> Result<Inputs, Error> {
-    let read = |p: &Path| {
-        let spectra = Spectra::read_with(p, tools::negatives(args.spectra.clamp_negatives))?;
-        tools::warn_zeroed("report", spectra.zeroed());
-        spectra.curves(range)
-    };
-    let (surfaces, surfaces_from) = match &args.spectra.reflectances {
-        Some(p) => (read(p)?, p.display().to_string()),
-        None => (
-            tools::prefilter::default_surfaces(range)?,
-            "the ColorChecker and CIE TCS 1-14".to_string(),
-        ),
-    };
-    let user_lights = match &args.spectra.illuminants {
-        Some(p) => read(p)?,
-        None => Vec::new(),
-    };
-    let (stimuli, lights) = if let Some(path) = &args.spectra.emission {
-        (emissions(&read(path)?), Vec::new())
-    } else if user_lights.is_empty() {
-        let lights: Vec<Curve> = DEFAULT_ILLUMINANTS
-            .iter()
-            .map(|n| builtin_illuminant(std::path::Path::new(tools::DATA_DIR), n, range))
-            .collect::<Result<_, _>>()?;
-        (surfaces_under_lights(&surfaces, &lights), lights)
-    } else {
-        (
-            surfaces_under_lights(&surfaces, &user_lights),
-            user_lights.clone(),
-        )
-    };
-    Ok(Inputs {
-        stimuli,
-        surfaces,
-        surfaces_from,
-        user_lights,
-        lights,
-    })
-}
-
-/// Whether `a` and `b` are the same stimuli: the same names, and the same radiance at every nm
-/// of `range`.
-fn same_stimuli(a: &[Stimulus], b: &[Stimulus], range: [f64; 2]) -> bool {
-    let (lo, hi) = (range[0].ceil() as i64, range[1].floor() as i64);
-    a.len() == b.len()
-        && a.iter().zip(b).all(|(x, y)| {
-            x.name == y.name && (lo..=hi).all(|nm| x.radiance(nm as f64) == y.radiance(nm as f64))
-        })
-}
-
 /// Errors of many sets, on every core.
 fn par_errors(reference: &Reference, sets: &[EvalSet], stimuli: &[Stimulus]) -> Vec<Errors> {
     tools::par_map(sets, |set| reference.errors(set, stimuli))
-}
-
-// ---------------------------------------------------------------------------------------------
-// Timing: the runtime path (f32, samples -> linear sRGB in one 3xN product) for each set.
-
-macro_rules! dispatch {
-    ($n:expr, $set:expr, $stimuli:expr, $runs:expr; $($k:literal)*) => {
-        match $n {
-            $($k => Some(time_n::<$k>($set, $stimuli, $runs)),)*
-            _ => None,
-        }
-    };
-}
-
-fn time_set(set: &EvalSet, stimuli: &[Stimulus], runs: usize) -> Result<f64, Error> {
-    dispatch!(set.len(), set, stimuli, runs;
-        1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20 21 22 23 24 25 26 27 28 29 30 31 32
-        33 34 35 36 37 38 39 40 41 42 43 44 45 46 47 48 79 391)
-    .ok_or(Error::NoTimingPath(set.len()))
-}
-
-/// Median ns per pixel of `FoldedSet::<N>::linear_rgb_batch` over pixels cycling through the
-/// stimuli, sampled at the set's wavelengths.
-fn time_n<const N: usize>(set: &EvalSet, stimuli: &[Stimulus], runs: usize) -> f64 {
-    let m = tables::XYZ_TO_AC1C2;
-    // The report times sets on radiances: the light (if any) is already in the stimuli.
-    let wavelengths_nm = core::array::from_fn(|i| set.wavelengths_nm[i] as f32);
-    let weights = core::array::from_fn(|c| {
-        core::array::from_fn(|i| {
-            (0..3)
-                .map(|k| f64::from(m[c][k]) * set.xyz_weights[k][i])
-                .sum::<f64>() as f32
-        })
-    });
-    let radiance = spectral_quadrature::Samples::Radiance;
-    let ws = WavelengthSet::<N>::new(wavelengths_nm, weights, radiance).expect("a valid set");
-    let folded: FoldedSet<N> = ws.fold(&tables::displays::SRGB, 1.0 / tables::UNIT_SPECTRUM_Y);
-    const PIXELS: usize = 2048;
-    let samples: Vec<[f32; N]> = (0..PIXELS)
-        .map(|p| {
-            let s = &stimuli[p % stimuli.len()];
-            std::array::from_fn(|i| s.radiance(set.wavelengths_nm[i]) as f32)
-        })
-        .collect();
-    let mut out = vec![[0.0f32; 3]; PIXELS];
-    // Repeat each run until it lasts about half a millisecond, so the clock's resolution does
-    // not matter.
-    let reps = (500_000 / (PIXELS * (N + 4))).max(1);
-    let mut times: Vec<f64> = (0..runs)
-        .map(|_| {
-            let t = Instant::now();
-            for _ in 0..reps {
-                folded
-                    .linear_rgb_batch(std::hint::black_box(&samples), &mut out)
-                    .expect("lengths agree");
-                std::hint::black_box(&mut out);
-            }
-            t.elapsed().as_nanos() as f64 / (reps * PIXELS) as f64
-        })
-        .collect();
-    times.sort_by(f64::total_cmp);
-    times[times.len() / 2]
-}
-
-// ---------------------------------------------------------------------------------------------
-// Section 1: Table 2.
-
-struct Table2Row {
-    name: String,
-    wavelengths: Vec<f64>,
-    mean_de76: f64,
-    paper: f64,
-}
-
-fn table2_rows(d: &Derivation, stimuli: &[Stimulus], reference: &Reference) -> Vec<Table2Row> {
-    d.table2
-        .iter()
-        .zip(tools::paper::TABLE2_MEAN_DELTA_E)
-        .map(|(set, paper)| {
-            let es = d.eval_set(set, "Table 2");
-            Table2Row {
-                name: table2_name(&set.name),
-                wavelengths: set.wavelengths_nm.clone(),
-                mean_de76: reference.errors(&es, stimuli).mean_de76(),
-                paper,
-            }
-        })
-        .collect()
-}
-
-/// `TABLE2_ROW1` → `table2 row1`.
-fn table2_name(const_name: &str) -> String {
-    const_name.to_lowercase().replace('_', " ")
-}
-
-fn table2_csv(rows: &[Table2Row]) -> Table {
-    let mut t = Table::new("row,wavelengths_nm,mean_de76,paper_mean_de76,difference");
-    for r in rows {
-        let w: Vec<String> = r.wavelengths.iter().map(|l| format!("{l:.1}")).collect();
-        t.row([
-            r.name.clone(),
-            w.join(" "),
-            format!("{:.4}", r.mean_de76),
-            r.paper.to_string(),
-            format!("{:+.4}", r.mean_de76 - r.paper),
-        ]);
-    }
-    t
-}
-
-// ---------------------------------------------------------------------------------------------
-// Section 2: Fig. 6, mean error against the total number of wavelengths (n_A + n_C1 + n_C2).
-
-struct Fig6 {
-    /// (space, total, number of combinations, mean ΔE*ab averaged over them)
-    points: Vec<(String, usize, usize, f64)>,
-}
-
-fn fig6_data(spaces: &[(&str, Vec<EvalSet>)], errors: &[Vec<Errors>]) -> Fig6 {
-    let mut points = Vec::new();
-    for ((name, sets), errs) in spaces.iter().zip(errors) {
-        let mut by_total: std::collections::BTreeMap<usize, Vec<f64>> = Default::default();
-        for (set, e) in sets.iter().zip(errs) {
-            let o = set.orders.expect("combinations have orders");
-            by_total
-                .entry(o.iter().sum())
-                .or_default()
-                .push(e.mean_de76());
-        }
-        for (total, v) in by_total {
-            points.push((
-                name.to_string(),
-                total,
-                v.len(),
-                v.iter().sum::<f64>() / v.len() as f64,
-            ));
-        }
-    }
-    Fig6 { points }
-}
-
-fn fig6_csv(f: &Fig6) -> Table {
-    let mut t = Table::new("space,total_wavelengths,combinations,mean_de76");
-    for (space, total, n, e) in &f.points {
-        t.row([
-            space.clone(),
-            total.to_string(),
-            n.to_string(),
-            format!("{e:.4}"),
-        ]);
-    }
-    t
-}
-
-// ---------------------------------------------------------------------------------------------
-// Section 3: Fig. 7, the allocation triangle.
-
-/// Subdivisions of each side of the triangle (K² sub-triangles).
-const K: usize = 6;
-
-struct Fig7 {
-    /// Per sub-triangle: (row i, column j, upward, number of combinations, mean ΔE*ab).
-    cells: Vec<(usize, usize, bool, usize, f64)>,
-}
-
-/// The sub-triangle of barycentric fractions (fa, fc1, fc2): i = ⌊fa·K⌋, j = ⌊fc1·K⌋, upward
-/// when the remainders sum below 1.
-fn cell_of(fa: f64, fc1: f64) -> (usize, usize, bool) {
-    let (x, y) = (fa * K as f64, fc1 * K as f64);
-    let i = (x.floor() as usize).min(K - 1);
-    let j = (y.floor() as usize).min(K - 1 - i);
-    let up = (x - i as f64) + (y - j as f64) < 1.0 || i + j == K - 1;
-    (i, j, up)
-}
-
-/// The fractions (A, C1, C2) at the centroid of sub-triangle (i, j, up).
-fn centroid(i: usize, j: usize, up: bool) -> [f64; 3] {
-    let off = if up { 1.0 / 3.0 } else { 2.0 / 3.0 };
-    let (fa, fc1) = ((i as f64 + off) / K as f64, (j as f64 + off) / K as f64);
-    [fa, fc1, 1.0 - fa - fc1]
-}
-
-fn fig7_data(sets: &[EvalSet], errors: &[Errors]) -> Fig7 {
-    let mut acc: std::collections::BTreeMap<(usize, usize, bool), Vec<f64>> = Default::default();
-    for (set, e) in sets.iter().zip(errors) {
-        let o = set.orders.expect("combinations have orders");
-        let t = (o[0] + o[1] + o[2]) as f64;
-        acc.entry(cell_of(o[0] as f64 / t, o[1] as f64 / t))
-            .or_default()
-            .push(e.mean_de76());
-    }
-    Fig7 {
-        cells: acc
-            .into_iter()
-            .map(|((i, j, up), v)| (i, j, up, v.len(), v.iter().sum::<f64>() / v.len() as f64))
-            .collect(),
-    }
-}
-
-fn fig7_csv(f: &Fig7) -> Table {
-    let mut t = Table::new("a_fraction_from,c1_fraction_from,orientation,combinations,mean_de76");
-    for (i, j, up, n, e) in &f.cells {
-        t.row([
-            format!("{:.3}", *i as f64 / K as f64),
-            format!("{:.3}", *j as f64 / K as f64),
-            (if *up { "up" } else { "down" }).to_string(),
-            n.to_string(),
-            format!("{e:.4}"),
-        ]);
-    }
-    t
-}
-
-// ---------------------------------------------------------------------------------------------
-// Section 4 and the text report.
-
-fn section4_csv(rows: &[Row]) -> Table {
-    let mut t = Table::new(
-        "set,distinct_wavelengths,mean_de76,max_de76,mean_de00,max_de00,ns_per_pixel,judged_on",
-    );
-    for r in rows {
-        t.row([
-            r.set.name.clone(),
-            r.samples.to_string(),
-            format!("{:.4}", r.errors.mean_de76()),
-            format!("{:.4}", r.errors.max_de76()),
-            format!("{:.4}", r.errors.mean_de00()),
-            format!("{:.4}", r.errors.max_de00()),
-            format!("{:.2}", r.ns_per_pixel),
-            r.judged_on.clone().unwrap_or_else(|| "all stimuli".into()),
-        ]);
-    }
-    t
-}
-
-/// The report's header and section 1 (Table 2): printed as soon as they are known.
-fn print_intro_and_table2(o: &mut String, stimuli: &[Stimulus], table2: &[Table2Row]) {
-    writeln!(o, "spectral-quadrature report: error against run time").ok();
-    writeln!(o, "reference: full integration at 1 nm, 380-770 nm, CIE 1931 2°; CIELAB white integrated by the same rule as each colour").ok();
-    writeln!(
-        o,
-        "{} stimuli (first: {}; last: {})\n",
-        stimuli.len(),
-        stimuli[0].name,
-        stimuli[stimuli.len() - 1].name
-    )
-    .ok();
-
-    writeln!(
-        o,
-        "1. Table 2: ColorChecker (Ohta) under illuminant C, mean ΔE*ab"
-    )
-    .ok();
-    writeln!(
-        o,
-        "   {:<12} {:<40} {:>8} {:>8} {:>8}",
-        "row", "wavelengths (nm)", "derived", "paper", "diff"
-    )
-    .ok();
-    for r in table2 {
-        let w: Vec<String> = r.wavelengths.iter().map(|l| format!("{l:.1}")).collect();
-        writeln!(
-            o,
-            "   {:<12} {:<40} {:>8.3} {:>8.3} {:>+8.3}",
-            r.name,
-            w.join(" "),
-            r.mean_de76,
-            r.paper,
-            r.mean_de76 - r.paper
-        )
-        .ok();
-    }
-    writeln!(
-        o,
-        "   (the paper used McCamy's reflectances of the chart; these are Ohta's)\n"
-    )
-    .ok();
-}
-
-/// Sections 2-4: Figs. 6 and 7, and error against run time.
-fn print_sections_2_to_4(
-    o: &mut String,
-    fig_stimuli: &[Stimulus],
-    fig6: &Fig6,
-    fig7: &Fig7,
-    rows: &[Row],
-) {
-    writeln!(
-        o,
-        "2. Fig. 6: mean ΔE*ab against the total number of wavelengths (n_A + n_C1 + n_C2),"
-    )
-    .ok();
-    writeln!(
-        o,
-        "   averaged over every order combination with that total; {} stimuli ({} ... {})",
-        fig_stimuli.len(),
-        fig_stimuli[0].name,
-        fig_stimuli[fig_stimuli.len() - 1].name
-    )
-    .ok();
-    writeln!(
-        o,
-        "   {:>5} {:>9} {:>9} {:>9}",
-        "total", "AC1C2", "XYZ", "SML"
-    )
-    .ok();
-    let totals: std::collections::BTreeSet<usize> = fig6.points.iter().map(|p| p.1).collect();
-    for t in totals.iter().filter(|t| **t <= 24) {
-        let cell = |space: &str| {
-            fig6.points
-                .iter()
-                .find(|p| p.0 == space && p.1 == *t)
-                .map_or("-".to_string(), |p| format!("{:.3}", p.3))
-        };
-        writeln!(
-            o,
-            "   {t:>5} {:>9} {:>9} {:>9}",
-            cell("AC1C2"),
-            cell("XYZ"),
-            cell("SML")
-        )
-        .ok();
-    }
-    writeln!(o, "   (totals up to 24 shown; all in fig6.csv)\n").ok();
-
-    writeln!(o, "3. Fig. 7: mean ΔE*ab by the fraction of wavelengths given to A, C1, C2 ({K}x{K} sub-triangles)").ok();
-    for (what, pred) in [
-        (
-            "mostly A   (A ≥ 2/3 of the wavelengths)",
-            &(|f: [f64; 3]| f[0] >= 2.0 / 3.0) as &dyn Fn([f64; 3]) -> bool,
-        ),
-        ("mostly C1  (C1 ≥ 2/3)", &|f: [f64; 3]| f[1] >= 2.0 / 3.0),
-        ("mostly C2  (C2 ≥ 2/3)", &|f: [f64; 3]| f[2] >= 2.0 / 3.0),
-        ("balanced   (each ≥ 1/6)", &|f: [f64; 3]| {
-            f.iter().all(|x| *x >= 1.0 / 6.0)
-        }),
-    ] {
-        let v: Vec<f64> = fig7
-            .cells
-            .iter()
-            .filter(|c| pred(centroid(c.0, c.1, c.2)))
-            .map(|c| c.4)
-            .collect();
-        let mean = v.iter().sum::<f64>() / v.len().max(1) as f64;
-        writeln!(
-            o,
-            "   {what}: {mean:.3} (mean of {} sub-triangles)",
-            v.len()
-        )
-        .ok();
-    }
-    writeln!(o).ok();
-
-    writeln!(
-        o,
-        "4. Error against run time ({} sets; all in error_vs_time.csv)",
-        rows.len()
-    )
-    .ok();
-    writeln!(o, "   the best per-channel Gauss combination (AC1C2 and XYZ) at each number of distinct wavelengths, Table 2's").ok();
-    writeln!(o, "   sets, uniform sets, shared sets for radiances (KQ_N; trained on the CIE test colour samples, which these").ok();
-    writeln!(o, "   stimuli include by default: section 5 judges on the ColorChecker alone), method (a) INTERP_A_N, sampling").ok();
-    writeln!(o, "   every 10 and 20 nm, full integration:").ok();
-    writeln!(
-        o,
-        "   {:<22} {:>5} {:>9} {:>9} {:>9} {:>9} {:>9}",
-        "set", "N", "mean76", "max76", "mean00", "max00", "ns/pixel"
-    )
-    .ok();
-    let mut best: std::collections::BTreeMap<(&str, usize), &Row> = Default::default();
-    for r in rows
-        .iter()
-        .filter(|r| r.set.family == "AC1C2" || r.set.family == "XYZ")
-    {
-        let e = best.entry((&r.set.family, r.set.len())).or_insert(r);
-        if r.errors.mean_de00() < e.errors.mean_de00() {
-            *e = r;
-        }
-    }
-    let shown = best.values().copied().filter(|r| r.set.len() <= 16).chain(
-        rows.iter()
-            .filter(|r| r.set.family != "AC1C2" && r.set.family != "XYZ"),
-    );
-    for r in shown.clone().filter(|r| r.judged_on.is_none()) {
-        section4_line(o, r);
-    }
-    let mut own: Vec<&Row> = shown.filter(|r| r.judged_on.is_some()).collect();
-    own.sort_by_key(|r| r.judged_on.clone());
-    let mut last: Option<&str> = None;
-    for r in own {
-        let on = r.judged_on.as_deref().unwrap_or_default();
-        if last != Some(on) {
-            writeln!(
-                o,
-                "   judged on {on} only (a light folded in, or a sensor fitted under it):"
-            )
-            .ok();
-            last = Some(on);
-        }
-        section4_line(o, r);
-    }
-    let full = rows.iter().find(|r| r.set.name == "full 1 nm");
-    let row2 = rows.iter().find(|r| r.set.name == "table2 row2");
-    if let (Some(f), Some(r)) = (full, row2) {
-        writeln!(o, "   table 2 row 2 is {:.0}x faster than the full 1 nm integration (medians of this run)", f.ns_per_pixel / r.ns_per_pixel).ok();
-    }
-}
-
-/// One row of section 4's text table.
-fn section4_line(o: &mut String, r: &Row) {
-    writeln!(
-        o,
-        "   {:<22} {:>5} {:>9.3} {:>9.3} {:>9.3} {:>9.3} {:>9.1}",
-        r.set.name,
-        r.samples,
-        r.errors.mean_de76(),
-        r.errors.max_de76(),
-        r.errors.mean_de00(),
-        r.errors.max_de00(),
-        r.ns_per_pixel
-    )
-    .ok();
 }
 
 fn write(dir: &Path, name: &str, text: &str) -> Result<PathBuf, Error> {

@@ -12,12 +12,13 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 use spectral_quadrature::{tables, GamutMapping};
 
 use crate::plot::plot_err;
+use crate::timing::time_set;
 use crate::tools::budget;
 use crate::tools::csv_table::Table;
 use crate::tools::random_wavelengths::{
     pixel_rng, reach, run_trials, Cells, Config, Reach, Sampler, SensorRgb, Summary, Target, Trials,
 };
-use crate::{time_set, Error};
+use crate::Error;
 use spectral_quadrature_generator::Derivation;
 use spectral_quadrature_spectra::{
     surfaces_under_lights, Curve, EvalSet, Reference, Spectra, Stimulus,
