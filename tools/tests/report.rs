@@ -597,3 +597,114 @@ fn a_bounded_exact_linear_map_exists_for_kq_8_only() {
         assert!(linear || residual > 1e-3, "{name}: {residual}");
     }
 }
+
+/// The columns of the report's CSVs that are times: they differ from run to run, so the
+/// fixtures leave them out.
+const TIMES: [&str; 3] = ["ns_per_pixel", "ns_per_sample", "light_search_s"];
+
+/// Whether two printed numbers (`1.2345`, `-0.0012`, `1.797e-16`, `~960`) are equal within one
+/// unit in the last place printed; other text must be equal.
+fn same_printed(a: &str, b: &str) -> bool {
+    if a == b {
+        return true;
+    }
+    // A prefix the report prints before a number (`~` extrapolated, `+` a difference).
+    let number = |s: &str| -> Option<(f64, f64)> {
+        let s = s.trim_start_matches(['~', '+']);
+        let v: f64 = s.parse().ok()?;
+        let (mantissa, exponent) = match s.split_once(['e', 'E']) {
+            Some((m, e)) => (m, e.parse::<i32>().ok()?),
+            None => (s, 0),
+        };
+        let decimals = mantissa.split_once('.').map_or(0, |(_, d)| d.len()) as i32;
+        Some((v, 10f64.powi(exponent - decimals)))
+    };
+    match (number(a), number(b)) {
+        // The prefixes must agree too.
+        (Some((x, ux)), Some((y, uy))) if a.starts_with('~') == b.starts_with('~') => {
+            (x - y).abs() <= 1.000_001 * ux.max(uy)
+        }
+        _ => false,
+    }
+}
+
+/// The report's figures do not move unless a change says so: every CSV of a `--quick` run on
+/// the built-in spectra against `tests/fixtures/report-quick/` (the report's output before its
+/// sections learnt to share and sample their work; see the README there), every cell but the
+/// times. Numbers may differ by one unit in the last place printed: the fixtures come from a
+/// release build and this test runs the dev profile, whose code may round a last bit of an f64
+/// differently (`powi`, vectorised loops), which moves a printed digit only at a rounding
+/// boundary. `SQ_REPORT_FIXTURES=write` writes the fixtures from this run instead.
+#[test]
+fn the_quick_reports_figures_are_the_fixtures() {
+    let fixtures =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/report-quick");
+    let dir = Scratch::new("fixtures");
+    let out = dir.path("out");
+    let (code, _, stderr) = report(&["--quick", "--out", out.to_str().unwrap()], &dir.0);
+    assert_eq!(code, Some(0), "{stderr}");
+    let csvs = check_files(&out, &stderr);
+    let write = std::env::var("SQ_REPORT_FIXTURES").is_ok_and(|v| v == "write");
+    let mut differences = Vec::new();
+    for (name, (header, rows)) in &csvs {
+        let keep: Vec<usize> = (0..header.len())
+            .filter(|&i| !TIMES.contains(&header[i].as_str()))
+            .collect();
+        let pick =
+            |row: &Vec<String>| -> Vec<String> { keep.iter().map(|&i| row[i].clone()).collect() };
+        if write {
+            let mut w = csv::WriterBuilder::new()
+                .terminator(csv::Terminator::Any(b'\n'))
+                .from_path(fixtures.join(name))
+                .unwrap();
+            w.write_record(pick(header)).unwrap();
+            for r in rows {
+                w.write_record(pick(r)).unwrap();
+            }
+            continue;
+        }
+        let text = std::fs::read_to_string(fixtures.join(name))
+            .unwrap_or_else(|e| panic!("{name}: no fixture ({e})"));
+        let (expected_header, expected) = strict_csv(name, &text);
+        assert_eq!(pick(header), expected_header, "{name}: the columns");
+        assert_eq!(rows.len(), expected.len(), "{name}: the number of rows");
+        for (k, (row, want)) in rows.iter().map(pick).zip(&expected).enumerate() {
+            for ((column, got), want) in expected_header.iter().zip(&row).zip(want) {
+                let tokens_agree = got.split(' ').count() == want.split(' ').count()
+                    && got
+                        .split(' ')
+                        .zip(want.split(' '))
+                        .all(|(g, w)| same_printed(g, w));
+                if !tokens_agree {
+                    differences.push(format!(
+                        "{name} row {}: {column} = {got}, was {want}",
+                        k + 1
+                    ));
+                }
+            }
+        }
+    }
+    assert!(
+        differences.is_empty(),
+        "{} cells differ:\n{}",
+        differences.len(),
+        differences
+            .iter()
+            .take(40)
+            .cloned()
+            .collect::<Vec<_>>()
+            .join("\n")
+    );
+}
+
+#[test]
+fn printed_numbers_agree_within_one_unit_in_the_last_place() {
+    assert!(same_printed("1.2345", "1.2346"));
+    assert!(same_printed("1.797e-16", "1.798e-16"));
+    assert!(same_printed("~960", "~961"));
+    assert!(same_printed("+0.0016", "0.0017"));
+    assert!(!same_printed("1.2345", "1.2347"));
+    assert!(!same_printed("1.797e-16", "1.797e-15"));
+    assert!(!same_printed("~960", "960"));
+    assert!(!same_printed("defined", "undefined"));
+}
