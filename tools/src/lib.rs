@@ -9,6 +9,10 @@
 //! - [`csv_table`]: every CSV the programs write, through the `csv` crate's writer.
 //! - [`evaluate`]: the sets the report builds to measure beside the crate's (every combination
 //!   of per-channel rules, a shared set on radiances).
+//! - [`interreflection`]: light that bounces, the forms of reflectance a path carries after
+//!   several surfaces and the fixed sets judged on them (section 10).
+//! - [`light_groups`]: light groups judged on reflectances no fit saw, by five-fold
+//!   cross-validation (section 9).
 //! - [`paper`]: the numbers the paper prints, which `tables` and the tests compare with.
 //! - [`prefilter`]: spiky lamps, band-averaged and exact-line pre-filtering (section 6d).
 //! - [`stability`]: unstable alternatives to the crate's quadrature (section 6b).
