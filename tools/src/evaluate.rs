@@ -1,14 +1,16 @@
 //! Sets the report builds to measure beside the crate's own, on the generator's measuring
 //! (`spectral_quadrature_generator::evaluate`): every combination of per-channel Gauss rules for
-//! any three weight functions (Figs. 6 and 7, and the budgets of section 5), and a shared set
-//! as measured on radiances.
+//! any three weight functions (Figs. 6 and 7, and the budgets of section 5), a shared set
+//! as measured on radiances, and [`Sampled`]: many sets judged on the same stimuli at once.
 
+use std::collections::HashMap;
 use std::vec::Vec;
 
 use spectral_quadrature_generator::quadrature::{self, Measure};
 use spectral_quadrature_generator::shared::Shared;
 use spectral_quadrature_generator::{Derivation, Rule, WavelengthSet};
-use spectral_quadrature_spectra::EvalSet;
+use spectral_quadrature_math::{delta_e2000, delta_e76, lab_from_xyz};
+use spectral_quadrature_spectra::{Curve, Errors, EvalSet, Reference, Stimulus};
 
 /// Per-channel Gauss rules of orders 1..=max_order for three weight functions given on the
 /// derivation grid (columns of `w`), as `rules[c][n - 1]`.
@@ -88,4 +90,178 @@ pub fn member_on_radiance(
                 .collect()
         }),
     }
+}
+
+/// The stimuli of a [`Reference`] sampled once at every wavelength of many sets, so that judging
+/// a set reads its nodes' values instead of interpolating every spectrum at every node again:
+/// [`Reference::errors`] for many sets at a fraction of the cost, with the same arithmetic in
+/// the same order (the same errors, bit for bit; `tools/tests/evaluate.rs` holds it).
+///
+/// Each distinct light and each distinct reflectance is sampled once (a stimulus is a light
+/// times a reflectance, `Stimulus::radiance`), so the tables grow with the number of spectra,
+/// not of stimuli.
+pub struct Sampled<'a> {
+    reference: &'a Reference,
+    stimuli: &'a [Stimulus],
+    /// The sampled wavelengths' bits → their column.
+    columns: HashMap<u64, usize>,
+    /// Per stimulus: its light's and its reflectance's rows (`None`: a light seen directly).
+    rows: Vec<(usize, Option<usize>)>,
+    /// How many distinct lights.
+    light_count: usize,
+    /// Per distinct light, its value at every column (row-major).
+    lights: Vec<f64>,
+    /// Per distinct reflectance, its value at every column (row-major).
+    reflectances: Vec<f64>,
+}
+
+impl<'a> Sampled<'a> {
+    /// `stimuli` (those `reference` was made from) sampled at every wavelength of `sets`.
+    pub fn new<'s>(
+        reference: &'a Reference,
+        stimuli: &'a [Stimulus],
+        sets: impl IntoIterator<Item = &'s EvalSet>,
+    ) -> Sampled<'a> {
+        let mut wavelengths: Vec<f64> = Vec::new();
+        let mut columns = HashMap::new();
+        for set in sets {
+            for &nm in &set.wavelengths_nm {
+                columns.entry(nm.to_bits()).or_insert_with(|| {
+                    wavelengths.push(nm);
+                    wavelengths.len() - 1
+                });
+            }
+        }
+        // The distinct curves, compared whole (two curves of one name may differ).
+        let mut lights: Vec<&Curve> = Vec::new();
+        let mut reflectances: Vec<&Curve> = Vec::new();
+        let mut by_name: HashMap<&str, Vec<usize>> = HashMap::new();
+        let rows = stimuli
+            .iter()
+            .map(|s| {
+                let l = match lights.iter().position(|c| *c == &s.light) {
+                    Some(l) => l,
+                    None => {
+                        lights.push(&s.light);
+                        lights.len() - 1
+                    }
+                };
+                let r = s.reflectance.as_ref().map(|r| {
+                    let same = by_name.entry(r.name.as_str()).or_default();
+                    match same.iter().copied().find(|&k| reflectances[k] == r) {
+                        Some(k) => k,
+                        None => {
+                            reflectances.push(r);
+                            same.push(reflectances.len() - 1);
+                            reflectances.len() - 1
+                        }
+                    }
+                });
+                (l, r)
+            })
+            .collect();
+        let table = |curves: &[&Curve]| -> Vec<f64> {
+            curves
+                .iter()
+                .flat_map(|c| wavelengths.iter().map(|&nm| c.at(nm)))
+                .collect()
+        };
+        Sampled {
+            reference,
+            stimuli,
+            rows,
+            light_count: lights.len(),
+            lights: table(&lights),
+            reflectances: table(&reflectances),
+            columns,
+        }
+    }
+
+    /// The errors of `set` against the reference, as [`Reference::errors`] gives them; a set
+    /// with a wavelength that was not sampled is judged by [`Reference::errors`] itself.
+    pub fn errors(&self, set: &EvalSet) -> Errors {
+        let Some(cols) = set
+            .wavelengths_nm
+            .iter()
+            .map(|nm| self.columns.get(&nm.to_bits()).copied())
+            .collect::<Option<Vec<usize>>>()
+        else {
+            return self.reference.errors(set, self.stimuli);
+        };
+        let width = self.columns.len();
+        let at = |table: &[f64], row: usize| -> Vec<f64> {
+            cols.iter().map(|&c| table[row * width + c]).collect()
+        };
+        // `EvalSet::xyz`: each channel's sum over the nodes in their order.
+        let xyz = |values: &[f64]| -> [f64; 3] {
+            [0, 1, 2].map(|c| {
+                set.xyz_weights[c]
+                    .iter()
+                    .zip(values)
+                    .map(|(w, v)| w * v)
+                    .sum()
+            })
+        };
+        let light_values: Vec<Vec<f64>> =
+            (0..self.light_count).map(|l| at(&self.lights, l)).collect();
+        // A surface's white is its light (`Stimulus::white`): one XYZ per light.
+        let light_whites: Vec<[f64; 3]> = light_values.iter().map(|v| xyz(v)).collect();
+        let mut e = Errors {
+            de76: Vec::with_capacity(self.stimuli.len()),
+            de00: Vec::with_capacity(self.stimuli.len()),
+        };
+        let mut radiance = std::vec![0.0; cols.len()];
+        for ((&(l, r), &level), exact) in self
+            .rows
+            .iter()
+            .zip(&self.reference.levels)
+            .zip(&self.reference.labs)
+        {
+            let light = &light_values[l];
+            let white = match r {
+                Some(r) => {
+                    // `Stimulus::radiance`: the light times the reflectance at each node.
+                    let row = &self.reflectances[r * width..(r + 1) * width];
+                    for ((v, &c), &lv) in radiance.iter_mut().zip(&cols).zip(light) {
+                        *v = lv * row[c];
+                    }
+                    light_whites[l]
+                }
+                None => {
+                    // A light seen directly: its radiance is the light times 1, its white
+                    // equal energy at the stimulus' level.
+                    for (v, &lv) in radiance.iter_mut().zip(light) {
+                        *v = lv * 1.0;
+                    }
+                    xyz(&std::vec![level; cols.len()])
+                }
+            };
+            let approx = lab_from_xyz(xyz(&radiance), white);
+            e.de76.push(delta_e76(*exact, approx));
+            e.de00.push(delta_e2000(*exact, approx));
+        }
+        e
+    }
+}
+
+/// The errors of each of `sets` against `reference` on `stimuli` ([`Reference::errors`] for
+/// each, through one [`Sampled`] table), on every core; `done` is called with the number of
+/// sets just judged, for a progress line.
+pub fn errors_of_sets(
+    reference: &Reference,
+    stimuli: &[Stimulus],
+    sets: &[EvalSet],
+    done: &(dyn Fn(usize) + Sync),
+) -> Vec<Errors> {
+    let sampled = Sampled::new(reference, stimuli, sets);
+    // Chunks of sets, so that progress is told often without a call per set.
+    let chunks: Vec<&[EvalSet]> = sets.chunks(64).collect();
+    crate::par_map(&chunks, |chunk| {
+        let e: Vec<Errors> = chunk.iter().map(|s| sampled.errors(s)).collect();
+        done(chunk.len());
+        e
+    })
+    .into_iter()
+    .flatten()
+    .collect()
 }
