@@ -180,6 +180,17 @@ impl<'a> Sampled<'a> {
     /// The errors of `set` against the reference, as [`Reference::errors`] gives them; a set
     /// with a wavelength that was not sampled is judged by [`Reference::errors`] itself.
     pub fn errors(&self, set: &EvalSet) -> Errors {
+        self.judge(set, true)
+    }
+
+    /// The ΔE*ab of `set` on each stimulus, as [`Reference::errors`] gives them (`de76`),
+    /// without the cost of CIEDE2000.
+    pub fn de76(&self, set: &EvalSet) -> Vec<f64> {
+        self.judge(set, false).de76
+    }
+
+    /// [`errors`](Self::errors), CIEDE2000 left out (empty) unless `de00`.
+    fn judge(&self, set: &EvalSet, de00: bool) -> Errors {
         let Some(cols) = set
             .wavelengths_nm
             .iter()
@@ -208,7 +219,7 @@ impl<'a> Sampled<'a> {
         let light_whites: Vec<[f64; 3]> = light_values.iter().map(|v| xyz(v)).collect();
         let mut e = Errors {
             de76: Vec::with_capacity(self.stimuli.len()),
-            de00: Vec::with_capacity(self.stimuli.len()),
+            de00: Vec::with_capacity(if de00 { self.stimuli.len() } else { 0 }),
         };
         let mut radiance = std::vec![0.0; cols.len()];
         for ((&(l, r), &level), exact) in self
@@ -238,26 +249,35 @@ impl<'a> Sampled<'a> {
             };
             let approx = lab_from_xyz(xyz(&radiance), white);
             e.de76.push(delta_e76(*exact, approx));
-            e.de00.push(delta_e2000(*exact, approx));
+            if de00 {
+                e.de00.push(delta_e2000(*exact, approx));
+            }
         }
         e
     }
 }
 
 /// The errors of each of `sets` against `reference` on `stimuli` ([`Reference::errors`] for
-/// each, through one [`Sampled`] table), on every core; `done` is called with the number of
-/// sets just judged, for a progress line.
+/// each, through one [`Sampled`] table), on every core. CIEDE2000 only for the sets `de00`
+/// picks by their index (the others' `de00` is empty: a caller that needs ΔE*ab alone saves
+/// its cost); `done` is called with the number of sets just judged, for a progress line.
 pub fn errors_of_sets(
     reference: &Reference,
     stimuli: &[Stimulus],
     sets: &[EvalSet],
+    de00: &(dyn Fn(usize) -> bool + Sync),
     done: &(dyn Fn(usize) + Sync),
 ) -> Vec<Errors> {
     let sampled = Sampled::new(reference, stimuli, sets);
     // Chunks of sets, so that progress is told often without a call per set.
-    let chunks: Vec<&[EvalSet]> = sets.chunks(64).collect();
-    crate::par_map(&chunks, |chunk| {
-        let e: Vec<Errors> = chunk.iter().map(|s| sampled.errors(s)).collect();
+    const CHUNK: usize = 64;
+    let chunks: Vec<(usize, &[EvalSet])> = sets.chunks(CHUNK).enumerate().collect();
+    crate::par_map(&chunks, |&(c, chunk)| {
+        let e: Vec<Errors> = chunk
+            .iter()
+            .enumerate()
+            .map(|(k, s)| sampled.judge(s, de00(c * CHUNK + k)))
+            .collect();
         done(chunk.len());
         e
     })

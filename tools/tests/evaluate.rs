@@ -30,7 +30,7 @@ fn assert_same(reference: &Reference, stimuli: &[Stimulus], sets: &[EvalSet]) {
             set.name
         );
     }
-    let all = evaluate::errors_of_sets(reference, stimuli, sets, &|_| {});
+    let all = evaluate::errors_of_sets(reference, stimuli, sets, &|_| true, &|_| {});
     for (set, e) in sets.iter().zip(&all) {
         assert_eq!(
             bits(e),
@@ -38,6 +38,15 @@ fn assert_same(reference: &Reference, stimuli: &[Stimulus], sets: &[EvalSet]) {
             "{}",
             set.name
         );
+    }
+    // ΔE*ab alone for every other set: the same ΔE*ab, no CIEDE2000.
+    let odd = evaluate::errors_of_sets(reference, stimuli, sets, &|k| k % 2 == 0, &|_| {});
+    for (k, (set, e)) in sets.iter().zip(&odd).enumerate() {
+        let exact = bits(&reference.errors(set, stimuli)).0;
+        assert_eq!(bits(e).0, exact, "{}", set.name);
+        assert_eq!(e.de00.is_empty(), k % 2 == 1, "{}", set.name);
+        let de76: Vec<u64> = sampled.de76(set).iter().map(|v| v.to_bits()).collect();
+        assert_eq!(de76, exact, "{}", set.name);
     }
 }
 
