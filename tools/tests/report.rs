@@ -708,3 +708,169 @@ fn printed_numbers_agree_within_one_unit_in_the_last_place() {
     assert!(!same_printed("~960", "960"));
     assert!(!same_printed("defined", "undefined"));
 }
+
+/// The progress lines `[k/N] ...` of a run's standard error: (k, N) each.
+fn progress_lines(stderr: &str) -> Vec<(usize, usize)> {
+    stderr
+        .lines()
+        .filter_map(|l| {
+            let (k, rest) = l.strip_prefix('[')?.split_once('/')?;
+            let (n, _) = rest.split_once(']')?;
+            Some((k.parse().ok()?, n.parse().ok()?))
+        })
+        .collect()
+}
+
+#[test]
+fn sections_runs_only_the_sections_named_and_writes_only_their_files() {
+    let dir = Scratch::new("sections");
+    let out = dir.path("out");
+    let (code, stdout, stderr) = report(
+        &[
+            "--quick",
+            "--sections",
+            "4,1",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &dir.0,
+    );
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(stdout.contains("1. Table 2") && stdout.contains("4. Error against run time"));
+    for other in [
+        "2. Fig. 6",
+        "3. Fig. 7",
+        "5. Shared sets",
+        "7. Against random",
+    ] {
+        assert!(!stdout.contains(other), "{other} ran: {stdout}");
+    }
+    // Deriving, reading, sections 1 and 4: counted 1..4, each once.
+    assert_eq!(
+        progress_lines(&stderr),
+        [(1, 4), (2, 4), (3, 4), (4, 4)],
+        "{stderr}"
+    );
+    let mut listed: Vec<String> = listed_files(&stderr)
+        .iter()
+        .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+        .collect();
+    listed.sort();
+    let mut found: Vec<String> = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    found.sort();
+    assert_eq!(listed, found);
+    assert_eq!(
+        found,
+        [
+            "error_vs_time.csv",
+            "error_vs_time.svg",
+            "report.txt",
+            "swatches.svg",
+            "table2.csv"
+        ]
+    );
+    // Section 3 alone: Fig. 7's files, not Fig. 6's.
+    let out3 = dir.path("out3");
+    let (code, stdout, stderr) = report(
+        &[
+            "--quick",
+            "--sections",
+            "3",
+            "--out",
+            out3.to_str().unwrap(),
+        ],
+        &dir.0,
+    );
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(
+        stdout.contains("3. Fig. 7") && !stdout.contains("2. Fig. 6"),
+        "{stdout}"
+    );
+    assert!(out3.join("fig7.csv").exists() && !out3.join("fig6.csv").exists());
+}
+
+#[test]
+fn sections_refuses_what_is_not_a_section_with_a_clear_error() {
+    let dir = Scratch::new("bad-sections");
+    for (args, says) in [
+        (&["--sections", "11"][..], "11"),
+        (&["--sections", "0"][..], "0"),
+        (&["--sections", "4,seven"][..], "seven"),
+        (&["--sections", ""][..], "--sections"),
+        (&["--csv", "--sections", "4"][..], "--sections"),
+        (&["--sample", "3"][..], "at least 15"),
+    ] {
+        let (code, stdout, stderr) = report(args, &dir.0);
+        assert_eq!(code, Some(2), "{args:?}: {stderr}");
+        assert!(stdout.is_empty(), "{args:?}: {stdout}");
+        assert!(stderr.contains(says), "{args:?}: {stderr}");
+        // Refused before any work.
+        assert!(progress_lines(&stderr).is_empty(), "{args:?}: {stderr}");
+    }
+    // A scene's sets join section 4: with section 4 left out it is an error, not ignored.
+    let [_, _, scene] = warm_led_inputs(&dir, "\"KQ_WARM_LED_8\"");
+    let (code, _, stderr) = report(&["--quick", "--scene", &scene, "--sections", "1"], &dir.0);
+    assert_eq!(code, Some(2), "{stderr}");
+    assert!(
+        stderr.contains("--scene") && stderr.contains("section 4"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn sections_7_9_and_10_judge_a_seeded_sample_of_more_reflectances_than_sample_and_say_so() {
+    // The ColorChecker's 24 with --sample 15: sections 7, 9 and 10 judge 15 of them (section 7
+    // under each of the report's six lights) and state the standard error the sample adds.
+    let dir = Scratch::new("sample");
+    let cc = std::path::Path::new(DATA_DIR).join("reflectance_colorchecker_ohta.csv");
+    let out = dir.path("out");
+    let run = |sample: &str| {
+        report(
+            &[
+                "--quick",
+                "--reflectances",
+                cc.to_str().unwrap(),
+                "--sections",
+                "7,9,10",
+                "--sample",
+                sample,
+                "--out",
+                out.to_str().unwrap(),
+            ],
+            &dir.0,
+        )
+    };
+    let (code, stdout, stderr) = run("15");
+    assert_eq!(code, Some(0), "{stderr}");
+    assert_eq!(
+        stdout.matches("Sampled: 15 of the 24 reflectances").count(),
+        3,
+        "{stdout}"
+    );
+    assert!(stdout.contains("   90 stimuli: "), "{stdout}");
+    assert!(stdout.contains("9. Several lights in one scene: light groups (15 reflectances"));
+    assert!(stdout.contains("10. Light that bounces: 15 reflectances"));
+    // The standard error is a number, and not zero for a proper sample.
+    let line = stdout
+        .lines()
+        .find(|l| l.contains("within a standard error of at most"))
+        .unwrap();
+    let se: f64 = line
+        .split("at most ")
+        .nth(1)
+        .and_then(|r| r.split(' ').next())
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("{line}"));
+    assert!(se > 0.0 && se.is_finite(), "{line}");
+    // As many as there are, or `all`: every one, nothing said.
+    for sample in ["24", "all"] {
+        let (code, stdout, stderr) = run(sample);
+        assert_eq!(code, Some(0), "{stderr}");
+        assert!(!stdout.contains("Sampled:"), "{stdout}");
+        assert!(stdout.contains("(24 reflectances"), "{stdout}");
+        assert!(stdout.contains("   144 stimuli: "), "{stdout}");
+    }
+}

@@ -10,11 +10,13 @@ use std::fmt::Write as _;
 use spectral_quadrature_generator::Derivation;
 use spectral_quadrature_spectra::{Curve, Errors, EvalSet, Reference, Stimulus};
 
+use crate::progress::Meter;
 use crate::timing::time_set;
 use crate::tools::budget;
 use crate::tools::csv_table::Table;
+use crate::tools::evaluate;
 use crate::user::Extra;
-use crate::{par_errors, table2, Error};
+use crate::{table2, Error};
 
 /// One row of section 4.
 pub struct Row {
@@ -38,6 +40,8 @@ pub struct Inputs<'a> {
     pub reference: &'a Reference,
     /// The per-channel rule combinations (AC1C2, XYZ, SML).
     pub spaces: &'a [(&'static str, Vec<EvalSet>); 3],
+    /// Their errors on these stimuli, where sections 2-3 have judged them on the same.
+    pub space_errors: Option<&'a [Vec<Errors>]>,
     /// The shared sets for radiances.
     pub radiance: &'a [EvalSet],
     /// The user's sets: shared sets folded for their lights, and a scene's.
@@ -53,41 +57,75 @@ pub fn rows(x: Inputs) -> Result<Vec<Row>, Error> {
     let reference_set = &x.reference.set;
     let stimuli = x.stimuli;
     let spaces = x.spaces;
+    // The rule combinations: every AC1C2 one, and each number of distinct wavelengths' best in
+    // XYZ (up to 16), with their errors where sections 2-3 measured them on these stimuli.
+    let xyz: Vec<usize> = (0..spaces[1].1.len())
+        .filter(|&k| spaces[1].1[k].len() <= 16)
+        .collect();
     let mut sets: Vec<EvalSet> = spaces[0].1.clone();
+    sets.extend(xyz.iter().map(|&k| spaces[1].1[k].clone()));
+    let mut known: Vec<Errors> = match x.space_errors {
+        Some(e) => e[0]
+            .iter()
+            .cloned()
+            .chain(xyz.iter().map(|&k| e[1][k].clone()))
+            .collect(),
+        None => Vec::new(),
+    };
+    let mut others = Vec::new();
     for set in &d.table2 {
-        sets.push(EvalSet {
+        others.push(EvalSet {
             name: table2::name(&set.name),
             ..d.eval_set(set, "Table 2")
         });
     }
-    // Gauss rules in XYZ space: each number of distinct wavelengths' best is shown.
-    sets.extend(spaces[1].1.iter().filter(|s| s.len() <= 16).cloned());
     for n in (3..=16).chain([24, 32]) {
-        sets.push(d.observer.uniform_set(range, n));
+        others.push(d.observer.uniform_set(range, n));
     }
     // The shared sets for radiances (the lights here are many; section 5 folds each one in),
     // method (a) for comparison, and sampling every 10 and 20 nm with linear interpolation.
-    sets.extend(x.radiance.iter().cloned());
+    others.extend(x.radiance.iter().cloned());
     for n in budget::BUDGETS {
         if let Ok(a) = spectral_quadrature_generator::catalog::resolve(d, &format!("INTERP_A_{n}"))
         {
-            sets.push(d.eval_set(&a, "interp A"));
+            others.push(d.eval_set(&a, "interp A"));
         }
     }
     let flat = Curve::constant("equal energy", 1.0, range);
     for step in [10.0, 20.0] {
-        sets.push(budget::interval_set(d, &flat, step)?);
+        others.push(budget::interval_set(d, &flat, step)?);
     }
-    sets.push(d.observer.full_integration(range, 5.0)?);
-    sets.push(reference_set.clone());
-    let errs = par_errors(x.reference, &sets, stimuli);
-    let total = sets.len();
+    others.push(d.observer.full_integration(range, 5.0)?);
+    others.push(reference_set.clone());
+    // The table's order: the AC1C2 combinations, Table 2's sets, the XYZ combinations, the rest.
+    let table2_count = d.table2.len();
+    let ac1c2 = spaces[0].1.len();
+    let judging = Meter::new(
+        "judging",
+        others.len() + if known.is_empty() { sets.len() } else { 0 },
+        "sets",
+    );
+    if known.is_empty() {
+        known =
+            evaluate::errors_of_sets(x.reference, stimuli, &sets, &|_| true, &judging.counter());
+    }
+    let rest =
+        evaluate::errors_of_sets(x.reference, stimuli, &others, &|_| true, &judging.counter());
+    let mut rest = rest.into_iter();
+    let mut known = known.into_iter();
+    let mut sets = sets.into_iter();
+    let mut others = others.into_iter();
+    let mut measured: Vec<(EvalSet, Errors)> = Vec::new();
+    measured.extend(sets.by_ref().take(ac1c2).zip(known.by_ref()));
+    measured.extend(others.by_ref().take(table2_count).zip(rest.by_ref()));
+    measured.extend(sets.zip(known));
+    measured.extend(others.zip(rest));
+    let total = measured.len();
+    let meter = Meter::new("timing", total, "sets");
     let mut rows = Vec::with_capacity(total);
-    for (k, (set, errors)) in sets.into_iter().zip(errs).enumerate() {
-        if (k + 1) % total.div_ceil(4).max(1) == 0 || k + 1 == total {
-            eprintln!("      timed {}/{total} sets", k + 1);
-        }
+    for (set, errors) in measured {
         let ns_per_pixel = time_set(&set, stimuli, x.runs)?;
+        meter.add(1);
         rows.push(Row {
             samples: set.len(),
             set,

@@ -114,8 +114,8 @@ pub fn fig7_csv(f: &Fig7) -> Table {
     t
 }
 
-/// The text of sections 2 and 3.
-pub fn text(o: &mut String, fig_stimuli: &[Stimulus], fig6: &Fig6, fig7: &Fig7) {
+/// Section 2's text.
+pub fn fig6_text(o: &mut String, fig_stimuli: &[Stimulus], fig6: &Fig6) {
     writeln!(
         o,
         "2. Fig. 6: mean ΔE*ab against the total number of wavelengths (n_A + n_C1 + n_C2),"
@@ -153,7 +153,10 @@ pub fn text(o: &mut String, fig_stimuli: &[Stimulus], fig6: &Fig6, fig7: &Fig7) 
         .ok();
     }
     writeln!(o, "   (totals up to 24 shown; all in fig6.csv)\n").ok();
+}
 
+/// Section 3's text.
+pub fn fig7_text(o: &mut String, fig7: &Fig7) {
     writeln!(o, "3. Fig. 7: mean ΔE*ab by the fraction of wavelengths given to A, C1, C2 ({K}x{K} sub-triangles)").ok();
     for (what, pred) in [
         (
