@@ -92,46 +92,26 @@ pub fn member_on_radiance(
     }
 }
 
-/// The stimuli of a [`Reference`] sampled once at every wavelength of many sets, so that judging
-/// a set reads its nodes' values instead of interpolating every spectrum at every node again:
-/// [`Reference::errors`] for many sets at a fraction of the cost, with the same arithmetic in
-/// the same order (the same errors, bit for bit; `tools/tests/evaluate.rs` holds it).
-///
-/// Each distinct light and each distinct reflectance is sampled once (a stimulus is a light
-/// times a reflectance, `Stimulus::radiance`), so the tables grow with the number of spectra,
-/// not of stimuli.
+/// The stimuli of a [`Reference`] as the lights and reflectances they are made of, so that
+/// judging sets samples each distinct light and reflectance once at their nodes instead of
+/// interpolating both for every stimulus at every node of every set (a stimulus is a light times a reflectance,
+/// `Stimulus::radiance`; a surface's white is its light, one per light): [`Reference::errors`]
+/// for many sets at a fraction of the cost, with the same arithmetic in the same order (the
+/// same errors, bit for bit; `tools/tests/evaluate.rs` holds it).
 pub struct Sampled<'a> {
     reference: &'a Reference,
     stimuli: &'a [Stimulus],
-    /// The sampled wavelengths' bits → their column.
-    columns: HashMap<u64, usize>,
-    /// Per stimulus: its light's and its reflectance's rows (`None`: a light seen directly).
+    /// Per stimulus: its light's and its reflectance's index (`None`: a light seen directly).
     rows: Vec<(usize, Option<usize>)>,
-    /// How many distinct lights.
-    light_count: usize,
-    /// Per distinct light, its value at every column (row-major).
-    lights: Vec<f64>,
-    /// Per distinct reflectance, its value at every column (row-major).
-    reflectances: Vec<f64>,
+    /// The distinct lights.
+    lights: Vec<&'a Curve>,
+    /// The distinct reflectances.
+    reflectances: Vec<&'a Curve>,
 }
 
 impl<'a> Sampled<'a> {
-    /// `stimuli` (those `reference` was made from) sampled at every wavelength of `sets`.
-    pub fn new<'s>(
-        reference: &'a Reference,
-        stimuli: &'a [Stimulus],
-        sets: impl IntoIterator<Item = &'s EvalSet>,
-    ) -> Sampled<'a> {
-        let mut wavelengths: Vec<f64> = Vec::new();
-        let mut columns = HashMap::new();
-        for set in sets {
-            for &nm in &set.wavelengths_nm {
-                columns.entry(nm.to_bits()).or_insert_with(|| {
-                    wavelengths.push(nm);
-                    wavelengths.len() - 1
-                });
-            }
-        }
+    /// `stimuli` (those `reference` was made from), their lights and reflectances told apart.
+    pub fn new(reference: &'a Reference, stimuli: &'a [Stimulus]) -> Sampled<'a> {
         // The distinct curves, compared whole (two curves of one name may differ).
         let mut lights: Vec<&Curve> = Vec::new();
         let mut reflectances: Vec<&Curve> = Vec::new();
@@ -160,49 +140,61 @@ impl<'a> Sampled<'a> {
                 (l, r)
             })
             .collect();
+        Sampled {
+            reference,
+            stimuli,
+            rows,
+            lights,
+            reflectances,
+        }
+    }
+
+    /// The errors of `set` against the reference, as [`Reference::errors`] gives them.
+    pub fn errors(&self, set: &EvalSet) -> Errors {
+        self.judge(&self.nodes(std::slice::from_ref(set)), set, true)
+    }
+
+    /// The ΔE*ab of `set` on each stimulus, as [`Reference::errors`] gives them (`de76`),
+    /// without the cost of CIEDE2000.
+    pub fn de76(&self, set: &EvalSet) -> Vec<f64> {
+        self.judge(&self.nodes(std::slice::from_ref(set)), set, false)
+            .de76
+    }
+
+    /// Every light and reflectance at every node of `sets` (sets judged together share most of
+    /// their nodes: the combinations of per-channel rules do).
+    fn nodes(&self, sets: &[EvalSet]) -> Nodes {
+        let mut wavelengths = Vec::new();
+        let mut columns = HashMap::new();
+        for &nm in sets.iter().flat_map(|s| &s.wavelengths_nm) {
+            columns.entry(nm.to_bits()).or_insert_with(|| {
+                wavelengths.push(nm);
+                wavelengths.len() - 1
+            });
+        }
         let table = |curves: &[&Curve]| -> Vec<f64> {
             curves
                 .iter()
                 .flat_map(|c| wavelengths.iter().map(|&nm| c.at(nm)))
                 .collect()
         };
-        Sampled {
-            reference,
-            stimuli,
-            rows,
-            light_count: lights.len(),
-            lights: table(&lights),
-            reflectances: table(&reflectances),
+        Nodes {
+            width: wavelengths.len(),
+            lights: table(&self.lights),
+            reflectances: table(&self.reflectances),
             columns,
         }
     }
 
-    /// The errors of `set` against the reference, as [`Reference::errors`] gives them; a set
-    /// with a wavelength that was not sampled is judged by [`Reference::errors`] itself.
-    pub fn errors(&self, set: &EvalSet) -> Errors {
-        self.judge(set, true)
-    }
-
-    /// The ΔE*ab of `set` on each stimulus, as [`Reference::errors`] gives them (`de76`),
-    /// without the cost of CIEDE2000.
-    pub fn de76(&self, set: &EvalSet) -> Vec<f64> {
-        self.judge(set, false).de76
-    }
-
-    /// [`errors`](Self::errors), CIEDE2000 left out (empty) unless `de00`.
-    fn judge(&self, set: &EvalSet, de00: bool) -> Errors {
-        let Some(cols) = set
+    /// The errors of `set` (every node of it in `nodes`), CIEDE2000 left out (empty) unless
+    /// `de00`.
+    fn judge(&self, nodes: &Nodes, set: &EvalSet, de00: bool) -> Errors {
+        let w = nodes.width;
+        let cols: Vec<usize> = set
             .wavelengths_nm
             .iter()
-            .map(|nm| self.columns.get(&nm.to_bits()).copied())
-            .collect::<Option<Vec<usize>>>()
-        else {
-            return self.reference.errors(set, self.stimuli);
-        };
-        let width = self.columns.len();
-        let at = |table: &[f64], row: usize| -> Vec<f64> {
-            cols.iter().map(|&c| table[row * width + c]).collect()
-        };
+            .map(|nm| nodes.columns[&nm.to_bits()])
+            .collect();
         // `EvalSet::xyz`: each channel's sum over the nodes in their order.
         let xyz = |values: &[f64]| -> [f64; 3] {
             [0, 1, 2].map(|c| {
@@ -213,8 +205,9 @@ impl<'a> Sampled<'a> {
                     .sum()
             })
         };
-        let light_values: Vec<Vec<f64>> =
-            (0..self.light_count).map(|l| at(&self.lights, l)).collect();
+        let light_values: Vec<Vec<f64>> = (0..self.lights.len())
+            .map(|l| cols.iter().map(|&c| nodes.lights[l * w + c]).collect())
+            .collect();
         // A surface's white is its light (`Stimulus::white`): one XYZ per light.
         let light_whites: Vec<[f64; 3]> = light_values.iter().map(|v| xyz(v)).collect();
         let mut e = Errors {
@@ -232,8 +225,8 @@ impl<'a> Sampled<'a> {
             let white = match r {
                 Some(r) => {
                     // `Stimulus::radiance`: the light times the reflectance at each node.
-                    let row = &self.reflectances[r * width..(r + 1) * width];
-                    for ((v, &c), &lv) in radiance.iter_mut().zip(&cols).zip(light) {
+                    let row = &nodes.reflectances[r * w..(r + 1) * w];
+                    for ((v, &lv), &c) in radiance.iter_mut().zip(light).zip(&cols) {
                         *v = lv * row[c];
                     }
                     light_whites[l]
@@ -257,8 +250,20 @@ impl<'a> Sampled<'a> {
     }
 }
 
+/// Every light and reflectance of a [`Sampled`] at the nodes of some sets.
+struct Nodes {
+    /// A node's bits → its column.
+    columns: HashMap<u64, usize>,
+    /// The number of columns.
+    width: usize,
+    /// Per light, its value at every column (row-major).
+    lights: Vec<f64>,
+    /// Per reflectance, its value at every column (row-major).
+    reflectances: Vec<f64>,
+}
+
 /// The errors of each of `sets` against `reference` on `stimuli` ([`Reference::errors`] for
-/// each, through one [`Sampled`] table), on every core. CIEDE2000 only for the sets `de00`
+/// each, through one [`Sampled`]), on every core. CIEDE2000 only for the sets `de00`
 /// picks by their index (the others' `de00` is empty: a caller that needs ΔE*ab alone saves
 /// its cost); `done` is called with the number of sets just judged, for a progress line.
 pub fn errors_of_sets(
@@ -268,7 +273,10 @@ pub fn errors_of_sets(
     de00: &(dyn Fn(usize) -> bool + Sync),
     done: &(dyn Fn(usize) + Sync),
 ) -> Vec<Errors> {
-    let sampled = Sampled::new(reference, stimuli, sets);
+    let sampled = Sampled::new(reference, stimuli);
+    // Every light and reflectance at every node once: the report's 9216 combinations of rules
+    // have 1024 distinct nodes between them.
+    let nodes = sampled.nodes(sets);
     // Chunks of sets, so that progress is told often without a call per set.
     const CHUNK: usize = 64;
     let chunks: Vec<(usize, &[EvalSet])> = sets.chunks(CHUNK).enumerate().collect();
@@ -276,7 +284,7 @@ pub fn errors_of_sets(
         let e: Vec<Errors> = chunk
             .iter()
             .enumerate()
-            .map(|(k, s)| sampled.judge(s, de00(c * CHUNK + k)))
+            .map(|(k, s)| sampled.judge(&nodes, s, de00(c * CHUNK + k)))
             .collect();
         done(chunk.len());
         e
