@@ -258,7 +258,11 @@ fn run(args: &Args) -> Result<(), Error> {
             ),
         ));
     }
-    let mut progress = Progress::new(steps(&sections));
+    let mut steps = steps(&sections);
+    if args.csv {
+        steps[2] = "section 4: error against run time (every per-channel order combination, timing every set)".into();
+    }
+    let mut progress = Progress::new(steps);
     progress.next();
     let d = spectral_quadrature_generator::derive(&tools::settings())?;
     tools::warn_zeroed("report", &d.observer.zeroed);
