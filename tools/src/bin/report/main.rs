@@ -380,9 +380,10 @@ fn run(args: &Args) -> Result<(), Error> {
         }
     }
 
-    // The shared sets for radiances, and folded for each of the user's lights (sections 4, 5).
-    let (radiance, folded_user) = if runs(4) || runs(5) {
-        (
+    // The shared sets for radiances, and folded for each of the user's lights (sections 4, 5):
+    // fitted in the first of the two that runs.
+    let shared = || -> Result<_, Error> {
+        Ok((
             tools::budget::shared_sets_sized(&d, None, work.shared_sizes.clone())?,
             user::folded_for_lights(
                 &d,
@@ -390,13 +391,13 @@ fn run(args: &Args) -> Result<(), Error> {
                 &inputs.surfaces,
                 &work.shared_sizes,
             )?,
-        )
-    } else {
-        (Vec::new(), Vec::new())
+        ))
     };
+    let mut shared_sets = None;
     if let (Some(spaces), true) = (&spaces, runs(4)) {
         progress.next();
-        let mut extras = user::light_extras(&folded_user, &inputs.surfaces_from);
+        let (radiance, folded_user) = shared_sets.insert(shared()?);
+        let mut extras = user::light_extras(folded_user, &inputs.surfaces_from);
         extras.extend(scene_extras);
         let rows = error_vs_time::rows(error_vs_time::Inputs {
             d: &d,
@@ -404,7 +405,7 @@ fn run(args: &Args) -> Result<(), Error> {
             reference: &reference,
             spaces,
             space_errors: space_errors.as_deref(),
-            radiance: &radiance,
+            radiance,
             extras,
             runs: work.runs,
         })?;
@@ -428,11 +429,15 @@ fn run(args: &Args) -> Result<(), Error> {
 
     if let (Some(spaces), true) = (&spaces, runs(5)) {
         progress.next();
+        let (radiance, folded_user) = match &shared_sets {
+            Some(s) => s,
+            None => shared_sets.insert(shared()?),
+        };
         let (budget_text, budget_files) = budget::section(
             &d,
             spaces,
-            &radiance,
-            &folded_user,
+            radiance,
+            folded_user,
             args.spectra
                 .reflectances
                 .as_ref()
