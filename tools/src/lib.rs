@@ -9,10 +9,10 @@
 //! - [`csv_table`]: every CSV the programs write, through the `csv` crate's writer.
 //! - [`evaluate`]: the sets the report builds to measure beside the crate's (every combination
 //!   of per-channel rules, a shared set on radiances).
-//! - [`interreflection`]: light that bounces off several surfaces: fixed sets and random
-//!   wavelengths on ρᵏ, products and enclosures (section 10).
-//! - [`light_groups`]: several lights at one node set, against each light's own set and a
-//!   radiance set (section 9).
+//! - [`interreflection`]: light that bounces, the forms of reflectance a path carries after
+//!   several surfaces and the fixed sets judged on them (section 10).
+//! - [`light_groups`]: light groups judged on reflectances no fit saw, by five-fold
+//!   cross-validation (section 9).
 //! - [`paper`]: the numbers the paper prints, which `tables` and the tests compare with.
 //! - [`prefilter`]: spiky lamps, band-averaged and exact-line pre-filtering (section 6d).
 //! - [`stability`]: unstable alternatives to the crate's quadrature (section 6b).

@@ -3,6 +3,7 @@
 //! Run one file's tests with its module name as the filter, `--test integration -- plan::`.
 
 mod cornell;
+mod evaluate;
 mod interreflection;
 mod light_groups;
 mod plan;
