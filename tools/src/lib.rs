@@ -14,6 +14,7 @@
 //! - [`stability`]: unstable alternatives to the crate's quadrature (section 6b).
 //! - [`sensitivity`]: how rules move with the grid, the range and the observer (section 6c).
 //! - [`random_wavelengths`]: what renderers do instead, random wavelengths per sample (section 7).
+//! - [`render`]: one path tracer for every spectral method, error against render time (`render`).
 //! - [`scene_file`]: the scene file `plan` writes for the set it chose.
 //! - [`upsampling`]: RGB materials under another light, the crate's upsampling beside
 //!   Jakob-Hanika, Mallett-Yuksel and Smits (section 8).
@@ -32,6 +33,7 @@ pub mod light_groups;
 pub mod paper;
 pub mod prefilter;
 pub mod random_wavelengths;
+pub mod render;
 pub mod scene_file;
 pub mod sensitivity;
 pub mod stability;
