@@ -1,7 +1,8 @@
 //! What only people at a desk need, on top of `spectral-quadrature-generator`: the analysis behind
 //! the report and the planner. The programs are `report` (error against run time, the crate's
 //! main job), `plan` (a scene for an error budget), `tables` (the derived tables beside the
-//! paper's) and `cornell` (the Cornell box rendered once per spectral method).
+//! paper's), `cornell` (the Cornell box rendered once per spectral method) and `render` (the
+//! box path traced with every method, error against render time).
 //!
 //! - [`budget`]: every method at each wavelength budget (report section 5).
 //! - [`cli`]: the command-line arguments the programs share.

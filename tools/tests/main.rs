@@ -9,6 +9,7 @@ mod plan;
 mod prefilter;
 mod random_wavelengths;
 mod report;
+mod render;
 mod reproduction;
 mod sensitivity;
 mod shared;

@@ -409,6 +409,17 @@ fn run(args: &Args) -> Result<(), Error> {
                 legend.push(label.clone());
             }
         }
+        // Each method's name drawn above its image, and what the map below shows.
+        let top: Vec<Rgb8> = top
+            .iter()
+            .zip(&legend)
+            .map(|(t, l)| picture::labelled(t, l, 3))
+            .collect();
+        let bottom: Vec<Rgb8> = bottom
+            .iter()
+            .enumerate()
+            .map(|(k, t)| picture::labelled(t, if k == 0 { "" } else { "dE00 map" }, 3))
+            .collect();
         let path = args.out.join(format!("{name}.png"));
         picture::grid(&[top, bottom], 4).write_png(&path)?;
         legends.push(format!("{}: {}", path.display(), legend.join(" | ")));

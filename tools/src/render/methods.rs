@@ -31,7 +31,7 @@ use super::carriers::{
     Folded, Grid, Group, Random, RandomMaterial, Reference, Rgb, GRID_LEN, GRID_NM, REFERENCE_LANES,
 };
 use super::scene::Scene;
-use super::transport::{render, Geometry, Options, Rendered};
+use super::transport::{run_levels, Carrier, Geometry, Options, Progress, Progressive, Rendered};
 use crate::random_wavelengths::Sampler;
 use crate::upsampling::jakob_hanika::JakobHanika;
 use crate::Error;
@@ -363,31 +363,36 @@ impl<'a> Setup<'a> {
         }
     }
 
-    /// Renders `method` on `g` at each level of `spp`.
-    pub fn render(
+    /// `method` on `g`, ready to render pass by pass (its tables made now, outside the
+    /// render's time).
+    pub fn progress<'g>(
         &self,
         method: Method,
-        g: &Geometry,
-        spp: &[usize],
+        g: &'g Geometry,
         opts: Options,
-    ) -> Result<Rendered, Error> {
+    ) -> Result<Box<dyn Progressive + 'g>, Error> {
+        fn boxed<'g, const M: usize, C: Carrier<M> + 'g>(
+            g: &'g Geometry,
+            c: C,
+            opts: Options,
+        ) -> Box<dyn Progressive + 'g> {
+            Box::new(Progress::new(g, c, opts))
+        }
         let lights = self.scene.lights.len();
         Ok(match method {
-            Method::Reference => render(g, &self.reference(), spp, opts),
-            Method::Rgb => render(g, &self.rgb()?, spp, opts),
-            Method::Random { sampler, k: 4 } => render(g, &self.random::<4>(sampler)?, spp, opts),
-            Method::Random { sampler, k: 16 } => {
-                render(g, &self.random::<16>(sampler)?, spp, opts)
-            }
+            Method::Reference => boxed(g, self.reference(), opts),
+            Method::Rgb => boxed(g, self.rgb()?, opts),
+            Method::Random { sampler, k: 4 } => boxed(g, self.random::<4>(sampler)?, opts),
+            Method::Random { sampler, k: 16 } => boxed(g, self.random::<16>(sampler)?, opts),
             Method::Fixed { n } => match (n, lights) {
-                (4, 1) => render(g, &self.folded::<4>()?, spp, opts),
-                (6, 1) => render(g, &self.folded::<6>()?, spp, opts),
-                (8, 1) => render(g, &self.folded::<8>()?, spp, opts),
-                (16, 1) => render(g, &self.folded::<16>()?, spp, opts),
-                (4, 2) => render(g, &self.group::<4, 2>()?, spp, opts),
-                (6, 2) => render(g, &self.group::<6, 2>()?, spp, opts),
-                (8, 2) => render(g, &self.group::<8, 2>()?, spp, opts),
-                (16, 2) => render(g, &self.group::<16, 2>()?, spp, opts),
+                (4, 1) => boxed(g, self.folded::<4>()?, opts),
+                (6, 1) => boxed(g, self.folded::<6>()?, opts),
+                (8, 1) => boxed(g, self.folded::<8>()?, opts),
+                (16, 1) => boxed(g, self.folded::<16>()?, opts),
+                (4, 2) => boxed(g, self.group::<4, 2>()?, opts),
+                (6, 2) => boxed(g, self.group::<6, 2>()?, opts),
+                (8, 2) => boxed(g, self.group::<8, 2>()?, opts),
+                (16, 2) => boxed(g, self.group::<16, 2>()?, opts),
                 _ => {
                     return Err(Error::Sampling(format!(
                         "no fixed set of {n} nodes for {lights} lights"
@@ -398,6 +403,17 @@ impl<'a> Setup<'a> {
                 return Err(Error::Sampling(format!("no random method of {k} a path")))
             }
         })
+    }
+
+    /// Renders `method` on `g` at each level of `spp`, in one go.
+    pub fn render(
+        &self,
+        method: Method,
+        g: &Geometry,
+        spp: &[usize],
+        opts: Options,
+    ) -> Result<Rendered, Error> {
+        Ok(run_levels(self.progress(method, g, opts)?.as_mut(), spp))
     }
 }
 

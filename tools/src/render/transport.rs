@@ -607,79 +607,41 @@ fn trace<const M: usize, C: Carrier<M>>(
     r
 }
 
-/// What [`render`] returns: each level's image and wall time.
-#[derive(Debug, Clone)]
-pub struct Rendered {
-    /// Samples per pixel at each level, ascending.
-    pub spp: Vec<usize>,
-    /// Per level: XYZ per pixel (row by row from the top; zero where nothing is seen).
-    pub images: Vec<Vec<[f64; 3]>>,
-    /// Per level: the wall-clock seconds from the start to that level's image, on every
-    /// thread (the slowest thread's time).
-    pub seconds: Vec<f64>,
-    /// Paths traced in all.
-    pub paths: usize,
-    /// Whether the AVX2 instance of the loop ran.
-    pub avx2: bool,
+/// One thread's share of the pixels: their indices and each one's streams and sum.
+struct Part<P> {
+    pixels: Vec<usize>,
+    state: Vec<(Pcg32, Pcg32, P)>,
 }
 
-/// How to render.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Options {
-    /// The seed of every pixel's streams.
-    pub seed: u64,
-    /// Threads (each takes every `threads`-th row).
-    pub threads: usize,
-    /// Allow the AVX2 instance where the CPU has AVX2 (`false`: the baseline instance).
-    pub simd: bool,
-}
-
-/// One thread's rows, every sample pass over them in turn; at each level of `spp` its images
-/// of its pixels and its elapsed seconds.
+/// Sample passes `from + 1 ..= to` over one thread's pixels.
 #[inline(always)]
-fn rows<const M: usize, C: Carrier<M>>(
+fn passes<const M: usize, C: Carrier<M>>(
     g: &Geometry,
     c: &C,
-    pixels: &[usize],
-    spp: &[usize],
-    seed: u64,
-    start: Instant,
-) -> (Vec<Vec<[f64; 3]>>, Vec<f64>) {
-    let last = spp.last().copied().unwrap_or(0);
-    let mut state: Vec<(Pcg32, Pcg32, C::Pixel)> = pixels
-        .iter()
-        .map(|&k| (spatial_stream(seed, k), spectral_stream(seed, k), c.new_pixel()))
-        .collect();
-    let mut images = Vec::with_capacity(spp.len());
-    let mut seconds = Vec::with_capacity(spp.len());
-    let mut level = 0;
-    for s in 1..=last {
-        for (i, &k) in pixels.iter().enumerate() {
-            let (spatial, spectral, px) = &mut state[i];
+    part: &mut Part<C::Pixel>,
+    from: usize,
+    to: usize,
+) {
+    for _ in from..to {
+        for (i, &k) in part.pixels.iter().enumerate() {
+            let (spatial, spectral, px) = &mut part.state[i];
             let path = c.start(spectral);
             let r = trace(g, c, k, &path, spatial);
             c.accumulate(px, &path, &r);
         }
-        if s == spp[level] {
-            images.push(state.iter().map(|st| c.xyz(&st.2, s)).collect());
-            seconds.push(start.elapsed().as_secs_f64());
-            level += 1;
-        }
     }
-    (images, seconds)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-fn rows_avx2<const M: usize, C: Carrier<M>>(
+fn passes_avx2<const M: usize, C: Carrier<M>>(
     g: &Geometry,
     c: &C,
-    pixels: &[usize],
-    spp: &[usize],
-    seed: u64,
-    start: Instant,
-) -> (Vec<Vec<[f64; 3]>>, Vec<f64>) {
-    rows(g, c, pixels, spp, seed, start)
+    part: &mut Part<C::Pixel>,
+    from: usize,
+    to: usize,
+) {
+    passes(g, c, part, from, to)
 }
 
 /// Whether this CPU runs the AVX2 instance of the loop.
@@ -694,59 +656,176 @@ pub fn has_avx2() -> bool {
     }
 }
 
-/// Renders every pixel at each level of `spp` (ascending, each ≥ 1): one pass of one path per
-/// pixel after another, the image taken at each level.
+/// How to render.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Options {
+    /// The seed of every pixel's streams.
+    pub seed: u64,
+    /// Threads (each takes every `threads`-th row).
+    pub threads: usize,
+    /// Allow the AVX2 instance where the CPU has AVX2 (`false`: the baseline instance).
+    pub simd: bool,
+}
+
+/// An image being rendered, one pass of one path per pixel after another: it can be taken at
+/// any number of passes and rendered further, so that several methods can take turns on the
+/// machine (their times then see the same load).
+pub trait Progressive {
+    /// Renders passes up to `spp` paths a pixel in all; returns the wall seconds it took.
+    fn advance(&mut self, spp: usize) -> f64;
+    /// The image so far (XYZ per pixel, zero where nothing is seen) and the wall seconds its
+    /// conversion took.
+    fn image(&self) -> (Vec<[f64; 3]>, f64);
+    /// Paths a pixel so far.
+    fn spp(&self) -> usize;
+    /// Whether the AVX2 instance of the loop runs.
+    fn avx2(&self) -> bool;
+}
+
+/// A [`Progressive`] image of carrier `C`.
+pub struct Progress<'g, const M: usize, C: Carrier<M>> {
+    g: &'g Geometry,
+    c: C,
+    parts: Vec<Part<C::Pixel>>,
+    done: usize,
+    avx2: bool,
+}
+
+impl<'g, const M: usize, C: Carrier<M>> Progress<'g, M, C> {
+    /// No paths yet: each pixel's streams seeded, its sum empty.
+    pub fn new(g: &'g Geometry, c: C, opts: Options) -> Self {
+        let n = g.size * g.size;
+        let threads = opts.threads.clamp(1, g.size.max(1));
+        let parts = (0..threads)
+            .map(|t| {
+                let pixels: Vec<usize> = (0..n).filter(|k| (k / g.size) % threads == t).collect();
+                let state = pixels
+                    .iter()
+                    .map(|&k| {
+                        (
+                            spatial_stream(opts.seed, k),
+                            spectral_stream(opts.seed, k),
+                            c.new_pixel(),
+                        )
+                    })
+                    .collect();
+                Part { pixels, state }
+            })
+            .collect();
+        Progress {
+            g,
+            c,
+            parts,
+            done: 0,
+            avx2: opts.simd && has_avx2(),
+        }
+    }
+}
+
+impl<const M: usize, C: Carrier<M>> Progressive for Progress<'_, M, C> {
+    fn advance(&mut self, spp: usize) -> f64 {
+        if spp <= self.done {
+            return 0.0;
+        }
+        let (g, c, from, avx2) = (self.g, &self.c, self.done, self.avx2);
+        let start = Instant::now();
+        std::thread::scope(|s| {
+            let handles: Vec<_> = self
+                .parts
+                .iter_mut()
+                .map(|part| {
+                    s.spawn(move || {
+                        #[cfg(target_arch = "x86_64")]
+                        if avx2 {
+                            // SAFETY: `avx2` is true only where the CPU reports AVX2
+                            // (`has_avx2`).
+                            unsafe { passes_avx2(g, c, part, from, spp) };
+                            return;
+                        }
+                        passes(g, c, part, from, spp)
+                    })
+                })
+                .collect();
+            for h in handles {
+                h.join().unwrap_or_else(|p| std::panic::resume_unwind(p));
+            }
+        });
+        self.done = spp;
+        start.elapsed().as_secs_f64()
+    }
+
+    fn image(&self) -> (Vec<[f64; 3]>, f64) {
+        let start = Instant::now();
+        let mut img = vec![[0.0; 3]; self.g.size * self.g.size];
+        for part in &self.parts {
+            for (i, &k) in part.pixels.iter().enumerate() {
+                img[k] = self.c.xyz(&part.state[i].2, self.done);
+            }
+        }
+        (img, start.elapsed().as_secs_f64())
+    }
+
+    fn spp(&self) -> usize {
+        self.done
+    }
+
+    fn avx2(&self) -> bool {
+        self.avx2
+    }
+}
+
+/// What [`render`] returns: each level's image and time.
+#[derive(Debug, Clone)]
+pub struct Rendered {
+    /// Samples per pixel at each level, ascending.
+    pub spp: Vec<usize>,
+    /// Per level: XYZ per pixel (row by row from the top; zero where nothing is seen).
+    pub images: Vec<Vec<[f64; 3]>>,
+    /// Per level: the wall-clock seconds of the passes and conversions up to that level.
+    pub seconds: Vec<f64>,
+    /// Paths traced in all.
+    pub paths: usize,
+    /// Whether the AVX2 instance of the loop ran.
+    pub avx2: bool,
+}
+
+/// Renders every pixel at each level of `spp` (ascending, each ≥ 1) in one go: a
+/// [`Progress`] advanced level by level.
 pub fn render<const M: usize, C: Carrier<M>>(
     g: &Geometry,
-    c: &C,
+    c: C,
     spp: &[usize],
     opts: Options,
 ) -> Rendered {
-    let n = g.size * g.size;
-    let threads = opts.threads.clamp(1, g.size.max(1));
-    let avx2 = opts.simd && has_avx2();
-    let mine: Vec<Vec<usize>> = (0..threads)
-        .map(|t| {
-            (0..n)
-                .filter(|k| (k / g.size) % threads == t)
-                .collect()
-        })
-        .collect();
-    let start = Instant::now();
-    let parts: Vec<(Vec<Vec<[f64; 3]>>, Vec<f64>)> = std::thread::scope(|s| {
-        let handles: Vec<_> = mine
-            .iter()
-            .map(|pixels| {
-                s.spawn(move || {
-                    #[cfg(target_arch = "x86_64")]
-                    if avx2 {
-                        // SAFETY: `avx2` is true only where the CPU reports AVX2 (`has_avx2`).
-                        return unsafe { rows_avx2(g, c, pixels, spp, opts.seed, start) };
-                    }
-                    rows(g, c, pixels, spp, opts.seed, start)
-                })
-            })
-            .collect();
-        handles
-            .into_iter()
-            .map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)))
-            .collect()
-    });
-    let mut images = vec![vec![[0.0; 3]; n]; spp.len()];
-    let mut seconds = vec![0.0f64; spp.len()];
-    for (pixels, (imgs, secs)) in mine.iter().zip(parts) {
-        for (l, img) in imgs.into_iter().enumerate() {
-            for (i, &k) in pixels.iter().enumerate() {
-                images[l][k] = img[i];
-            }
-            seconds[l] = seconds[l].max(secs[l]);
-        }
+    run_levels(&mut Progress::new(g, c, opts), spp)
+}
+
+/// Advances `p` level by level of `spp`, taking the image at each.
+pub fn run_levels(p: &mut dyn Progressive, spp: &[usize]) -> Rendered {
+    let mut images = Vec::with_capacity(spp.len());
+    let mut seconds = Vec::with_capacity(spp.len());
+    let mut total = 0.0;
+    for &s in spp {
+        total += p.advance(s);
+        let (img, t) = p.image();
+        total += t;
+        images.push(img);
+        seconds.push(total);
     }
     Rendered {
         spp: spp.to_vec(),
         images,
         seconds,
-        paths: n * spp.last().copied().unwrap_or(0),
-        avx2,
+        paths: 0,
+        avx2: p.avx2(),
+    }
+    .with_paths()
+}
+
+impl Rendered {
+    fn with_paths(mut self) -> Rendered {
+        let n = self.images.first().map_or(0, Vec::len);
+        self.paths = n * self.spp.last().copied().unwrap_or(0);
+        self
     }
 }
