@@ -8,7 +8,8 @@
 //! ```
 //!
 //! Writes `<out>/error_vs_render_time.csv` (every method at every level of samples per pixel),
-//! `<out>/cost_ratio.csv` (the 8-node set's render time over RGB's, measured in one run),
+//! `<out>/cost_ratio.csv` (the 8-node set's render time over RGB's, measured in one run, and
+//! what the AVX2 loop gains),
 //! `<out>/equal_time.csv` (each method's error at the time the 8-node set takes at 64 samples
 //! per pixel), and per scene `<out>/<scene>.svg` (mean ΔE00 against wall seconds, log-log) and
 //! `<out>/<scene>.png` (the images at 64 samples per pixel over their ΔE00 maps, each method's
@@ -69,12 +70,14 @@ struct Args {
     /// The baseline loop only (no AVX2), to measure what the vector layout gains.
     #[arg(long)]
     no_simd: bool,
-    /// Runs of RGB and the 8-node set, alternating, for the cost ratio (medians).
-    #[arg(long, default_value_t = 5)]
-    cost_runs: usize,
-    /// Samples per pixel in each run of the cost ratio.
-    #[arg(long, default_value_t = 64)]
+    /// Paths a pixel for the cost ratio: RGB, the 8-node set and its baseline loop in turns.
+    #[arg(long, default_value_t = 512)]
     cost_spp: usize,
+    /// The `cornell` tool's radiosity reference at the same size (its `--reference-xyz`
+    /// file): a cross-check of the 1 nm reference of every scene lit by the box's lamp alone
+    /// with measured paints and no texture, printed as the mean and p95 ΔE00 between them.
+    #[arg(long, value_name = "FILE")]
+    radiosity: Option<PathBuf>,
     /// Only write the ColorChecker texture (16-bit sRGB PNG, the 24 patches' sRGB under D65)
     /// to FILE and print the box's paints' sRGB under D65, then stop.
     #[arg(long, value_name = "FILE")]
@@ -104,6 +107,8 @@ struct Row {
 
 /// The most passes a method renders before the next takes its turn.
 const CHUNK: usize = 64;
+/// The passes of one turn in the cost ratio's measurement.
+const COST_CHUNK: usize = 8;
 
 /// Texels a patch side in the ColorChecker texture.
 const PATCH_TEXELS: usize = 16;
@@ -247,6 +252,36 @@ fn reference(
         r.own_p95
     );
     Ok(r)
+}
+
+/// The radiosity file's per-pixel XYZ (`seen,x,y,z` rows after `#` lines).
+fn read_radiosity(path: &Path) -> Result<Vec<[f64; 3]>, Error> {
+    let file = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| spectral_quadrature_spectra::DataError {
+        file: file.clone(),
+        line: 0,
+        message: format!("cannot read: {e}"),
+    })?;
+    let mut out = Vec::new();
+    for (i, line) in text.lines().enumerate() {
+        if line.starts_with('#') || line.starts_with("seen") || line.trim().is_empty() {
+            continue;
+        }
+        let v: Vec<f64> = line
+            .split(',')
+            .skip(1)
+            .map(|x| x.trim().parse::<f64>())
+            .collect::<Result<_, _>>()
+            .ok()
+            .filter(|v: &Vec<f64>| v.len() == 3)
+            .ok_or_else(|| spectral_quadrature_spectra::DataError {
+                file: file.clone(),
+                line: i as u64 + 1,
+                message: "expected seen,x,y,z".into(),
+            })?;
+        out.push([v[0], v[1], v[2]]);
+    }
+    Ok(out)
 }
 
 /// Each method's error at `time` seconds: log-log interpolation along its curve; `None`
@@ -415,7 +450,7 @@ fn run(args: &Args) -> Result<(), Error> {
     );
     let mut rows: Vec<Row> = Vec::new();
     let mut costs = tools::csv_table::Table::new(
-        "scene,light,rgb_paths_per_second,fixed8_paths_per_second,fixed8_over_rgb_time,fixed8_baseline_paths_per_second,avx2_speedup,runs,spp",
+        "scene,light,rgb_paths_per_second,fixed8_paths_per_second,fixed8_over_rgb_time,fixed8_over_rgb_time_curves,fixed8_baseline_paths_per_second,baseline_over_avx2_time,spp",
     );
     let mut equal = tools::csv_table::Table::new(
         "scene,light,method,seconds,mean_de00_at_equal_time,reference_own_mean_de00",
@@ -439,6 +474,31 @@ fn run(args: &Args) -> Result<(), Error> {
             reference.own_mean,
             reference.own_p95
         );
+        let box_alone = scene.lights.len() == 1
+            && scene.lights[0].name == "box"
+            && scene.paint_srgb.is_none()
+            && scene.texture.is_none();
+        if let (Some(path), true) = (&args.radiosity, box_alone) {
+            let rad = read_radiosity(path)?;
+            if rad.len() != reference.xyz.len() {
+                return Err(Error::Sampling(format!(
+                    "{}: {} pixels, the render has {}",
+                    path.display(),
+                    rad.len(),
+                    reference.xyz.len()
+                )));
+            }
+            // The radiosity file's units are the light's (Y = 1): scaled to the reference's by
+            // the ratio of their summed luminance over the seen pixels.
+            let sum = |v: &[[f64; 3]]| seen.iter().map(|&k| v[k][1]).sum::<f64>();
+            let k = sum(&reference.xyz) / sum(&rad);
+            let rad: Vec<[f64; 3]> = rad.iter().map(|v| v.map(|x| x * k)).collect();
+            let (m, p) = measure::stats(&rad, &reference.xyz, &seen, white);
+            println!(
+                "Cross-check: the `cornell` tool's radiosity reference ({}) against this 1 nm reference: mean ΔE00 {m:.3}, p95 {p:.3} (the radiosity mesh's own error included)",
+                path.display()
+            );
+        }
         rows.push(Row {
             scene: scene.scene.clone(),
             light: scene.light.clone(),
@@ -528,28 +588,36 @@ fn run(args: &Args) -> Result<(), Error> {
             curves.push((method.name(), pts));
         }
 
-        // The cost ratio: RGB and the 8-node set alternately, the same paths, medians.
-        // The baseline loop beside them measures what the AVX2 instance gains.
-        let mut t_rgb = Vec::new();
-        let mut t_fixed = Vec::new();
-        let mut t_base = Vec::new();
-        let cost_levels = [args.cost_spp.max(1)];
-        let baseline = Options { simd: false, ..opts };
-        for _ in 0..args.cost_runs.max(1) {
-            t_rgb.push(setup.render(Method::Rgb, &g, &cost_levels, opts)?.seconds[0]);
-            t_fixed.push(setup.render(Method::Fixed { n: 8 }, &g, &cost_levels, opts)?.seconds[0]);
-            t_base.push(setup.render(Method::Fixed { n: 8 }, &g, &cost_levels, baseline)?.seconds[0]);
+        // The cost ratio: RGB, the 8-node set and the 8-node set's baseline loop take turns
+        // of COST_CHUNK passes over the same paths; each one's time is the sum of its turns.
+        let mut cost: Vec<(Box<dyn transport::Progressive + '_>, f64)> = vec![
+            (setup.progress(Method::Rgb, &g, opts)?, 0.0),
+            (setup.progress(Method::Fixed { n: 8 }, &g, opts)?, 0.0),
+            (
+                setup.progress(Method::Fixed { n: 8 }, &g, Options { simd: false, ..opts })?,
+                0.0,
+            ),
+        ];
+        let cost_spp = args.cost_spp.max(1);
+        let mut done = 0;
+        while done < cost_spp {
+            done = (done + COST_CHUNK).min(cost_spp);
+            for (p, t) in cost.iter_mut() {
+                *t += p.advance(done);
+            }
         }
-        let median = |v: &mut Vec<f64>| {
-            v.sort_by(f64::total_cmp);
-            v[v.len() / 2]
+        let (mr, mf, mb) = (cost[0].1, cost[1].1, cost[2].1);
+        let paths = (cost_spp * args.size * args.size) as f64;
+        // The same ratio from the curves' run: the two methods' total times at the last level.
+        let total = |name: &str| {
+            rows.iter()
+                .rev()
+                .find(|r| r.scene == scene.scene && r.light == scene.light && r.method == name)
+                .map_or(f64::NAN, |r| r.seconds)
         };
-        let (mr, mf, mb) = (median(&mut t_rgb), median(&mut t_fixed), median(&mut t_base));
-        let paths = (cost_levels[0] * args.size * args.size) as f64;
+        let curves_ratio = total("fixed 8") / total("RGB");
         println!(
-            "\nCost: the 8-node set's render over RGB's, same paths, median of {} alternating runs at {} paths a pixel: {:.3} ({:.3e} against {:.3e} paths/s); the 8-node set's baseline loop: {:.3e} paths/s ({:.3}× slower than {})",
-            args.cost_runs.max(1),
-            cost_levels[0],
+            "\nCost: the 8-node set's render time over RGB's, the same paths, {cost_spp} paths a pixel in turns of {COST_CHUNK}: {:.3} ({:.3e} against {:.3e} paths/s); in the curves' run: {curves_ratio:.3}. The 8-node set's baseline loop: {:.3e} paths/s, {:.3}× the time of {}",
             mf / mr,
             paths / mf,
             paths / mr,
@@ -563,10 +631,10 @@ fn run(args: &Args) -> Result<(), Error> {
             format!("{:.4e}", paths / mr),
             format!("{:.4e}", paths / mf),
             format!("{:.4}", mf / mr),
+            format!("{curves_ratio:.4}"),
             format!("{:.4e}", paths / mb),
             format!("{:.4}", mb / mf),
-            args.cost_runs.max(1).to_string(),
-            cost_levels[0].to_string(),
+            cost_spp.to_string(),
         ]);
 
         // Equal time: each method's error at the time the 8-node set takes at 64 spp.
