@@ -9,15 +9,17 @@ use std::sync::OnceLock;
 
 use spectral_quadrature_generator::Derivation;
 use spectral_quadrature_spectra::Curve;
+use spectral_quadrature_tools::random_wavelengths::Sampler;
 use spectral_quadrature_tools::render::measure::{self, CachedReference};
 use spectral_quadrature_tools::render::methods::{Method, Setup, HERO};
 use spectral_quadrature_tools::render::scene::Scene;
 use spectral_quadrature_tools::render::transport::{has_avx2, Geometry, Options};
-use spectral_quadrature_tools::random_wavelengths::Sampler;
 
 fn derivation() -> &'static Derivation {
     static D: OnceLock<Derivation> = OnceLock::new();
-    D.get_or_init(|| spectral_quadrature_generator::derive(&spectral_quadrature_tools::settings()).unwrap())
+    D.get_or_init(|| {
+        spectral_quadrature_generator::derive(&spectral_quadrature_tools::settings()).unwrap()
+    })
 }
 
 fn scene_file(name: &str) -> std::path::PathBuf {
@@ -58,7 +60,11 @@ fn every_fixed_method_and_rgb_match_the_reference_on_flat_paints_through_the_sam
         let setup = Setup::new(&scene, derivation()).unwrap();
         let g = Geometry::new(&scene, 12);
         let seen = measure::seen(&g);
-        assert!(seen.len() > 100, "{file}: {} pixels see the box", seen.len());
+        assert!(
+            seen.len() > 100,
+            "{file}: {} pixels see the box",
+            seen.len()
+        );
         let spp = [8];
         let reference = setup.render(Method::Reference, &g, &spp, opts(7)).unwrap();
         let r = &reference.images[0];
@@ -74,8 +80,15 @@ fn every_fixed_method_and_rgb_match_the_reference_on_flat_paints_through_the_sam
         {
             let img = setup.render(method, &g, &spp, opts(7)).unwrap();
             let d = max_relative(&img.images[0], r, &seen);
-            eprintln!("{file}: {}: largest relative difference {d:e}", method.name());
-            assert!(d < 1e-5, "{file}: {}: relative difference {d:e}", method.name());
+            eprintln!(
+                "{file}: {}: largest relative difference {d:e}",
+                method.name()
+            );
+            assert!(
+                d < 1e-5,
+                "{file}: {}: relative difference {d:e}",
+                method.name()
+            );
         }
         // Another seed: other paths, so pixels differ by far more than the bound above.
         let other = setup.render(Method::Rgb, &g, &spp, opts(8)).unwrap();
@@ -101,7 +114,12 @@ fn random_wavelengths_average_to_the_reference_on_flat_paints() {
         s
     };
     let want = sum(&reference.images[0]);
-    for (sampler, k) in [(Sampler::Visible, 4), (HERO, 4), (Sampler::Visible, 16), (HERO, 16)] {
+    for (sampler, k) in [
+        (Sampler::Visible, 4),
+        (HERO, 4),
+        (Sampler::Visible, 16),
+        (HERO, 16),
+    ] {
         let m = Method::Random { sampler, k };
         let img = setup.render(m, &g, &spp, opts(3)).unwrap();
         let got = sum(&img.images[0]);
@@ -130,10 +148,24 @@ fn the_vector_loop_gives_the_baseline_loops_bits() {
     let scene = Scene::read(&scene_file("c-f11.toml"), derivation()).unwrap();
     let setup = Setup::new(&scene, derivation()).unwrap();
     let g = Geometry::new(&scene, 10);
-    for method in [Method::Fixed { n: 8 }, Method::Random { sampler: HERO, k: 4 }] {
+    for method in [
+        Method::Fixed { n: 8 },
+        Method::Random {
+            sampler: HERO,
+            k: 4,
+        },
+    ] {
         let a = setup.render(method, &g, &[4], opts(11)).unwrap();
         let b = setup
-            .render(method, &g, &[4], Options { simd: false, ..opts(11) })
+            .render(
+                method,
+                &g,
+                &[4],
+                Options {
+                    simd: false,
+                    ..opts(11)
+                },
+            )
             .unwrap();
         assert!(a.avx2 && !b.avx2);
         // No fused multiply-add is enabled in either: the same IEEE operations in the same
@@ -149,8 +181,12 @@ fn the_references_two_seed_estimate_matches_its_error_against_a_finer_reference(
     let g = Geometry::new(&scene, 10);
     let seen = measure::seen(&g);
     let spp = 128;
-    let a = setup.render(Method::Reference, &g, &[spp], opts(21)).unwrap();
-    let b = setup.render(Method::Reference, &g, &[spp], opts(22)).unwrap();
+    let a = setup
+        .render(Method::Reference, &g, &[spp], opts(21))
+        .unwrap();
+    let b = setup
+        .render(Method::Reference, &g, &[spp], opts(22))
+        .unwrap();
     let fine = setup
         .render(Method::Reference, &g, &[32 * spp], opts(23))
         .unwrap();
@@ -168,7 +204,10 @@ fn the_references_two_seed_estimate_matches_its_error_against_a_finer_reference(
     // pixels of a noisy difference: measured 0.93 of the error against the finer reference;
     // a wrong halving (÷√2, or none) would be at 1.3 or 1.9.
     let ratio = r.own_mean / actual;
-    eprintln!("estimated {} against {actual} measured: {ratio}", r.own_mean);
+    eprintln!(
+        "estimated {} against {actual} measured: {ratio}",
+        r.own_mean
+    );
     assert!(
         (0.75..1.2).contains(&ratio),
         "estimated {} against {actual} measured",

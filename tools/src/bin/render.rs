@@ -50,7 +50,7 @@ struct Args {
     #[arg(long, default_value_t = 64, value_parser = clap::value_parser!(u16).range(8..=512).map(usize::from))]
     size: usize,
     /// Samples per pixel the curves go up to (powers of 2 from 1; 1 to 1048576).
-    #[arg(long, default_value_t = 4096, value_parser = clap::value_parser!(u32).range(1..=1_048_576).map(|v| v as usize))]
+    #[arg(long, default_value_t = 8192, value_parser = clap::value_parser!(u32).range(1..=1_048_576).map(|v| v as usize))]
     max_spp: usize,
     /// The seed of the methods' paths.
     #[arg(long, default_value_t = 1988)]
@@ -257,11 +257,12 @@ fn reference(
 /// The radiosity file's per-pixel XYZ (`seen,x,y,z` rows after `#` lines).
 fn read_radiosity(path: &Path) -> Result<Vec<[f64; 3]>, Error> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| spectral_quadrature_spectra::DataError {
-        file: file.clone(),
-        line: 0,
-        message: format!("cannot read: {e}"),
-    })?;
+    let text =
+        std::fs::read_to_string(path).map_err(|e| spectral_quadrature_spectra::DataError {
+            file: file.clone(),
+            line: 0,
+            message: format!("cannot read: {e}"),
+        })?;
     let mut out = Vec::new();
     for (i, line) in text.lines().enumerate() {
         if line.starts_with('#') || line.starts_with("seen") || line.trim().is_empty() {
@@ -364,7 +365,10 @@ fn plot(
             .map_err(plot_err)?;
         let y = 30 + 22 * k as i32;
         legend_area
-            .draw(&PathElement::new(vec![(10, y), (40, y)], colour.stroke_width(2)))
+            .draw(&PathElement::new(
+                vec![(10, y), (40, y)],
+                colour.stroke_width(2),
+            ))
             .map_err(plot_err)?;
         legend_area
             .draw(&Text::new(name.clone(), (48, y - 7), ("sans-serif", 13)))
@@ -382,15 +386,24 @@ fn plot(
         .collect();
     for (a, b) in dash {
         chart
-            .draw_series(std::iter::once(PathElement::new(vec![a, b], BLACK.stroke_width(1))))
+            .draw_series(std::iter::once(PathElement::new(
+                vec![a, b],
+                BLACK.stroke_width(1),
+            )))
             .map_err(plot_err)?;
     }
     let y = 30 + 22 * curves.len() as i32;
     legend_area
-        .draw(&PathElement::new(vec![(10, y), (18, y)], BLACK.stroke_width(1)))
+        .draw(&PathElement::new(
+            vec![(10, y), (18, y)],
+            BLACK.stroke_width(1),
+        ))
         .map_err(plot_err)?;
     legend_area
-        .draw(&PathElement::new(vec![(26, y), (34, y)], BLACK.stroke_width(1)))
+        .draw(&PathElement::new(
+            vec![(26, y), (34, y)],
+            BLACK.stroke_width(1),
+        ))
         .map_err(plot_err)?;
     legend_area
         .draw(&Text::new(
@@ -513,8 +526,16 @@ fn run(args: &Args) -> Result<(), Error> {
         });
         let (_, srgb) = d.display("SRGB")?;
         let tone = |img: &[[f64; 3]]| picture::tone_map(img, args.size, white, &srgb.xyz_to_rgb);
-        let factor = if args.size < 128 { 128usize.div_ceil(args.size) } else { 1 };
-        let mut top = vec![picture::labelled(&upscale(&tone(&reference.xyz), factor), "reference (1 nm)", 2)];
+        let factor = if args.size < 128 {
+            128usize.div_ceil(args.size)
+        } else {
+            1
+        };
+        let mut top = vec![picture::labelled(
+            &upscale(&tone(&reference.xyz), factor),
+            "reference (1 nm)",
+            2,
+        )];
         let mut bottom = vec![picture::labelled(
             &Rgb8::filled(args.size * factor, args.size * factor, [24, 24, 24]),
             "below: dE00 maps",
@@ -594,7 +615,14 @@ fn run(args: &Args) -> Result<(), Error> {
             (setup.progress(Method::Rgb, &g, opts)?, 0.0),
             (setup.progress(Method::Fixed { n: 8 }, &g, opts)?, 0.0),
             (
-                setup.progress(Method::Fixed { n: 8 }, &g, Options { simd: false, ..opts })?,
+                setup.progress(
+                    Method::Fixed { n: 8 },
+                    &g,
+                    Options {
+                        simd: false,
+                        ..opts
+                    },
+                )?,
                 0.0,
             ),
         ];
@@ -646,10 +674,7 @@ fn run(args: &Args) -> Result<(), Error> {
             println!("\nAt equal time ({at:.3} s, the 8-node set at {shown_spp} spp):");
             for (name, pts) in &curves {
                 let e = at_time(pts, at);
-                println!(
-                    "- {name}: {}",
-                    e.map_or("—".into(), |v| format!("{v:.3}"))
-                );
+                println!("- {name}: {}", e.map_or("—".into(), |v| format!("{v:.3}")));
                 equal.row([
                     scene.scene.clone(),
                     scene.light.clone(),

@@ -147,13 +147,13 @@ impl<const K: usize> Carrier<K> for Random<K> {
         match self.materials[s.index()] {
             RandomMaterial::Measured(row) => {
                 let t = &self.spectra[row];
-                for k in 0..K {
-                    o[k] = t[p.cell[k] as usize];
+                for (o, &cell) in o.iter_mut().zip(&p.cell) {
+                    *o = t[cell as usize];
                 }
             }
             RandomMaterial::Sigmoid(c) => {
-                for k in 0..K {
-                    o[k] = sigmoid((c[0] * p.x[k] + c[1]) * p.x[k] + c[2]);
+                for (o, &x) in o.iter_mut().zip(&p.x) {
+                    *o = sigmoid((c[0] * x + c[1]) * x + c[2]);
                 }
             }
         }
@@ -166,8 +166,8 @@ impl<const K: usize> Carrier<K> for Random<K> {
     #[inline(always)]
     fn add_light(&self, r: &mut [f32; K], p: &Wavelengths<K>, light: usize, w: &[f32; K], g: f32) {
         let e = &self.emission[light];
-        for k in 0..K {
-            r[k] += w[k] * e[p.cell[k] as usize] * g;
+        for ((r, &w), &cell) in r.iter_mut().zip(w).zip(&p.cell) {
+            *r += w * e[cell as usize] * g;
         }
     }
     fn new_pixel(&self) -> [f64; 3] {
@@ -176,9 +176,9 @@ impl<const K: usize> Carrier<K> for Random<K> {
     #[inline(always)]
     fn accumulate(&self, px: &mut [f64; 3], p: &Wavelengths<K>, r: &[f32; K]) {
         let mut xyz = [0.0f32; 3];
-        for k in 0..K {
-            let v = r[k] * p.inv_kpdf[k];
-            let cell = p.cell[k] as usize;
+        for ((&r, &inv), &cell) in r.iter().zip(&p.inv_kpdf).zip(&p.cell) {
+            let v = r * inv;
+            let cell = cell as usize;
             for (c, s) in xyz.iter_mut().enumerate() {
                 *s += v * self.xyz[c][cell];
             }

@@ -33,15 +33,17 @@ pub fn white(
             xyz[c] += v[c] * l.area();
         }
     }
-    let y = seen
-        .iter()
-        .map(|&k| reference[k][1])
-        .fold(0.0f64, f64::max);
+    let y = seen.iter().map(|&k| reference[k][1]).fold(0.0f64, f64::max);
     Ok(xyz.map(|v| v * y / xyz[1]))
 }
 
 /// CIEDE2000 of each seen pixel of `image` against `reference`.
-pub fn de00(image: &[[f64; 3]], reference: &[[f64; 3]], seen: &[usize], white: [f64; 3]) -> Vec<f64> {
+pub fn de00(
+    image: &[[f64; 3]],
+    reference: &[[f64; 3]],
+    seen: &[usize],
+    white: [f64; 3],
+) -> Vec<f64> {
     seen.iter()
         .map(|&k| {
             delta_e2000(
@@ -53,7 +55,12 @@ pub fn de00(image: &[[f64; 3]], reference: &[[f64; 3]], seen: &[usize], white: [
 }
 
 /// The mean and 95th percentile of [`de00`].
-pub fn stats(image: &[[f64; 3]], reference: &[[f64; 3]], seen: &[usize], white: [f64; 3]) -> (f64, f64) {
+pub fn stats(
+    image: &[[f64; 3]],
+    reference: &[[f64; 3]],
+    seen: &[usize],
+    white: [f64; 3],
+) -> (f64, f64) {
     mean_p95(&de00(image, reference, seen, white))
 }
 

@@ -22,7 +22,9 @@
 use std::collections::HashMap;
 
 use spectral_quadrature::{FoldedSet, LightGroupSet, Samples, Upsampling};
-use spectral_quadrature_generator::shared::{nodes_of, problem_for, GroupFit, GroupObjective, Weights};
+use spectral_quadrature_generator::shared::{
+    nodes_of, problem_for, GroupFit, GroupObjective, Weights,
+};
 use spectral_quadrature_generator::upsampling::{bake, Baked, DEFAULT_GRID};
 use spectral_quadrature_generator::{Derivation, WavelengthSet};
 use spectral_quadrature_spectra::Curve;
@@ -95,7 +97,10 @@ impl Method {
                 sampler: Sampler::Visible,
                 k: 4,
             },
-            Method::Random { sampler: HERO, k: 4 },
+            Method::Random {
+                sampler: HERO,
+                k: 4,
+            },
         ];
         if scene
             .lights
@@ -106,12 +111,18 @@ impl Method {
                 sampler: Sampler::Visible,
                 k: 16,
             });
-            v.push(Method::Random { sampler: HERO, k: 16 });
+            v.push(Method::Random {
+                sampler: HERO,
+                k: 16,
+            });
         }
         v.extend(FIXED_SIZES.map(|n| Method::Fixed { n }));
         v
     }
 }
+
+/// A fixed set's nodes (nm) and, per light, its folded XYZ weights.
+pub type FixedSet = (Vec<f64>, Vec<[Vec<f64>; 3]>);
 
 /// What every method of a scene shares: the derivation, the display and the 1 nm integration.
 pub struct Setup<'a> {
@@ -165,7 +176,11 @@ impl<'a> Setup<'a> {
 
     /// The number of surface rows.
     fn rows(&self) -> usize {
-        3 + self.scene.texture.as_ref().map_or(0, |t| t.width * t.height)
+        3 + self
+            .scene
+            .texture
+            .as_ref()
+            .map_or(0, |t| t.width * t.height)
     }
 
     /// A curve on the 1 nm grid, with a 0 for outside it.
@@ -191,9 +206,8 @@ impl<'a> Setup<'a> {
             .iter()
             .map(|l| {
                 let xyz = crate::cornell::methods::xyz_1nm(self.d, |nm| l.curve.at(nm))?;
-                Ok([0, 1, 2].map(|c| {
-                    (0..3).map(|k| m.xyz_to_rgb[c][k] * xyz[k]).sum::<f64>() as f32
-                }))
+                Ok([0, 1, 2]
+                    .map(|c| (0..3).map(|k| m.xyz_to_rgb[c][k] * xyz[k]).sum::<f64>() as f32))
             })
             .collect::<Result<Vec<_>, Error>>()?;
         Ok(Rgb {
@@ -228,7 +242,12 @@ impl<'a> Setup<'a> {
             sampler,
             materials,
             spectra,
-            emission: self.scene.lights.iter().map(|l| Self::grid(&l.curve)).collect(),
+            emission: self
+                .scene
+                .lights
+                .iter()
+                .map(|l| Self::grid(&l.curve))
+                .collect(),
             xyz: [0, 1, 2].map(|c| {
                 let mut g = [0.0f32; GRID_LEN + 1];
                 for (k, v) in g.iter_mut().take(GRID_LEN).enumerate() {
@@ -270,7 +289,7 @@ impl<'a> Setup<'a> {
     /// A fixed set's nodes and, per light, its folded XYZ weights in the reference's units
     /// (a reflectance of 1 gives that light's own 1 nm XYZ): the folded set of the scene's one
     /// light, or the light group of its lights.
-    pub fn fixed_set(&self, n: usize) -> Result<(Vec<f64>, Vec<[Vec<f64>; 3]>), Error> {
+    pub fn fixed_set(&self, n: usize) -> Result<FixedSet, Error> {
         let d = self.d;
         let problems = self
             .scene
@@ -288,7 +307,8 @@ impl<'a> Setup<'a> {
                 p.light.iter().sum::<f64>() / given
             })
             .collect();
-        let unscale = |w: &[Vec<f64>; 3], s: f64| w.clone().map(|r| r.iter().map(|v| v / s).collect());
+        let unscale =
+            |w: &[Vec<f64>; 3], s: f64| w.clone().map(|r| r.iter().map(|v| v / s).collect());
         if problems.len() == 1 {
             let shared = problems[0].shared(n)?;
             let w = unscale(&shared.xyz_weights, scales[0]);
@@ -315,7 +335,11 @@ impl<'a> Setup<'a> {
         let srgb = self.srgb_rows()?;
         let needs_map = !self.measured_paints() || self.scene.texture.is_some();
         let map = if needs_map {
-            Some(runtime::upsampling::<N>(&texel_map(self.d, nodes, &self.training)?)?)
+            Some(runtime::upsampling::<N>(&texel_map(
+                self.d,
+                nodes,
+                &self.training,
+            )?)?)
         } else {
             None
         };
@@ -327,9 +351,9 @@ impl<'a> Setup<'a> {
                         self.scene.data.paints[row].at(nodes[i]) as f32
                     }))
                 } else {
-                    let m = map.as_ref().ok_or_else(|| {
-                        Error::Sampling("an sRGB surface without a map".into())
-                    })?;
+                    let m = map
+                        .as_ref()
+                        .ok_or_else(|| Error::Sampling("an sRGB surface without a map".into()))?;
                     Ok(m.reflectance(rgb.map(|v| v as f32)))
                 }
             })
@@ -421,7 +445,11 @@ impl<'a> Setup<'a> {
 /// training reflectances' 1 nm XYZ under D65 (over the derivation's range, as the texels' sRGB
 /// is computed) from their values at the nodes, with the white pinned (a reflectance of 1 gives
 /// D65's white exactly), as the generator fits a light group's weights.
-pub fn d65_weights(d: &Derivation, nodes: &[f64], training: &[Curve]) -> Result<[Vec<f64>; 3], Error> {
+pub fn d65_weights(
+    d: &Derivation,
+    nodes: &[f64],
+    training: &[Curve],
+) -> Result<[Vec<f64>; 3], Error> {
     let d65 = crate::upsampling::d65(d)?;
     let full = d.observer.full_integration(d.settings.range_nm, 1.0)?;
     let xyz = |f: &dyn Fn(f64) -> f64| -> [f64; 3] {
@@ -436,7 +464,11 @@ pub fn d65_weights(d: &Derivation, nodes: &[f64], training: &[Curve]) -> Result<
     let n = nodes.len();
     let white = xyz(&|_| 1.0);
     let mut ata = nalgebra::DMatrix::<f64>::zeros(n + 1, n + 1);
-    let mut atb = [nalgebra::DVector::<f64>::zeros(n + 1), nalgebra::DVector::zeros(n + 1), nalgebra::DVector::zeros(n + 1)];
+    let mut atb = [
+        nalgebra::DVector::<f64>::zeros(n + 1),
+        nalgebra::DVector::zeros(n + 1),
+        nalgebra::DVector::zeros(n + 1),
+    ];
     for r in training {
         let s: Vec<f64> = nodes.iter().map(|&l| r.at(l)).collect();
         let t = xyz(&|nm| r.at(nm));
@@ -458,7 +490,9 @@ pub fn d65_weights(d: &Derivation, nodes: &[f64], training: &[Curve]) -> Result<
     for c in 0..3 {
         atb[c][n] = white[c];
         let w = lu.solve(&atb[c]).ok_or_else(|| {
-            Error::Sampling(format!("no D65 weights at {nodes:?} nm: the system is singular"))
+            Error::Sampling(format!(
+                "no D65 weights at {nodes:?} nm: the system is singular"
+            ))
         })?;
         out[c] = w.iter().take(n).copied().collect();
     }
@@ -487,7 +521,15 @@ pub fn texel_map(d: &Derivation, nodes: &[f64], training: &[Curve]) -> Result<Ba
     };
     let (_, srgb) = d.display("SRGB")?;
     let d65 = crate::upsampling::d65(d)?;
-    Ok(bake(d, &set, ("SRGB", srgb), &d65, true, training, DEFAULT_GRID)?)
+    Ok(bake(
+        d,
+        &set,
+        ("SRGB", srgb),
+        &d65,
+        true,
+        training,
+        DEFAULT_GRID,
+    )?)
 }
 
 /// The runtime's types, built from the generator's f64 results with their public checked
@@ -500,7 +542,9 @@ pub mod runtime {
     }
 
     fn derive_err(e: spectral_quadrature::Error) -> Error {
-        Error::Derive(spectral_quadrature_generator::Error::Numerical(e.to_string()))
+        Error::Derive(spectral_quadrature_generator::Error::Numerical(
+            e.to_string(),
+        ))
     }
 
     /// Linear sRGB rows from XYZ rows, in f32.
@@ -508,9 +552,7 @@ pub mod runtime {
         let m = spectral_quadrature::tables::displays::SRGB.xyz_to_rgb();
         [0, 1, 2].map(|c| {
             std::array::from_fn(|i| {
-                (0..3)
-                    .map(|k| f64::from(m[c][k]) * xyz[k][i])
-                    .sum::<f64>() as f32
+                (0..3).map(|k| f64::from(m[c][k]) * xyz[k][i]).sum::<f64>() as f32
             })
         })
     }

@@ -248,7 +248,10 @@ impl Scene {
                 if let Some(k) = (0..3).find(|&k| out[k][0].is_nan()) {
                     return Err(bad(
                         raw.paints.span().start,
-                        format!("paints = \"srgb\" needs a [[paint]] named {}", paint_names[k]),
+                        format!(
+                            "paints = \"srgb\" needs a [[paint]] named {}",
+                            paint_names[k]
+                        ),
                     ));
                 }
                 Some(out)
@@ -292,7 +295,10 @@ impl Scene {
                 (Some(q), None) => {
                     return Err(bad(
                         q.span().start,
-                        format!("quad = \"light\" (the geometry's lamp), not \"{}\"", q.get_ref()),
+                        format!(
+                            "quad = \"light\" (the geometry's lamp), not \"{}\"",
+                            q.get_ref()
+                        ),
                     ))
                 }
                 (None, Some(c)) => *c.get_ref(),
@@ -397,8 +403,7 @@ fn read_texture(
         .parent()
         .unwrap_or(Path::new("."))
         .join(t.image.get_ref());
-    let (width, height, encoded) =
-        read_png(&image).map_err(|m| bad(t.image.span().start, m))?;
+    let (width, height, encoded) = read_png(&image).map_err(|m| bad(t.image.span().start, m))?;
     let label = t.reflectances.get_ref();
     let spectra = Spectra::builtin(&d.settings.data_dir, label)
         .map_err(|e| bad(t.reflectances.span().start, e.to_string()))?;
@@ -406,8 +411,7 @@ fn read_texture(
         .map(|k| spectra.curve(k, d.settings.range_nm))
         .collect::<Result<Vec<_>, _>>()?;
     let [cols, rows] = *t.patches.get_ref();
-    if cols * rows != reflectances.len() || cols == 0 || width % cols != 0 || height % rows != 0
-    {
+    if cols * rows != reflectances.len() || cols == 0 || width % cols != 0 || height % rows != 0 {
         return Err(bad(
             t.patches.span().start,
             format!(
@@ -424,10 +428,7 @@ fn read_texture(
         image,
         width,
         height,
-        linear: encoded
-            .iter()
-            .map(|c| c.map(srgb_decode))
-            .collect(),
+        linear: encoded.iter().map(|c| c.map(srgb_decode)).collect(),
         patch,
         reflectances,
         rect_mm: t.rect_mm,
@@ -486,7 +487,10 @@ pub fn write_png16(path: &Path, width: usize, height: usize, px: &[[f64; 3]]) ->
     let mut w = enc.write_header().map_err(|e| err(e.to_string()))?;
     let bytes: Vec<u8> = px
         .iter()
-        .flat_map(|c| c.iter().flat_map(|v| ((v.clamp(0.0, 1.0) * 65535.0).round() as u16).to_be_bytes()))
+        .flat_map(|c| {
+            c.iter()
+                .flat_map(|v| ((v.clamp(0.0, 1.0) * 65535.0).round() as u16).to_be_bytes())
+        })
         .collect();
     w.write_image_data(&bytes).map_err(|e| err(e.to_string()))?;
     w.finish().map_err(|e| err(e.to_string()))

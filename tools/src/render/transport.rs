@@ -361,9 +361,9 @@ impl Geometry {
                 };
                 let b = &mut blocks[k].1;
                 for p in c {
-                    for i in 0..3 {
-                        b.lo[i] = b.lo[i].min(p[i] - 1e-2);
-                        b.hi[i] = b.hi[i].max(p[i] + 1e-2);
+                    for ((lo, hi), v) in b.lo.iter_mut().zip(b.hi.iter_mut()).zip(p) {
+                        *lo = lo.min(v - 1e-2);
+                        *hi = hi.max(v + 1e-2);
                     }
                 }
                 b.faces.push(quad);
