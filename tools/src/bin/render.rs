@@ -59,7 +59,7 @@ struct Args {
     #[arg(long)]
     threads: Option<usize>,
     /// Paths a pixel in each of the reference's two images.
-    #[arg(long, default_value_t = 65536, value_parser = clap::value_parser!(u32).range(1..=16_777_216).map(|v| v as usize))]
+    #[arg(long, default_value_t = 32768, value_parser = clap::value_parser!(u32).range(1..=16_777_216).map(|v| v as usize))]
     reference_spp: usize,
     /// Where the references are cached (`<scene>-<size>.txt`).
     #[arg(long, value_name = "DIR", default_value = "docs/render-time/reference")]
