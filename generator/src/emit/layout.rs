@@ -9,10 +9,40 @@
 //! `chain_width` 60, `short_array_element_width_threshold` 10), and `const`/`static` items
 //! whose value goes on the next line where that reads better, as rustfmt decides it. Comments,
 //! which rustfmt leaves as they are, are wrapped at spaces. `tests/codegen.rs` checks the baked
-//! tables with `rustfmt --check` where rustfmt is installed.
+//! tables with `rustfmt --check` where rustfmt is installed. An f32 is written in Rust's shortest
+//! round-trip form ([`lit`]), the one literal every formatter writes for it.
 
 use std::string::String;
 use std::vec::Vec;
+
+use crate::base::error::Error;
+
+/// The literal for an f64 rounded to f32 (`as f32`), which must be finite.
+pub(crate) fn f32_literal(v: f64) -> Result<String, Error> {
+    let x = v as f32;
+    if !x.is_finite() {
+        return Err(Error::Literal {
+            value: v,
+            language: "Rust",
+        });
+    }
+    Ok(lit(x))
+}
+
+/// The literal of an f32 of the model (finite): Rust's shortest round-trip form, with a `.` or
+/// an exponent.
+pub(crate) fn lit(x: f32) -> String {
+    let mut s = std::format!("{x:?}");
+    if !s.contains(['.', 'e', 'E']) {
+        s.push_str(".0");
+    }
+    s
+}
+
+/// An array of f32 values.
+pub(crate) fn f32s(values: &[f32]) -> Expr {
+    Expr::Array(values.iter().map(|&v| Expr::Atom(lit(v))).collect())
+}
 
 /// rustfmt's `max_width`.
 pub(crate) const MAX_WIDTH: usize = 100;

@@ -5,28 +5,17 @@
 use std::string::String;
 use std::vec::Vec;
 
-use super::layout::{self, Expr};
-use crate::base::error::Error;
-use crate::scenes::calibration::SensorTables;
+use super::layout::{self, f32s, Expr};
+use super::model::Sensor;
 
 /// The module `sensors` for `sensors` (empty text if there are none), the names of its tables
 /// for `ALL_TABLES` (each with its path and the expression of its slice), and how many f32
-/// values it holds. `f32_literal` writes each value (the code generator's, which calls this
-/// one).
+/// values it holds.
 #[allow(clippy::type_complexity)]
-pub(crate) fn sensors_rs(
-    sensors: &[SensorTables],
-    f32_literal: impl Fn(f64) -> Result<String, Error>,
-) -> Result<(String, Vec<(String, Expr)>, usize), Error> {
+pub(crate) fn sensors_rs(sensors: &[Sensor]) -> (String, Vec<(String, Expr)>, usize) {
     if sensors.is_empty() {
-        return Ok((String::new(), Vec::new(), 0));
+        return (String::new(), Vec::new(), 0);
     }
-    let array = |v: &[f64]| -> Result<Expr, Error> {
-        v.iter()
-            .map(|&x| f32_literal(x).map(Expr::Atom))
-            .collect::<Result<Vec<_>, _>>()
-            .map(Expr::Array)
-    };
     let mut o = layout::comment(
         0,
         "///",
@@ -46,7 +35,7 @@ pub(crate) fn sensors_rs(
         o.push_str(&layout::item(
             4,
             &std::format!("pub const {name}: [f32; {n}] ="),
-            &array(&s.white)?,
+            &f32s(&s.white),
         ));
         o.push('\n');
         all.push((
@@ -69,8 +58,8 @@ pub(crate) fn sensors_rs(
             let value = Expr::Struct(
                 "crate::Calibration".into(),
                 std::vec![
-                    ("dark".into(), array(&fit.dark)?),
-                    ("gain".into(), array(&fit.gain)?),
+                    ("dark".into(), f32s(&fit.dark)),
+                    ("gain".into(), f32s(&fit.gain)),
                 ],
             );
             o.push_str(&layout::item(
@@ -87,5 +76,5 @@ pub(crate) fn sensors_rs(
         }
     }
     o.push_str("}\n\n");
-    Ok((o, all, floats))
+    (o, all, floats)
 }

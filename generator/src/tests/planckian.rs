@@ -15,7 +15,7 @@ fn locus(observer: crate::ObserverId) -> PlanckianLocus {
 fn tables(text: &str) -> String {
     let scene = Scene::parse("scene.toml", text, std::path::Path::new(DATA_DIR)).unwrap();
     let d = crate::derive(&scene.settings).unwrap();
-    crate::codegen::tables_rs(&d, &[], &scene.resolve(&d).unwrap()).unwrap()
+    crate::tests::tables_rs(&d, &[], &scene.resolve(&d).unwrap()).unwrap()
 }
 
 /// The tangent the table bakes is the derivative of the locus: a central difference agrees.

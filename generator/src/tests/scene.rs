@@ -16,7 +16,7 @@ fn generate(file: &str, text: &str) -> Result<String, crate::Error> {
     let scene = Scene::parse(file, text, std::path::Path::new(DATA_DIR))?;
     let d = derive(&scene.settings).unwrap();
     let resolved = scene.resolve(&d)?;
-    Ok(crate::codegen::tables_rs(&d, &[], &resolved).unwrap())
+    Ok(crate::tests::tables_rs(&d, &[], &resolved).unwrap())
 }
 
 fn table_bytes(source: &str) -> usize {
@@ -68,7 +68,7 @@ fn a_minimal_scene_bakes_only_its_set_and_display() {
     }
     // The default scene bakes everything; the minimal one about 4 % of its table bytes.
     let d = default_derivation();
-    let full = crate::codegen::tables_rs(
+    let full = crate::tests::tables_rs(
         d,
         &[],
         &Scene::default_scene(std::path::Path::new(DATA_DIR))
