@@ -10,7 +10,7 @@ use std::string::{String, ToString};
 use std::vec::Vec;
 
 use super::layout::{self, f32s, lit, Expr};
-use super::lists::names_rs;
+use super::lists::{all_tables_rs, names_rs, Constant};
 use super::model::{Model, Rule, Samples, Set, Transfer, CHANNEL_NAMES};
 use super::transfer_tables::gamma_encoders_rs;
 
@@ -25,15 +25,21 @@ fn item(o: &mut String, indent: usize, doc: &str, lhs: &str, value: &Expr) {
     o.push('\n');
 }
 
+/// `checked(made)`: a checked constructor's `Result`, unwrapped in constant evaluation (the
+/// generated file's `checked`, which stops the build with the refusal's sentence).
+pub(crate) fn checked(made: Expr) -> Expr {
+    Expr::Call("checked".into(), std::vec![made])
+}
+
 fn set_literal(set: &Set) -> Expr {
-    Expr::Struct(
-        "WavelengthSet".into(),
+    checked(Expr::Call(
+        "WavelengthSet::new".into(),
         std::vec![
-            ("wavelengths_nm".into(), f32s(&set.wavelengths_nm)),
-            ("weights".into(), weights(&set.weights)),
-            ("samples".into(), samples_literal(&set.samples)),
+            f32s(&set.wavelengths_nm),
+            weights(&set.weights),
+            samples_literal(&set.samples),
         ],
-    )
+    ))
 }
 
 fn weights(w: &[Vec<f32>; 3]) -> Expr {
@@ -65,22 +71,16 @@ fn samples_literal(samples: &Samples) -> Expr {
 }
 
 fn rule_literal(channel: usize, rule: &Rule) -> Expr {
-    Expr::Struct(
-        "GaussRule".into(),
+    checked(Expr::Call(
+        "GaussRule::new".into(),
         std::vec![
-            (
-                "channel".into(),
-                Expr::atom(std::format!("Channel::{}", CHANNEL_NAMES[channel]))
-            ),
-            ("order".into(), Expr::atom(rule.order.to_string())),
-            (
-                "status".into(),
-                Expr::atom(std::format!("RuleStatus::{}", rule.status))
-            ),
-            ("wavelengths_nm".into(), f32s(&rule.nodes_nm).by_ref()),
-            ("weights".into(), f32s(&rule.weights).by_ref()),
+            Expr::atom(std::format!("Channel::{}", CHANNEL_NAMES[channel])),
+            Expr::atom(rule.order.to_string()),
+            Expr::atom(std::format!("RuleStatus::{}", rule.status)),
+            f32s(&rule.nodes_nm).by_ref(),
+            f32s(&rule.weights).by_ref(),
         ],
-    )
+    ))
 }
 
 /// The generated Rust source for a scene's model. It is laid out as rustfmt lays it out: at most
@@ -91,10 +91,8 @@ pub(crate) fn tables_rs(m: &Model) -> String {
     provenance_rs(&mut t, m);
     opponent_rs(&mut t, m);
     if let Some(locus) = &m.locus {
-        let (text, n) = super::planckian::planckian_rs(locus);
-        t.o.push_str(&text);
+        t.o.push_str(&super::planckian::planckian_rs(locus, &mut t.consts));
         writeln!(t.o).ok();
-        t.floats += n;
     }
     sensitivities_rs(&mut t, m);
     rules_rs(&mut t, m);
@@ -104,22 +102,32 @@ pub(crate) fn tables_rs(m: &Model) -> String {
     folded_rs(&mut t, m);
     groups_rs(&mut t, m);
     lights_rs(&mut t, m);
-    let (upsampling, upsampling_bytes) = super::upsampling::upsampling_rs(m);
-    t.o.push_str(&upsampling);
-    let (sensors, sensor_tables, n) = super::sensors::sensors_rs(&m.sensors);
-    t.o.push_str(&sensors);
-    t.floats += n;
-    t.o.push_str(&super::fixed_point::integer_rs(m));
-    all_tables_rs(&mut t, m, sensor_tables, upsampling_bytes);
+    t.o.push_str(&super::upsampling::upsampling_rs(m, &mut t.consts));
+    t.o.push_str(&super::sensors::sensors_rs(&m.sensors, &mut t.consts));
+    t.o.push_str(&super::fixed_point::integer_rs(m, &mut t.consts));
+    // Declared in every scene, empty where no display has a power law.
+    t.baked(
+        "GAMMA_ENCODERS",
+        std::format!("[crate::encode::GammaEncoder8; {}]", m.gamma_encoders.len()),
+    );
+    t.o.push_str(&all_tables_rs(&t.consts));
     t.o.push_str(&gamma_encoders_rs(&m.gamma_encoders));
     t.o
 }
 
-/// The text written so far and how many f32 values it bakes (for `TABLE_BYTES`).
+/// The text written so far and every constant of numbers it bakes (for `ALL_TABLES`).
 #[derive(Default)]
 struct Tables {
     o: String,
-    floats: usize,
+    consts: Vec<Constant>,
+}
+
+impl Tables {
+    /// A constant of numbers of type `ty` at `path` in `tables`, written: one entry of
+    /// `ALL_TABLES`.
+    fn baked(&mut self, path: impl Into<String>, ty: impl Into<String>) {
+        self.consts.push(Constant::new(path, ty));
+    }
 }
 
 /// A quoted string literal.
@@ -139,6 +147,13 @@ fn provenance_rs(t: &mut Tables, m: &Model) {
         "#[allow(unused_imports)]\nuse crate::{{Channel, GaussRule, RuleStatus, Samples, WavelengthSet}};\n"
     )
     .ok();
+    o.push_str(&layout::comment(
+        0,
+        "///",
+        "A baked constant from its checked constructor: the value, or, where the constructor refuses it, a compile-time error with the refusal's sentence ([`Error::summary`](crate::Error::summary)). Every constant below that a type of the crate holds is made so.",
+        0,
+    ));
+    o.push_str("#[allow(dead_code)]\nconst fn checked<T: Copy>(made: Result<T, crate::Error>) -> T {\n    match made {\n        Ok(value) => value,\n        Err(e) => panic!(\"{}\", e.summary()),\n    }\n}\n\n");
     item(
         o,
         0,
@@ -230,7 +245,16 @@ fn opponent_rs(t: &mut Tables, m: &Model) {
         &Expr::Atom(lit(p.unit_spectrum_y)),
     );
     writeln!(o).ok();
-    t.floats += 9 + 9 + 3 + 1;
+    for (path, ty) in [
+        ("RANGE_NM", "[f32; 2]"),
+        ("STEP_NM", "f32"),
+        ("XYZ_TO_AC1C2", "[[f32; 3]; 3]"),
+        ("AC1C2_TO_XYZ", "[[f32; 3]; 3]"),
+        ("EIGENVALUES", "[f32; 3]"),
+        ("UNIT_SPECTRUM_Y", "f32"),
+    ] {
+        t.baked(path, ty);
+    }
 }
 
 /// The `sensitivities` extra: the grid and the opponent sensitivities on it (Fig. 4).
@@ -262,7 +286,8 @@ fn sensitivities_rs(t: &mut Tables, m: &Model) {
         &Expr::Array(s.rows.iter().map(|r| f32s(r)).collect()),
     );
     writeln!(o).ok();
-    t.floats += 4 * n_grid;
+    t.baked("GRID_NM", "[f32; GRID_LEN]");
+    t.baked("SENSITIVITIES", "[[f32; 3]; GRID_LEN]");
 }
 
 /// The `rules` extra: every channel's Gauss rules as `GaussRule`s, defined or not.
@@ -290,11 +315,15 @@ fn rules_rs(t: &mut Tables, m: &Model) {
             &std::format!("pub const {name}_RULES: [GaussRule; MAX_ORDER] ="),
             &Expr::Array(items),
         );
-        t.floats += rules.channels[c]
+        // Each defined rule's nodes and weights: two slices of `order` f32.
+        let floats: usize = rules.channels[c]
             .iter()
-            .filter(|r| r.is_defined())
-            .map(|r| 2 * r.order)
-            .sum::<usize>();
+            .map(|r| r.nodes_nm.len() + r.weights.len())
+            .sum();
+        t.consts.push(
+            Constant::new(std::format!("{name}_RULES"), "[GaussRule; MAX_ORDER]")
+                .with_slices(4 * floats),
+        );
     }
     item(
         o,
@@ -308,6 +337,15 @@ fn rules_rs(t: &mut Tables, m: &Model) {
         ]),
     );
     writeln!(o).ok();
+    // `RULES` holds the three channels' rules, and so points to their slices too.
+    let floats: usize = rules
+        .channels
+        .iter()
+        .flatten()
+        .map(|r| r.nodes_nm.len() + r.weights.len())
+        .sum();
+    t.consts
+        .push(Constant::new("RULES", "[[GaussRule; MAX_ORDER]; 3]").with_slices(4 * floats));
 }
 
 /// `pub mod rules`: the scene's per-channel rules as wavelength sets.
@@ -319,7 +357,7 @@ fn rule_sets_rs(t: &mut Tables, m: &Model) {
     o.push_str(&layout::comment(0, "///", "Per-channel Gauss rules as [`WavelengthSet`]s (the other two rows zero), named `<channel>_<order>`.", 0));
     writeln!(
         o,
-        "pub mod rules {{\n    use crate::{{Samples, WavelengthSet}};"
+        "pub mod rules {{\n    use super::checked;\n    use crate::{{Samples, WavelengthSet}};"
     )
     .ok();
     for set in &m.rule_sets {
@@ -330,7 +368,10 @@ fn rule_sets_rs(t: &mut Tables, m: &Model) {
             &std::format!("pub const {}: WavelengthSet<{}> =", set.name, set.len()),
             &set_literal(set),
         );
-        t.floats += 4 * set.len();
+        t.consts.push(Constant::new(
+            std::format!("rules::{}", set.name),
+            std::format!("WavelengthSet<{}>", set.len()),
+        ));
     }
     writeln!(o, "}}\n").ok();
 }
@@ -345,7 +386,22 @@ fn colour_sets_rs(t: &mut Tables, m: &Model) {
             &std::format!("pub const {}: WavelengthSet<{}> =", set.name, set.len()),
             &set_literal(set),
         );
-        t.floats += 4 * set.len();
+        t.baked(&set.name, std::format!("WavelengthSet<{}>", set.len()));
+    }
+    if !m.colour_sets.is_empty() {
+        let names: Vec<String> = m.colour_sets.iter().map(|s| s.name.clone()).collect();
+        writeln!(t.o).ok();
+        t.o.push_str(&layout::comment(0, "///", "The colour sets above, at the top of `tables`, re-exported here with their list: `sets::<SET>` is `<SET>`.", 0));
+        writeln!(t.o, "pub mod sets {{").ok();
+        // One `use` a set, in rustfmt's order: byte order, the names being upper snake case.
+        let mut sorted = names.clone();
+        sorted.sort();
+        for n in &sorted {
+            writeln!(t.o, "    pub use super::{n};").ok();
+        }
+        writeln!(t.o).ok();
+        t.o.push_str(&names_rs("sets", "colour set", &names));
+        writeln!(t.o, "}}").ok();
     }
 }
 
@@ -362,7 +418,7 @@ fn displays_rs(t: &mut Tables, m: &Model) {
     o.push_str(&layout::comment(0, "///", "Displays: primaries, white and transfer function, with matrices derived in f64 (white at Y = 1).", 0));
     writeln!(
         o,
-        "pub mod displays {{\n    use crate::{{Display, TransferFunction}};"
+        "pub mod displays {{\n    use super::checked;\n    use crate::{{Display, TransferFunction}};"
     )
     .ok();
     let mut names = Vec::new();
@@ -374,21 +430,18 @@ fn displays_rs(t: &mut Tables, m: &Model) {
                 std::format!("TransferFunction::Gamma({})", lit(gamma))
             }
         };
-        let display = Expr::Struct(
-            "Display".into(),
+        let display = checked(Expr::Call(
+            "Display::from_matrices".into(),
             std::vec![
-                ("name".into(), quoted(&d.label)),
-                (
-                    "primaries_xy".into(),
-                    Expr::Array(d.primaries_xy.iter().map(|p| f32s(p)).collect()),
-                ),
-                ("white_xy".into(), f32s(&d.white_xy)),
-                ("rgb_to_xyz".into(), matrix(&d.rgb_to_xyz)),
-                ("xyz_to_rgb".into(), matrix(&d.xyz_to_rgb)),
-                ("a_from_rgb".into(), f32s(&d.a_from_rgb)),
-                ("transfer".into(), Expr::Atom(transfer)),
+                quoted(&d.label),
+                Expr::Array(d.primaries_xy.iter().map(|p| f32s(p)).collect()),
+                f32s(&d.white_xy),
+                matrix(&d.rgb_to_xyz),
+                matrix(&d.xyz_to_rgb),
+                f32s(&d.a_from_rgb),
+                Expr::Atom(transfer),
             ],
-        );
+        ));
         item(
             o,
             4,
@@ -399,7 +452,10 @@ fn displays_rs(t: &mut Tables, m: &Model) {
             &std::format!("pub const {}: Display =", d.name),
             &display,
         );
-        t.floats += 6 + 2 + 9 + 9 + 3;
+        t.consts.push(Constant::new(
+            std::format!("displays::{}", d.name),
+            "crate::Display",
+        ));
         names.push(Expr::atom(d.name.clone()));
     }
     item(
@@ -409,6 +465,10 @@ fn displays_rs(t: &mut Tables, m: &Model) {
         &std::format!("pub const ALL: [Display; {}] =", names.len()),
         &Expr::Array(names),
     );
+    t.consts.push(Constant::new(
+        "displays::ALL",
+        std::format!("[crate::Display; {}]", m.displays.len()),
+    ));
     writeln!(o, "}}\n").ok();
 }
 
@@ -421,25 +481,22 @@ fn folded_rs(t: &mut Tables, m: &Model) {
     o.push_str(&layout::comment(0, "///", "Each colour set folded for each display: samples → linear RGB in one 3×N product, a spectrum of constant 1 at Y = 1. Named `<SET>_<DISPLAY>`.", 0));
     writeln!(
         o,
-        "pub mod folded {{\n    use crate::{{FoldedSet, Samples}};"
+        "pub mod folded {{\n    use super::checked;\n    use crate::{{FoldedSet, Samples}};"
     )
     .ok();
     let mut names = Vec::new();
     for f in &m.folded {
         let set = &m.colour_sets[f.set];
         let display = &m.displays[f.display].name;
-        let folded = Expr::Struct(
-            "FoldedSet".into(),
+        let folded = checked(Expr::Call(
+            "FoldedSet::new".into(),
             std::vec![
-                ("wavelengths_nm".into(), f32s(&set.wavelengths_nm)),
-                ("weights".into(), weights(&f.weights)),
-                ("samples".into(), samples_literal(&set.samples)),
-                (
-                    "display".into(),
-                    Expr::atom(std::format!("super::displays::{display}")),
-                ),
+                f32s(&set.wavelengths_nm),
+                weights(&f.weights),
+                samples_literal(&set.samples),
+                Expr::atom(std::format!("super::displays::{display}")),
             ],
-        );
+        ));
         item(
             o,
             4,
@@ -455,7 +512,10 @@ fn folded_rs(t: &mut Tables, m: &Model) {
             ),
             &folded,
         );
-        t.floats += 4 * set.len();
+        t.consts.push(Constant::new(
+            std::format!("folded::{}", m.folded_name(f)),
+            std::format!("crate::FoldedSet<{}>", set.len()),
+        ));
         names.push(m.folded_name(f));
     }
     o.push_str(&names_rs("folded", "folded set", &names));
@@ -469,31 +529,26 @@ fn groups_rs(t: &mut Tables, m: &Model) {
     }
     let o = &mut t.o;
     o.push_str(&layout::comment(0, "///", "Each light group folded for each display: one node set shared by several lights, a weight matrix per light (samples: the reflectance products a path carries from that light; the light is in its weights), summed into linear RGB, a reflectance of 1 under every light at Y = 1 per light. Named `<GROUP>_<DISPLAY>`.", 0));
-    writeln!(o, "pub mod groups {{\n    use crate::LightGroupSet;").ok();
+    writeln!(
+        o,
+        "pub mod groups {{\n    use super::checked;\n    use crate::LightGroupSet;"
+    )
+    .ok();
     let mut names = Vec::new();
     for group in &m.groups {
         let name = &group.name;
         let n = group.wavelengths_nm.len();
         let lights = &group.lights;
         for (display, members) in m.displays.iter().zip(&group.folded) {
-            let value = Expr::Struct(
-                "LightGroupSet".into(),
+            let value = checked(Expr::Call(
+                "LightGroupSet::new".into(),
                 std::vec![
-                    ("wavelengths_nm".into(), f32s(&group.wavelengths_nm)),
-                    (
-                        "weights".into(),
-                        Expr::Array(members.iter().map(weights).collect())
-                    ),
-                    (
-                        "lights".into(),
-                        Expr::Array(lights.iter().map(|l| quoted(l)).collect()),
-                    ),
-                    (
-                        "display".into(),
-                        Expr::atom(std::format!("super::displays::{}", display.name)),
-                    ),
+                    f32s(&group.wavelengths_nm),
+                    Expr::Array(members.iter().map(weights).collect()),
+                    Expr::Array(lights.iter().map(|l| quoted(l)).collect()),
+                    Expr::atom(std::format!("super::displays::{}", display.name)),
                 ],
-            );
+            ));
             item(
                 o,
                 4,
@@ -516,7 +571,10 @@ fn groups_rs(t: &mut Tables, m: &Model) {
                 ),
                 &value,
             );
-            t.floats += n + 3 * n * lights.len();
+            t.consts.push(Constant::new(
+                std::format!("groups::{name}_{}", display.name),
+                std::format!("crate::LightGroupSet<{n}, {}>", lights.len()),
+            ));
             names.push(std::format!("{name}_{}", display.name));
         }
     }
@@ -550,123 +608,10 @@ fn lights_rs(t: &mut Tables, m: &Model) {
             ),
             &f32s(&l.values),
         );
-        t.floats += set.len();
+        t.consts.push(Constant::new(
+            std::format!("lights::{}_AT_{}", l.light, set.name),
+            std::format!("[f32; {}]", set.len()),
+        ));
     }
     writeln!(o, "}}\n").ok();
-}
-
-/// `ALL_TABLES` (every numeric table as a slice, by name) and `TABLE_BYTES`.
-fn all_tables_rs(
-    t: &mut Tables,
-    m: &Model,
-    sensor_tables: Vec<(String, Expr)>,
-    upsampling_bytes: usize,
-) {
-    // Every table as a slice, so a program can link them all (examples/size_probe measures
-    // what a scene costs when nothing is left unused).
-    let chain = |root: &str, children: &[&str]| {
-        Expr::Chain(
-            root.into(),
-            children.iter().map(|c| String::from(*c)).collect(),
-        )
-    };
-    let mut all: Vec<(String, Expr)> = std::vec![
-        (
-            "XYZ_TO_AC1C2".into(),
-            chain("XYZ_TO_AC1C2", &[".as_flattened()"])
-        ),
-        (
-            "AC1C2_TO_XYZ".into(),
-            chain("AC1C2_TO_XYZ", &[".as_flattened()"])
-        ),
-        ("EIGENVALUES".into(), Expr::atom("EIGENVALUES").by_ref()),
-    ];
-    if m.sensitivities.is_some() {
-        all.push(("GRID_NM".into(), Expr::atom("GRID_NM").by_ref()));
-        all.push((
-            "SENSITIVITIES".into(),
-            chain("SENSITIVITIES", &[".as_flattened()"]),
-        ));
-    }
-    if m.locus.is_some() {
-        all.push((
-            "PLANCKIAN_LOCUS.mired".into(),
-            chain("PLANCKIAN_LOCUS", &[".mired"]).by_ref(),
-        ));
-        for field in ["uv", "tangent", "chord"] {
-            all.push((
-                std::format!("PLANCKIAN_LOCUS.{field}"),
-                chain(
-                    "PLANCKIAN_LOCUS",
-                    &[&std::format!(".{field}"), ".as_flattened()"],
-                ),
-            ));
-        }
-    }
-    if let Some(rules) = &m.rules {
-        for (c, name) in CHANNEL_NAMES.iter().enumerate() {
-            for r in rules.channels[c].iter().filter(|r| r.is_defined()) {
-                let i = r.order - 1;
-                let root = std::format!("{name}_RULES[{i}]");
-                all.push((
-                    std::format!("{root}.wavelengths_nm"),
-                    chain(&root, &[".wavelengths_nm"]),
-                ));
-                all.push((std::format!("{root}.weights"), chain(&root, &[".weights"])));
-            }
-        }
-    }
-    for set in &m.rule_sets {
-        let root = std::format!("rules::{}", set.name);
-        all.push((root.clone(), chain(&root, &[".wavelengths_nm"]).by_ref()));
-        all.push((
-            std::format!("{root}.weights"),
-            chain(&root, &[".weights", ".as_flattened()"]),
-        ));
-    }
-    for set in &m.colour_sets {
-        let n = &set.name;
-        all.push((n.clone(), chain(n, &[".wavelengths_nm"]).by_ref()));
-        all.push((
-            std::format!("{n}.weights"),
-            chain(n, &[".weights", ".as_flattened()"]),
-        ));
-        for d in &m.displays {
-            let f = std::format!("folded::{n}_{}", d.name);
-            all.push((
-                std::format!("{f}.weights"),
-                chain(&f, &[".weights", ".as_flattened()"]),
-            ));
-        }
-    }
-    for d in &m.displays {
-        let n = std::format!("displays::{}", d.name);
-        all.push((
-            std::format!("{n}.rgb_to_xyz"),
-            chain(&n, &[".rgb_to_xyz", ".as_flattened()"]),
-        ));
-        all.push((
-            std::format!("{n}.xyz_to_rgb"),
-            chain(&n, &[".xyz_to_rgb", ".as_flattened()"]),
-        ));
-    }
-    all.extend(sensor_tables);
-    let all = all
-        .into_iter()
-        .map(|(name, e)| Expr::Tuple(std::vec![quoted(&name), e]))
-        .collect();
-    item(
-        &mut t.o,
-        0,
-        "Every numeric table above as a slice, by name: for programs that must link them all (see `examples/size_probe.rs`).",
-        "pub static ALL_TABLES: &[(&str, &[f32])] =",
-        &Expr::Array(all).by_ref(),
-    );
-    item(
-        &mut t.o,
-        0,
-        "Bytes of the numeric tables above (f32 values; rule tables count their nodes and weights; upsampling tables two bytes a code): what the scene bakes.",
-        "pub const TABLE_BYTES: usize =",
-        &Expr::atom((4 * t.floats + upsampling_bytes).to_string()),
-    );
 }

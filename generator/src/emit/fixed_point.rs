@@ -8,14 +8,14 @@ use std::string::String;
 use std::vec::Vec;
 
 use super::layout::{self, Expr};
-use super::lists::names_rs;
+use super::lists::{names_rs, Constant};
 use super::model::Model;
 
 pub use super::model::{sample_unit, FULL_SCALE};
 
 /// The Rust source of `pub mod integer`: one `IntegerSet<N>` per folded set, named as in
-/// `folded`; empty when the scene bakes no folded set.
-pub(crate) fn integer_rs(m: &Model) -> String {
+/// `folded`, each registered in `consts`; empty when the scene bakes no folded set.
+pub(crate) fn integer_rs(m: &Model, consts: &mut Vec<Constant>) -> String {
     if m.integer.is_empty() {
         return String::new();
     }
@@ -26,16 +26,7 @@ pub(crate) fn integer_rs(m: &Model) -> String {
         0,
     );
     o.push_str(
-        "pub mod integer {\n    use super::folded;\n    use crate::{FoldedSet, IntegerSet};\n\n",
-    );
-    o.push_str(&layout::comment(
-        4,
-        "///",
-        "A folded set in fixed point, or a compile-time error if it has none.",
-        0,
-    ));
-    o.push_str(
-        "    const fn baked<const N: usize>(set: &FoldedSet<N>, sample_unit: f32) -> IntegerSet<N> {\n        match IntegerSet::new(set, sample_unit) {\n            Ok(set) => set,\n            Err(_) => panic!(\"a baked set has no fixed-point form\"),\n        }\n    }\n\n",
+        "pub mod integer {\n    use super::{checked, folded};\n    use crate::IntegerSet;\n\n",
     );
     let mut items = Vec::new();
     let mut names = Vec::new();
@@ -60,15 +51,22 @@ pub(crate) fn integer_rs(m: &Model) -> String {
                     4,
                     &std::format!("pub const {name}: IntegerSet<{}> =", set.len()),
                     &Expr::Call(
-                        "baked".into(),
-                        std::vec![
-                            Expr::atom(std::format!("folded::{name}")).by_ref(),
-                            Expr::atom(unit_lit),
-                        ],
+                        "checked".into(),
+                        std::vec![Expr::Call(
+                            "IntegerSet::new".into(),
+                            std::vec![
+                                Expr::atom(std::format!("folded::{name}")).by_ref(),
+                                Expr::atom(unit_lit),
+                            ],
+                        )],
                     ),
                 )
                 + "\n",
         );
+        consts.push(Constant::new(
+            std::format!("integer::{name}"),
+            std::format!("crate::IntegerSet<{}>", set.len()),
+        ));
         names.push(name);
     }
     o.push_str(&items.concat());

@@ -164,13 +164,6 @@ pub(crate) struct Rule {
     pub(crate) weights: Vec<f32>,
 }
 
-impl Rule {
-    /// Whether the rule is defined (it then has nodes).
-    pub(crate) fn is_defined(&self) -> bool {
-        self.status == "Defined"
-    }
-}
-
 /// Every channel's rules.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct Rules {

@@ -2,13 +2,16 @@
 //! when a scene asks for it (`[extras] cct = true`, and in the default scene).
 
 use std::string::{String, ToString};
+use std::vec::Vec;
 
 use super::layout::{self, lit, Expr};
+use super::lists::Constant;
 use super::model::Locus;
 
 /// The item `PLANCKIAN_LOCUS` of the model's locus (CIE 015's range, 360-830 nm clipped to the
-/// observer's table, whatever the scene's range), and how many f32 values it holds.
-pub(crate) fn planckian_rs(locus: &Locus) -> (String, usize) {
+/// observer's table, whatever the scene's range), made by `PlanckianLocus::new`, which checks
+/// it; registered in `consts`.
+pub(crate) fn planckian_rs(locus: &Locus, consts: &mut Vec<Constant>) -> String {
     let [lo_nm, hi_nm] = locus.range_nm;
     let nodes = &locus.nodes;
     let pairs = |f: &dyn Fn(usize) -> [f32; 2]| -> Expr {
@@ -36,16 +39,19 @@ pub(crate) fn planckian_rs(locus: &Locus) -> (String, usize) {
         .iter()
         .map(|n| Expr::atom(n.along_q30.to_string()))
         .collect();
-    let value = Expr::Struct(
-        "crate::PlanckianLocus".into(),
-        std::vec![
-            ("mired".into(), Expr::Array(mired)),
-            ("uv".into(), pairs(&|i| nodes[i].uv)),
-            ("tangent".into(), pairs(&|i| nodes[i].tangent)),
-            ("chord".into(), pairs(&|i| nodes[i].chord)),
-            ("unit_tangent_q14".into(), Expr::Array(unit_tangent)),
-            ("along_q30".into(), Expr::Array(along)),
-        ],
+    let value = Expr::Call(
+        "checked".into(),
+        std::vec![Expr::Call(
+            "crate::PlanckianLocus::new".into(),
+            std::vec![
+                Expr::Array(mired),
+                pairs(&|i| nodes[i].uv),
+                pairs(&|i| nodes[i].tangent),
+                pairs(&|i| nodes[i].chord),
+                Expr::Array(unit_tangent),
+                Expr::Array(along),
+            ],
+        )],
     );
     let [first, last] = locus.mired_ends;
     let doc = std::format!(
@@ -63,16 +69,14 @@ pub(crate) fn planckian_rs(locus: &Locus) -> (String, usize) {
         (1e6 / first).round(),
         nodes.len()
     );
+    let ty = std::format!("crate::PlanckianLocus<{}>", nodes.len());
     let mut o = layout::comment(0, "///", &doc, 0);
     o.push_str(&layout::item(
         0,
-        &std::format!(
-            "pub const PLANCKIAN_LOCUS: crate::PlanckianLocus<{}> =",
-            nodes.len()
-        ),
+        &std::format!("pub const PLANCKIAN_LOCUS: {ty} ="),
         &value,
     ));
     o.push('\n');
-    // Seven f32 a node, and two i16 and an i32: the bytes of nine f32.
-    (o, 9 * nodes.len())
+    consts.push(Constant::new("PLANCKIAN_LOCUS", ty));
+    o
 }

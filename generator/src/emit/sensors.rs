@@ -6,15 +6,14 @@ use std::string::String;
 use std::vec::Vec;
 
 use super::layout::{self, f32s, Expr};
+use super::lists::Constant;
 use super::model::Sensor;
 
-/// The module `sensors` for `sensors` (empty text if there are none), the names of its tables
-/// for `ALL_TABLES` (each with its path and the expression of its slice), and how many f32
-/// values it holds.
-#[allow(clippy::type_complexity)]
-pub(crate) fn sensors_rs(sensors: &[Sensor]) -> (String, Vec<(String, Expr)>, usize) {
+/// The module `sensors` for `sensors` (empty text if there are none), each constant registered
+/// in `consts`; a fitted calibration is made by `Calibration::new`, which checks it.
+pub(crate) fn sensors_rs(sensors: &[Sensor], consts: &mut Vec<Constant>) -> String {
     if sensors.is_empty() {
-        return (String::new(), Vec::new(), 0);
+        return String::new();
     }
     let mut o = layout::comment(
         0,
@@ -23,7 +22,6 @@ pub(crate) fn sensors_rs(sensors: &[Sensor]) -> (String, Vec<(String, Expr)>, us
         0,
     );
     o.push_str("pub mod sensors {\n");
-    let (mut all, mut floats) = (Vec::new(), 0);
     for s in sensors {
         let n = s.white.len();
         let doc = std::format!(
@@ -38,11 +36,10 @@ pub(crate) fn sensors_rs(sensors: &[Sensor]) -> (String, Vec<(String, Expr)>, us
             &f32s(&s.white),
         ));
         o.push('\n');
-        all.push((
+        consts.push(Constant::new(
             std::format!("sensors::{name}"),
-            Expr::atom(std::format!("sensors::{name}")).by_ref(),
+            std::format!("[f32; {n}]"),
         ));
-        floats += n;
         if let Some(fit) = &s.calibration {
             let doc = std::format!(
                 "The device's calibration fitted at build time to its readings of known reflectances: `apply` turns its raw readings into the golden {}'s, for the set's weights. Root-mean-square residual of the fit per channel, in the readings' units: {}.",
@@ -55,12 +52,12 @@ pub(crate) fn sensors_rs(sensors: &[Sensor]) -> (String, Vec<(String, Expr)>, us
             );
             o.push_str(&layout::comment(4, "///", &doc, 0));
             let name = std::format!("{}_CALIBRATION", s.name);
-            let value = Expr::Struct(
-                "crate::Calibration".into(),
-                std::vec![
-                    ("dark".into(), f32s(&fit.dark)),
-                    ("gain".into(), f32s(&fit.gain)),
-                ],
+            let value = Expr::Call(
+                "super::checked".into(),
+                std::vec![Expr::Call(
+                    "crate::Calibration::new".into(),
+                    std::vec![f32s(&fit.dark), f32s(&fit.gain)],
+                )],
             );
             o.push_str(&layout::item(
                 4,
@@ -68,13 +65,12 @@ pub(crate) fn sensors_rs(sensors: &[Sensor]) -> (String, Vec<(String, Expr)>, us
                 &value,
             ));
             o.push('\n');
-            for field in ["dark", "gain"] {
-                let path = std::format!("sensors::{name}.{field}");
-                all.push((path.clone(), Expr::atom(path).by_ref()));
-            }
-            floats += 2 * n;
+            consts.push(Constant::new(
+                std::format!("sensors::{name}"),
+                std::format!("crate::Calibration<{n}>"),
+            ));
         }
     }
     o.push_str("}\n\n");
-    (o, all, floats)
+    o
 }

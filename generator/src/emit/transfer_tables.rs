@@ -17,24 +17,21 @@ pub(crate) fn gamma_encoders_rs(encoders: &[GammaEncoder]) -> String {
     let mut o = layout::comment(
         0,
         "///",
-        "The 8-bit encoders of the baked displays' power laws (`TransferFunction::Gamma`), one per distinct γ: thresholds from generator/src/emit/transfer_tables.rs.",
+        "The 8-bit encoders of the baked displays' power laws (`TransferFunction::Gamma`), one per distinct γ: thresholds from generator/src/emit/model.rs, checked by `GammaEncoder8::new`.",
         0,
     );
     let encoders: Vec<Expr> = encoders
         .iter()
         .map(|e| {
-            Expr::Struct(
-                "crate::encode::GammaEncoder8".into(),
+            Expr::Call(
+                "crate::encode::GammaEncoder8::new".into(),
                 std::vec![
-                    ("gamma".into(), Expr::atom(std::format!("{:?}", e.gamma))),
-                    (
-                        "thresholds".into(),
-                        Expr::Array(
-                            e.thresholds
-                                .iter()
-                                .map(|b| Expr::atom(std::format!("{b:#010x}")))
-                                .collect(),
-                        ),
+                    Expr::atom(std::format!("{:?}", e.gamma)),
+                    Expr::Array(
+                        e.thresholds
+                            .iter()
+                            .map(|b| Expr::atom(std::format!("{b:#010x}")))
+                            .collect(),
                     ),
                 ],
             )

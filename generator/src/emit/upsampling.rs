@@ -5,7 +5,7 @@ use std::string::{String, ToString};
 use std::vec::Vec;
 
 use super::layout::{self, lit, Expr};
-use super::lists::names_rs;
+use super::lists::{names_rs, Constant};
 use super::model::{Model, Upsampling};
 
 /// The const name of the upsampling of `set` for `display`: `<SET>_<DISPLAY>`.
@@ -13,14 +13,15 @@ pub(crate) fn const_name(set: &str, display: &str) -> String {
     std::format!("{set}_{display}")
 }
 
-/// The module's source and the bytes of its tables (two per code), or an empty string and 0
-/// when the scene asks for no upsampling.
-pub(crate) fn upsampling_rs(m: &Model) -> (String, usize) {
+/// The module's source, each upsampling registered in `consts` with its table and edge cells
+/// (two bytes a code, four an edge cells' word), or an empty string when the scene asks for no
+/// upsampling. Each is made by `Upsampling::new` and given its measured figures by
+/// `with_measured`, both checked.
+pub(crate) fn upsampling_rs(m: &Model, consts: &mut Vec<Constant>) -> String {
     if m.upsamplings.is_empty() {
-        return (String::new(), 0);
+        return String::new();
     }
     let mut o = String::new();
-    let mut bytes = 0;
     let mut names = Vec::new();
     o.push_str(&layout::comment(
         0,
@@ -28,7 +29,16 @@ pub(crate) fn upsampling_rs(m: &Model) -> (String, usize) {
         "RGB materials: each upsampling maps the display's linear RGB, white-balanced under the set's reference light, to the set's node reflectances in [0, 1] (see `docs/upsampling.md`). Named `<SET>_<DISPLAY>`.",
         0,
     ));
-    o.push_str("pub mod upsampling {\n    use crate::{RoundTrip, Upsampling};\n");
+    o.push_str(
+        "pub mod upsampling {\n    use super::checked;\n    use crate::{RoundTrip, Upsampling};\n\n",
+    );
+    o.push_str(&layout::comment(
+        4,
+        "///",
+        "An upsampling from its checked constructor, given the figures the build measured of it (`[lipschitz, max_round_trip_delta_e00, reachable_share]`), checked too.",
+        0,
+    ));
+    o.push_str("    const fn measured<const N: usize>(\n        made: Result<Upsampling<N>, crate::Error>,\n        figures: [f32; 3],\n    ) -> Upsampling<N> {\n        checked(checked(made).with_measured(figures[0], figures[1], figures[2]))\n    }\n\n");
     for u in &m.upsamplings {
         let n = u.n;
         let rows: Vec<Expr> = u
@@ -36,8 +46,6 @@ pub(crate) fn upsampling_rs(m: &Model) -> (String, usize) {
             .iter()
             .map(|c| Expr::Array(c.iter().map(|v| Expr::atom(v.to_string())).collect()))
             .collect();
-        bytes += 2 * n * rows.len();
-        bytes += 4 * u.edge_cells.len() + 4 * 3 * n + 4 * 9;
         let rows_f32 = |m: &[Vec<f32>]| -> Expr {
             Expr::Array(
                 m.iter()
@@ -69,20 +77,19 @@ pub(crate) fn upsampling_rs(m: &Model) -> (String, usize) {
             "super::folded::{}",
             const_name(&u.set, &u.display)
         ));
-        let [lipschitz, max_round_trip, share] = u.figures;
-        let value = Expr::Struct(
-            "Upsampling".into(),
+        let value = Expr::Call(
+            "measured".into(),
             std::vec![
-                ("set".into(), folded),
-                ("lipschitz".into(), Expr::Atom(lit(lipschitz))),
-                (
-                    "max_round_trip_delta_e00".into(),
-                    Expr::Atom(lit(max_round_trip))
+                Expr::Call(
+                    "Upsampling::new".into(),
+                    std::vec![
+                        folded,
+                        Expr::atom(u.grid.to_string()),
+                        Expr::Array(rows).by_ref(),
+                        round_trip,
+                    ],
                 ),
-                ("reachable_share".into(), Expr::Atom(lit(share))),
-                ("grid".into(), Expr::atom(u.grid.to_string())),
-                ("table".into(), Expr::Array(rows).by_ref()),
-                ("round_trip".into(), round_trip),
+                Expr::Array(u.figures.iter().map(|&x| Expr::Atom(lit(x))).collect()),
             ],
         );
         let doc = std::format!(
@@ -105,6 +112,13 @@ pub(crate) fn upsampling_rs(m: &Model) -> (String, usize) {
             &value,
         ));
         o.push('\n');
+        consts.push(
+            Constant::new(
+                std::format!("upsampling::{name}"),
+                std::format!("crate::Upsampling<{n}>"),
+            )
+            .with_slices(2 * n * u.codes.len() + 4 * u.edge_cells.len()),
+        );
         names.push(name.clone());
         for (lang, ext, decl, where_) in [
             (
@@ -146,7 +160,7 @@ pub(crate) fn upsampling_rs(m: &Model) -> (String, usize) {
     }
     o.push_str(&names_rs("upsampling", "upsampling", &names));
     o.push_str("}\n\n");
-    (o, bytes)
+    o
 }
 
 /// The file in `OUT_DIR` that holds the shader source of the upsampling of `set` for `display`

@@ -226,7 +226,7 @@ fn displays_have_one_description() {
     // Code generation bakes each display's label as its name, once per display.
     let src = crate::tests::tables_rs(d, &[], &resolved).unwrap();
     for (spec, _) in &resolved.displays {
-        let baked = format!("name: {:?},", spec.label);
+        let baked = format!("Display::from_matrices(\n        {:?},", spec.label);
         assert_eq!(src.matches(&baked).count(), 1, "{baked}");
     }
     // The shaders name the same displays.

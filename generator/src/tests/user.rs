@@ -184,7 +184,7 @@ fn a_scene_bakes_its_lights_fixed_wavelengths_and_sensors() {
     assert!(src.contains("pub const CHIP: WavelengthSet<8>"), "{src}");
     // The struct literal laid out as rustfmt would, one field a line.
     let flat: String = src.split_whitespace().collect();
-    assert!(flat.contains("samples:Samples::Readings{sensor:\"CHIP\",light:None,},"));
+    assert!(flat.contains("Samples::Readings{sensor:\"CHIP\",light:None,},"));
     assert!(src.contains("pub const HERO_SRGB: FoldedSet<4>"));
     assert!(src.contains("Samples::Reflectance { light: \"SHOP\" }"));
 }
