@@ -166,8 +166,8 @@ impl<const K: usize> PlanckianLocus<K> {
     /// bits times that tangent (30 fractional bits), both computed from the point and tangent
     /// before their rounding to f32 and rounded to nearest.
     ///
-    /// Checked, never a panic, usable in consts: [`Error::InvalidLocus`] at the first node
-    /// where
+    /// Checked, never a panic, usable in consts:
+    /// [`Error::InvalidLocus`](crate::Error::InvalidLocus) at the first node where
     ///
     /// - the reciprocal temperature is not finite and positive, or not above the one before;
     /// - a coordinate of the point is not in 0 ≤ u, v < 1, or the tangent is not finite or is
