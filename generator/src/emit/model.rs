@@ -12,7 +12,10 @@
 //! calibrations, the integer sets and the power laws' 8-bit encoders. Where a doc quotes a figure
 //! measured in f64 (a map's Lipschitz constant, a display's condition number), the model keeps
 //! that f64 beside the f32 the runtime holds, so that the text is the measurement's, not its
-//! rounding's.
+//! rounding's. Items refer to each other by index (a folded set to its colour set and display,
+//! an integer set to its folded set), never by copying, so that a target names each item one
+//! way. Another target is one more formatter: it reads these lists in their order and writes
+//! each kind, with nothing to compute but its own syntax.
 
 use spectral_quadrature_spectra::Spectra;
 use std::string::{String, ToString};
