@@ -535,9 +535,9 @@ mod tests {
             along =
                 along.max((f64::from(l.along_q30[i]) - 65_536.0 * (u * a + v * b)).abs() / bound);
             if let Some(next) = l.uv.get(i + 1) {
-                for k in 0..2 {
+                for (k, &end) in next.iter().enumerate() {
                     let c = f64::from(l.chord[i][k]);
-                    let d = f64::from(next[k]) - f64::from(l.uv[i][k]);
+                    let d = f64::from(end) - f64::from(l.uv[i][k]);
                     chord = chord.max((c - d).abs() / (CHORD_ROUNDING * (1.0 + c.abs())));
                 }
             }
