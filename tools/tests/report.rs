@@ -301,6 +301,15 @@ fn check_files(
     out: &std::path::Path,
     stderr: &str,
 ) -> std::collections::BTreeMap<String, (Vec<String>, Vec<Vec<String>>)> {
+    check_files_of(out, stderr, &REPORT_CSV)
+}
+
+/// [`check_files`] for a report that writes the CSV files `csv` (sorted), as `--sections` does.
+fn check_files_of(
+    out: &std::path::Path,
+    stderr: &str,
+    csv: &[&str],
+) -> std::collections::BTreeMap<String, (Vec<String>, Vec<Vec<String>>)> {
     let mut listed: Vec<String> = listed_files(stderr)
         .iter()
         .map(|p| {
@@ -327,7 +336,7 @@ fn check_files(
     }
     assert_eq!(
         csvs.keys().map(String::as_str).collect::<Vec<_>>(),
-        REPORT_CSV,
+        csv,
         "the report's CSV files"
     );
     csvs
@@ -431,9 +440,13 @@ fn a_light_in_the_scene_and_in_illuminants_is_measured_once_and_judged_on_all_st
     let dir = Scratch::new("twice");
     let [surfaces, light, scene] = warm_led_inputs(&dir, "\"KQ_WARM_LED_8\"");
     let out = dir.path("out");
+    // Sections 4 and 7 alone (the two that judge the light's sets on the stimuli), as a user
+    // asks for them with --sections: the whole report on these inputs took minutes in debug.
     let (code, _, stderr) = report(
         &[
             "--quick",
+            "--sections",
+            "4,7",
             "--reflectances",
             &surfaces,
             "--illuminants",
@@ -446,7 +459,15 @@ fn a_light_in_the_scene_and_in_illuminants_is_measured_once_and_judged_on_all_st
         &dir.0,
     );
     assert_eq!(code, Some(0), "{stderr}");
-    let csvs = check_files(&out, &stderr);
+    let csvs = check_files_of(
+        &out,
+        &stderr,
+        &[
+            "error_vs_time.csv",
+            "random_vs_fixed.csv",
+            "random_wavelengths.csv",
+        ],
+    );
     let (_, rows) = &csvs["error_vs_time.csv"];
     let warm: Vec<&Vec<String>> = rows.iter().filter(|r| r[0] == "KQ_WARM_LED_8").collect();
     assert_eq!(warm.len(), 1, "{warm:?}");
