@@ -246,10 +246,11 @@ pub(crate) fn local_map(
 /// ([`GroupColours`]): how much a texel's colour under each light of the group (white-balanced
 /// RGB, each channel about a node value's size) counts beside the reflectance's values at the
 /// nodes. At 1000 the colours decide and the node values only settle what the colours leave
-/// free (N − 3L directions, none for four lights at N = 8). Measured by five-fold
-/// cross-validation on the crate's 228 reflectances, groups D65 + A and D65 + A + F11 + LED_B2
-/// at N = 8: from 100 to 100 000 the held-out relit errors agree within 0.001 ΔE00, and 10
-/// does half as well (`docs/upsampling.md`).
+/// free (N − 3L directions, none for four lights at N = 8). With 0 the map is the first light's
+/// alone. Report section 8 measures it by five-fold cross-validation on the crate's 228
+/// reflectances (`docs/upsampling.md`): against 0, 0.2 % (D65 + A) to 0.5 % (D65, A, F11,
+/// LED_B2) lower relit errors under the lights other than the first, at N = 8; from 100 to
+/// 100 000 the same within 0.001 ΔE00.
 pub(crate) const GROUP_COLOUR_WEIGHT: f64 = 1000.0;
 
 /// What a light group's map is fitted for besides the training reflectances' values at the
