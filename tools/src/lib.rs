@@ -1,7 +1,8 @@
 //! What only people at a desk need, on top of `spectral-quadrature-generator`: the analysis behind
 //! the report and the planner. The programs are `report` (error against run time, the crate's
 //! main job), `plan` (a scene for an error budget), `tables` (the derived tables beside the
-//! paper's) and `cornell` (the Cornell box rendered once per spectral method).
+//! paper's), `cornell` (the Cornell box rendered once per spectral method) and `render` (the
+//! box path traced with every method, error against render time).
 //!
 //! - [`budget`]: every method at each wavelength budget (report section 5).
 //! - [`cli`]: the command-line arguments the programs share.
@@ -18,6 +19,7 @@
 //! - [`stability`]: unstable alternatives to the crate's quadrature (section 6b).
 //! - [`sensitivity`]: how rules move with the grid, the range and the observer (section 6c).
 //! - [`random_wavelengths`]: what renderers do instead, random wavelengths per sample (section 7).
+//! - [`render`]: one path tracer for every spectral method, error against render time (`render`).
 //! - [`scene_file`]: the scene file `plan` writes for the set it chose.
 //! - [`upsampling`]: RGB materials under another light, the crate's upsampling beside
 //!   Jakob-Hanika, Mallett-Yuksel and Smits (section 8).
@@ -36,6 +38,7 @@ pub mod light_groups;
 pub mod paper;
 pub mod prefilter;
 pub mod random_wavelengths;
+pub mod render;
 pub mod scene_file;
 pub mod sensitivity;
 pub mod stability;

@@ -9,6 +9,7 @@ mod light_groups;
 mod plan;
 mod prefilter;
 mod random_wavelengths;
+mod render;
 mod report;
 mod reproduction;
 mod sensitivity;
