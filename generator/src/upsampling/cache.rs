@@ -1,6 +1,6 @@
 //! The upsampling cache: the codes of the default scene's baked upsamplings, in a data file, each
 //! with a fingerprint of everything its fit read. A build takes a table from it while the
-//! fingerprint matches and fits only the others, because fitting the default scene's 24 maps
+//! fingerprint matches and fits only the others, because fitting the default scene's 28 maps
 //! takes seconds at Cargo's default build-script opt-level 0 (`docs/build-cost.md` measures
 //! both), as the node cache ([`crate::shared::CACHE_FILE`]) does for the node search.
 
