@@ -540,8 +540,8 @@ fn group_rows(t: &mut Table, g: &GroupMaps, cc: &[usize]) {
     }
 }
 
-/// The table of the default scene's maps (every colour set on every display, as the build bakes
-/// them): the reference light, the share of the grid node values in [0, 1] reach, whether a
+/// The table of the default scene's maps (every set it upsamples and its light group, on every
+/// display, as the build bakes them): the reference light, the share of the grid node values in [0, 1] reach, whether a
 /// linear map bounded and exact at once exists, the Lipschitz constant, the round trip at the
 /// reachable grid points and the table's bytes.
 fn default_scene_maps(d: &Derivation) -> Result<String, Error> {
@@ -550,7 +550,7 @@ fn default_scene_maps(d: &Derivation) -> Result<String, Error> {
     let mut o = String::new();
     writeln!(
         o,
-        "   The default scene's maps ({} of them: its shared sets on every display, as the build bakes them): the reference light, the share of the grid whose colour node values in [0, 1] reach (the others get the nearest reachable colour), whether a linear map bounded and exact at once exists (residual as above), Lipschitz constant, round trip at the reachable grid points (ΔE00), table bytes.",
+        "   The default scene's maps ({} of them: its shared sets, Table 2's rows and its light group on every display, as the build bakes them; a group's map under its first light): the reference light, the share of the grid whose colour node values in [0, 1] reach (the others get the nearest reachable colour), whether a linear map bounded and exact at once exists (residual as above), Lipschitz constant, round trip at the reachable grid points (ΔE00), table bytes.",
         resolved.upsamplings.len()
     )
     .ok();
