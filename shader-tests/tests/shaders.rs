@@ -1089,7 +1089,8 @@ fn up<const N: usize>(
     }
 }
 
-/// The default scene's upsamplings: its shared sets and Table 2's rows on every display.
+/// The default scene's upsamplings: its shared sets, Table 2's rows and its light group on every
+/// display.
 fn upsamplings() -> Vec<Up> {
     use spectral_quadrature::tables::upsampling as u;
     vec![
@@ -1236,6 +1237,30 @@ fn upsamplings() -> Vec<Up> {
             &u::TABLE2_ROW2_MEYER_1987,
             u::TABLE2_ROW2_MEYER_1987_WGSL,
             u::TABLE2_ROW2_MEYER_1987_GLSL,
+        ),
+        up(
+            "D65_A_F11_LED_B2_8_SRGB",
+            &u::D65_A_F11_LED_B2_8_SRGB,
+            u::D65_A_F11_LED_B2_8_SRGB_WGSL,
+            u::D65_A_F11_LED_B2_8_SRGB_GLSL,
+        ),
+        up(
+            "D65_A_F11_LED_B2_8_DISPLAY_P3",
+            &u::D65_A_F11_LED_B2_8_DISPLAY_P3,
+            u::D65_A_F11_LED_B2_8_DISPLAY_P3_WGSL,
+            u::D65_A_F11_LED_B2_8_DISPLAY_P3_GLSL,
+        ),
+        up(
+            "D65_A_F11_LED_B2_8_REC2020",
+            &u::D65_A_F11_LED_B2_8_REC2020,
+            u::D65_A_F11_LED_B2_8_REC2020_WGSL,
+            u::D65_A_F11_LED_B2_8_REC2020_GLSL,
+        ),
+        up(
+            "D65_A_F11_LED_B2_8_MEYER_1987",
+            &u::D65_A_F11_LED_B2_8_MEYER_1987,
+            u::D65_A_F11_LED_B2_8_MEYER_1987_WGSL,
+            u::D65_A_F11_LED_B2_8_MEYER_1987_GLSL,
         ),
     ]
 }

@@ -203,7 +203,7 @@ const REPORT: &str = env!("CARGO_BIN_EXE_report");
 /// run writes them all: the test below parses every CSV it finds, and checks that these are
 /// the ones found, so a file added to the report is parsed at once and one that goes missing
 /// fails here.
-const REPORT_CSV: [&str; 14] = [
+const REPORT_CSV: [&str; 15] = [
     "breakdown.csv",
     "budget.csv",
     "error_vs_time.csv",
@@ -218,6 +218,7 @@ const REPORT_CSV: [&str; 14] = [
     "spiky.csv",
     "table2.csv",
     "upsampling.csv",
+    "upsampling_groups.csv",
 ];
 
 /// A scratch directory for one test (removed when dropped).
@@ -433,6 +434,51 @@ fn warm_led_inputs(dir: &Scratch, scene_sets: &str) -> [String; 3] {
         ),
     );
     [surfaces, light, scene]
+}
+
+/// `--scene` with light groups: section 9 judges the scene's groups (each light against its own
+/// folded set), named in its text and in the first column of light_groups.csv, instead of its
+/// own four lights.
+#[test]
+fn section_9_judges_a_scenes_light_groups() {
+    let dir = Scratch::new("scene-groups");
+    let scene = dir.write(
+        "room.toml",
+        "displays = [\"SRGB\"]\n[groups.ROOM]\nlights = [\"D65\", \"A\"]\nwavelengths = 6\n",
+    );
+    let out = dir.path("out");
+    let (code, stdout, stderr) = report(
+        &[
+            "--quick",
+            "--sections",
+            "9",
+            "--scene",
+            &scene,
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &dir.0,
+    );
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(
+        stdout.contains("The scene's light group ROOM ([groups.ROOM], 6 wavelengths)"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("Lights: D65, A."), "{stdout}");
+    assert!(!stdout.contains("F11"), "{stdout}");
+    let text = std::fs::read_to_string(out.join("light_groups.csv")).unwrap();
+    let (header, rows) = strict_csv("light_groups.csv", &text);
+    assert_eq!(header[0], "group");
+    assert!(!rows.is_empty());
+    assert!(
+        rows.iter().all(|r| r[0] == "ROOM" && r[1] == "6"),
+        "{rows:?}"
+    );
+    for light in ["D65", "A"] {
+        assert!(rows
+            .iter()
+            .any(|r| r[2] == "own folded sets" && r[3] == light));
+    }
 }
 
 #[test]

@@ -319,11 +319,16 @@ pub(crate) struct Measured {
     pub(crate) reachable_share: f64,
 }
 
-/// An RGB upsampling of a folded set.
+/// An RGB upsampling of a folded set, or of a light group's first member.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct Upsampling {
-    /// The set's name.
+    /// The set's name, or the light group's.
     pub(crate) set: String,
+    /// For a light group's map, the index of the group in [`Model::groups`]: its set is the
+    /// group's first member on the display, its texels' colours are under the group's first
+    /// light, and it was fitted for the colour under every light of the group. `None` for a
+    /// colour set's map, whose set is the folded set of the same name.
+    pub(crate) group: Option<usize>,
     /// The display's const name.
     pub(crate) display: String,
     /// The display's human name.
@@ -675,8 +680,20 @@ impl Model {
                         valid: scene.displays.iter().map(|(s, _)| s.name.clone()).collect(),
                     })?;
                 let share = u.reachable_share();
+                let group = match &u.group_lights {
+                    Some(_) => {
+                        Some(groups.iter().position(|g| g.name == u.set).ok_or_else(|| {
+                            Error::Settings(std::format!(
+                                "the upsampling's light group {} is not the scene's",
+                                u.set
+                            ))
+                        })?)
+                    }
+                    None => None,
+                };
                 Ok(Upsampling {
                     set: u.set.clone(),
+                    group,
                     display: u.display.clone(),
                     display_label: spec.label.clone(),
                     light: u.light.clone(),

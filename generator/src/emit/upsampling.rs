@@ -26,7 +26,7 @@ pub(crate) fn upsampling_rs(m: &Model, consts: &mut Vec<Constant>) -> String {
     o.push_str(&layout::comment(
         0,
         "///",
-        "RGB materials: each upsampling maps the display's linear RGB, white-balanced under the set's reference light, to the set's node reflectances in [0, 1] (see `docs/upsampling.md`). Named `<SET>_<DISPLAY>`.",
+        "RGB materials: each upsampling maps the display's linear RGB, white-balanced under the set's reference light, to the set's node reflectances in [0, 1] (see `docs/upsampling.md`). Named `<SET>_<DISPLAY>`; a light group's map `<GROUP>_<DISPLAY>`, its set the group's first member and its reference light the group's first light.",
         0,
     ));
     o.push_str(
@@ -39,6 +39,15 @@ pub(crate) fn upsampling_rs(m: &Model, consts: &mut Vec<Constant>) -> String {
         0,
     ));
     o.push_str("    const fn measured<const N: usize>(\n        made: Result<Upsampling<N>, crate::Error>,\n        figures: [f32; 3],\n    ) -> Upsampling<N> {\n        checked(checked(made).with_measured(figures[0], figures[1], figures[2]))\n    }\n\n");
+    if m.upsamplings.iter().any(|u| u.group.is_some()) {
+        o.push_str(&layout::comment(
+            4,
+            "///",
+            "A light group's first member, the set of the group's map (a group has at least one light: `LightGroupSet::new` refuses none).",
+            0,
+        ));
+        o.push_str("    const fn first_member<const N: usize, const L: usize>(\n        group: &crate::LightGroupSet<N, L>,\n    ) -> crate::FoldedSet<N> {\n        match group.member(0) {\n            Some(set) => set,\n            None => panic!(\"a light group without a light\"),\n        }\n    }\n\n");
+    }
     for u in &m.upsamplings {
         let n = u.n;
         let rows: Vec<Expr> = u
@@ -71,12 +80,24 @@ pub(crate) fn upsampling_rs(m: &Model, consts: &mut Vec<Constant>) -> String {
                 ],
             )],
         );
-        // The folded set of the same name (`folded_rs` bakes every colour set for every
-        // display): the display, the nodes and the reference light are the set's.
-        let folded = Expr::atom(std::format!(
-            "super::folded::{}",
-            const_name(&u.set, &u.display)
-        ));
+        // A set's map holds the folded set of the same name (`folded_rs` bakes every colour set
+        // for every display), a light group's the group's first member on the display (a
+        // group has at least one light, which `LightGroupSet::new` checks): the display, the
+        // nodes and the reference light are that set's.
+        let folded = match u.group {
+            None => Expr::atom(std::format!(
+                "super::folded::{}",
+                const_name(&u.set, &u.display)
+            )),
+            Some(_) => Expr::Call(
+                "first_member".into(),
+                std::vec![Expr::atom(std::format!(
+                    "super::groups::{}",
+                    const_name(&u.set, &u.display)
+                ))
+                .by_ref()],
+            ),
+        };
         let value = Expr::Call(
             "measured".into(),
             std::vec![
@@ -92,9 +113,24 @@ pub(crate) fn upsampling_rs(m: &Model, consts: &mut Vec<Constant>) -> String {
                 Expr::Array(u.figures.iter().map(|&x| Expr::Atom(lit(x))).collect()),
             ],
         );
+        let of = match u.group {
+            None => std::format!("[`{set}`](super::{set})", set = u.set),
+            Some(_) => std::format!(
+                "The light group [`{name}`](super::groups::{name})'s first member, its light {light} (`member(0)`),",
+                name = const_name(&u.set, &u.display),
+                light = u.light,
+            ),
+        };
+        let fitted = match u.group {
+            None => String::new(),
+            Some(g) => std::format!(
+                " A texel's colour is its material's under {light}, the group's first light (the first of its `lights`), and the round trip holds through that member; the map is fitted for the colour under every light of the group ({lights}), each through its member.",
+                light = u.light,
+                lights = m.groups[g].lights.join(", "),
+            ),
+        };
         let doc = std::format!(
-            "[`{set}`](super::{set}) for [`{disp}`](super::displays::{disp}): linear {label} RGB white-balanced under {light} → {n} node reflectances, a {g}×{g}×{g} grid ({bytes} bytes); {share:.1} % of the grid reachable; Lipschitz {lip:.3}; round trip within {rt:.4} ΔE00 at the reachable grid points.",
-            set = u.set,
+            "{of} for [`{disp}`](super::displays::{disp}): linear {label} RGB white-balanced under {light} → {n} node reflectances, a {g}×{g}×{g} grid ({bytes} bytes); {share:.1} % of the grid reachable; Lipschitz {lip:.3}; round trip within {rt:.4} ΔE00 at the reachable grid points.{fitted}",
             disp = u.display,
             label = u.display_label,
             light = u.light,

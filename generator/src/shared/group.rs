@@ -148,8 +148,8 @@ pub struct Member {
 
 impl Member {
     /// The member as the runtime bakes it: AC1C2 rows (Eq. 9 applied to the folded XYZ
-    /// weights), named `name`, on the group's nodes.
-    pub(crate) fn wavelength_set(
+    /// weights), named `name`, on the group's nodes (`wavelengths_nm`), its light folded in.
+    pub fn wavelength_set(
         &self,
         d: &crate::derivation::derive::Derivation,
         name: &str,

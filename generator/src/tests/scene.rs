@@ -337,3 +337,33 @@ fn a_group_fitted_for_bounced_light_is_searched_and_baked_as_such() {
         .replace("\n    /// ", " ")
         .contains("on the crate's reflectances and their bounce forms"));
 }
+
+/// A light group's map in the generated Rust: `Upsampling::new` on the group's first member
+/// (through the checked `first_member`, emitted only where a group has a map), and a doc that
+/// names the light its texels are under and every light it was fitted for.
+#[test]
+fn a_light_groups_map_is_made_from_its_first_member() {
+    let source = generate(
+        "room.toml",
+        "displays = [\"SRGB\"]\n[groups.ROOM]\nlights = [\"D65\", \"A\"]\nwavelengths = 8\n[upsampling]\nsets = [\"ROOM\"]\ngrid = 3\n",
+    )
+    .unwrap();
+    assert!(
+        source.contains("pub const ROOM_SRGB: Upsampling<8> = measured(\n        Upsampling::new(\n            first_member(&super::groups::ROOM_SRGB),"),
+        "{source}"
+    );
+    assert_eq!(source.matches("const fn first_member").count(), 1);
+    // The doc, its lines joined.
+    let doc = source.replace("\n    /// ", " ");
+    assert!(doc.contains("[`ROOM_SRGB`](super::groups::ROOM_SRGB)'s first member, its light D65"));
+    assert!(doc.contains("under every light of the group (D65, A)"));
+    assert!(!source.contains("super::folded::ROOM"));
+    // A scene whose maps are all sets' has no `first_member`.
+    let sets_only = generate(
+        "sets.toml",
+        "sets = [\"KQ_C_4\"]\ndisplays = [\"SRGB\"]\n[upsampling]\ngrid = 3\n",
+    )
+    .unwrap();
+    assert!(!sets_only.contains("first_member"));
+    assert!(sets_only.contains("Upsampling::new(\n            super::folded::KQ_C_4_SRGB,"));
+}

@@ -143,6 +143,194 @@ fn scene_upsampling_table() {
     );
 }
 
+/// `[upsampling]` may name a light group: its map takes RGB under the group's first light,
+/// round-trips through that light's member, gives 1 at every node for white and a flat spectrum
+/// for greys, and is baked by default with the scene's sets. A name that is neither a set nor a
+/// group is an error that lists both.
+#[test]
+fn a_light_group_is_upsampled_under_its_first_light() {
+    let data = std::path::Path::new(DATA_DIR);
+    let d = derive(&Settings::new(DATA_DIR)).unwrap();
+    let parse = |text: &str| crate::scene::Scene::parse("s.toml", text, data).unwrap();
+    let group = "[groups.ROOM]\nlights = [\"D65\", \"A\"]\nwavelengths = 8\n";
+    let s = parse(&format!(
+        "displays = [\"SRGB\"]\n{group}[upsampling]\nsets = [\"ROOM\"]\ngrid = 5\n"
+    ));
+    let r = s.resolve(&d).unwrap();
+    let [u] = &r.upsamplings[..] else {
+        panic!("one map: {:?}", r.upsamplings.len())
+    };
+    let (_, g) = &r.groups[0];
+    assert_eq!(
+        (u.set.as_str(), u.display.as_str(), u.light.as_str()),
+        ("ROOM", "SRGB", "D65")
+    );
+    assert_eq!(
+        u.group_lights.as_deref(),
+        Some(&["D65".to_string(), "A".to_string()][..])
+    );
+    assert_eq!(u.wavelengths_nm, g.wavelengths_nm);
+    // The encoding is the D65 member's folded weights, each row scaled to sum to 1.
+    let (_, m) = d.display("SRGB").unwrap();
+    let member = g.members[0].wavelength_set(&d, "ROOM", &g.wavelengths_nm);
+    let folded = d.folded(&member, m);
+    for (c, row) in folded.iter().enumerate() {
+        let sum: f64 = row.iter().sum();
+        for (w, f) in u.encoding[c].iter().zip(row) {
+            assert!(
+                (w - f / sum).abs() <= 1e-15,
+                "channel {c}: {w} against {}",
+                f / sum
+            );
+        }
+    }
+    // White is 1 at every node, greys flat at their value.
+    let grid = u.grid;
+    for i in 0..grid {
+        let g = (i * grid + i) * grid + i;
+        let v = (i as f64 / (grid - 1) as f64 * up::CODE_ONE).round() as u16;
+        assert!(
+            u.codes[g].iter().all(|&c| c == v),
+            "grey {i}: {:?}",
+            u.codes[g]
+        );
+    }
+    assert!(u.codes.last().unwrap().iter().all(|&c| c == u16::MAX));
+    // Every reachable grid point round-trips through the D65 member within the 16-bit codes'
+    // rounding (half a code, 7.6e-6 in a node value, moves a colour by well under 0.01 ΔE00).
+    assert!(u.reachable_share() > 0.9, "{}", u.reachable_share());
+    assert!(u.max_round_trip_de00 <= 0.01, "{}", u.max_round_trip_de00);
+    for idx in 0..grid * grid * grid {
+        let p = up::grid_point(grid, idx);
+        let decoded: Vec<f64> = u.codes[idx]
+            .iter()
+            .map(|&q| f64::from(q) / up::CODE_ONE)
+            .collect();
+        assert!(decoded.iter().all(|v| (0.0..=1.0).contains(v)));
+        if u.reachable[idx] {
+            let back = up::encode(&u.encoding, &decoded);
+            let de = spectral_quadrature_math::delta_e2000(
+                up::lab_of_rgb(m, p),
+                up::lab_of_rgb(m, back),
+            );
+            assert!(de <= u.max_round_trip_de00, "{p:?}: {de}");
+        }
+    }
+    // Without `sets`, every colour set and then every light group.
+    let s = parse(&format!(
+        "sets = [\"KQ_4\"]\ndisplays = [\"SRGB\"]\n{group}[upsampling]\ngrid = 3\n"
+    ));
+    let names: Vec<(String, String)> = s
+        .resolve(&d)
+        .unwrap()
+        .upsamplings
+        .iter()
+        .map(|u| (u.set.clone(), u.light.clone()))
+        .collect();
+    assert_eq!(
+        names,
+        [("KQ_4".into(), "D65".into()), ("ROOM".into(), "D65".into())]
+    );
+    // A name that is neither: the sets and the groups it could have been.
+    let s = parse(&format!(
+        "sets = [\"KQ_C_4\"]\ndisplays = [\"SRGB\"]\n{group}[upsampling]\nsets = [\"ROOMS\"]\n"
+    ));
+    let e = s.resolve(&d).unwrap_err().to_string();
+    assert!(
+        e.contains("s.toml:7")
+            && e.contains("names ROOMS")
+            && e.contains("colour sets that sample wavelengths (KQ_C_4)")
+            && e.contains("its light groups (ROOM)"),
+        "{e}"
+    );
+    let s = parse("displays = [\"SRGB\"]\n[fixed.BINS]\nwavelengths_nm = [450, 550, 650]\nlight = \"C\"\n[upsampling]\nsets = [\"ROOM\"]\n");
+    let e = s.resolve(&d).unwrap_err().to_string();
+    assert!(
+        e.contains("(BINS)") && e.contains("the scene has no [groups.*]"),
+        "{e}"
+    );
+}
+
+/// The least squares of a light group's map ([`up::GroupColours`]) against its definition: the
+/// map's rows sum to 1, and the objective, written out pair by pair, does not decrease along any
+/// direction that keeps them so (finite differences of a quadratic: exact up to rounding).
+#[test]
+fn a_light_groups_map_minimises_its_objective() {
+    let mut r = lcg(11);
+    let (n, lights, pairs) = (5, 2, 40);
+    let encodings: Vec<[Vec<f64>; 3]> = (0..lights)
+        .map(|_| [0, 1, 2].map(|_| (0..n).map(|_| r()).collect()))
+        .collect();
+    let colours: Vec<Vec<[f64; 3]>> = (0..lights)
+        .map(|_| (0..pairs).map(|_| [r(), r(), r()]).collect())
+        .collect();
+    let rgb: Vec<[f64; 3]> = (0..pairs).map(|_| [r(), r(), r()]).collect();
+    let nodes: Vec<Vec<f64>> = (0..pairs).map(|_| (0..n).map(|_| r()).collect()).collect();
+    let weights: Vec<f64> = (0..pairs).map(|_| r()).collect();
+    let global: Vec<[f64; 3]> = (0..n).map(|_| [r(), r(), r()]).collect();
+    let prior = 0.3;
+    let fit = up::GroupColours::new(&encodings, &colours).unwrap();
+    let beta = up::GROUP_COLOUR_WEIGHT;
+    for with_prior in [false, true] {
+        let g = with_prior.then_some((&global[..], prior));
+        let m = fit.map(&|k| weights[k], &rgb, &nodes, g).unwrap();
+        // The objective, from its definition.
+        let total: f64 = weights.iter().sum();
+        let objective = |m: &[[f64; 3]]| {
+            let apply = |x: [f64; 3]| -> Vec<f64> {
+                m.iter()
+                    .map(|row| row[0] * x[0] + row[1] * x[1] + row[2] * x[2])
+                    .collect()
+            };
+            let mut f = 0.0;
+            for k in 0..pairs {
+                let v = apply(rgb[k]);
+                let mut e: f64 = v.iter().zip(&nodes[k]).map(|(a, b)| (a - b).powi(2)).sum();
+                for (w, c) in encodings.iter().zip(&colours) {
+                    let back = up::encode(w, &v);
+                    e += beta * (0..3).map(|ch| (back[ch] - c[k][ch]).powi(2)).sum::<f64>();
+                }
+                f += weights[k] * e;
+            }
+            if with_prior {
+                // α tr(Dᵀ Q D), Q = I + β Σ_l W_lᵀ W_l.
+                let alpha = prior * total;
+                for col in 0..3 {
+                    let dcol: Vec<f64> = (0..n).map(|i| m[i][col] - global[i][col]).collect();
+                    let mut q = dcol.iter().map(|v| v * v).sum::<f64>();
+                    for w in &encodings {
+                        let back = up::encode(w, &dcol);
+                        q += beta * back.iter().map(|v| v * v).sum::<f64>();
+                    }
+                    f += alpha * q;
+                }
+            }
+            f
+        };
+        for row in &m {
+            assert!((row.iter().sum::<f64>() - 1.0).abs() < 1e-12, "{row:?}");
+        }
+        let base = objective(&m);
+        let h = 1e-4;
+        for i in 0..n {
+            for (a, b) in [(0, 1), (1, 2), (0, 2)] {
+                // Along e_i (u_a − u_b): the row still sums to 1.
+                let moved = |t: f64| {
+                    let mut p = m.clone();
+                    p[i][a] += t;
+                    p[i][b] -= t;
+                    objective(&p)
+                };
+                let slope = (moved(h) - moved(-h)) / (2.0 * h);
+                assert!(
+                    slope.abs() <= 1e-7 * base.max(1.0),
+                    "prior {with_prior}, row {i}, ({a}, {b}): slope {slope} at {base}"
+                );
+            }
+        }
+    }
+}
+
 /// What the docs state for the radiance sets at sRGB under D65: the share of a 9³ grid that
 /// node values in [0, 1] reach, and on a 17³ table the round trip within 0.05 ΔE00 at every
 /// reachable point of the 17³ grid. (Whether a bounded exact linear map exists is the report's

@@ -1,6 +1,6 @@
 //! The upsampling cache: the codes of the default scene's baked upsamplings, in a data file, each
 //! with a fingerprint of everything its fit read. A build takes a table from it while the
-//! fingerprint matches and fits only the others, because fitting the default scene's 24 maps
+//! fingerprint matches and fits only the others, because fitting the default scene's 28 maps
 //! takes seconds at Cargo's default build-script opt-level 0 (`docs/build-cost.md` measures
 //! both), as the node cache ([`crate::shared::CACHE_FILE`]) does for the node search.
 
@@ -8,8 +8,8 @@ use std::string::String;
 use std::vec::Vec;
 
 use super::bake::{
-    Baked, CODE_ONE, GRID_SIZES, LOCAL_BANDWIDTH, LOCAL_PRIOR, RADIANCE_REFERENCE_LIGHT,
-    REACHABLE_DELTA_E00,
+    group_encodings, Baked, CODE_ONE, GRID_SIZES, GROUP_COLOUR_WEIGHT, LOCAL_BANDWIDTH,
+    LOCAL_PRIOR, RADIANCE_REFERENCE_LIGHT, REACHABLE_DELTA_E00,
 };
 use super::qp;
 use super::training::TRAINING_FILES;
@@ -78,10 +78,38 @@ impl CacheEntry {
     /// itself ([`Baked::fit`] is `None`).
     pub(crate) fn baked(&self, set: &WavelengthSet, light: &str, encoding: [Vec<f64>; 3]) -> Baked {
         Baked {
-            set: self.set.clone(),
-            display: self.display.clone(),
             light: light.into(),
             wavelengths_nm: set.wavelengths_nm.clone(),
+            ..self.baked_with(encoding)
+        }
+    }
+
+    /// The map of a light group for the display `m` that this entry caches: `members` the
+    /// group's members as sets ([`super::bake_group`]), `lights` the curves of their lights.
+    /// Under the first light, with member 0's encoding ([`group_encodings`]).
+    pub(crate) fn baked_group(
+        &self,
+        d: &Derivation,
+        members: &[WavelengthSet],
+        m: &DisplayMatrices,
+        lights: &[Curve],
+    ) -> Result<Baked, Error> {
+        let encoding = group_encodings(d, members, m)?.swap_remove(0);
+        Ok(Baked {
+            light: lights.first().map_or(String::new(), |l| l.name.clone()),
+            wavelengths_nm: members[0].wavelengths_nm.clone(),
+            group_lights: Some(lights.iter().map(|l| l.name.clone()).collect()),
+            ..self.baked_with(encoding)
+        })
+    }
+
+    /// The parts of [`CacheEntry::baked`] and [`CacheEntry::baked_group`] that the entry holds.
+    fn baked_with(&self, encoding: [Vec<f64>; 3]) -> Baked {
+        Baked {
+            set: self.set.clone(),
+            display: self.display.clone(),
+            light: String::new(),
+            wavelengths_nm: Vec::new(),
             grid: self.grid,
             encoding,
             fit: None,
@@ -89,6 +117,7 @@ impl CacheEntry {
             codes: self.codes.clone(),
             max_round_trip_de00: self.max_round_trip_de00,
             lipschitz: self.lipschitz,
+            group_lights: None,
         }
     }
 }
@@ -148,6 +177,37 @@ impl FitInputs {
             light.values,
         );
         sha256_hex(text.as_bytes())
+    }
+
+    /// [`FitInputs::fingerprint`] for the map of the light group called `name` on `display`
+    /// ([`super::bake_group`]: `members` its members as sets, `lights` the curves of their
+    /// lights): [`FitInputs::new`]'s inputs, the group's name and nodes, every member's encoding
+    /// ([`group_encodings`]) and light's samples, the display's matrices,
+    /// [`GROUP_COLOUR_WEIGHT`] and the grid.
+    pub(crate) fn group_fingerprint(
+        &self,
+        d: &Derivation,
+        name: &str,
+        members: &[WavelengthSet],
+        display: (&str, &DisplayMatrices),
+        lights: &[Curve],
+        grid: usize,
+    ) -> Result<String, Error> {
+        let (display_name, m) = display;
+        let encodings = group_encodings(d, members, m)?;
+        let mut text = std::format!(
+            "{}light group {name} colour weight {GROUP_COLOUR_WEIGHT:?} nodes {:?}\ndisplay {display_name} {:?} {:?}\ngrid {grid}\n",
+            self.common, members[0].wavelengths_nm, m.rgb_to_xyz, m.xyz_to_rgb,
+        );
+        for (w, l) in encodings.iter().zip(lights) {
+            text += &std::format!(
+                "light {} {:?} {:?}\nencoding {w:?}\n",
+                l.name,
+                l.wavelengths,
+                l.values
+            );
+        }
+        Ok(sha256_hex(text.as_bytes()))
     }
 }
 

@@ -20,6 +20,12 @@
 //!    `rgb`, to those that reach the nearest colour in CIELAB (linearised at `rgb`), and among
 //!    them the nearest to `M · rgb`. A small quadratic programme ([`nearest_in_box`]).
 //!
+//! **A light group's map** ([`bake_group`]) takes RGB under the group's first light and is
+//! checked for the round trip through that light's member; its least-squares map (step 2) is
+//! fitted on the training reflectances' colours under every light of the group, as each light's
+//! member encodes them, beside their node values (`GROUP_COLOUR_WEIGHT`), so that a texel's node
+//! values are meant for every light that may fall on it.
+//!
 //! The runtime interpolates the grid tetrahedrally: a convex combination of four grid points
 //! (so bounded), exact on the grey diagonal (an edge of every tetrahedron), and reproducing
 //! anything linear in RGB, so that the encoding of the interpolated values is the interpolated
@@ -39,7 +45,7 @@ mod cache;
 pub(crate) mod qp;
 mod training;
 
-pub use bake::{bake, encode, exact_rgb, grid_point, project, Baked, DEFAULT_GRID};
+pub use bake::{bake, bake_group, encode, exact_rgb, grid_point, project, Baked, DEFAULT_GRID};
 pub(crate) use bake::{bake_with, encoding, GRID_SIZES, RADIANCE_REFERENCE_LIGHT};
 pub(crate) use cache::{read_cache, write_cache, CacheEntry, FitInputs, CACHE_FILE};
 pub use qp::{nearest_in_box, Solution};
@@ -47,7 +53,7 @@ pub use training::training;
 pub(crate) use training::TRAINING_FILES;
 // The paths the unit tests (src/tests/) name.
 #[cfg(test)]
-pub(crate) use bake::{lab_of_rgb, CODE_ONE};
+pub(crate) use bake::{lab_of_rgb, GroupColours, CODE_ONE, GROUP_COLOUR_WEIGHT};
 #[cfg(test)]
 pub(crate) use cache::parse_cache;
 #[cfg(test)]

@@ -15,7 +15,11 @@
 //! - [`smooth`]: Mallett and Yuksel (2019), three basis spectra, and Smits (1999), seven
 //!   piecewise-constant spectra, each derived here by its paper's recipe (the smoothest spectra
 //!   in [0, 1] with the given colours).
+//!
+//! [`groups`] judges a light group's map the same way, through each light's member of the
+//! group: texels under the group's first light, relit under every light of the group.
 
+pub mod groups;
 pub mod jakob_hanika;
 pub mod smooth;
 

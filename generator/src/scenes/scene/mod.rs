@@ -45,7 +45,8 @@
 //! training = "reflectances"        # optional: or "bounces" (ρ, ρ², ρ³ and two enclosures)
 //!
 //! [upsampling]                     # optional: RGB → node reflectances (crate::upsampling)
-//! sets = ["KQ_C_8"]                # default: every colour set (sensor sets excepted)
+//! sets = ["KQ_C_8", "STUDIO"]      # sets and light groups (RGB under a group's first light);
+//!                                  # default: every colour set (sensor sets excepted) and group
 //! displays = ["SRGB"]              # default: every display of the scene
 //! grid = 9                         # points per axis, 2..=65
 //! ```

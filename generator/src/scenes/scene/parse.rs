@@ -33,15 +33,16 @@ pub(crate) const DEFAULT_SHARED_SETS: [&str; 4] = ["KQ_C_4", "KQ_C_6", "KQ_C_8",
 pub(crate) const DEFAULT_GROUPS: [(&str, &[&str], usize); 1] =
     [("D65_A_F11_LED_B2_8", &["D65", "A", "F11", "LED_B2"], 8)];
 
-/// The colour sets the default scene upsamples, on every display it bakes: the shared sets and
-/// Table 2's rows.
-const DEFAULT_UPSAMPLED_SETS: [&str; 6] = [
+/// The colour sets and light groups the default scene upsamples, on every display it bakes: the
+/// shared sets, Table 2's rows and its light group (texels under its first light, D65).
+const DEFAULT_UPSAMPLED_SETS: [&str; 7] = [
     "KQ_C_4",
     "KQ_C_6",
     "KQ_C_8",
     "KQ_F11_6",
     "TABLE2_ROW1",
     "TABLE2_ROW2",
+    DEFAULT_GROUPS[0].0,
 ];
 
 #[derive(Deserialize)]

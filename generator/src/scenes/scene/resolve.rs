@@ -99,6 +99,7 @@ impl Resolved {
             d,
             &self.upsamplings,
             &self.colour_sets,
+            &self.groups,
             &self.displays,
             &[],
         )
@@ -143,7 +144,8 @@ impl Scene {
             for name in DEFAULT_SHARED_SETS {
                 colour_sets.push(catalog::resolve(d, name).map_err(err(0))?);
             }
-            let upsamplings = self.upsamplings(d, &colour_sets, &displays, &[], cached)?;
+            let groups = self.default_groups(d).map_err(err(0))?;
+            let upsamplings = self.upsamplings(d, &colour_sets, &groups, &displays, &[], cached)?;
             return Resolved {
                 file: self.file.clone(),
                 colour_sets,
@@ -155,7 +157,7 @@ impl Scene {
                 warnings: Vec::new(),
                 sensors: Vec::new(),
                 white_samples: Vec::new(),
-                groups: self.default_groups(d).map_err(err(0))?,
+                groups,
                 lights: Vec::new(),
             }
             .with_lights(d, &[])
@@ -201,9 +203,9 @@ impl Scene {
             }
             colour_sets.push(set.wavelength_set(d));
         }
-        let upsamplings = self.upsamplings(d, &colour_sets, &displays, &user.0, cached)?;
-        let sensors = self.resolve_sensors(d, &user.0)?;
         let groups = self.resolve_groups(d, &user.0)?;
+        let upsamplings = self.upsamplings(d, &colour_sets, &groups, &displays, &user.0, cached)?;
+        let sensors = self.resolve_sensors(d, &user.0)?;
         Resolved {
             file: self.file.clone(),
             colour_sets,
@@ -282,12 +284,13 @@ impl Scene {
         &self,
         d: &Derivation,
         sets: &[WavelengthSet],
+        groups: &[(String, Group)],
         displays: &[(DisplaySpec, DisplayMatrices)],
         lights: &[UserLight],
         cached: bool,
     ) -> Result<Vec<Baked>, Error> {
         match &self.upsampling {
-            Some(u) => u.resolve(&self.file, d, sets, displays, lights, cached),
+            Some(u) => u.resolve(&self.file, d, sets, groups, displays, lights, cached),
             None => Ok(Vec::new()),
         }
     }

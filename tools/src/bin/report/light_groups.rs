@@ -8,7 +8,9 @@
 //! `--reflectances`, the user's file, or a seeded sample of `--sample` of them (each fold refits
 //! on the others, so the time grows with their number): the text then says so and gives the
 //! standard error the sample adds. The lights are D65, A, F11 and LED_B2 unless
-//! `--illuminants` names others (two or more).
+//! `--illuminants` names others (two or more); with `--scene`, the scene's own light groups
+//! (`[groups.*]`) are judged instead, each at its own size, each light against that light's own
+//! folded set.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -21,6 +23,7 @@ use tools::csv_table::Table;
 
 use crate::inputs::Reflectances;
 use crate::progress::Meter;
+use crate::user::SceneGroup;
 use tools::light_groups::{self, Comparison, GROUP_MEAN, GROUP_WORST, OWN, RADIANCE};
 use tools::Error;
 
@@ -39,6 +42,19 @@ pub struct Inputs<'a> {
     pub lights: Option<&'a [Curve]>,
     /// The set sizes.
     pub sizes: &'a [usize],
+    /// The scene's light groups (`--scene`), judged instead of the lights above when there
+    /// are any.
+    pub scene_groups: &'a [SceneGroup],
+}
+
+/// One group of lights the section judges, and how it names it.
+struct Judged {
+    /// The scene's group name, or `None` for the section's own lights.
+    name: Option<String>,
+    lights: Vec<Curve>,
+    sizes: Vec<usize>,
+    /// Whether the scene fits the group on bounce forms (judged here on reflectances).
+    bounces: bool,
 }
 
 /// Runs section 9: its text and the files it wrote.
@@ -46,31 +62,61 @@ pub fn section(inputs: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Er
     let d = inputs.d;
     let range = d.settings.range_nm;
     let dir = &d.settings.data_dir;
-    let lights: Vec<Curve> = match inputs.lights {
-        Some(l) if l.len() >= 2 => l.to_vec(),
-        _ => light_groups::LIGHTS
+    let groups: Vec<Judged> = if inputs.scene_groups.is_empty() {
+        let lights: Vec<Curve> = match inputs.lights {
+            Some(l) if l.len() >= 2 => l.to_vec(),
+            _ => light_groups::LIGHTS
+                .iter()
+                .map(|n| builtin_illuminant(dir, n, range))
+                .collect::<Result<_, _>>()?,
+        };
+        vec![Judged {
+            name: None,
+            lights,
+            sizes: inputs.sizes.to_vec(),
+            bounces: false,
+        }]
+    } else {
+        inputs
+            .scene_groups
             .iter()
-            .map(|n| builtin_illuminant(dir, n, range))
-            .collect::<Result<_, _>>()?,
+            .map(|g| Judged {
+                name: Some(g.name.clone()),
+                lights: g.lights.clone(),
+                sizes: vec![g.n],
+                bounces: g.bounces,
+            })
+            .collect()
     };
     let training = Spectra::builtin(dir, TRAINING_FILE)?.curves(range)?;
     let judged = inputs.judged;
     let meter = Meter::new(
         "cross-validating",
-        light_groups::FOLDS * inputs.sizes.len(),
+        light_groups::FOLDS * groups.iter().map(|g| g.sizes.len()).sum::<usize>(),
         "folds",
     );
-    let comparisons = light_groups::compare(
-        d,
-        &lights,
-        &training,
-        &judged.curves,
-        inputs.sizes,
-        &meter.counter(),
-    )?;
     let mut o = String::new();
-    print(&mut o, &comparisons, judged);
-    let file = csv(&comparisons).write(out, "light_groups.csv")?;
+    let mut table = Table::new(CSV_HEADER);
+    for (k, g) in groups.iter().enumerate() {
+        let comparisons = light_groups::compare(
+            d,
+            &g.lights,
+            &training,
+            &judged.curves,
+            &g.sizes,
+            &meter.counter(),
+        )?;
+        print(&mut o, &comparisons, judged, g, k == 0);
+        let label = g.name.clone().unwrap_or_else(|| {
+            g.lights
+                .iter()
+                .map(|l| l.name.as_str())
+                .collect::<Vec<_>>()
+                .join("+")
+        });
+        csv(&mut table, &label, &comparisons);
+    }
+    let file = table.write(out, "light_groups.csv")?;
     Ok((o, std::vec![file]))
 }
 
@@ -78,17 +124,37 @@ fn mean(v: &[f64]) -> f64 {
     v.iter().sum::<f64>() / v.len() as f64
 }
 
-fn print(o: &mut String, comparisons: &[Comparison], judged: &Reflectances) {
+fn print(
+    o: &mut String,
+    comparisons: &[Comparison],
+    judged: &Reflectances,
+    group: &Judged,
+    heading: bool,
+) {
     let Some(first) = comparisons.first() else {
         return;
     };
     let lights = first.lights.join(", ");
-    let _ = writeln!(
-        o,
-        "9. Several lights in one scene: light groups ({} reflectances from {}, five-fold cross-validation: each fold judged by fits on the other four and the CIE test colours)\n",
-        first.judged, judged.from
-    );
-    if judged.sampled() {
+    if heading {
+        let _ = writeln!(
+            o,
+            "9. Several lights in one scene: light groups ({} reflectances from {}, five-fold cross-validation: each fold judged by fits on the other four and the CIE test colours)\n",
+            first.judged, judged.from
+        );
+    }
+    if let Some(name) = &group.name {
+        let _ = writeln!(
+            o,
+            "The scene's light group {name} ([groups.{name}], {} wavelengths){}.\n",
+            first.n,
+            if group.bounces {
+                ": the scene fits it on bounce forms too (training = \"bounces\"); judged here as every group is, fitted on reflectances as they are (section 10 measures bounced light)"
+            } else {
+                ""
+            }
+        );
+    }
+    if heading && judged.sampled() {
         // The largest standard error over every mean of the tables, and relative to its mean.
         let (worst, relative) = comparisons
             .iter()
@@ -155,15 +221,23 @@ fn print(o: &mut String, comparisons: &[Comparison], judged: &Reflectances) {
             .sum()
     };
     let (by_mean, by_worst) = (total(GROUP_MEAN), total(GROUP_WORST));
+    let over = if comparisons.len() > 1 {
+        "Summed over the sizes".to_string()
+    } else {
+        format!("At N = {}", first.n)
+    };
     let _ = writeln!(
         o,
-        "Summed over the sizes, the group searched for the mean ratio has a mean error of {by_mean:.3} and the one searched for the worst ratio {by_worst:.3}: `{}` generalises better on these reflectances (scenes default to `mean`).",
+        "{over}, the group searched for the mean ratio has a mean error of {by_mean:.3} and the one searched for the worst ratio {by_worst:.3}: `{}` generalises better on these reflectances (scenes default to `mean`).\n",
         if by_mean <= by_worst { "mean" } else { "worst" }
     );
 }
 
-fn csv(comparisons: &[Comparison]) -> Table {
-    let mut t = Table::new("n,method,light,mean_de00,p95_de00,ratio_to_own,nodes_nm_fold1");
+/// The header of `light_groups.csv`.
+const CSV_HEADER: &str = "group,n,method,light,mean_de00,p95_de00,ratio_to_own,nodes_nm_fold1";
+
+/// The rows of `light_groups.csv` for the group called `group`.
+fn csv(t: &mut Table, group: &str, comparisons: &[Comparison]) {
     for c in comparisons {
         let own = c.method(OWN).map_or(Vec::new(), |m| m.mean_de00.clone());
         for m in &c.methods {
@@ -172,6 +246,7 @@ fn csv(comparisons: &[Comparison]) -> Table {
             });
             for (l, light) in c.lights.iter().enumerate() {
                 t.row([
+                    group.to_string(),
                     c.n.to_string(),
                     m.name.clone(),
                     light.clone(),
@@ -183,5 +258,4 @@ fn csv(comparisons: &[Comparison]) -> Table {
             }
         }
     }
-    t
 }

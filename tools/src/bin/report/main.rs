@@ -20,8 +20,9 @@
 //! Section 7 measures random wavelengths per sample (pbrt-v4's sampler, hero, uniform) against
 //! the fixed sets; `--trials` and `--seed` set its trials (see `docs/random-wavelengths.md`).
 //! Section 8 relights RGB materials upsampled to a set's nodes: the crate's map beside
-//! Jakob-Hanika, Mallett-Yuksel and Smits (see `docs/upsampling.md`). Section 9 judges light
-//! groups, one node set shared by several lights (see `docs/light-groups.md`). Section 10 judges
+//! Jakob-Hanika, Mallett-Yuksel and Smits, and a light group's map relit through each light's
+//! member (see `docs/upsampling.md`). Section 9 judges light groups, one node set shared by
+//! several lights, a `--scene`'s own `[groups.*]` where it has any (see `docs/light-groups.md`). Section 10 judges
 //! the sets on light that bounces off several surfaces (see `docs/interreflection.md`). Sections
 //! 7, 9 and 10 run seeded trials of every stimulus or refit on the reflectances they judge,
 //! which costs time in proportion to their number: a file of more than `--sample` (256) is
@@ -70,7 +71,8 @@ struct Args {
     #[command(flatten)]
     spectra: tools::cli::SpectraArgs,
     /// A scene file whose sets join section 4 (catalogue names, its lights' shared sets, fixed
-    /// wavelengths and sensors). Paths in it are relative to it.
+    /// wavelengths and sensors), and whose light groups (`[groups.*]`) section 9 judges instead
+    /// of its own. Paths in it are relative to it.
     #[arg(long, value_name = "FILE")]
     scene: Option<PathBuf>,
     /// Folder for the CSV files and SVG plots, relative to the current folder.
@@ -251,10 +253,10 @@ fn run(args: &Args) -> Result<(), Error> {
         }
     };
     let runs = |s: u8| sections.contains(&s);
-    if args.scene.is_some() && !runs(4) {
+    if args.scene.is_some() && !runs(4) && !runs(9) {
         return Err(Error::Derive(
             spectral_quadrature_generator::Error::Settings(
-                "--scene adds sets to section 4, which --sections leaves out".into(),
+                "--scene adds sets to section 4 and light groups to section 9, which --sections leaves out".into(),
             ),
         ));
     }
@@ -286,6 +288,10 @@ fn run(args: &Args) -> Result<(), Error> {
                 .as_ref()
                 .map_or(String::new(), |p| p.display().to_string()),
         )?,
+        None => Vec::new(),
+    };
+    let scene_groups = match &args.scene {
+        Some(path) => user::scene_groups(&d, path)?,
         None => Vec::new(),
     };
     let reference = Reference::new(reference_set.clone(), &stimuli);
@@ -520,11 +526,18 @@ fn run(args: &Args) -> Result<(), Error> {
         .map(|_| inputs.user_lights.as_slice());
     if runs(8) {
         progress.next();
+        let meter = Meter::new(
+            "light groups' maps",
+            upsampling::group_folds(users_reflectances.is_some(), args.quick),
+            "folds",
+        );
         let (upsampling_text, upsampling_files) = upsampling::section(
             &upsampling::Inputs {
                 d: &d,
                 reflectances: users_reflectances,
                 lights: users_lights,
+                quick: args.quick,
+                done: &meter.counter(),
             },
             out,
         )?;
@@ -548,6 +561,7 @@ fn run(args: &Args) -> Result<(), Error> {
                 judged,
                 lights: users_lights,
                 sizes: &work.group_sizes,
+                scene_groups: &scene_groups,
             },
             out,
         )?;

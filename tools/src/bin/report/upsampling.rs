@@ -7,6 +7,11 @@
 //! CIE test colours, the ColorChecker and the 190 rawtoaces patches (each fold's map fitted on
 //! the other four fifths), plus the shipped map (fitted on the test colours and rawtoaces) on
 //! the ColorChecker alone; with `--reflectances`, the shipped map on the user's file.
+//!
+//! Then light groups whose first light is D65 (`tools::upsampling::groups`): the group's map,
+//! fitted for every light of the group, beside the first light's map alone, a `[fixed]` set's
+//! map at the group's nodes and Jakob-Hanika, relit through each light's member; the group and
+//! every map refitted in each fold.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -19,6 +24,7 @@ use spectral_quadrature_spectra::{builtin_illuminant, Curve, Spectra};
 use spectral_quadrature_tools as tools;
 use tools::csv_table::Table;
 use tools::upsampling::{
+    groups::{GroupMaps, METHODS as GROUP_METHODS},
     jakob_hanika::JakobHanika,
     mean_p95, relit_de00,
     smooth::{MallettYuksel, Smits},
@@ -28,6 +34,14 @@ use tools::Error;
 
 /// The lights the report relights under unless `--illuminants` names others.
 pub const DEFAULT_LIGHTS: [&str; 3] = ["A", "F11", "LED_B2"];
+
+/// The light groups whose maps the section judges unless `--illuminants` names other lights
+/// (then D65 and those): the default scene's, and daylight with a tungsten lamp
+/// (`examples/scenes/room.toml`). The texels' light, D65, first.
+pub const DEFAULT_GROUPS: [&[&str]; 2] = [&["D65", "A", "F11", "LED_B2"], &["D65", "A"]];
+
+/// The size of the light groups judged.
+const GROUP_SIZE: usize = 8;
 
 /// The set sizes compared.
 const SIZES: [usize; 3] = [4, 6, 8];
@@ -53,6 +67,20 @@ pub struct Inputs<'a> {
     pub reflectances: Option<(&'a [Curve], &'a str)>,
     /// The user's lights, if `--illuminants` was given (else [`DEFAULT_LIGHTS`]).
     pub lights: Option<&'a [Curve]>,
+    /// `--quick`: the first light group alone, in the first fold alone.
+    pub quick: bool,
+    /// Called with 1 as each fold of each light group is judged.
+    pub done: &'a (dyn Fn(usize) + Sync),
+}
+
+/// The number of folds the light groups' part runs, for a progress line: one per fold of each
+/// group judged.
+pub fn group_folds(user_reflectances: bool, quick: bool) -> usize {
+    if quick {
+        return 1;
+    }
+    let folds = if user_reflectances { 1 } else { FOLDS };
+    folds * DEFAULT_GROUPS.len()
 }
 
 /// One result: a method at a set size under a light.
@@ -224,6 +252,64 @@ pub fn section(i: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
         .ok();
     }
 
+    // Light groups: the group of D65 and each light relit under, or the default groups.
+    let group_lights: Vec<Vec<Curve>> = match i.lights {
+        Some(user) => {
+            let mut g = vec![d65.clone()];
+            g.extend(user.iter().filter(|l| l.name != "D65").cloned());
+            vec![g]
+        }
+        None => DEFAULT_GROUPS
+            .iter()
+            .map(|names| {
+                names
+                    .iter()
+                    .map(|n| builtin_illuminant(dir, n, range))
+                    .collect::<Result<Vec<_>, _>>()
+            })
+            .collect::<Result<_, _>>()?,
+    };
+    let group_lights = &group_lights[..if i.quick { 1 } else { group_lights.len() }];
+    let group_folds: Vec<tools::upsampling::groups::Fold> =
+        (0..if i.quick { 1 } else { fold_count })
+            .map(|fold| {
+                let idx: Vec<usize> = (0..judged.len()).filter(|&k| folds[k] == fold).collect();
+                let training = match i.reflectances {
+                    Some(_) => shipped_training.clone(),
+                    None => judged
+                        .iter()
+                        .zip(&folds)
+                        .filter(|(_, f)| **f != fold)
+                        .map(|(c, _)| c.clone())
+                        .collect(),
+                };
+                (training, idx)
+            })
+            .collect();
+    let mut groups = Vec::new();
+    for lights in group_lights {
+        let own = tools::light_groups::own_sets(d, lights, GROUP_SIZE)?;
+        groups.push(tools::upsampling::groups::judge(
+            d,
+            lights,
+            GROUP_SIZE,
+            &own,
+            &judged,
+            &rgb,
+            &group_folds,
+            i.done,
+        )?);
+    }
+    // The texels that hold their reflectance's colour: inside the sRGB cube.
+    let in_gamut: Vec<usize> = (0..judged.len())
+        .filter(|&k| rgb[k].iter().all(|v| (0.0..=1.0).contains(v)))
+        .collect();
+    // The ColorChecker's patches among the judged (the first 24 by default).
+    let cc_judged: Vec<usize> = match i.reflectances {
+        Some(_) => Vec::new(),
+        None => (0..cc.len()).collect(),
+    };
+
     let mut o = String::new();
     writeln!(o, "8. RGB materials under another light").ok();
     writeln!(
@@ -298,6 +384,20 @@ pub fn section(i: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
     o.push_str(&props);
     writeln!(o).ok();
     o.push_str(&default_scene_maps(d)?);
+    writeln!(o).ok();
+    let mut group_csv =
+        Table::new("group,method,light,mean_de00,p95_de00,reflectances,judged_on,nodes_nm_fold1");
+    for g in &groups {
+        o.push_str(&group_text(
+            g,
+            &judged_from,
+            &cc_judged,
+            &in_gamut,
+            fold_count,
+        ));
+        group_rows(&mut group_csv, g, &cc_judged);
+    }
+    let group_path = group_csv.write(out, "upsampling_groups.csv")?;
 
     let mut csv = Table::new("method,n,light,mean_de00,p95_de00,reflectances");
     for c in &cells {
@@ -313,11 +413,135 @@ pub fn section(i: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
     }
     let csv_path = csv.write(out, "upsampling.csv")?;
     let svg = plot(out, &cells)?;
-    Ok((o, vec![csv_path, svg]))
+    Ok((o, vec![csv_path, svg, group_path]))
 }
 
-/// The table of the default scene's maps (every colour set on every display, as the build bakes
-/// them): the reference light, the share of the grid node values in [0, 1] reach, whether a
+/// The errors of `de` on the reflectances `of` (every one when `None`) that were judged: a
+/// `--quick` run judges the light groups' maps in one fold, and leaves the others' NaN.
+fn judged_of(de: &[f64], of: Option<&[usize]>) -> Vec<f64> {
+    let all: Vec<f64> = match of {
+        None => de.to_vec(),
+        Some(idx) => idx.iter().map(|&k| de[k]).collect(),
+    };
+    all.into_iter().filter(|v| !v.is_nan()).collect()
+}
+
+/// Mean and 95th percentile of `de` over the reflectances `of` (every one when `None`) that
+/// were judged.
+fn stats(de: &[f64], of: Option<&[usize]>) -> (f64, f64) {
+    mean_p95(&judged_of(de, of))
+}
+
+/// A light group's table: each method's mean (95th percentile) ΔE00 under each light, and the
+/// mean over the lights other than the texels'; the round trip of the texels inside the sRGB
+/// cube (`in_gamut`); the same table on the ColorChecker alone (`cc`).
+fn group_text(
+    g: &GroupMaps,
+    judged_from: &str,
+    cc: &[usize],
+    in_gamut: &[usize],
+    folds: usize,
+) -> String {
+    let mut o = String::new();
+    let first = &g.lights[0];
+    writeln!(
+        o,
+        "   A light group's map: linear sRGB under {first} upsampled to the {GROUP_SIZE} nodes of the light group {} (nodes searched for the mean ratio to each light's own folded set), each light's accumulator of those node values integrated through its member of the group, against the reflectance under that light at 1 nm. Under {first} this is the round trip (the texel's own colour); under the others, relighting. {}; mean ΔE00 (95th percentile).",
+        g.lights.join(", "),
+        if folds > 1 {
+            format!("Judged on {judged_from}: each fold's group and maps fitted on the other four fifths")
+        } else {
+            format!("Judged on {judged_from}: the group and maps fitted on the CIE test colours and rawtoaces")
+        }
+    )
+    .ok();
+    writeln!(o).ok();
+    let table = |o: &mut String, of: Option<&[usize]>| {
+        writeln!(
+            o,
+            "| method | {} | the other lights |",
+            g.lights.join(" | ")
+        )
+        .ok();
+        writeln!(o, "|---|{}---|", "---|".repeat(g.lights.len())).ok();
+        for (m, name) in GROUP_METHODS.iter().enumerate() {
+            let mut line = format!("| {name} |");
+            for de in &g.errors[m] {
+                let (mean, p95) = stats(de, of);
+                line.push_str(&format!(" {mean:.3} ({p95:.2}) |"));
+            }
+            let others: Vec<f64> = g.errors[m][1..]
+                .iter()
+                .flat_map(|de| judged_of(de, of))
+                .collect();
+            let (mean, p95) = mean_p95(&others);
+            line.push_str(&format!(" {mean:.3} ({p95:.2}) |"));
+            writeln!(o, "{line}").ok();
+        }
+        writeln!(o).ok();
+    };
+    table(&mut o, None);
+    let judged_in_gamut = judged_of(&g.errors[1][0], Some(in_gamut)).len();
+    let round_trip = |m: usize| {
+        let de = judged_of(&g.errors[m][0], Some(in_gamut));
+        let max = de.iter().fold(0.0f64, |a, &b| a.max(b));
+        (mean_p95(&de).0, max)
+    };
+    let ((gm, gx), (am, ax), (fm, fx)) = (round_trip(1), round_trip(2), round_trip(3));
+    writeln!(
+        o,
+        "   The round trip: of the {} judged reflectances whose colour under {first} lies inside the sRGB cube (the others' texels clip), the group's map gives each texel its own colour back under {first} within {gx:.4} ΔE00 (mean {gm:.4}), the first light's map alone within {ax:.4} (mean {am:.4}); the [fixed] set's map, fitted for its own weights, leaves them {fm:.3} ΔE00 off on average (at most {fx:.2}) through the group's {first} member.",
+        judged_in_gamut
+    )
+    .ok();
+    writeln!(o).ok();
+    if !cc.is_empty() {
+        writeln!(
+            o,
+            "   The same on the ColorChecker's {} patches alone (judged in their folds):",
+            judged_of(&g.errors[1][0], Some(cc)).len()
+        )
+        .ok();
+        writeln!(o).ok();
+        table(&mut o, Some(cc));
+    }
+    o
+}
+
+/// The light group's rows of `upsampling_groups.csv`: every method under every light, on every
+/// judged reflectance and on the ColorChecker's patches (`cc`).
+fn group_rows(t: &mut Table, g: &GroupMaps, cc: &[usize]) {
+    let nodes: Vec<String> = g
+        .nodes_nm
+        .first()
+        .map_or(Vec::new(), |n| n.iter().map(|v| v.to_string()).collect());
+    let name = g.lights.join("+");
+    let subsets: Vec<(&str, Option<&[usize]>)> = if cc.is_empty() {
+        vec![("all", None)]
+    } else {
+        vec![("all", None), ("ColorChecker", Some(cc))]
+    };
+    for (m, method) in GROUP_METHODS.iter().enumerate() {
+        for (l, light) in g.lights.iter().enumerate() {
+            for (label, of) in &subsets {
+                let (mean, p95) = stats(&g.errors[m][l], *of);
+                t.row([
+                    name.clone(),
+                    method.to_string(),
+                    light.clone(),
+                    format!("{mean:.6}"),
+                    format!("{p95:.6}"),
+                    judged_of(&g.errors[m][l], *of).len().to_string(),
+                    label.to_string(),
+                    nodes.join(" "),
+                ]);
+            }
+        }
+    }
+}
+
+/// The table of the default scene's maps (every set it upsamples and its light group, on every
+/// display, as the build bakes them): the reference light, the share of the grid node values in [0, 1] reach, whether a
 /// linear map bounded and exact at once exists, the Lipschitz constant, the round trip at the
 /// reachable grid points and the table's bytes.
 fn default_scene_maps(d: &Derivation) -> Result<String, Error> {
@@ -326,7 +550,7 @@ fn default_scene_maps(d: &Derivation) -> Result<String, Error> {
     let mut o = String::new();
     writeln!(
         o,
-        "   The default scene's maps ({} of them: its shared sets on every display, as the build bakes them): the reference light, the share of the grid whose colour node values in [0, 1] reach (the others get the nearest reachable colour), whether a linear map bounded and exact at once exists (residual as above), Lipschitz constant, round trip at the reachable grid points (ΔE00), table bytes.",
+        "   The default scene's maps ({} of them: its shared sets, Table 2's rows and its light group on every display, as the build bakes them; a group's map under its first light): the reference light, the share of the grid whose colour node values in [0, 1] reach (the others get the nearest reachable colour), whether a linear map bounded and exact at once exists (residual as above), Lipschitz constant, round trip at the reachable grid points (ΔE00), table bytes.",
         resolved.upsamplings.len()
     )
     .ok();

@@ -198,3 +198,53 @@ pub fn scene_extras(
     }
     Ok(out)
 }
+
+/// A light group of a scene (`[groups.NAME]`), as section 9 judges it.
+pub struct SceneGroup {
+    /// The group's name.
+    pub name: String,
+    /// Its lights, in its order: the scene's own by name, else the built-in ones.
+    pub lights: Vec<Curve>,
+    /// Its number of wavelengths.
+    pub n: usize,
+    /// Whether the scene fits it on bounce forms (`training = "bounces"`).
+    pub bounces: bool,
+}
+
+/// The light groups of the scene at `path` (read with the report's derivation): each one's
+/// lights as curves, its size and training.
+pub fn scene_groups(d: &Derivation, path: &Path) -> Result<Vec<SceneGroup>, Error> {
+    let label = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| DataError {
+        file: label.clone(),
+        line: 0,
+        message: format!("cannot read the scene: {e}"),
+    })?;
+    let scene = Scene::parse(&label, &text, &d.settings.data_dir)?;
+    let (lights, _) = scene.resolve_user(d)?;
+    scene
+        .user
+        .groups
+        .iter()
+        .map(|g| {
+            let curves = g
+                .lights
+                .iter()
+                .map(|n| match lights.iter().find(|l| &l.name == n) {
+                    Some(l) => Ok(Curve {
+                        name: n.clone(),
+                        ..l.curve.clone()
+                    }),
+                    None => builtin_illuminant(&d.settings.data_dir, n, d.settings.range_nm)
+                        .map_err(Error::from),
+                })
+                .collect::<Result<Vec<_>, Error>>()?;
+            Ok(SceneGroup {
+                name: g.name.clone(),
+                lights: curves,
+                n: g.wavelengths,
+                bounces: g.training == shared::GroupTraining::Bounces,
+            })
+        })
+        .collect()
+}
