@@ -210,11 +210,7 @@ impl<'a> Setup<'a> {
                     .map(|c| (0..3).map(|k| m.xyz_to_rgb[c][k] * xyz[k]).sum::<f64>() as f32))
             })
             .collect::<Result<Vec<_>, Error>>()?;
-        Ok(Rgb {
-            table,
-            emission,
-            rgb_to_xyz: m.rgb_to_xyz,
-        })
+        Ok(Rgb { table, emission })
     }
 
     /// A random-wavelength method of K wavelengths a path.
