@@ -21,8 +21,10 @@ fn sample(rng: &mut Rng) -> f32 {
 /// The scalar reference: the product of `pixel::mat_vec_for_encoding` then the scalar
 /// `Display::encode_u8`, as on a target without vector code.
 fn reference<const N: usize>(set: &crate::FoldedSet<N>, s: &[f32; N]) -> [u8; 3] {
-    set.display
-        .encode_u8(GamutMapping::Clip, mat_vec_for_encoding(&set.weights, s))
+    set.display_ref().encode_u8(
+        GamutMapping::Clip,
+        mat_vec_for_encoding(set.weights_ref(), s),
+    )
 }
 
 fn same_f32(a: f32, b: f32) -> bool {
@@ -110,7 +112,7 @@ fn check<const N: usize>(set: &crate::FoldedSet<N>, pixels: usize, seed: u64) {
     let planes: [&[f32]; N] = core::array::from_fn(|i| &planes[i][..]);
     let want: std::vec::Vec<[u8; 3]> = aos.iter().map(|s| reference(set, s)).collect();
     let want_linear: std::vec::Vec<[f32; 3]> =
-        aos.iter().map(|s| mat_vec(&set.weights, s)).collect();
+        aos.iter().map(|s| mat_vec(set.weights_ref(), s)).collect();
 
     let compare = |what: &str, got: &[[u8; 3]]| {
         for (p, (g, w)) in got.iter().zip(&want).enumerate() {
@@ -140,15 +142,15 @@ fn check<const N: usize>(set: &crate::FoldedSet<N>, pixels: usize, seed: u64) {
 
     // The portable planar loops.
     let mut got = std::vec![[0u8; 3]; pixels];
-    crate::planar::portable::encode_srgb8_planar_portable(&set.weights, planes, &mut got);
+    crate::planar::portable::encode_srgb8_planar_portable(set.weights_ref(), planes, &mut got);
     compare("portable planar", &got);
     let mut got = std::vec![[0u8; 3]; pixels];
-    crate::planar::portable::encode_srgb8_batch_portable(&set.weights, &aos, &mut got);
+    crate::planar::portable::encode_srgb8_batch_portable(set.weights_ref(), &aos, &mut got);
     compare("portable batch", &got);
     let mut lin = [0, 1, 2].map(|_| std::vec![0.0f32; pixels]);
     {
         let [r, g, b] = &mut lin;
-        crate::planar::portable::linear_planar_portable(&set.weights, planes, [r, g, b]);
+        crate::planar::portable::linear_planar_portable(set.weights_ref(), planes, [r, g, b]);
     }
     compare_linear("portable planar linear", &lin);
 
@@ -186,7 +188,7 @@ fn check<const N: usize>(set: &crate::FoldedSet<N>, pixels: usize, seed: u64) {
             core::array::from_fn(|i| &copies[i][starts[i]..starts[i] + pixels]);
         let mut got = std::vec![[0xA5u8; 3]; pixels];
         // SAFETY: the CPU has the loop's features (`available`).
-        let done = unsafe { (x86.planar)(&set.weights, shifted, got.as_flattened_mut()) };
+        let done = unsafe { (x86.planar)(set.weights_ref(), shifted, got.as_flattened_mut()) };
         assert!(
             done <= pixels && done + x86.group > pixels,
             "{name} planar: {done} of {pixels}"
@@ -198,7 +200,7 @@ fn check<const N: usize>(set: &crate::FoldedSet<N>, pixels: usize, seed: u64) {
         );
         let mut got = std::vec![[0u8; 3]; pixels];
         // SAFETY: the CPU has the loop's features (`available`).
-        let done = unsafe { (x86.batch)(&set.weights, &aos, got.as_flattened_mut()) };
+        let done = unsafe { (x86.batch)(set.weights_ref(), &aos, got.as_flattened_mut()) };
         let batch_done = if (x86.batch_takes)(N) { srgb8_done } else { 0 };
         assert_eq!(done, batch_done, "{name} batch");
         compare(&std::format!("{name} batch"), &got[..done]);
@@ -213,7 +215,7 @@ fn check<const N: usize>(set: &crate::FoldedSet<N>, pixels: usize, seed: u64) {
                 &mut b[ob..ob + pixels],
             ];
             // SAFETY: the CPU has the loop's features (`available`).
-            let done = unsafe { (x86.linear)(&set.weights, shifted, out, stream) };
+            let done = unsafe { (x86.linear)(set.weights_ref(), shifted, out, stream) };
             // Steps of 16 pixels.
             assert!(
                 done <= pixels && done + 16 > pixels,
@@ -266,8 +268,8 @@ fn random_set<const N: usize>(seed: u64) -> crate::FoldedSet<N> {
     crate::FoldedSet::new(
         core::array::from_fn(|i| 400.0 + i as f32),
         [0, 1, 2].map(|_| core::array::from_fn(|_| 2.0 * rng.unit() - 0.6)),
-        TABLE2_ROW2_SRGB.samples,
-        TABLE2_ROW2_SRGB.display,
+        TABLE2_ROW2_SRGB.samples(),
+        TABLE2_ROW2_SRGB.display(),
     )
     .unwrap()
 }
@@ -421,7 +423,7 @@ fn public_functions_at<const N: usize>(set: &crate::FoldedSet<N>, pixels: usize,
                 "linear, {level:?}, N = {N}"
             );
             for (p, s) in aos.iter().enumerate() {
-                let one = mat_vec(&set.weights, s);
+                let one = mat_vec(set.weights_ref(), s);
                 assert!(
                     (0..3).all(|c| same_f32(lin[c][p], one[c])),
                     "linear_rgb_planar, {level:?}, N = {N}, pixel {p}: {s:?}"
