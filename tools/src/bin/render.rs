@@ -443,7 +443,8 @@ fn plot(
         .y_labels(30)
         .x_label_formatter(&|v| tick(*v))
         .y_label_formatter(&|v| tick(*v))
-        .light_line_style(RGBColor(235, 235, 235))
+        .bold_line_style(RGBColor(225, 225, 225))
+        .light_line_style(WHITE)
         .draw()
         .map_err(plot_err)?;
     // The floor: dashes along the time axis, and its label above them at the left.
