@@ -21,8 +21,9 @@ pub struct Point {
 /// A curve has flattened when its mean ΔE00 fell by less than this share over the last
 /// doubling of its paths: a log-log slope shallower than log₂(1.05) ≈ 0.07, against the 0.5 of an
 /// error that is all noise. With an error made of a bias b and independent noise,
-/// `e² = b² + σ²/spp`, a fall of 5 % over a doubling leaves e within 12 % of b (`e²/b² =
-/// 1 + r` with `(1 + r)/(1 + r/2) = 1.05²`, r = 0.24).
+/// `e² = b² + σ²/spp`, and r = σ²/(b²·spp) at the level before the last, a fall of 5 % is
+/// `(1 + r)/(1 + r/2) = 1.05²`, r = 0.228: when the curve stops its last point is within 6 % of
+/// b (`e²/b² = 1 + r/2 = 1.114`), and the noise is a third of the error's square.
 pub const FLAT: f64 = 0.05;
 
 /// Whether `points` has flattened at its last point ([`FLAT`]).
