@@ -375,7 +375,8 @@ macro_rules! with_marker {
             }
             Marker::Diamond => {
                 let $mk = |p| {
-                    EmptyElement::at(p) + Polygon::new(vec![(0, -5), (5, 0), (0, 5), (-5, 0)], shape)
+                    EmptyElement::at(p)
+                        + Polygon::new(vec![(0, -5), (5, 0), (0, 5), (-5, 0)], shape)
                 };
                 $body
             }
@@ -499,11 +500,7 @@ fn plot(
         }
         with_marker!(&st, mk => legend_area.draw(&mk((26, y))).map_err(plot_err)?);
         legend_area
-            .draw(&Text::new(
-                method.name(),
-                (52, y - 7),
-                ("sans-serif", 13),
-            ))
+            .draw(&Text::new(method.name(), (52, y - 7), ("sans-serif", 13)))
             .map_err(plot_err)?;
     }
     let y = 30 + 24 * curves.len() as i32;
@@ -596,7 +593,10 @@ impl Judge<'_> {
 fn quartiles(v: &[f64]) -> [f64; 3] {
     let mut s = v.to_vec();
     s.sort_by(f64::total_cmp);
-    let q = |f: f64| s.get(((s.len().max(1) - 1) as f64 * f).round() as usize).copied();
+    let q = |f: f64| {
+        s.get(((s.len().max(1) - 1) as f64 * f).round() as usize)
+            .copied()
+    };
     [0.25, 0.5, 0.75].map(|f| q(f).unwrap_or(f64::NAN))
 }
 
@@ -1005,12 +1005,9 @@ fn scene_curves(
             mean: f64::NAN,
             p95: f64::NAN,
         });
-        let (sm, sp) = run
-            .same_path
-            .as_ref()
-            .map_or((f64::NAN, f64::NAN), |img| {
-                measure::stats(img, same_ref, &seen, white)
-            });
+        let (sm, sp) = run.same_path.as_ref().map_or((f64::NAN, f64::NAN), |img| {
+            measure::stats(img, same_ref, &seen, white)
+        });
         let frame = curves::median(&run.frames);
         println!(
             "- {}: {} paths a pixel in {:.2} s ({:.2e} paths/s), mean ΔE00 {:.3}; through the reference's paths at {} paths a pixel {:.3}; frame {:.3} ms; tables made in {:.2} s",
