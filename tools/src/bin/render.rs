@@ -30,8 +30,9 @@
 //! (one path a pixel each) and of its frames (the film converted once per level, as a renderer
 //! displays it). The levels up to [`REPEATED_UP_TO`] paths a pixel last milliseconds, where
 //! other processes' load decides single timings: each method renders them `--repeats` times
-//! from its first path, the methods taking turns, and each level's time is the median. Above,
-//! the methods take turns of at most [`CHUNK`] passes, and a level's time is the median time at
+//! from its first path, the methods taking turns level by level, and a level's time is the sum
+//! of the medians of the steps to it. Above, the methods take turns of at most [`CHUNK`]
+//! passes, and a level's time is the time at
 //! [`REPEATED_UP_TO`] plus the turns and frames since: load falls on every method alike.
 
 use std::path::{Path, PathBuf};
@@ -626,37 +627,43 @@ fn curves_of<'g>(
             same_path: None,
         });
     }
-    // The short levels, rendered `repeats` times from the first path, the methods taking
-    // turns (each rep starting one method later); their images are judged once.
+    // The short levels, rendered `repeats` times from the first path, the methods taking turns
+    // level by level (each level's order turned by one from the last), so that every method's
+    // passes to a level fall within the same fraction of a second of load; a level's time is
+    // the sum of the medians of each step's time (its passes and its frame). Their images are
+    // judged once.
     let short: Vec<usize> = spp
         .iter()
         .copied()
         .filter(|&s| s <= REPEATED_UP_TO)
         .collect();
-    let mut times = vec![vec![Vec::new(); short.len()]; runs.len()];
+    let mut steps = vec![vec![Vec::new(); short.len()]; runs.len()];
     for rep in 0..args.repeats.max(1) {
-        for j in 0..runs.len() {
-            let i = (j + rep) % runs.len();
-            let run = &mut runs[i];
+        for run in runs.iter_mut() {
             run.p.reset();
-            let mut total = 0.0;
-            for (li, &level) in short.iter().enumerate() {
-                total += run.p.advance(level);
-                let (img, t) = run.p.image();
-                total += t;
-                run.frames.push(t);
-                times[i][li].push(total);
+        }
+        for (li, &level) in short.iter().enumerate() {
+            for j in 0..runs.len() {
+                let i = (j + rep + li) % runs.len();
+                let run = &mut runs[i];
+                let mut t = run.p.advance(level);
+                let (img, frame) = run.p.image();
+                t += frame;
+                run.frames.push(frame);
+                steps[i][li].push(t);
                 if rep == 0 {
                     judge.record(run, level, 0.0, img);
                 }
             }
         }
     }
-    for (run, times) in runs.iter_mut().zip(&times) {
-        for (p, t) in run.points.iter_mut().zip(times) {
-            p.seconds = curves::median(t);
+    for (run, steps) in runs.iter_mut().zip(&steps) {
+        let mut total = 0.0;
+        for (p, t) in run.points.iter_mut().zip(steps) {
+            total += curves::median(t);
+            p.seconds = total;
         }
-        run.seconds = run.points.last().map_or(0.0, |p| p.seconds);
+        run.seconds = total;
     }
     // Level by level: the long ones rendered in turns of CHUNK passes by the methods still
     // going; after each, where the curves stop.
