@@ -29,9 +29,10 @@
 //! before its render and not counted. A level's time is the wall-clock seconds of its passes
 //! (one path a pixel each) and of its frames (the film converted once per level, as a renderer
 //! displays it). The levels up to [`REPEATED_UP_TO`] paths a pixel last milliseconds, where
-//! other processes' load decides single timings: each method renders them `--repeats` times
-//! from its first path, the methods taking turns level by level, and a level's time is the sum
-//! of the medians of the steps to it. Above, the methods take turns of at most [`CHUNK`]
+//! other processes' load decides single timings: each method renders them again and again
+//! from its first path (`--repeats` times the step to 64, up to eight times as often the
+//! shortest steps), the methods taking turns level by level, and a level's time is the sum of
+//! the medians of the steps to it. Above, the methods take turns of at most [`CHUNK`]
 //! passes, and a level's time is the time at
 //! [`REPEATED_UP_TO`] plus the turns and frames since: load falls on every method alike.
 
@@ -69,9 +70,9 @@ struct Args {
     /// on where the curves stop.
     #[arg(long, default_value_t = 32768, value_parser = clap::value_parser!(u32).range(1..=1_048_576).map(|v| v as usize))]
     max_spp: usize,
-    /// How many times each method renders the levels up to 64 paths a pixel, whose time is the
-    /// median (1 to 99).
-    #[arg(long, default_value_t = 9, value_parser = clap::value_parser!(u8).range(1..=99).map(usize::from))]
+    /// How many times each method renders the step to 64 paths a pixel (the shorter steps up to
+    /// eight times as often), whose time is the median (1 to 99).
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u8).range(1..=99).map(usize::from))]
     repeats: usize,
     /// The level at which each method's image is judged against a 1 nm image through the same
     /// paths (the methods' seed): its spectral error alone, without the paths' noise.
@@ -122,6 +123,13 @@ fn main() {
 const CHUNK: usize = 64;
 /// The levels whose time is the median of `--repeats` renders.
 const REPEATED_UP_TO: usize = 64;
+/// How many times the step to `level` (a short level, at most [`REPEATED_UP_TO`]) is timed:
+/// `repeats` at [`REPEATED_UP_TO`], twice as often for each halving below, at most eight times
+/// `repeats` (levels 1 to 8: 40 times with the default 5), so that every short level's steps
+/// add up to about the same number of passes.
+fn repeats_at(level: usize, repeats: usize) -> usize {
+    repeats.max(1) * (REPEATED_UP_TO / level.max(1)).clamp(1, 8)
+}
 /// The passes of one turn in the cost ratio's measurement.
 const COST_CHUNK: usize = 16;
 /// The level shown in the pictures and the equal-time comparison.
@@ -627,22 +635,28 @@ fn curves_of<'g>(
             same_path: None,
         });
     }
-    // The short levels, rendered `repeats` times from the first path, the methods taking turns
+    // The short levels, rendered from the first path again and again, the methods taking turns
     // level by level (each level's order turned by one from the last), so that every method's
     // passes to a level fall within the same fraction of a second of load; a level's time is
-    // the sum of the medians of each step's time (its passes and its frame). Their images are
+    // the sum of the medians of each step's time (its passes and its frame). A step of one pass
+    // lasts milliseconds, and on a loaded machine it either runs at once or waits for a turn of
+    // the scheduler: the short steps are timed more often ([`repeats_at`]). Their images are
     // judged once.
     let short: Vec<usize> = spp
         .iter()
         .copied()
         .filter(|&s| s <= REPEATED_UP_TO)
         .collect();
+    let reps: Vec<usize> = short.iter().map(|&l| repeats_at(l, args.repeats)).collect();
     let mut steps = vec![vec![Vec::new(); short.len()]; runs.len()];
-    for rep in 0..args.repeats.max(1) {
+    for rep in 0..reps.first().copied().unwrap_or(0) {
         for run in runs.iter_mut() {
             run.p.reset();
         }
         for (li, &level) in short.iter().enumerate() {
+            if rep >= reps[li] {
+                break;
+            }
             for j in 0..runs.len() {
                 let i = (j + rep + li) % runs.len();
                 let run = &mut runs[i];
@@ -849,12 +863,13 @@ fn run(args: &Args) -> Result<(), Error> {
         simd: !args.no_simd,
     };
     println!(
-        "# Error against render time\n\n{} × {} pixels, 1 to at most {} paths a pixel, {threads} threads, vector loop: {}; the levels up to {REPEATED_UP_TO} paths a pixel timed {} times (the median)\n",
+        "# Error against render time\n\n{} × {} pixels, 1 to at most {} paths a pixel, {threads} threads, vector loop: {}; the steps to the levels up to {REPEATED_UP_TO} paths a pixel timed {} to {} times (the median)\n",
         args.size,
         args.size,
         spp.last().copied().unwrap_or(1),
         if opts.simd && transport::has_avx2() { "AVX2" } else { "baseline" },
-        args.repeats
+        repeats_at(REPEATED_UP_TO, args.repeats),
+        repeats_at(1, args.repeats)
     );
     let mut tables = Tables::new();
     for file in &scenes {
