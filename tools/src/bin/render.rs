@@ -405,7 +405,7 @@ fn plot_err<E: std::fmt::Debug>(e: E) -> Error {
 /// A tick's label on a log axis: the 1, 2 and 5 of each decade as plain decimals (`0.01`,
 /// `0.2`, `5`, `10`), the others unlabelled.
 fn tick(v: f64) -> String {
-    if !(v > 0.0) {
+    if v.is_nan() || v <= 0.0 {
         return String::new();
     }
     let e = v.log10().floor();
@@ -463,7 +463,7 @@ fn plot(
             [(t0, floor), (t1, floor)],
             6,
             5,
-            BLACK.stroke_width(1).into(),
+            BLACK.stroke_width(1),
         ))
         .map_err(plot_err)?;
     chart
