@@ -1,15 +1,19 @@
 //! The path tracer of the render tool (`render`): every method on a furnace-like box (every
 //! paint a flat grey, so that each path's spectrum is the light's times a number) against the
 //! 1 nm reference through the same paths, the vector loop against the baseline loop, the
-//! reference's two-seed estimate of its own error against a finer reference, and the scene
-//! file's errors.
+//! reference's two-seed estimate of its own error against a finer reference, the scene
+//! file's errors, where a curve of error against time is taken to have flattened and where one
+//! curve passes below another (against curves whose answers are known in closed form), and the
+//! pictures' labels.
 
 use std::path::Path;
 use std::sync::OnceLock;
 
 use spectral_quadrature_generator::Derivation;
 use spectral_quadrature_spectra::Curve;
+use spectral_quadrature_tools::cornell::picture::{self, Rgb8, LABEL_MARGIN};
 use spectral_quadrature_tools::random_wavelengths::Sampler;
+use spectral_quadrature_tools::render::curves::{self, Point};
 use spectral_quadrature_tools::render::measure::{self, CachedReference};
 use spectral_quadrature_tools::render::methods::{Method, Setup, HERO};
 use spectral_quadrature_tools::render::scene::Scene;
@@ -255,5 +259,124 @@ fn a_bad_scene_file_is_an_error_naming_the_file_and_line() {
         let e = Scene::read(&path, derivation()).unwrap_err().to_string();
         let at = format!("{}:{line}:", path.display());
         assert!(e.contains(&at) && e.contains(word), "{e}");
+    }
+}
+
+/// A curve of error `e² = b² + σ²/spp` (a bias `b` and noise that falls as 1/√spp), one second a
+/// path a pixel, at 1, 2, 4, … up to `max` paths a pixel.
+fn biased(b: f64, sigma: f64, max: usize) -> Vec<Point> {
+    std::iter::successors(Some(1usize), |s| Some(s * 2))
+        .take_while(|&s| s <= max)
+        .map(|spp| {
+            let mean = (b * b + sigma * sigma / spp as f64).sqrt();
+            Point {
+                spp,
+                seconds: spp as f64,
+                mean,
+                p95: 2.0 * mean,
+            }
+        })
+        .collect()
+}
+
+#[test]
+fn a_curve_flattens_where_its_bias_dominates_and_never_when_it_is_all_noise() {
+    // curves::FLAT's documented bound: with r = σ²/(b²·spp) at the level before the last, a fall
+    // of FLAT over the doubling is (1 + r)/(1 + r/2) = 1.05², r = 0.2284, so the last point is
+    // within √(1 + r/2) = 1.0556 of the bias when the curve stops, and the point before a
+    // doubling that fell by more is not (the bound's own arithmetic; 1e-9 for rounding).
+    let bound = (1.0 + 0.5 * (1.05f64.powi(2) - 1.0) / (1.0 - 0.5 * 1.05f64.powi(2))).sqrt();
+    assert!((bound - 1.0556).abs() < 1e-4, "{bound}");
+    for (b, sigma) in [(0.4, 15.0), (0.8, 15.0), (0.05, 20.0), (1.0, 1.0)] {
+        let pts = biased(b, sigma, 1 << 24);
+        let k = (1..=pts.len())
+            .find(|&k| curves::flattened(&pts[..k]))
+            .unwrap_or_else(|| panic!("b {b}, σ {sigma}: never flattened"));
+        let at = pts[k - 1];
+        assert!(
+            at.mean / b <= bound + 1e-9,
+            "b {b}, σ {sigma}: flat at {} spp, {} of b",
+            at.spp,
+            at.mean / b
+        );
+        // The first level where it holds: the doubling before fell by more than FLAT, so the
+        // point before the last was farther than the bound from the bias.
+        assert!(k >= 3, "b {b}, σ {sigma}: flat at {} spp", at.spp);
+        assert!(
+            !curves::flattened(&pts[..k - 1]),
+            "b {b}: flat one level early"
+        );
+        assert!(
+            pts[k - 2].mean / b >= bound - 1e-9,
+            "b {b}: {} of b one level before",
+            pts[k - 2].mean / b
+        );
+    }
+    // All noise: the mean halves every four doublings (a fall of 29 %), never flat.
+    let noise = biased(0.0, 10.0, 1 << 20);
+    assert!((1..=noise.len()).all(|k| !curves::flattened(&noise[..k])));
+}
+
+#[test]
+fn a_curve_read_between_its_points_in_log_log_and_where_one_passes_below_another() {
+    // A power law is a line in log-log: read between two points it is exact.
+    let pts = biased(0.0, 3.0, 1024);
+    for t in [1.5, 3.0, 100.0, 700.0] {
+        let e = curves::at_time(&pts, t).unwrap();
+        let want = 3.0 / t.sqrt();
+        assert!((e / want - 1.0).abs() < 1e-12, "{t} s: {e} against {want}");
+    }
+    assert_eq!(curves::at_time(&pts, 0.5), None);
+    assert_eq!(curves::at_time(&pts, 2048.0), None);
+    // Unbiased noise 3/√t against a biased curve stopped at 64 s (then held at its last
+    // value, 0.5·√(1 + 1/64)·…): the first falls below the second's last value once
+    // 3/√t < e(64), at t > 9/e(64)², and stays below.
+    let fixed = biased(0.5, 2.0, 64);
+    let last = fixed.last().unwrap().mean;
+    let k = curves::passes_below(&pts, &fixed).expect("passes below");
+    let t_cross = 9.0 / (last * last);
+    assert!(
+        pts[k].seconds > t_cross && pts[k - 1].seconds <= t_cross,
+        "{} s, crossing at {t_cross} s",
+        pts[k].seconds
+    );
+    // The biased curve is above the unbiased one at its last point (0.52 against 3/8 at 64 s):
+    // it is not below for good, whatever it was before.
+    assert!(curves::at_time(&pts, 64.0).unwrap() < last);
+    assert_eq!(curves::passes_below(&fixed, &pts), None);
+    // Below at every point of the shorter noise curve: from its first point on.
+    assert_eq!(curves::passes_below(&fixed, &pts[..5]), Some(0));
+    assert_eq!(curves::median(&[3.0, 1.0, 2.0, 10.0]), 2.5);
+    assert_eq!(curves::median(&[3.0, 1.0, 2.0]), 2.0);
+}
+
+#[test]
+fn labels_wrap_inside_their_panel_with_a_margin_and_never_run_into_the_next() {
+    let tile = Rgb8::filled(128, 64, [0, 0, 0]);
+    for text in [
+        "reference (1 nm)",
+        "hero ×16, 64 spp",
+        "RGB (paints' sRGB under D65)",
+        "pbrt-v4 visible ×16",
+        "averyveryverylongnamewithoutspaces",
+    ] {
+        let img = picture::labelled(&tile, text, 3);
+        let strip = 3 * picture::LABEL_LINE;
+        let background = [24u8, 24, 24];
+        let mut ink = false;
+        for y in 0..strip {
+            for x in 0..img.width {
+                let px = &img.data[(y * img.width + x) * 3..][..3];
+                if px != background {
+                    ink = true;
+                    assert!(
+                        x < img.width - LABEL_MARGIN,
+                        "{text:?}: ink at column {x} of {}, in the margin",
+                        img.width
+                    );
+                }
+            }
+        }
+        assert!(ink, "{text:?}: nothing drawn");
     }
 }

@@ -247,12 +247,18 @@ pub fn draw_text(img: &mut Rgb8, text: &str, x: usize, y: usize, colour: [u8; 3]
     }
 }
 
-/// `tile` with `text` written above it in a strip of `lines` lines (the text wrapped to the
-/// tile's width; what does not fit is cut), light grey on the background of [`grid`].
+/// The space a label leaves free at its tile's right edge, pixels: with [`grid`]'s gap, what
+/// separates one tile's label from the next one's.
+pub const LABEL_MARGIN: usize = 8;
+
+/// `tile` with `text` written above it in a strip of `lines` lines (the text wrapped at spaces
+/// to the tile's width less [`LABEL_MARGIN`]; what does not fit is cut), light grey on the
+/// background of [`grid`].
 pub fn labelled(tile: &Rgb8, text: &str, lines: usize) -> Rgb8 {
     let strip = lines * LABEL_LINE;
     let mut img = Rgb8::filled(tile.width, tile.height + strip, [24, 24, 24]);
-    for (k, line) in wrap(text, tile.width / 8).iter().take(lines).enumerate() {
+    let chars = tile.width.saturating_sub(LABEL_MARGIN) / 8;
+    for (k, line) in wrap(text, chars).iter().take(lines).enumerate() {
         draw_text(&mut img, line, 0, k * LABEL_LINE + 1, [230, 230, 230]);
     }
     img.paste(tile, 0, strip);

@@ -5,7 +5,10 @@
 
 use spectral_quadrature::{FoldedSet, LightGroupSet};
 
-use super::transport::{add_f64, add_product, add_scaled, Carrier, Pcg32, Surface};
+use super::transport::{
+    add_product, add_scaled, frame_display, matrix_planes, scale_planes, Carrier, Film, Pcg32,
+    Surface,
+};
 use crate::random_wavelengths::Sampler;
 
 /// The reference's wavelengths: every nm of 400-700 (the paints' measured range).
@@ -18,21 +21,19 @@ pub const REFERENCE_LANES: usize = 304;
 pub type Grid = [f32; GRID_LEN + 1];
 
 /// RGB rendering: three channels, the surfaces as linear sRGB reflectances, each light as the
-/// linear sRGB of its XYZ.
+/// linear sRGB of its XYZ. The film is the frame: its frame is the mean.
 #[derive(Debug, Clone)]
 pub struct Rgb {
     /// Per surface row ([`Surface::index`]): its linear sRGB.
     pub table: Vec<[f32; 3]>,
     /// Per light: its linear sRGB.
     pub emission: Vec<[f32; 3]>,
-    /// Linear sRGB → XYZ.
-    pub rgb_to_xyz: [[f64; 3]; 3],
 }
 
 impl Carrier<3> for Rgb {
     type Path = ();
     type Radiance = [f32; 3];
-    type Pixel = [f64; 3];
+    type Sum = f32;
 
     #[inline(always)]
     fn start(&self, _: &mut Pcg32) {}
@@ -48,17 +49,20 @@ impl Carrier<3> for Rgb {
     fn add_light(&self, r: &mut [f32; 3], _: &(), light: usize, w: &[f32; 3], g: f32) {
         add_product(r, w, &self.emission[light], g);
     }
-    fn new_pixel(&self) -> [f64; 3] {
-        [0.0; 3]
+    fn planes(&self) -> usize {
+        3
     }
     #[inline(always)]
-    fn accumulate(&self, px: &mut [f64; 3], _: &(), r: &[f32; 3]) {
-        add_f64(px, r);
+    fn accumulate(&self, film: &mut Film<f32>, pixel: usize, _: &(), r: &[f32; 3]) {
+        film.add(0, pixel, r);
     }
-    fn xyz(&self, px: &[f64; 3], paths: usize) -> [f64; 3] {
-        let m = &self.rgb_to_xyz;
-        let v = px.map(|x| x / paths.max(1) as f64);
-        [0, 1, 2].map(|c| (0..3).map(|k| m[c][k] * v[k]).sum())
+    fn frame(&self, film: &Film<f32>, paths: usize, out: [&mut [f32]; 3]) {
+        let s = 1.0 / paths.max(1) as f32;
+        for (c, o) in out.into_iter().enumerate() {
+            for (o, &v) in o.iter_mut().zip(film.plane(c)) {
+                *o = v * s;
+            }
+        }
     }
 }
 
@@ -76,7 +80,9 @@ pub enum RandomMaterial {
 /// Random wavelengths, K a path, drawn by a [`Sampler`] (pbrt-v4's visible-wavelength density,
 /// or hero wavelengths): each path's radiance at its wavelengths becomes XYZ through the 1 nm
 /// colour-matching weights at their cells over the density (`f(λ)/p(λ)`, as
-/// [`crate::random_wavelengths`]), so its expected value is the reference's 1 nm sum.
+/// [`crate::random_wavelengths`]), so its expected value is the reference's 1 nm sum. The film
+/// sums XYZ (as pbrt-v4's film sums each path's colour); its frame is their mean in linear
+/// sRGB.
 #[derive(Debug, Clone)]
 pub struct Random<const K: usize> {
     /// How the wavelengths are drawn.
@@ -114,7 +120,7 @@ pub fn sigmoid(z: f32) -> f32 {
 impl<const K: usize> Carrier<K> for Random<K> {
     type Path = Wavelengths<K>;
     type Radiance = [f32; K];
-    type Pixel = [f64; 3];
+    type Sum = f32;
 
     #[inline(always)]
     fn start(&self, rng: &mut Pcg32) -> Wavelengths<K> {
@@ -170,11 +176,11 @@ impl<const K: usize> Carrier<K> for Random<K> {
             *r += w * e[cell as usize] * g;
         }
     }
-    fn new_pixel(&self) -> [f64; 3] {
-        [0.0; 3]
+    fn planes(&self) -> usize {
+        3
     }
     #[inline(always)]
-    fn accumulate(&self, px: &mut [f64; 3], p: &Wavelengths<K>, r: &[f32; K]) {
+    fn accumulate(&self, film: &mut Film<f32>, pixel: usize, p: &Wavelengths<K>, r: &[f32; K]) {
         let mut xyz = [0.0f32; 3];
         for ((&r, &inv), &cell) in r.iter().zip(&p.inv_kpdf).zip(&p.cell) {
             let v = r * inv;
@@ -183,15 +189,18 @@ impl<const K: usize> Carrier<K> for Random<K> {
                 *s += v * self.xyz[c][cell];
             }
         }
-        add_f64(px, &xyz);
+        film.add(0, pixel, &xyz);
     }
-    fn xyz(&self, px: &[f64; 3], paths: usize) -> [f64; 3] {
-        px.map(|v| v / paths.max(1) as f64)
+    fn frame(&self, film: &Film<f32>, paths: usize, out: [&mut [f32]; 3]) {
+        let m = frame_display().xyz_to_rgb();
+        matrix_planes(&m, [0, 1, 2].map(|c| film.plane(c)), paths, out);
     }
 }
 
 /// A folded set, N nodes, the one light of the scene folded into its weights: a light emits 1
-/// at every node, and the runtime's [`FoldedSet`] turns a pixel's node values into linear RGB.
+/// at every node. The film holds N planes of node values; its frame is the runtime's
+/// [`FoldedSet::linear_rgb_planar`] over the whole film (the set is linear: the sums' colour
+/// over the paths is the mean's).
 #[derive(Debug, Clone)]
 pub struct Folded<const N: usize> {
     /// Per surface row: its reflectance at the nodes.
@@ -203,7 +212,7 @@ pub struct Folded<const N: usize> {
 impl<const N: usize> Carrier<N> for Folded<N> {
     type Path = ();
     type Radiance = [f32; N];
-    type Pixel = [f64; N];
+    type Sum = f32;
 
     #[inline(always)]
     fn start(&self, _: &mut Pcg32) {}
@@ -219,23 +228,27 @@ impl<const N: usize> Carrier<N> for Folded<N> {
     fn add_light(&self, r: &mut [f32; N], _: &(), _: usize, w: &[f32; N], g: f32) {
         add_scaled(r, w, g);
     }
-    fn new_pixel(&self) -> [f64; N] {
-        [0.0; N]
+    fn planes(&self) -> usize {
+        N
     }
     #[inline(always)]
-    fn accumulate(&self, px: &mut [f64; N], _: &(), r: &[f32; N]) {
-        add_f64(px, r);
+    fn accumulate(&self, film: &mut Film<f32>, pixel: usize, _: &(), r: &[f32; N]) {
+        film.add(0, pixel, r);
     }
-    fn xyz(&self, px: &[f64; N], paths: usize) -> [f64; 3] {
-        let mean: [f32; N] = px.map(|v| (v / paths.max(1) as f64) as f32);
-        let rgb = self.set.linear_rgb(&mean);
-        self.set.display().xyz_from_linear(rgb).map(f64::from)
+    fn frame(&self, film: &Film<f32>, paths: usize, out: [&mut [f32]; 3]) {
+        let [r, g, b] = out;
+        // The planes and outputs have the film's length: no length error can arise.
+        let _ = self.set.linear_rgb_planar(
+            std::array::from_fn(|i| film.plane(i)),
+            [&mut *r, &mut *g, &mut *b],
+        );
+        scale_planes([r, g, b], 1.0 / paths.max(1) as f32);
     }
 }
 
 /// A light group: N shared nodes, one accumulator of node values per light (the light itself
-/// left out: it is in that light's weights), and the runtime's [`LightGroupSet`] sums the
-/// lights' linear RGB.
+/// left out: it is in that light's weights). The film holds N planes per light; its frame is
+/// the runtime's [`LightGroupSet::linear_rgb_planar`], which sums the lights' linear RGB.
 #[derive(Debug, Clone)]
 pub struct Group<const N: usize, const L: usize> {
     /// Per surface row: its reflectance at the nodes.
@@ -247,7 +260,7 @@ pub struct Group<const N: usize, const L: usize> {
 impl<const N: usize, const L: usize> Carrier<N> for Group<N, L> {
     type Path = ();
     type Radiance = [[f32; N]; L];
-    type Pixel = [[f64; N]; L];
+    type Sum = f32;
 
     #[inline(always)]
     fn start(&self, _: &mut Pcg32) {}
@@ -263,24 +276,29 @@ impl<const N: usize, const L: usize> Carrier<N> for Group<N, L> {
     fn add_light(&self, r: &mut [[f32; N]; L], _: &(), light: usize, w: &[f32; N], g: f32) {
         add_scaled(&mut r[light], w, g);
     }
-    fn new_pixel(&self) -> [[f64; N]; L] {
-        [[0.0; N]; L]
+    fn planes(&self) -> usize {
+        N * L
     }
     #[inline(always)]
-    fn accumulate(&self, px: &mut [[f64; N]; L], _: &(), r: &[[f32; N]; L]) {
-        for l in 0..L {
-            add_f64(&mut px[l], &r[l]);
+    fn accumulate(&self, film: &mut Film<f32>, pixel: usize, _: &(), r: &[[f32; N]; L]) {
+        for (l, r) in r.iter().enumerate() {
+            film.add(l * N, pixel, r);
         }
     }
-    fn xyz(&self, px: &[[f64; N]; L], paths: usize) -> [f64; 3] {
-        let mean: [[f32; N]; L] = px.map(|p| p.map(|v| (v / paths.max(1) as f64) as f32));
-        let rgb = self.set.linear_rgb(&mean);
-        self.set.display().xyz_from_linear(rgb).map(f64::from)
+    fn frame(&self, film: &Film<f32>, paths: usize, out: [&mut [f32]; 3]) {
+        let [r, g, b] = out;
+        // The planes and outputs have the film's length: no length error can arise.
+        let _ = self.set.linear_rgb_planar(
+            std::array::from_fn(|l| std::array::from_fn(|i| film.plane(l * N + i))),
+            [&mut *r, &mut *g, &mut *b],
+        );
+        scale_planes([r, g, b], 1.0 / paths.max(1) as f32);
     }
 }
 
 /// The reference: every nm of 400-700 through the same paths, the measured reflectances (the
-/// texture's patches too), each light's spectrum, and the 1 nm colour-matching weights.
+/// texture's patches too), each light's spectrum, and the 1 nm colour-matching weights. Its film
+/// sums every nm in f64 (tens of thousands of paths a pixel); its frame integrates them in f64.
 #[derive(Debug, Clone)]
 pub struct Reference {
     /// Per surface row: its row of `spectra`.
@@ -296,7 +314,7 @@ pub struct Reference {
 impl Carrier<REFERENCE_LANES> for Reference {
     type Path = ();
     type Radiance = [f32; REFERENCE_LANES];
-    type Pixel = Box<[f64; REFERENCE_LANES]>;
+    type Sum = f64;
 
     #[inline(always)]
     fn start(&self, _: &mut Pcg32) {}
@@ -319,22 +337,30 @@ impl Carrier<REFERENCE_LANES> for Reference {
     ) {
         add_product(r, w, &self.emission[light], g);
     }
-    fn new_pixel(&self) -> Box<[f64; REFERENCE_LANES]> {
-        Box::new([0.0; REFERENCE_LANES])
+    fn planes(&self) -> usize {
+        GRID_LEN
     }
     #[inline(always)]
-    fn accumulate(&self, px: &mut Box<[f64; REFERENCE_LANES]>, _: &(), r: &[f32; REFERENCE_LANES]) {
-        add_f64(px, r);
+    fn accumulate(&self, film: &mut Film<f64>, pixel: usize, _: &(), r: &[f32; REFERENCE_LANES]) {
+        let r: &[f32; GRID_LEN] = r[..GRID_LEN].try_into().unwrap_or(&[0.0; GRID_LEN]);
+        film.add(0, pixel, r);
     }
-    fn xyz(&self, px: &Box<[f64; REFERENCE_LANES]>, paths: usize) -> [f64; 3] {
+    fn frame(&self, film: &Film<f64>, paths: usize, out: [&mut [f32]; 3]) {
         let n = paths.max(1) as f64;
-        [0, 1, 2].map(|c| {
-            self.xyz[c]
-                .iter()
-                .zip(px.iter())
-                .map(|(w, v)| w * v)
-                .sum::<f64>()
-                / n
-        })
+        let mut xyz = vec![[0.0f64; 3]; film.pixels()];
+        for j in 0..GRID_LEN {
+            let w = [0, 1, 2].map(|c| self.xyz[c][j] / n);
+            for (o, &v) in xyz.iter_mut().zip(film.plane(j)) {
+                for c in 0..3 {
+                    o[c] += w[c] * v;
+                }
+            }
+        }
+        let m = frame_display().xyz_to_rgb().map(|row| row.map(f64::from));
+        let [r, g, b] = out;
+        for (k, v) in xyz.iter().enumerate() {
+            let o = [0, 1, 2].map(|c| m[c][0] * v[0] + m[c][1] * v[1] + m[c][2] * v[2]);
+            (r[k], g[k], b[k]) = (o[0] as f32, o[1] as f32, o[2] as f32);
+        }
     }
 }

@@ -137,7 +137,28 @@ pub struct Setup<'a> {
     pub training: Vec<Curve>,
     /// How long each fixed set took to build (search, fit, map), seconds, by N.
     pub build_seconds: std::sync::Mutex<Vec<(usize, f64)>>,
+    /// The fixed sets found so far, by N (a search runs once per scene).
+    fixed_sets: std::sync::Mutex<HashMap<usize, FixedSet>>,
 }
+
+/// One paint's error at a fixed set's nodes: [`Setup::paint_errors`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct PaintError {
+    /// The light it is lit by.
+    pub light: String,
+    /// The paint.
+    pub paint: String,
+    /// Light reflected this many times off the paint: the reflectance raised to this power.
+    pub bounces: i32,
+    /// CIEDE2000 of the set's colour against the 1 nm colour, under the light.
+    pub de00: f64,
+    /// The same with the paint's reflectance smoothed over [`SMOOTH_NM`] first.
+    pub de00_smoothed: f64,
+}
+
+/// The width of the moving average of [`PaintError::de00_smoothed`], nm: it removes the
+/// measured reflectances' ripple of 10-20 nm and keeps their shape.
+pub const SMOOTH_NM: usize = 21;
 
 impl<'a> Setup<'a> {
     /// The shared parts for `scene`.
@@ -153,6 +174,7 @@ impl<'a> Setup<'a> {
             xyz_1nm: full.xyz_weights,
             training,
             build_seconds: std::sync::Mutex::new(Vec::new()),
+            fixed_sets: std::sync::Mutex::new(HashMap::new()),
         })
     }
 
@@ -210,11 +232,7 @@ impl<'a> Setup<'a> {
                     .map(|c| (0..3).map(|k| m.xyz_to_rgb[c][k] * xyz[k]).sum::<f64>() as f32))
             })
             .collect::<Result<Vec<_>, Error>>()?;
-        Ok(Rgb {
-            table,
-            emission,
-            rgb_to_xyz: m.rgb_to_xyz,
-        })
+        Ok(Rgb { table, emission })
     }
 
     /// A random-wavelength method of K wavelengths a path.
@@ -290,6 +308,74 @@ impl<'a> Setup<'a> {
     /// (a reflectance of 1 gives that light's own 1 nm XYZ): the folded set of the scene's one
     /// light, or the light group of its lights.
     pub fn fixed_set(&self, n: usize) -> Result<FixedSet, Error> {
+        if let Some(f) = self.fixed_sets.lock().ok().and_then(|m| m.get(&n).cloned()) {
+            return Ok(f);
+        }
+        let f = self.search_fixed_set(n)?;
+        if let Ok(mut m) = self.fixed_sets.lock() {
+            m.insert(n, f.clone());
+        }
+        Ok(f)
+    }
+
+    /// Each measured paint's error at the nodes of the fixed set of `n` (its weights under each
+    /// light), alone and as light reflected twice and four times off it (its reflectance
+    /// squared and to the fourth: what interreflection between walls of one paint makes), and
+    /// the same with the paint smoothed over [`SMOOTH_NM`]. Empty where the paints are given as
+    /// sRGB.
+    pub fn paint_errors(&self, n: usize) -> Result<Vec<PaintError>, Error> {
+        if !self.measured_paints() {
+            return Ok(Vec::new());
+        }
+        let (nodes, weights) = self.fixed_set(n)?;
+        let mut out = Vec::new();
+        for (light, w) in self.scene.lights.iter().zip(&weights) {
+            let truth = |f: &dyn Fn(f64) -> f64| -> [f64; 3] {
+                [0, 1, 2].map(|c| {
+                    self.xyz_1nm[c]
+                        .iter()
+                        .enumerate()
+                        .map(|(k, x)| {
+                            let nm = GRID_NM[0] + k as f64;
+                            x * light.curve.at(nm) * f(nm)
+                        })
+                        .sum()
+                })
+            };
+            let at_nodes = |f: &dyn Fn(f64) -> f64| -> [f64; 3] {
+                [0, 1, 2].map(|c| nodes.iter().zip(&w[c]).map(|(&nm, w)| w * f(nm)).sum())
+            };
+            let white = truth(&|_| 1.0);
+            let de = |f: &dyn Fn(f64) -> f64| {
+                spectral_quadrature_math::delta_e2000(
+                    spectral_quadrature_math::lab_from_xyz(truth(f), white),
+                    spectral_quadrature_math::lab_from_xyz(at_nodes(f), white),
+                )
+            };
+            for paint in &self.scene.data.paints {
+                let half = (SMOOTH_NM / 2) as f64;
+                let smooth = |nm: f64| {
+                    (0..SMOOTH_NM)
+                        .map(|k| paint.at((nm - half + k as f64).clamp(GRID_NM[0], GRID_NM[1])))
+                        .sum::<f64>()
+                        / SMOOTH_NM as f64
+                };
+                for bounces in [1, 2, 4] {
+                    out.push(PaintError {
+                        light: light.name.clone(),
+                        paint: paint.name.clone(),
+                        bounces,
+                        de00: de(&|nm| paint.at(nm).powi(bounces)),
+                        de00_smoothed: de(&|nm| smooth(nm).powi(bounces)),
+                    });
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    /// [`fixed_set`](Self::fixed_set), searched.
+    fn search_fixed_set(&self, n: usize) -> Result<FixedSet, Error> {
         let d = self.d;
         let problems = self
             .scene

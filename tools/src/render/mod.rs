@@ -8,9 +8,11 @@
 //! compare. The scenes ([`scene`]) are TOML files beside their data; the methods are made from a
 //! scene with the generator and the runtime's public constructors ([`methods`]); images are
 //! judged in CIEDE2000 against the 1 nm reference, whose own error is measured from two seeds
-//! ([`measure`]).
+//! ([`measure`]). The curves of error against time, where they stop and what they say, are
+//! [`curves`].
 
 pub mod carriers;
+pub mod curves;
 pub mod measure;
 pub mod methods;
 pub mod scene;

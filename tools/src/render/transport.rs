@@ -100,15 +100,87 @@ pub fn spectral_stream(seed: u64, pixel: usize) -> Pcg32 {
     Pcg32::new(seed ^ 0x9e37_79b9_7f4a_7c15, 2 * pixel as u64 + 1)
 }
 
-/// What a path carries, and how a pixel's paths become XYZ. `M` values a path: the method's
-/// channels, wavelengths or nodes.
+/// A value a film sums paths into: `f32` (what a renderer's film holds) or `f64` (the
+/// reference's 1 nm sums over tens of thousands of paths).
+pub trait FilmValue: Copy + Default + Send + Sync {
+    /// `self += v`.
+    fn add_f32(&mut self, v: f32);
+    /// As f64.
+    fn to_f64(self) -> f64;
+}
+
+impl FilmValue for f32 {
+    #[inline(always)]
+    fn add_f32(&mut self, v: f32) {
+        *self += v;
+    }
+    #[inline(always)]
+    fn to_f64(self) -> f64 {
+        f64::from(self)
+    }
+}
+
+impl FilmValue for f64 {
+    #[inline(always)]
+    fn add_f32(&mut self, v: f32) {
+        *self += f64::from(v);
+    }
+    #[inline(always)]
+    fn to_f64(self) -> f64 {
+        self
+    }
+}
+
+/// A film: the sums of one thread's pixels, plane by plane (structure of arrays, as the
+/// runtime's planar path reads them): plane `j` holds value `j` of every pixel.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Film<T> {
+    pixels: usize,
+    data: Vec<T>,
+}
+
+impl<T: FilmValue> Film<T> {
+    /// `planes` planes of `pixels` zeros.
+    pub fn new(planes: usize, pixels: usize) -> Film<T> {
+        Film {
+            pixels,
+            data: vec![T::default(); planes * pixels],
+        }
+    }
+
+    /// The number of pixels.
+    pub fn pixels(&self) -> usize {
+        self.pixels
+    }
+
+    /// Plane `j`.
+    pub fn plane(&self, j: usize) -> &[T] {
+        &self.data[j * self.pixels..(j + 1) * self.pixels]
+    }
+
+    /// Every plane back to zero.
+    pub fn clear(&mut self) {
+        self.data.fill(T::default());
+    }
+
+    /// Adds `v[j]` to pixel `pixel` of plane `first + j`.
+    #[inline(always)]
+    pub fn add<const M: usize>(&mut self, first: usize, pixel: usize, v: &[f32; M]) {
+        for (j, &x) in v.iter().enumerate() {
+            self.data[(first + j) * self.pixels + pixel].add_f32(x);
+        }
+    }
+}
+
+/// What a path carries, and how a film of its paths becomes a frame. `M` values a path: the
+/// method's channels, wavelengths or nodes.
 pub trait Carrier<const M: usize>: Sync {
     /// What one path holds besides its throughput (its wavelengths, for random methods).
     type Path: Copy;
     /// A path's radiance (one accumulator per light for a light group).
     type Radiance: Copy;
-    /// A pixel's sum over its paths.
-    type Pixel: Clone + Send;
+    /// What the film sums in.
+    type Sum: FilmValue;
 
     /// A path's start: draws its wavelengths from `spectral` if the method has any to draw.
     fn start(&self, spectral: &mut Pcg32) -> Self::Path;
@@ -126,12 +198,52 @@ pub trait Carrier<const M: usize>: Sync {
         weight: &[f32; M],
         g: f32,
     );
-    /// An empty pixel.
-    fn new_pixel(&self) -> Self::Pixel;
-    /// Adds a path's radiance to its pixel.
-    fn accumulate(&self, pixel: &mut Self::Pixel, path: &Self::Path, r: &Self::Radiance);
-    /// The pixel's XYZ after `paths` paths, in the reference's units.
-    fn xyz(&self, pixel: &Self::Pixel, paths: usize) -> [f64; 3];
+    /// The film's planes: what a pixel's sum holds.
+    fn planes(&self) -> usize;
+    /// Adds a path's radiance to pixel `pixel` of `film`.
+    fn accumulate(
+        &self,
+        film: &mut Film<Self::Sum>,
+        pixel: usize,
+        path: &Self::Path,
+        r: &Self::Radiance,
+    );
+    /// The frame a renderer displays: the film's mean over `paths` paths a pixel as linear
+    /// sRGB ([`frame_display`]'s), into `out` (R, G and B planes, one value per pixel of the
+    /// film). Every method converts its whole film at once, as a renderer converts its
+    /// accumulated buffer once per displayed frame.
+    fn frame(&self, film: &Film<Self::Sum>, paths: usize, out: [&mut [f32]; 3]);
+}
+
+/// The display every method's frame is in: the runtime's sRGB.
+pub fn frame_display() -> spectral_quadrature::Display {
+    spectral_quadrature::tables::displays::SRGB
+}
+
+/// `out *= s`, plane by plane.
+#[inline]
+pub fn scale_planes(out: [&mut [f32]; 3], s: f32) {
+    for p in out {
+        for v in p.iter_mut() {
+            *v *= s;
+        }
+    }
+}
+
+/// `out = m · xyz / paths` for every pixel: a 3 × 3 matrix over three planes.
+pub fn matrix_planes<T: FilmValue>(
+    m: &[[f32; 3]; 3],
+    xyz: [&[T]; 3],
+    paths: usize,
+    out: [&mut [f32]; 3],
+) {
+    let s = 1.0 / paths.max(1) as f32;
+    let [r, g, b] = out;
+    for (k, ((r, g), b)) in r.iter_mut().zip(g.iter_mut()).zip(b.iter_mut()).enumerate() {
+        let v = [0, 1, 2].map(|c| xyz[c][k].to_f64() as f32);
+        let o = [0, 1, 2].map(|c| (m[c][0] * v[0] + m[c][1] * v[1] + m[c][2] * v[2]) * s);
+        (*r, *g, *b) = (o[0], o[1], o[2]);
+    }
 }
 
 /// `a ∘ b`.
@@ -157,14 +269,6 @@ pub fn add_scaled<const M: usize>(acc: &mut [f32; M], a: &[f32; M], s: f32) {
 pub fn add_product<const M: usize>(acc: &mut [f32; M], a: &[f32; M], b: &[f32; M], s: f32) {
     for k in 0..M {
         acc[k] += a[k] * b[k] * s;
-    }
-}
-
-/// `acc += a` in f64.
-#[inline(always)]
-pub fn add_f64<const M: usize>(acc: &mut [f64; M], a: &[f32; M]) {
-    for k in 0..M {
-        acc[k] += f64::from(a[k]);
     }
 }
 
@@ -607,10 +711,11 @@ fn trace<const M: usize, C: Carrier<M>>(
     r
 }
 
-/// One thread's share of the pixels: their indices and each one's streams and sum.
-struct Part<P> {
+/// One thread's share of the pixels: their indices, each one's two streams, and their film.
+struct Part<T> {
     pixels: Vec<usize>,
-    state: Vec<(Pcg32, Pcg32, P)>,
+    streams: Vec<(Pcg32, Pcg32)>,
+    film: Film<T>,
 }
 
 /// Sample passes `from + 1 ..= to` over one thread's pixels.
@@ -618,16 +723,16 @@ struct Part<P> {
 fn passes<const M: usize, C: Carrier<M>>(
     g: &Geometry,
     c: &C,
-    part: &mut Part<C::Pixel>,
+    part: &mut Part<C::Sum>,
     from: usize,
     to: usize,
 ) {
     for _ in from..to {
         for (i, &k) in part.pixels.iter().enumerate() {
-            let (spatial, spectral, px) = &mut part.state[i];
+            let (spatial, spectral) = &mut part.streams[i];
             let path = c.start(spectral);
             let r = trace(g, c, k, &path, spatial);
-            c.accumulate(px, &path, &r);
+            c.accumulate(&mut part.film, i, &path, &r);
         }
     }
 }
@@ -637,7 +742,7 @@ fn passes<const M: usize, C: Carrier<M>>(
 fn passes_avx2<const M: usize, C: Carrier<M>>(
     g: &Geometry,
     c: &C,
-    part: &mut Part<C::Pixel>,
+    part: &mut Part<C::Sum>,
     from: usize,
     to: usize,
 ) {
@@ -669,13 +774,19 @@ pub struct Options {
 
 /// An image being rendered, one pass of one path per pixel after another: it can be taken at
 /// any number of passes and rendered further, so that several methods can take turns on the
-/// machine (their times then see the same load).
+/// machine (their times then see the same load), and started again from nothing with the same
+/// paths, so that a short render can be timed several times.
 pub trait Progressive {
     /// Renders passes up to `spp` paths a pixel in all; returns the wall seconds it took.
     fn advance(&mut self, spp: usize) -> f64;
-    /// The image so far (XYZ per pixel, zero where nothing is seen) and the wall seconds its
-    /// conversion took.
-    fn image(&self) -> (Vec<[f64; 3]>, f64);
+    /// The frame so far: XYZ per pixel (zero where nothing is seen) and the wall seconds its
+    /// conversion took. The conversion timed is the renderer's: every film into its linear
+    /// sRGB frame ([`Carrier::frame`]) and the frame's pixels into place; the frame's XYZ,
+    /// which the images are judged in, is computed after, untimed.
+    fn image(&mut self) -> (Vec<[f64; 3]>, f64);
+    /// Back to no paths: the films cleared, every pixel's streams seeded again (the same
+    /// paths follow).
+    fn reset(&mut self);
     /// Paths a pixel so far.
     fn spp(&self) -> usize;
     /// Whether the AVX2 instance of the loop runs.
@@ -686,36 +797,47 @@ pub trait Progressive {
 pub struct Progress<'g, const M: usize, C: Carrier<M>> {
     g: &'g Geometry,
     c: C,
-    parts: Vec<Part<C::Pixel>>,
+    parts: Vec<Part<C::Sum>>,
+    /// Each part's frame, R, G and B planes.
+    frames: Vec<[Vec<f32>; 3]>,
+    /// The frame in pixel order, linear sRGB.
+    frame: Vec<[f32; 3]>,
+    seed: u64,
     done: usize,
     avx2: bool,
 }
 
 impl<'g, const M: usize, C: Carrier<M>> Progress<'g, M, C> {
-    /// No paths yet: each pixel's streams seeded, its sum empty.
+    /// No paths yet: each pixel's streams seeded, the films empty.
     pub fn new(g: &'g Geometry, c: C, opts: Options) -> Self {
         let n = g.size * g.size;
         let threads = opts.threads.clamp(1, g.size.max(1));
-        let parts = (0..threads)
+        let parts: Vec<Part<C::Sum>> = (0..threads)
             .map(|t| {
                 let pixels: Vec<usize> = (0..n).filter(|k| (k / g.size) % threads == t).collect();
-                let state = pixels
+                let streams = pixels
                     .iter()
-                    .map(|&k| {
-                        (
-                            spatial_stream(opts.seed, k),
-                            spectral_stream(opts.seed, k),
-                            c.new_pixel(),
-                        )
-                    })
+                    .map(|&k| (spatial_stream(opts.seed, k), spectral_stream(opts.seed, k)))
                     .collect();
-                Part { pixels, state }
+                let film = Film::new(c.planes(), pixels.len());
+                Part {
+                    pixels,
+                    streams,
+                    film,
+                }
             })
+            .collect();
+        let frames = parts
+            .iter()
+            .map(|p| [0, 1, 2].map(|_| vec![0.0f32; p.pixels.len()]))
             .collect();
         Progress {
             g,
             c,
             parts,
+            frames,
+            frame: vec![[0.0; 3]; n],
+            seed: opts.seed,
             done: 0,
             avx2: opts.simd && has_avx2(),
         }
@@ -754,15 +876,36 @@ impl<const M: usize, C: Carrier<M>> Progressive for Progress<'_, M, C> {
         start.elapsed().as_secs_f64()
     }
 
-    fn image(&self) -> (Vec<[f64; 3]>, f64) {
+    fn image(&mut self) -> (Vec<[f64; 3]>, f64) {
         let start = Instant::now();
-        let mut img = vec![[0.0; 3]; self.g.size * self.g.size];
-        for part in &self.parts {
+        for (part, out) in self.parts.iter().zip(self.frames.iter_mut()) {
+            let [r, g, b] = out;
+            self.c.frame(&part.film, self.done, [r, g, b]);
             for (i, &k) in part.pixels.iter().enumerate() {
-                img[k] = self.c.xyz(&part.state[i].2, self.done);
+                self.frame[k] = [r[i], g[i], b[i]];
             }
         }
-        (img, start.elapsed().as_secs_f64())
+        let seconds = start.elapsed().as_secs_f64();
+        let m = frame_display().rgb_to_xyz().map(|row| row.map(f64::from));
+        let xyz = self
+            .frame
+            .iter()
+            .map(|p| {
+                let v = p.map(f64::from);
+                [0, 1, 2].map(|c| m[c][0] * v[0] + m[c][1] * v[1] + m[c][2] * v[2])
+            })
+            .collect();
+        (xyz, seconds)
+    }
+
+    fn reset(&mut self) {
+        for part in &mut self.parts {
+            part.film.clear();
+            for (s, &k) in part.streams.iter_mut().zip(&part.pixels) {
+                *s = (spatial_stream(self.seed, k), spectral_stream(self.seed, k));
+            }
+        }
+        self.done = 0;
     }
 
     fn spp(&self) -> usize {
