@@ -62,6 +62,11 @@ pub(crate) fn header_of(m: &Model) -> String {
         floats(&mut o, &name, &l.values);
         o.push('\n');
     }
+    if let Some(max) = m.upsamplings.iter().map(|u| u.n).max() {
+        writeln!(o, "#define SQ_UPSAMPLING_MAX_LEN {max}\n").ok();
+        o.push_str(UPSAMPLING_HELPER);
+        o.push_str(ROUND_TRIP_HELPER);
+    }
     for u in &m.upsamplings {
         upsampling(&mut o, u);
     }
@@ -507,11 +512,18 @@ fn opponent(o: &mut String, m: &Model) {
         c_float(p.unit_spectrum_y)
     )
     .ok();
+    writeln!(
+        o,
+        "/* tables::SCENE: the scene the tables were made for. */\nstatic const char sq_scene[] = {};",
+        c_string(&m.provenance.scene)
+    )
+    .ok();
     o.push_str(
         "\n/* xyz_from_ac1c2 and ac1c2_from_xyz. */\n\
          static inline void sq_xyz_from_ac1c2(const float ac1c2[3], float out[3]) {\n    sq_mat3_vec(sq_ac1c2_to_xyz, ac1c2, out);\n}\n\n\
          static inline void sq_ac1c2_from_xyz(const float xyz[3], float out[3]) {\n    sq_mat3_vec(sq_xyz_to_ac1c2, xyz, out);\n}\n\n",
     );
+    o.push_str(FOLD);
 }
 
 /// The 8-bit thresholds the scene's displays need (sRGB, and each power law's from the model),
@@ -618,6 +630,44 @@ fn locus(o: &mut String, l: &super::model::Locus) {
     )
     .ok();
     o.push_str(CCT);
+}
+
+const FOLD: &str = r#"/* WavelengthSet::fold: n weights per channel (3 rows) folded for a display's xyz_to_rgb and a
+ * scale, in f32: out = scale * (xyz_to_rgb * AC1C2_TO_XYZ) * w, 3 rows of n. */
+static inline void sq_fold(size_t n, const float *w, const float xyz_to_rgb[3][3], float scale, float *out) {
+    SQ_FP_EXACT
+    float m[3][3];
+    size_t r, j, i;
+    for (r = 0; r < 3; r++) {
+        for (j = 0; j < 3; j++) {
+            m[r][j] = xyz_to_rgb[r][0] * sq_ac1c2_to_xyz[0][j] + xyz_to_rgb[r][1] * sq_ac1c2_to_xyz[1][j] + xyz_to_rgb[r][2] * sq_ac1c2_to_xyz[2][j];
+        }
+    }
+    for (r = 0; r < 3; r++) {
+        for (i = 0; i < n; i++) {
+            out[r * n + i] = scale * (m[r][0] * w[i] + m[r][1] * w[n + i] + m[r][2] * w[2 * n + i]);
+        }
+    }
+}
+
+"#;
+
+/// A C string literal of `s`: printable ASCII as it is (`"` and `\` escaped), anything else
+/// in octal escapes of its UTF-8 bytes.
+fn c_string(s: &str) -> String {
+    let mut o = String::from("\"");
+    for b in s.bytes() {
+        match b {
+            b'"' | b'\\' => {
+                o.push('\\');
+                o.push(char::from(b));
+            }
+            0x20..=0x7e => o.push(char::from(b)),
+            _ => o.push_str(&std::format!("\\{b:03o}")),
+        }
+    }
+    o.push('"');
+    o
 }
 
 const CCT: &str = r#"
@@ -813,7 +863,9 @@ fn set(o: &mut String, module: &str, s: &super::model::Set) {
         o,
         "\n/* WavelengthSet::ac1c2 and xyz. */\n\
          static inline void {name}_ac1c2(const float samples[{n}], float out[3]) {{\n    sq_mat_vec({n}, &{name}_weights[0][0], samples, out);\n}}\n\n\
-         static inline void {name}_xyz(const float samples[{n}], float out[3]) {{\n    {name}_ac1c2(samples, out);\n    sq_xyz_from_ac1c2(out, out);\n}}\n"
+         static inline void {name}_xyz(const float samples[{n}], float out[3]) {{\n    {name}_ac1c2(samples, out);\n    sq_xyz_from_ac1c2(out, out);\n}}\n\n\
+         /* WavelengthSet::fold: the weights folded for a display (its xyz_to_rgb) and a scale, in f32;\n * sq_mat_vec({n}, &out[0][0], samples, rgb) is then FoldedSet::linear_rgb. */\n\
+         static inline void {name}_fold(const float xyz_to_rgb[3][3], float scale, float out[3][{n}]) {{\n    sq_fold({n}, &{name}_weights[0][0], xyz_to_rgb, scale, &out[0][0]);\n}}\n"
     )
     .ok();
 }
@@ -868,6 +920,12 @@ fn display(o: &mut String, m: &Model, d: &Display) {
             c_float(p[0]),
             c_float(p[1])
         ))
+    )
+    .ok();
+    writeln!(
+        o,
+        "static const char {name}_name[] = {};",
+        c_string(&d.label)
     )
     .ok();
     floats(o, &std::format!("{name}_white_xy"), &d.white_xy);
@@ -1013,21 +1071,44 @@ fn upsampling(o: &mut String, u: &super::model::Upsampling) {
         &std::format!("{name}_round_trip_edge_cells"),
         &u.edge_cells,
     );
+    floats(
+        o,
+        &std::format!("{name}_round_trip_rounding"),
+        &round_trip_rounding(&u.encoding),
+    );
     writeln!(
         o,
         "\n/* Upsampling::interpolate: the grid's codes interpolated at rgb clamped to 0..=1 (NaN to 0),\n * each value clamped to 0..=1. */\n\
-         static inline void {name}_interpolate(const float rgb[3], float out[{n}]) {{\n    SQ_FP_EXACT\n    sq_upsampling_interpolate({g}, {n}, &{name}_table[0][0], rgb, out);\n}}\n"
+         static inline void {name}_interpolate(const float rgb[3], float out[{n}]) {{\n    float p[3];\n    size_t cell;\n    sq_upsampling_interpolate_at({g}, {n}, &{name}_table[0][0], rgb, out, p, &cell);\n}}\n\n\
+         /* Upsampling::reflectance: interpolate, then on the cells where interpolation can miss the\n * colour (the edge cells) the round trip's correction toward node values that give it back. */\n\
+         static inline void {name}_reflectance(const float rgb[3], float out[{n}]) {{\n    float p[3];\n    size_t cell;\n    sq_upsampling_interpolate_at({g}, {n}, &{name}_table[0][0], rgb, out, p, &cell);\n    if (sq_round_trip_is_edge({name}_round_trip_edge_cells, {edges}, cell)) {{\n        sq_round_trip_correct({n}, &{name}_round_trip_weights[0][0], {name}_round_trip_rgb_to_xyz, {name}_round_trip_rounding, p, out);\n    }}\n}}\n",
+        edges = u.edge_cells.len()
     )
     .ok();
-    if !o.contains("static inline void sq_upsampling_interpolate(") {
-        // Written once, before its first use: the helper every map calls.
-        let at = o.rfind("/* tables::upsampling::").unwrap_or(o.len());
-        o.insert_str(at, UPSAMPLING_HELPER);
-    }
 }
 
-const UPSAMPLING_HELPER: &str = r#"/* Upsampling::interpolate for a grid of g points per axis and n values per point. */
-static inline void sq_upsampling_interpolate(size_t g, size_t n, const uint16_t *table, const float rgb[3], float *out) {
+/// The round trip's `rounding`, as the runtime's `RoundTrip::new` computes it in f32: half a
+/// code of 65535 of each row's absolute sum, at least the smallest normal f32.
+fn round_trip_rounding(w: &[Vec<f32>; 3]) -> [f32; 3] {
+    let mut out = [0.0f32; 3];
+    for (o, row) in out.iter_mut().zip(w) {
+        let mut sum = 0.0f32;
+        for x in row {
+            sum += x.abs();
+        }
+        let r = sum * (0.5 / 65535.0);
+        *o = if r > f32::MIN_POSITIVE {
+            r
+        } else {
+            f32::MIN_POSITIVE
+        };
+    }
+    out
+}
+
+const UPSAMPLING_HELPER: &str = r#"/* Upsampling::interpolate for a grid of g points per axis and n values per point; p gets rgb
+ * clamped to 0..=1 and *cell_index the cell's index (what the round trip reads). */
+static inline void sq_upsampling_interpolate_at(size_t g, size_t n, const uint16_t *table, const float rgb[3], float *out, float p[3], size_t *cell_index) {
     SQ_FP_EXACT
     float cells = (float)(g - 1), frac[3], w0, w1, w2, w3, scale = 1.0f / 65535.0f;
     size_t cell[3], c, i, a, b, cc, base, i1, i2, i3, strides[3];
@@ -1038,6 +1119,7 @@ static inline void sq_upsampling_interpolate(size_t g, size_t n, const uint16_t 
     for (c = 0; c < 3; c++) {
         float v = rgb[c] > 0.0f ? (rgb[c] < 1.0f ? rgb[c] : 1.0f) : 0.0f;
         float x = v * cells;
+        p[c] = v;
         size_t k = (size_t)x;
         if (k > g - 2) {
             k = g - 2;
@@ -1060,6 +1142,7 @@ static inline void sq_upsampling_interpolate(size_t g, size_t n, const uint16_t 
     } else {
         a = 2; b = 1; cc = 0;
     }
+    *cell_index = (cell[0] * (g - 1) + cell[1]) * (g - 1) + cell[2];
     base = (cell[0] * g + cell[1]) * g + cell[2];
     i1 = base + strides[a];
     i2 = i1 + strides[b];
@@ -1080,6 +1163,11 @@ static inline void sq_upsampling_interpolate(size_t g, size_t n, const uint16_t 
 }
 
 "#;
+
+/// The round trip's correction (the runtime's `upsample/round_trip.rs`), in the runtime's
+/// order of operations: written once, before the first map, for maps of at most
+/// `SQ_UPSAMPLING_MAX_LEN` values.
+const ROUND_TRIP_HELPER: &str = include_str!("c_round_trip.h");
 
 fn sensor(o: &mut String, s: &super::model::Sensor) {
     let name = std::format!("sq_sensors_{}", lower(&s.name));
