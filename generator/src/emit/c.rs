@@ -537,11 +537,11 @@ fn curves(o: &mut String, m: &Model) {
     };
     if uses(|t| matches!(t, Transfer::Srgb)) {
         let t = srgb_thresholds();
-        o.push_str("/* srgb8_from_linear's thresholds: entry k (1..=255) is the bits of the smallest f32 whose\n * exact sRGB encoding (f64) times 255 rounds to k or more. */\n");
-        u32s(o, "sq_srgb8_thresholds", &t);
+        o.push_str("/* srgb8_from_linear's table (the runtime's encode.rs): an f32 clamped to 2^-13..=1 is split by\n * its top bits into segments, each holding at most one code's threshold (the smallest f32 whose\n * exact sRGB encoding, in f64, times 255 rounds to the code); entry s is the code at segment s's\n * start, arranged so that adding the f32's position in the segment carries into the code at the\n * threshold. */\n");
+        u32s(o, "sq_srgb8_segments", &srgb_segment_table(&t));
         o.push_str(
-            "\n/* srgb8_from_linear: linear light to 8-bit sRGB, the exact curve rounded to nearest; NaN,\n * negative and tiny values give 0, values at or above 1 give 255. */\n\
-             static inline uint8_t sq_srgb8_from_linear(float x) {\n    return sq_encode8(sq_srgb8_thresholds, x);\n}\n\n",
+            "\n/* srgb8_from_linear: linear light to 8-bit sRGB, the exact curve rounded to nearest; NaN,\n * negative and tiny values give 0, values at or above 1 give 255. A clamp, a table look-up and\n * an addition. */\n\
+             static inline uint8_t sq_srgb8_from_linear(float x) {\n    const float lo = sq_f32_from_bits(0x39000000u); /* 2^-13 */\n    uint32_t v;\n    x = x > lo ? x : lo;\n    x = x < 1.0f ? x : 1.0f;\n    v = sq_f32_bits(x) - 0x39000000u;\n    return (uint8_t)((sq_srgb8_segments[(v >> 16) & 2047u] + (v << 8)) >> 24);\n}\n\n",
         );
         if integer_uses(|t| matches!(t, Transfer::Srgb)) {
             u64s(o, "sq_srgb8_q63", &q63(&t));
@@ -1278,6 +1278,37 @@ fn srgb_thresholds() -> [u32; 256] {
         *slot = ceil_f32_bits(srgb_boundary(k));
     }
     t
+}
+
+/// The runtime's `encode::SEGMENT_TABLE` from its thresholds: 2 048 segments of 2¹⁶ f32 from
+/// 2⁻¹³ (the last ones repeating the segment of exactly 1.0), each entry the code at the
+/// segment's start, minus the segment's index, plus the carry that the position of the
+/// segment's threshold, if any, brings in (all in the top byte, mod 2³²).
+fn srgb_segment_table(t: &[u32; 256]) -> Vec<u32> {
+    const LO_BITS: u32 = (127 - 13) << 23;
+    const SEGMENTS: usize = 13 * 128 + 1;
+    let mut table = Vec::with_capacity(2048);
+    let mut code = 0usize;
+    for s in 0..2048usize {
+        let seg = s.min(SEGMENTS - 1);
+        let start = LO_BITS + ((seg as u32) << 16);
+        let end = start + 0xFFFF;
+        while code < 255 && t[code + 1] <= start {
+            code += 1;
+        }
+        let threshold = if code < 255 && t[code + 1] <= end {
+            t[code + 1] - start
+        } else {
+            1 << 16
+        };
+        let carry_in = (0x1_0000 - threshold) & 0xFFFF;
+        table.push(
+            ((code as u32) << 24)
+                .wrapping_add(carry_in << 8)
+                .wrapping_sub((s as u32) << 24),
+        );
+    }
+    table
 }
 
 /// The thresholds of `quantize_u8` on 0..=1 (the runtime's `integer::curve::linear_thresholds`).
