@@ -1240,10 +1240,33 @@ fn integer(o: &mut String, m: &Model, i: &super::model::Integer) {
         writeln!(o, "    {{ {} }},", joined(row, |w| std::format!("{w}"))).ok();
     }
     o.push_str("};\n");
+    // Each weight as its high and low 16 bits (w = high · 2¹⁶ + low, high = w >> 16 as the
+    // runtime's coarse weights): the sums need 16-bit products only, no 64-bit multiply (a
+    // library call on an Armv6-M), and IntegerSet::new bounded the high sum inside int32.
+    writeln!(o, "static const int16_t {name}_weights_high[3][{n}] = {{").ok();
+    for row in &weights {
+        writeln!(
+            o,
+            "    {{ {} }},",
+            joined(row, |w| std::format!("{}", w >> 16))
+        )
+        .ok();
+    }
+    o.push_str("};\n");
+    writeln!(o, "static const uint16_t {name}_weights_low[3][{n}] = {{").ok();
+    for row in &weights {
+        writeln!(
+            o,
+            "    {{ {} }},",
+            joined(row, |w| std::format!("{}", w & 0xffff))
+        )
+        .ok();
+    }
+    o.push_str("};\n");
     writeln!(
         o,
-        "\n/* IntegerSet::linear_fixed: each channel's exact sum of weights times counts (2^{p} is 1.0). */\n\
-         static inline void {name}_linear_fixed(const uint16_t counts[{n}], int64_t out[3]) {{\n    size_t c, i;\n    for (c = 0; c < 3; c++) {{\n        int64_t sum = 0;\n        for (i = 0; i < {n}; i++) {{\n            sum += (int64_t){name}_weights[c][i] * (int64_t)counts[i];\n        }}\n        out[c] = sum;\n    }}\n}}\n\n\
+        "\n/* IntegerSet::linear_fixed: each channel's exact sum of weights times counts (2^{p} is 1.0):\n * the high halves' sum times 2^16 plus the low halves'. */\n\
+         static inline void {name}_linear_fixed(const uint16_t counts[{n}], int64_t out[3]) {{\n    size_t c, i;\n    for (c = 0; c < 3; c++) {{\n        int32_t high = 0;\n        uint64_t low = 0;\n        for (i = 0; i < {n}; i++) {{\n            high += (int32_t){name}_weights_high[c][i] * (int32_t)counts[i];\n            low += (uint32_t){name}_weights_low[c][i] * (uint32_t)counts[i];\n        }}\n        out[c] = (int64_t)high * 65536 + (int64_t)low;\n    }}\n}}\n\n\
          /* IntegerSet::encode_u8: counts to the display's 8-bit code, the exact sum rounded on the\n * display's curve, integers only. */\n\
          static inline void {name}_encode_u8(const uint16_t counts[{n}], uint8_t out[3]) {{\n    int64_t f[3];\n    size_t c;\n    {name}_linear_fixed(counts, f);\n    for (c = 0; c < 3; c++) {{\n        if (f[c] <= 0) {{\n            out[c] = 0;\n        }} else if (f[c] >= (int64_t)1 << {p}) {{\n            out[c] = 255;\n        }} else {{\n            out[c] = sq_count64({q63}, (uint64_t)f[c] << {shift});\n        }}\n    }}\n}}\n\n\
          /* IntegerSet::counts_as_f32: each count times the sample unit. */\n\
