@@ -1,4 +1,4 @@
-//! Bakes `OUT_DIR/tables.rs` and the shader snippets with the generator crate
+//! Bakes `OUT_DIR/tables.rs`, the shader snippets and the C header with the generator crate
 //! (`spectral-quadrature-generator`), from this crate's `data/` and the scene named by the
 //! environment variable `SPECTRAL_QUADRATURE_SCENE` (or the default scene). With the feature
 //! `default-scene` the variable is not read: the default scene, whatever the environment says
@@ -56,10 +56,14 @@ fn main() {
         println!("cargo:warning=spectral-quadrature build: {warning}");
     }
     let dir = PathBuf::from(std::env::var_os("OUT_DIR").expect("cargo sets OUT_DIR"));
+    // Where the C header is (DEP_SPECTRAL_QUADRATURE_INCLUDE_DIR for dependents' build scripts,
+    // as a C library's -sys crate says): the C tests compile it from there.
+    println!("cargo::metadata=include_dir={}", dir.display());
     let files = [
         ("tables.rs", &out.tables_rs),
         ("shaders.wgsl", &out.wgsl),
         ("shaders.glsl", &out.glsl),
+        ("spectral_quadrature.h", &out.c_header),
     ];
     let more = out.files.iter().map(|(f, t)| (f.as_str(), t));
     for (file, text) in files.into_iter().chain(more) {

@@ -60,3 +60,15 @@ pub mod shaders {
     /// `precision highp float;`.
     pub const GLSL: &str = include_str!(concat!(env!("OUT_DIR"), "/shaders.glsl"));
 }
+
+/// The scene's tables and the runtime's per-pixel paths as one C header, for C99 and C++11:
+/// `static const` tables of every constant the scene bakes and `static inline` functions that
+/// give the runtime's bits (see the header's comment block and docs/c-and-cpp.md). `build.rs`
+/// writes it from the same model as the Rust tables and the shader snippets; the desk tool
+/// `tables --c-header` prints it for any scene.
+pub mod c {
+    /// The header `spectral_quadrature.h`: write it to a file of your C project. Names are the
+    /// Rust ones in lower case after `sq_`: `tables::folded::KQ_C_8_SRGB` is
+    /// `sq_folded_kq_c_8_srgb`, its `linear_rgb` `sq_folded_kq_c_8_srgb_linear_rgb`.
+    pub const HEADER: &str = include_str!(concat!(env!("OUT_DIR"), "/spectral_quadrature.h"));
+}

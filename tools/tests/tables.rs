@@ -59,7 +59,28 @@ fn the_default_scene_prints_what_the_build_script_writes() {
     assert_eq!(stdout(&run("--rust", None, &here)), expected.tables_rs);
     assert_eq!(stdout(&run("--wgsl", None, &here)), expected.wgsl);
     assert_eq!(stdout(&run("--glsl", None, &here)), expected.glsl);
+    assert_eq!(stdout(&run("--c-header", None, &here)), expected.c_header);
     assert!(expected.tables_rs.contains("// Scene: default\n"));
+}
+
+#[test]
+fn c_header_takes_the_scene_relative_to_the_working_directory() {
+    let scene = "examples/scenes/sensor.toml";
+    let expected =
+        spectral_quadrature_generator::generate(&crate_dir(), Some(scene.as_ref())).unwrap();
+    let out = Command::new(TABLES)
+        .args(["--c-header", "--scene", scene])
+        .current_dir(crate_dir())
+        .env(
+            spectral_quadrature_generator::SCENE_ENV,
+            "examples/scenes/minimal.toml",
+        )
+        .output()
+        .expect("tables runs");
+    let header = stdout(&out);
+    assert_eq!(header, expected.c_header);
+    assert!(header.contains(" * Scene: examples/scenes/sensor.toml\n"));
+    assert!(header.contains("sq_integer_as7341_srgb_encode_u8("));
 }
 
 #[test]

@@ -28,6 +28,9 @@ pub struct Output {
     pub wgsl: String,
     /// The GLSL snippet, the same items.
     pub glsl: String,
+    /// The C header (C99 and C++11): every baked table and the per-pixel paths, with the
+    /// runtime's bits.
+    pub c_header: String,
     /// More files for `OUT_DIR` that `tables.rs` includes: name and text (each upsampling's
     /// WGSL and GLSL).
     pub files: Vec<(String, String)>,
@@ -121,6 +124,7 @@ pub fn generate(crate_dir: &Path, scene: Option<&OsStr>) -> Result<Output, Error
     let tables_rs = tables_rs(&model);
     let wgsl = snippet_of(&model, Language::Wgsl)?;
     let glsl = snippet_of(&model, Language::Glsl)?;
+    let c_header = super::c::header_of(&model);
     let warnings = d
         .observer
         .zeroed
@@ -133,6 +137,7 @@ pub fn generate(crate_dir: &Path, scene: Option<&OsStr>) -> Result<Output, Error
         tables_rs,
         wgsl,
         glsl,
+        c_header,
         files,
         rerun_if_changed: rerun,
         warnings,

@@ -5,9 +5,11 @@
 //! encoders' thresholds (`transfer_tables`), the integer path's fixed-point sets
 //! ([`fixed_point`]), the RGB upsamplings' tables and shader files ([`upsampling`]), the
 //! Planckian locus table (`planckian`), the sensors' white references and calibrations
-//! (`sensors`). [`generate`](crate::generate), which the runtime's build script calls, bakes the
-//! model and runs each formatter.
+//! (`sensors`), and the C header of the tables and the per-pixel paths (`c`).
+//! [`generate`](crate::generate), which the runtime's build script calls, bakes the model and
+//! runs each formatter.
 
+pub(crate) mod c;
 pub(crate) mod codegen;
 pub mod fixed_point;
 pub(crate) mod generate;

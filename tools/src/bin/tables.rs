@@ -6,7 +6,11 @@
 //! With `--rust`, `--wgsl` or `--glsl` it prints instead what the build bakes for a scene: the
 //! `tables.rs` or the shader snippet the runtime's build script writes, byte for byte, for the
 //! scene named by `SPECTRAL_QUADRATURE_SCENE` (a path relative to the runtime crate's root, or
-//! absolute, as the build script reads it; the default scene without it).
+//! absolute, as the build script reads it; the default scene without it). With `--c-header` it
+//! prints the C header the build writes (`tables::c::HEADER`), for the scene of `--scene <file>`
+//! (relative to the working directory) or else of `SPECTRAL_QUADRATURE_SCENE`, so that a C
+//! project needs Rust only to make the file (docs/c-and-cpp.md). `--scene` applies to the other
+//! printed forms too.
 //!
 //! ```text
 //! cargo run --release -p spectral-quadrature-tools --bin tables          # side by side
@@ -15,6 +19,8 @@
 //! cargo run --release -p spectral-quadrature-tools --bin tables -- --upsampling-cache > data/upsampling_codes.csv
 //! SPECTRAL_QUADRATURE_SCENE=examples/scenes/minimal.toml \
 //!   cargo run -p spectral-quadrature-tools --bin tables -- --rust         # what the scene bakes
+//! cargo run --release -p spectral-quadrature-tools --bin tables -- --c-header \
+//!   --scene examples/scenes/sensor.toml > spectral_quadrature.h           # the C header
 //! ```
 
 use spectral_quadrature_spectra::DataError;
@@ -50,11 +56,18 @@ struct Args {
     /// Print the GLSL snippet the build bakes for that scene
     #[arg(long, group = "baked", conflicts_with_all = ["csv", "shared_cache", "upsampling_cache"])]
     glsl: bool,
+    /// Print the C header (C99 and C++11) the build bakes for that scene
+    #[arg(long, group = "baked", conflicts_with_all = ["csv", "shared_cache", "upsampling_cache"])]
+    c_header: bool,
+    /// The scene file for --rust, --wgsl, --glsl and --c-header, relative to the working
+    /// directory (instead of SPECTRAL_QUADRATURE_SCENE)
+    #[arg(long, value_name = "FILE", requires = "baked")]
+    scene: Option<std::path::PathBuf>,
 }
 
 fn main() {
     let args = Args::parse();
-    if args.rust || args.wgsl || args.glsl {
+    if args.rust || args.wgsl || args.glsl || args.c_header {
         if let Err(e) = print_baked(&args) {
             eprintln!("error: {e}");
             std::process::exit(2);
@@ -89,12 +102,29 @@ fn print_baked(args: &Args) -> Result<(), spectral_quadrature_generator::Error> 
             message: format!("cannot find the runtime crate: {e}"),
         })
     })?;
-    let scene = std::env::var_os(spectral_quadrature_generator::SCENE_ENV);
+    let scene = match &args.scene {
+        // Relative to the working directory, as a command line's paths are: absolute, the
+        // generator takes it as it is.
+        Some(path) => Some(
+            std::path::absolute(path)
+                .map_err(|e| {
+                    spectral_quadrature_generator::Error::Data(DataError {
+                        file: path.display().to_string(),
+                        line: 0,
+                        message: format!("cannot resolve the scene's path: {e}"),
+                    })
+                })?
+                .into_os_string(),
+        ),
+        None => std::env::var_os(spectral_quadrature_generator::SCENE_ENV),
+    };
     let out = spectral_quadrature_generator::generate(&crate_dir, scene.as_deref())?;
     let text = if args.rust {
         out.tables_rs
     } else if args.wgsl {
         out.wgsl
+    } else if args.c_header {
+        out.c_header
     } else {
         out.glsl
     };
