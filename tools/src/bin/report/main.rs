@@ -574,8 +574,9 @@ fn run(args: &Args) -> Result<(), Error> {
 
     files.push(write(out, "report.txt", &text)?);
     eprintln!(
-        "done in {:.1} s: {} stimuli, sections {}. Files in {}:",
+        "done in {:.1} s{}: {} stimuli, sections {}. Files in {}:",
         progress.elapsed(),
+        progress::cpu_seconds().map_or(String::new(), |c| format!(" ({c:.1} s CPU)")),
         stimuli.len(),
         sections
             .iter()
