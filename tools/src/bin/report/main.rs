@@ -226,7 +226,7 @@ impl Work {
                 max_order: args.max_order as usize,
                 trials: args.trials.map(|t| t as usize),
                 shared_sizes: tools::budget::BUDGETS.collect(),
-                group_sizes: vec![4, 6, 8],
+                group_sizes: tools::light_groups::SIZES.to_vec(),
             }
         }
     }
