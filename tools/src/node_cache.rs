@@ -345,7 +345,8 @@ pub fn report_cache_file(d: &Derivation, searching: impl Fn(&str)) -> Result<Str
 }
 
 /// Every node search of the report's default run, through `cache`, with the report's default
-/// inputs: sections 4 and 5's shared sets for radiances at every budget, section 9's
+/// inputs: sections 4 and 5's shared sets for radiances at every budget, section 5's folded for
+/// each of its lights at every budget, section 9's
 /// cross-validation, section 10's fixed sets and cross-validation (the judging left out).
 pub fn report_searches(
     d: &Derivation,
@@ -359,6 +360,14 @@ pub fn report_searches(
     let sizes: Vec<usize> = crate::budget::BUDGETS.collect();
     for r in crate::par_map(&sizes, |&n| cache.shared(d, &radiances, n)) {
         r?;
+    }
+    searching("section 5: the shared sets folded for each of its lights");
+    for light in crate::budget::LIGHTS {
+        let curve = spectral_quadrature_spectra::builtin_illuminant(dir, light, range)?;
+        let problem = problem_for(d, Some(&curve))?;
+        for r in crate::par_map(&sizes, |&n| cache.shared(d, &problem, n)) {
+            r?;
+        }
     }
     let training = Spectra::builtin(dir, spectral_quadrature_generator::shared::TRAINING_FILE)?
         .curves(range)?;
