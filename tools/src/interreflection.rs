@@ -10,8 +10,9 @@
 //! the bounce form of a perfect reflector is 1 again).
 //!
 //! The sets measured: each light's own folded set, the light group of D65, A, F11 and LED_B2
-//! ([`GroupFit`], trained on the CIE test colours), the same group trained on bounce forms of
-//! the CIE test colours ([`training_forms`]), and the radiance set.
+//! ([`GroupFit`](spectral_quadrature_generator::shared::GroupFit), trained on the CIE test
+//! colours), the same group trained on bounce forms of the CIE test colours
+//! ([`training_forms`]), and the radiance set.
 
 use rand::RngExt;
 use spectral_quadrature_generator::shared::{
