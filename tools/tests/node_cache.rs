@@ -46,7 +46,7 @@ fn every_default_search_of_the_report_finds_its_entry_and_every_entry_is_used() 
     assert_eq!(used, names, "entries no default search uses");
 }
 
-/// Slow (every node search of the report's default run: about 75 s of CPU in a test build, a
+/// Slow (every node search of the report's default run: about 80 s of CPU in a test build, a
 /// minute in a release build), so ignored by `cargo test` and run by CI with `--ignored`: the
 /// file is what the searches find today, line for line. The searches are deterministic (fixed
 /// starts, no threads within one), so any difference is a changed input or a changed search,
