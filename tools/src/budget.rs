@@ -24,6 +24,7 @@ use spectral_quadrature_spectra::{
 };
 
 use crate::evaluate::{channel_rules, combinations, errors_of_sets, shared_on_radiance};
+use crate::node_cache::NodeCache;
 use crate::Error;
 
 /// The lights the crate judges its shared sets under.
@@ -147,17 +148,29 @@ pub fn shared_sets_for(d: &Derivation, light: Option<&Curve>) -> Result<Vec<Eval
     shared_sets_sized(d, light, BUDGETS)
 }
 
-/// [`shared_sets_for`] at the given sizes only.
+/// [`shared_sets_for`] at the given sizes only. On the report's default inputs the nodes come
+/// from its node cache ([`NodeCache::report`]).
 pub fn shared_sets_sized(
     d: &Derivation,
     light: Option<&Curve>,
     sizes: impl IntoIterator<Item = usize>,
 ) -> Result<Vec<EvalSet>, Error> {
+    shared_sets_sized_with(d, NodeCache::report()?, light, sizes)
+}
+
+/// [`shared_sets_sized`], the searches through `cache` (with [`NodeCache::empty`], every set is
+/// searched: what a measure of the search's time needs).
+pub fn shared_sets_sized_with(
+    d: &Derivation,
+    cache: &NodeCache,
+    light: Option<&Curve>,
+    sizes: impl IntoIterator<Item = usize>,
+) -> Result<Vec<EvalSet>, Error> {
     let problem = shared::problem_for(d, light)?;
     let sizes: Vec<usize> = sizes.into_iter().collect();
-    // One fit per size, about half a second each: on every core.
+    // One search per size, about half a second each: on every core.
     crate::par_map(&sizes, |&n| {
-        let set = problem.shared(n)?;
+        let set = cache.shared(d, &problem, n)?;
         Ok(match light {
             Some(l) => shared_on_radiance(&set, &std::format!("KQ_{}_{n}", l.name), "KQ folded"),
             None => shared_on_radiance(&set, &std::format!("KQ_{n}"), "KQ radiance"),

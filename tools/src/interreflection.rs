@@ -10,17 +10,25 @@
 //! the bounce form of a perfect reflector is 1 again).
 //!
 //! The sets measured: each light's own folded set, the light group of D65, A, F11 and LED_B2
-//! ([`GroupFit`], trained on the CIE test colours), the same group trained on bounce forms of
-//! the CIE test colours ([`training_forms`]), and the radiance set.
+//! ([`GroupFit`](spectral_quadrature_generator::shared::GroupFit), trained on the CIE test
+//! colours), the same group trained on bounce forms of the CIE test colours
+//! ([`training_forms`]), and the radiance set.
 
 use rand::RngExt;
 use spectral_quadrature_generator::shared::{
-    nodes_of, problem_for, GroupFit, GroupObjective, Shared, Weights,
+    nodes_of, problem_for, Group, GroupObjective, Problem, Shared, Weights,
 };
 use spectral_quadrature_generator::{Derivation, Error};
 use spectral_quadrature_spectra::{surfaces_under_lights, Curve, EvalSet, Reference, Stimulus};
 
+use crate::node_cache::NodeCache;
 use crate::random_wavelengths::pixel_rng;
+
+/// The lights of the report's section 10: C (the paper's), the light group's four.
+pub const LIGHTS: [&str; 5] = ["C", "D65", "A", "F11", "LED_B2"];
+
+/// The size of section 10's cross-validated comparison of the fits (10d).
+pub const CV_SIZE: usize = 8;
 
 /// The powers `ρᵏ` measured: one to eight bounces off one material.
 pub const POWERS: std::ops::RangeInclusive<u32> = 1..=8;
@@ -174,9 +182,28 @@ pub struct Sets {
 /// (`KQ_<light>_N`), the light group of the lights named in `group_lights` (at least two of
 /// them among `lights`, else no group) fitted on `training` as it is and on its
 /// [`training_forms`] (per-light least-squares weights, searched for the mean ratio), and the
-/// radiance set `KQ_N`.
+/// radiance set `KQ_N`. The node searches go through the report's [`NodeCache`].
 pub fn fixed_sets(
     d: &Derivation,
+    lights: &[Curve],
+    group_lights: &[&str],
+    training: &[Curve],
+    sizes: &[usize],
+) -> Result<Vec<Sets>, Error> {
+    fixed_sets_with(
+        d,
+        NodeCache::report()?,
+        lights,
+        group_lights,
+        training,
+        sizes,
+    )
+}
+
+/// [`fixed_sets`], the node searches through `cache`.
+pub fn fixed_sets_with(
+    d: &Derivation,
+    cache: &NodeCache,
     lights: &[Curve],
     group_lights: &[&str],
     training: &[Curve],
@@ -191,18 +218,20 @@ pub fn fixed_sets(
     let in_group: Vec<usize> = (0..lights.len())
         .filter(|&l| group_lights.contains(&lights[l].name.as_str()))
         .collect();
-    let group_problems: Vec<_> = in_group.iter().map(|&l| problems[l].clone()).collect();
-    let fits = if in_group.len() >= 2 {
-        let plain = GroupFit::new(group_problems.clone(), training)?;
-        let bounced = GroupFit::new(group_problems, &training_forms(training, range))?;
-        Some([plain, bounced])
-    } else {
-        None
-    };
+    let group_problems: Vec<Problem> = in_group.iter().map(|&l| problems[l].clone()).collect();
+    let group_names: Vec<&str> = in_group.iter().map(|&l| lights[l].name.as_str()).collect();
+    let group_names = group_names.join("+");
+    // The group's training as it is and in its bounce forms.
+    let fits = (in_group.len() >= 2).then(|| {
+        [
+            (training.to_vec(), ""),
+            (training_forms(training, range), "_bounces"),
+        ]
+    });
     let mut out = Vec::new();
     for &n in sizes {
         // Every light's search and the radiance set's, on every core.
-        let shared: Vec<Shared> = crate::par_map(&problems, |p| p.shared(n))
+        let shared: Vec<Shared> = crate::par_map(&problems, |p| cache.shared(d, p, n))
             .into_iter()
             .collect::<Result<_, Error>>()?;
         let mut methods = vec![vec![None; lights.len()]; METHODS.len()];
@@ -223,8 +252,18 @@ pub fn fixed_sets(
                 .iter()
                 .map(|&l| nodes_of(&problems[l], &shared[l]))
                 .collect();
-            let groups: Vec<_> = crate::par_map(fits, |f| {
-                f.optimize(n, &own_nodes, GroupObjective::Mean, Weights::PerLight)
+            let groups: Vec<_> = crate::par_map(fits, |(t, suffix)| {
+                let (objective, kind) = (GroupObjective::Mean, Weights::PerLight);
+                cache.group(
+                    d,
+                    &format!("fixed_{group_names}_{n}_{objective:?}_{kind:?}{suffix}"),
+                    group_problems.clone(),
+                    t,
+                    n,
+                    &own_nodes,
+                    objective,
+                    kind,
+                )
             })
             .into_iter()
             .collect::<Result<_, Error>>()?;
@@ -274,6 +313,65 @@ impl Judged {
     }
 }
 
+/// Fold `f`'s two groups of [`cross_validated`] for `lights`' `problems` (`own` their own sets'
+/// nodes): fitted on `train` as it is (section 9's plain fit of the same fold) and on its
+/// [`training_forms`].
+fn fold_groups(
+    d: &Derivation,
+    cache: &NodeCache,
+    problems: &[Problem],
+    own: &[Vec<usize>],
+    train: &[Curve],
+    n: usize,
+    f: usize,
+) -> Result<Vec<Group>, Error> {
+    let range = d.settings.range_nm;
+    let names: Vec<&str> = problems
+        .iter()
+        .map(|p| p.light_name.as_deref().unwrap_or(""))
+        .collect();
+    let names = names.join("+");
+    let (objective, kind) = (GroupObjective::Mean, Weights::PerLight);
+    let mut groups = Vec::new();
+    for (t, suffix) in [
+        (train.to_vec(), ""),
+        (training_forms(train, range), "_bounces"),
+    ] {
+        groups.push(cache.group(
+            d,
+            &crate::light_groups::group_name(&names, n, f, objective, kind, suffix),
+            problems.to_vec(),
+            &t,
+            n,
+            own,
+            objective,
+            kind,
+        )?);
+    }
+    Ok(groups)
+}
+
+/// Every node search of [`cross_validated`] (each fold's two groups), through `cache`, without
+/// judging: what the report's node cache holds for it.
+pub fn cross_validated_groups(
+    d: &Derivation,
+    cache: &NodeCache,
+    lights: &[Curve],
+    training: &[Curve],
+    judged: &[Curve],
+    n: usize,
+) -> Result<(), Error> {
+    let (problems, _, own_nodes) = crate::light_groups::own_sets_with(d, cache, lights, n)?;
+    let folds: Vec<usize> = (0..crate::light_groups::FOLDS).collect();
+    for r in crate::par_map(&folds, |&f| {
+        let (train, _) = crate::light_groups::fold(training, judged, f);
+        fold_groups(d, cache, &problems, &own_nodes, &train, n, f)
+    }) {
+        r?;
+    }
+    Ok(())
+}
+
 /// Mean and 95th percentile (nearest rank) of `v`; NaN for none.
 pub fn mean_p95(v: &[f64]) -> (f64, f64) {
     if v.is_empty() {
@@ -290,7 +388,8 @@ pub fn mean_p95(v: &[f64]) -> (f64, f64) {
 /// section 9 runs it: each fold trains on `training` and the other folds of `judged` (as they
 /// are, or their [`training_forms`]) and judges the fold's reflectances in every form of
 /// [`Form::all`]. `cv[form][light]` is (plain, bounce-trained) mean CIEDE2000 over every fold.
-/// `done` is called with 1 as each fold is finished, for a progress line.
+/// `done` is called with 1 as each fold is finished, for a progress line. The node searches go
+/// through the report's [`NodeCache`] (the plain fit's are section 9's).
 pub fn cross_validated(
     d: &Derivation,
     lights: &[Curve],
@@ -301,20 +400,17 @@ pub fn cross_validated(
     done: &(dyn Fn(usize) + Sync),
 ) -> Result<Vec<Vec<(f64, f64)>>, Error> {
     use crate::light_groups::FOLDS;
+    let cache = NodeCache::report()?;
     let range = d.settings.range_nm;
     let full = d.observer.full_integration(range, 1.0)?;
-    let (problems, _, own_nodes) = crate::light_groups::own_sets(d, lights, n)?;
+    let (problems, _, own_nodes) = crate::light_groups::own_sets_with(d, cache, lights, n)?;
     let all = Form::all();
     let folds: Vec<usize> = (0..FOLDS).collect();
     // Per fold: [form][light] → (plain, bounced) sums of ΔE00, and the count judged.
     type Fold = (Vec<Vec<(f64, f64)>>, usize);
     let per_fold: Vec<Result<Fold, Error>> = crate::par_map(&folds, |&f| {
         let (train, test) = crate::light_groups::fold(training, judged, f);
-        let mut groups = Vec::new();
-        for t in [train.clone(), training_forms(&train, range)] {
-            let fit = GroupFit::new(problems.clone(), &t)?;
-            groups.push(fit.optimize(n, &own_nodes, GroupObjective::Mean, Weights::PerLight)?);
-        }
+        let groups = fold_groups(d, cache, &problems, &own_nodes, &train, n, f)?;
         let mut sums = vec![vec![(0.0, 0.0); lights.len()]; all.len()];
         for (fi, &form) in all.iter().enumerate() {
             // Products pair within the fold, so that no fit saw any of their parts.

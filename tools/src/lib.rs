@@ -14,6 +14,8 @@
 //!   several surfaces and the fixed sets judged on them (section 10).
 //! - [`light_groups`]: light groups judged on reflectances no fit saw, by five-fold
 //!   cross-validation (section 9).
+//! - [`node_cache`]: the nodes the report's node searches find on its default inputs, kept in
+//!   a file with a fingerprint of each search's inputs (sections 4, 5, 9, 10).
 //! - [`paper`]: the numbers the paper prints, which `tables` and the tests compare with.
 //! - [`prefilter`]: spiky lamps, band-averaged and exact-line pre-filtering (section 6d).
 //! - [`stability`]: unstable alternatives to the crate's quadrature (section 6b).
@@ -35,6 +37,7 @@ pub mod csv_table;
 pub mod evaluate;
 pub mod interreflection;
 pub mod light_groups;
+pub mod node_cache;
 pub mod paper;
 pub mod prefilter;
 pub mod random_wavelengths;

@@ -8,10 +8,12 @@
 //! trained on in every fold and judged in none.
 
 use spectral_quadrature_generator::shared::{
-    nodes_of, problem_for, GroupFit, GroupObjective, Problem, Shared, Weights,
+    nodes_of, problem_for, GroupObjective, Problem, Shared, Weights,
 };
 use spectral_quadrature_generator::{Derivation, Error};
 use spectral_quadrature_spectra::{surfaces_under_lights, Curve, EvalSet, Reference, Spectra};
+
+use crate::node_cache::NodeCache;
 
 /// The number of folds.
 pub const FOLDS: usize = 5;
@@ -19,6 +21,9 @@ pub const FOLDS: usize = 5;
 /// The lights of the crate's light group: daylight, tungsten, a spiky fluorescent and a
 /// phosphor LED.
 pub const LIGHTS: [&str; 4] = ["D65", "A", "F11", "LED_B2"];
+
+/// The sizes the report's light-group section compares at (a quick run: 8 alone).
+pub const SIZES: [usize; 3] = [4, 6, 8];
 
 /// One method's cross-validated errors at one size.
 #[derive(Debug, Clone, PartialEq)]
@@ -88,14 +93,25 @@ pub fn fold(training: &[Curve], judged: &[Curve], f: usize) -> (Vec<Curve>, Vec<
 /// indices ([`own_sets`]).
 pub type OwnSets = (Vec<Problem>, Vec<Shared>, Vec<Vec<usize>>);
 
-/// Each light's kernel-model problem and own folded set of `n` wavelengths (searched), with its
-/// nodes as grid indices: what a group is compared with and its search starts from.
+/// Each light's kernel-model problem and own folded set of `n` wavelengths (searched, or its
+/// nodes from the report's [`NodeCache`]), with its nodes as grid indices: what a group is
+/// compared with and its search starts from.
 pub fn own_sets(d: &Derivation, lights: &[Curve], n: usize) -> Result<OwnSets, Error> {
+    own_sets_with(d, NodeCache::report()?, lights, n)
+}
+
+/// [`own_sets`], the searches through `cache`.
+pub fn own_sets_with(
+    d: &Derivation,
+    cache: &NodeCache,
+    lights: &[Curve],
+    n: usize,
+) -> Result<OwnSets, Error> {
     let problems = lights
         .iter()
         .map(|l| problem_for(d, Some(l)))
         .collect::<Result<Vec<_>, Error>>()?;
-    let own: Vec<Shared> = crate::par_map(&problems, |p| p.shared(n))
+    let own: Vec<Shared> = crate::par_map(&problems, |p| cache.shared(d, p, n))
         .into_iter()
         .collect::<Result<_, Error>>()?;
     let nodes = problems
@@ -132,6 +148,9 @@ pub fn judged_reflectances(
 /// Cross-validates the light group of `lights` at each of `sizes` on `training` (trained on in
 /// every fold, judged in none) and `judged` (split into folds). `done` is called with 1 as each
 /// fold of each size is finished ([`FOLDS`] × `sizes.len()` in all), for a progress line.
+///
+/// The node searches go through the report's [`NodeCache`]: on the report's default inputs
+/// their nodes come from its file.
 pub fn compare(
     d: &Derivation,
     lights: &[Curve],
@@ -140,17 +159,39 @@ pub fn compare(
     sizes: &[usize],
     done: &(dyn Fn(usize) + Sync),
 ) -> Result<Vec<Comparison>, Error> {
+    compare_with(
+        d,
+        NodeCache::report()?,
+        lights,
+        training,
+        judged,
+        sizes,
+        done,
+    )
+}
+
+/// [`compare`], the node searches through `cache`.
+pub fn compare_with(
+    d: &Derivation,
+    cache: &NodeCache,
+    lights: &[Curve],
+    training: &[Curve],
+    judged: &[Curve],
+    sizes: &[usize],
+    done: &(dyn Fn(usize) + Sync),
+) -> Result<Vec<Comparison>, Error> {
     let range = d.settings.range_nm;
     let full = d.observer.full_integration(range, 1.0)?;
+    let light_names: Vec<&str> = lights.iter().map(|l| l.name.as_str()).collect();
+    let light_names = light_names.join("+");
     let mut out = Vec::new();
     for &n in sizes {
-        let (problems, own, own_nodes) = own_sets(d, lights, n)?;
+        let (problems, own, own_nodes) = own_sets_with(d, cache, lights, n)?;
         let folds: Vec<usize> = (0..FOLDS).collect();
         // Per fold: (method, light) → the held-out reflectances' CIEDE2000, and the nodes.
         type FoldResult = Vec<(Vec<Vec<f64>>, Vec<f64>)>;
         let per_fold: Vec<Result<FoldResult, Error>> = crate::par_map(&folds, |&f| {
             let (train, test) = fold(training, judged, f);
-            let fit = GroupFit::new(problems.clone(), &train)?;
             let mut methods: Vec<(Vec<Vec<f64>>, Vec<f64>)> = Vec::new();
             // Own folded sets.
             let own_sets: Vec<_> = own
@@ -166,7 +207,16 @@ pub fn compare(
                 (GroupObjective::Worst, Weights::PerLight),
                 (GroupObjective::Mean, Weights::Radiance),
             ] {
-                let g = fit.optimize(n, &own_nodes, objective, kind)?;
+                let g = cache.group(
+                    d,
+                    &group_name(&light_names, n, f, objective, kind, ""),
+                    problems.clone(),
+                    &train,
+                    n,
+                    &own_nodes,
+                    objective,
+                    kind,
+                )?;
                 let sets: Vec<_> = g
                     .members
                     .iter()
@@ -216,6 +266,18 @@ pub fn compare(
         });
     }
     Ok(out)
+}
+
+/// The node cache's name of a cross-validated group: `cv_<lights>_<n>_fold<f>_<objective>_<weights><suffix>`.
+pub(crate) fn group_name(
+    lights: &str,
+    n: usize,
+    f: usize,
+    objective: GroupObjective,
+    kind: Weights,
+    suffix: &str,
+) -> String {
+    format!("cv_{lights}_{n}_fold{f}_{objective:?}_{kind:?}{suffix}")
 }
 
 /// Per light: the CIEDE2000 of each test reflectance under that light by `sets[l]`.

@@ -6,6 +6,7 @@ mod cornell;
 mod evaluate;
 mod interreflection;
 mod light_groups;
+mod node_cache;
 mod plan;
 mod prefilter;
 mod random_wavelengths;

@@ -85,6 +85,15 @@ pub(crate) fn fingerprint(d: &Derivation, light: Option<&str>) -> Result<String,
     Ok(sha256_hex(text.as_bytes()))
 }
 
+/// A SHA-256 over what every node search reads besides its lights and a light group's training
+/// reflectances: the observer table, the range, the kernel model's training reflectances, and
+/// the kernel and search constants (the fingerprint of `data/shared_nodes.csv` for radiances).
+/// For a node cache kept outside the generator (the report's, in the desk tools), which adds
+/// its own inputs.
+pub fn search_fingerprint(d: &Derivation) -> Result<String, Error> {
+    fingerprint(d, None)
+}
+
 /// Reads [`CACHE_FILE`] from `data_dir`: no file is an empty cache; a malformed one is an error
 /// naming the file and line.
 pub(crate) fn read_cache(data_dir: &std::path::Path) -> Result<Vec<CacheEntry>, DataError> {

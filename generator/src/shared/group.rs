@@ -476,8 +476,9 @@ impl GroupFit {
     }
 
     /// The group at grid indices `nodes` (ascending): each light's least-squares weights,
-    /// tied across the lights as `kind` says.
-    pub(crate) fn group_at(
+    /// tied across the lights as `kind` says. What [`optimize`](Self::optimize) returns for the
+    /// nodes it finds: a node cache keeps the nodes and refits here.
+    pub fn group_at(
         &self,
         nodes: &[usize],
         objective: GroupObjective,

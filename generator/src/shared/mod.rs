@@ -37,7 +37,7 @@ mod interpolatory;
 mod model;
 mod search;
 
-pub use cache::cache_file;
+pub use cache::{cache_file, search_fingerprint};
 pub(crate) use cache::{cached_or_optimize, cached_or_optimize_group, CACHE_FILE};
 pub use group::{
     bounce_forms, nodes_of, Group, GroupFit, GroupObjective, GroupTraining, Member, Weights,

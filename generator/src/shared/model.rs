@@ -443,8 +443,9 @@ impl Problem {
     }
 
     /// The set at grid indices `nodes` (ascending), with its weights and expected error;
-    /// `None` when the kriging system is singular.
-    pub(crate) fn set_at(&self, nodes: &[usize]) -> Option<Shared> {
+    /// `None` when the kriging system is singular. What [`shared`](Self::shared) returns for
+    /// the nodes it finds: a node cache keeps the nodes and refits here.
+    pub fn set_at(&self, nodes: &[usize]) -> Option<Shared> {
         let (xyz_weights, expected_error) = self.solve(nodes)?;
         Some(Shared {
             light: self.light_name.clone(),

@@ -17,6 +17,7 @@
 //! cargo run --release -p spectral-quadrature-tools --bin tables -- --csv # every rule as CSV
 //! cargo run --release -p spectral-quadrature-tools --bin tables -- --shared-cache > data/shared_nodes.csv
 //! cargo run --release -p spectral-quadrature-tools --bin tables -- --upsampling-cache > data/upsampling_codes.csv
+//! cargo run --release -p spectral-quadrature-tools --bin tables -- --report-cache > tools/data/report_nodes.csv
 //! SPECTRAL_QUADRATURE_SCENE=examples/scenes/minimal.toml \
 //!   cargo run -p spectral-quadrature-tools --bin tables -- --rust         # what the scene bakes
 //! cargo run --release -p spectral-quadrature-tools --bin tables -- --c-header \
@@ -46,15 +47,19 @@ struct Args {
     /// (data/upsampling_codes.csv), which the build reuses instead of fitting
     #[arg(long, conflicts_with_all = ["csv", "shared_cache"])]
     upsampling_cache: bool,
+    /// Run every node search of the report's default run afresh and print the report's node
+    /// cache (tools/data/report_nodes.csv), which the report reuses instead of searching
+    #[arg(long, conflicts_with_all = ["csv", "shared_cache", "upsampling_cache"])]
+    report_cache: bool,
     /// Print the tables.rs the build bakes for the scene named by SPECTRAL_QUADRATURE_SCENE
     /// (relative to the runtime crate's root, or absolute), or the default scene
-    #[arg(long, group = "baked", conflicts_with_all = ["csv", "shared_cache", "upsampling_cache"])]
+    #[arg(long, group = "baked", conflicts_with_all = ["csv", "shared_cache", "upsampling_cache", "report_cache"])]
     rust: bool,
     /// Print the WGSL snippet the build bakes for that scene
-    #[arg(long, group = "baked", conflicts_with_all = ["csv", "shared_cache", "upsampling_cache"])]
+    #[arg(long, group = "baked", conflicts_with_all = ["csv", "shared_cache", "upsampling_cache", "report_cache"])]
     wgsl: bool,
     /// Print the GLSL snippet the build bakes for that scene
-    #[arg(long, group = "baked", conflicts_with_all = ["csv", "shared_cache", "upsampling_cache"])]
+    #[arg(long, group = "baked", conflicts_with_all = ["csv", "shared_cache", "upsampling_cache", "report_cache"])]
     glsl: bool,
     /// Print the C header (C99 and C++11) the build bakes for that scene
     #[arg(long, group = "baked", conflicts_with_all = ["csv", "shared_cache", "upsampling_cache"])]
@@ -74,6 +79,11 @@ fn main() {
         }
     } else if args.shared_cache {
         if let Err(e) = print_shared_cache() {
+            eprintln!("error: {e}");
+            std::process::exit(2);
+        }
+    } else if args.report_cache {
+        if let Err(e) = print_report_cache() {
             eprintln!("error: {e}");
             std::process::exit(2);
         }
@@ -158,6 +168,14 @@ fn print_shared_cache() -> Result<(), spectral_quadrature_generator::Error> {
     let text = spectral_quadrature_generator::shared::cache_file(&d, |name| {
         eprintln!("searching {name}")
     })?;
+    print!("{text}");
+    Ok(())
+}
+
+/// Runs every node search of the report's default run afresh and prints its node cache.
+fn print_report_cache() -> Result<(), spectral_quadrature_generator::Error> {
+    let d = spectral_quadrature_generator::derive(&tools::settings())?;
+    let text = tools::node_cache::report_cache_file(&d, |what| eprintln!("searching {what}"))?;
     print!("{text}");
     Ok(())
 }

@@ -25,14 +25,11 @@ use crate::progress::Meter;
 use crate::random_wavelengths::ROUND;
 use crate::tools::csv_table::Table;
 use crate::tools::interreflection::{
-    self as ir, fixed_sets, forms, mean_p95, Form, Judged, Sets, METHODS, POWERS,
+    self as ir, fixed_sets, forms, mean_p95, Form, Judged, Sets, CV_SIZE, LIGHTS, METHODS, POWERS,
 };
 use crate::tools::light_groups;
 use crate::tools::random_wavelengths::{reach, run_trials, Cells, Config, Reach, Sampler, Target};
 use crate::Error;
-
-/// The lights: C (the paper's), the light group's four.
-const LIGHTS: [&str; 5] = ["C", "D65", "A", "F11", "LED_B2"];
 
 /// The lights the random samplers run under: C and the spiky ones (as section 7 tables them).
 const RANDOM_LIGHTS: [&str; 3] = ["C", "F11", "LED_B2"];
@@ -40,9 +37,6 @@ const RANDOM_LIGHTS: [&str; 3] = ["C", "F11", "LED_B2"];
 /// The samples per pixel measured.
 const SPP: [usize; 11] = [1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024];
 const QUICK_SPP: [usize; 3] = [1, 4, 16];
-
-/// The size of the cross-validated comparison of the fits (10d).
-const CV_SIZE: usize = 8;
 
 /// What section 10 measures on.
 pub struct Inputs<'a> {

@@ -228,7 +228,7 @@ impl Work {
                 max_order: args.max_order as usize,
                 trials: args.trials.map(|t| t as usize),
                 shared_sizes: tools::budget::BUDGETS.collect(),
-                group_sizes: vec![4, 6, 8],
+                group_sizes: tools::light_groups::SIZES.to_vec(),
             }
         }
     }
@@ -588,8 +588,9 @@ fn run(args: &Args) -> Result<(), Error> {
 
     files.push(write(out, "report.txt", &text)?);
     eprintln!(
-        "done in {:.1} s: {} stimuli, sections {}. Files in {}:",
+        "done in {:.1} s{}: {} stimuli, sections {}. Files in {}:",
         progress.elapsed(),
+        progress::cpu_seconds().map_or(String::new(), |c| format!(" ({c:.1} s CPU)")),
         stimuli.len(),
         sections
             .iter()
