@@ -12,6 +12,10 @@
 //!   literal, as in an application's pixel loop.
 //! - `light_groups/batch_4096/encode_u8_srgb/<set>`: one batch call over all 4096 pixels, with
 //!   `Throughput::Elements(4096)`; ns/pixel = time / 4096.
+//! - `light_groups/planar_4096/encode_u8_srgb/<set>` and `light_groups/planar_4096/linear/<set>`:
+//!   the same pixels as planes (one `Vec<f32>` of 4096 values per light and node, each an
+//!   allocation of its own), `encode_u8_planar_to_interleaved` and `linear_rgb_planar` over all
+//!   of them per iteration.
 //!
 //! Sets: `folded_n8` (`KQ_C_8_SRGB`), `l2_n8` and `l4_n8` (it and made-up lights at its nodes).
 //!
@@ -148,6 +152,74 @@ fn light_groups(c: &mut Criterion) {
         })
     });
     g.finish();
+
+    let (p1, p2, p4) = (
+        planes(&g1.iter().map(|s| [*s]).collect::<Vec<_>>()),
+        planes(&g2),
+        planes(&g4),
+    );
+    let (r1, r2, r4) = (refs(&p1), refs(&p2), refs(&p4));
+    let mut g = c.benchmark_group(format!("light_groups/planar_{PIXELS}/encode_u8_srgb"));
+    g.warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(3))
+        .throughput(Throughput::Elements(PIXELS as u64));
+    g.bench_function("folded_n8", |b| {
+        b.iter(|| {
+            FOLDED
+                .encode_u8_planar_to_interleaved(GamutMapping::Clip, black_box(r1[0]), &mut out)
+                .unwrap()
+        })
+    });
+    g.bench_function("l2_n8", |b| {
+        b.iter(|| {
+            L2.encode_u8_planar_to_interleaved(GamutMapping::Clip, black_box(r2), &mut out)
+                .unwrap()
+        })
+    });
+    g.bench_function("l4_n8", |b| {
+        b.iter(|| {
+            L4.encode_u8_planar_to_interleaved(GamutMapping::Clip, black_box(r4), &mut out)
+                .unwrap()
+        })
+    });
+    g.finish();
+
+    let mut lin = [0, 1, 2].map(|_| vec![0.0f32; PIXELS]);
+    let mut g = c.benchmark_group(format!("light_groups/planar_{PIXELS}/linear"));
+    g.warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(3))
+        .throughput(Throughput::Elements(PIXELS as u64));
+    g.bench_function("folded_n8", |b| {
+        b.iter(|| {
+            let [r, gr, bl] = &mut lin;
+            FOLDED
+                .linear_rgb_planar(black_box(r1[0]), [r, gr, bl])
+                .unwrap()
+        })
+    });
+    g.bench_function("l2_n8", |b| {
+        b.iter(|| {
+            let [r, gr, bl] = &mut lin;
+            L2.linear_rgb_planar(black_box(r2), [r, gr, bl]).unwrap()
+        })
+    });
+    g.bench_function("l4_n8", |b| {
+        b.iter(|| {
+            let [r, gr, bl] = &mut lin;
+            L4.linear_rgb_planar(black_box(r4), [r, gr, bl]).unwrap()
+        })
+    });
+    g.finish();
+}
+
+/// The pixels as planes: `planes[l][i][p]`, one allocation per light and node.
+fn planes<const L: usize>(px: &[[[f32; 8]; L]]) -> [[Vec<f32>; 8]; L] {
+    std::array::from_fn(|l| std::array::from_fn(|i| px.iter().map(|g| g[l][i]).collect()))
+}
+
+/// References to the planes.
+fn refs<const L: usize>(planes: &[[Vec<f32>; 8]; L]) -> [[&[f32]; 8]; L] {
+    planes.each_ref().map(|l| l.each_ref().map(|p| &p[..]))
 }
 
 criterion_group!(benches, light_groups);
