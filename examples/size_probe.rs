@@ -1,5 +1,7 @@
-//! Links every table the scene baked, so that `size` shows what a scene costs when nothing is
-//! left unused (consts a program does not use never reach its binary at all):
+//! Links every constant of numbers the scene baked (`tables::ALL_TABLES`: the sets, displays,
+//! folded and integer sets, light groups, lights, upsampling maps, sensors, the Planckian locus
+//! and the rules), so that `size` shows what a scene costs when nothing is left unused (consts a
+//! program does not use never reach its binary at all):
 //!
 //! ```text
 //! cargo build --release --example size_probe && size target/release/examples/size_probe
@@ -10,17 +12,18 @@ use spectral_quadrature::tables;
 
 fn main() {
     let all = std::hint::black_box(tables::ALL_TABLES);
-    let floats: usize = all.iter().map(|(_, t)| t.len()).sum();
-    let checksum: f64 = all
+    let bytes: usize = all.iter().map(|&(_, bytes, _)| bytes).sum();
+    // Each constant's own bytes, the size of its type, read through the reference that links it;
+    // the rest are the slices its rules and upsampling maps point to.
+    let own: usize = all
         .iter()
-        .flat_map(|(_, t)| t.iter())
-        .map(|&v| f64::from(v))
+        .map(|&(_, _, value)| std::mem::size_of_val(value))
         .sum();
     println!(
-        "scene {}: {} tables, {floats} f32 values ({} bytes linked), TABLE_BYTES = {}, checksum {checksum:.6e}",
+        "scene {}: {} constants, {bytes} bytes ({own} in their types, {} in the slices they point to), TABLE_BYTES = {}",
         tables::SCENE,
         all.len(),
-        4 * floats,
+        bytes - own,
         tables::TABLE_BYTES
     );
 }

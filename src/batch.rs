@@ -64,13 +64,13 @@ impl<const N: usize> FoldedSet<N> {
     ) -> Result<(), Error> {
         crate::model::set::assert_width::<N>();
         check_length(LengthOf::Output, samples.len(), out.len())?;
-        let srgb_clip = self.display.is_srgb_clip(mapping);
+        let srgb_clip = self.display_ref().is_srgb_clip(mapping);
         let vector_units = crate::planar::portable::VECTOR_UNITS && crate::simd::allowed!(Portable);
         // For the sRGB curve with `Clip` on a target with vector units: the AVX-512 or AVX2
         // loop where the CPU has one (the same bytes; see `simd`), then the portable loop for
         // the rest.
         if vector_units && srgb_clip {
-            let weights = core::array::from_ref(&self.weights);
+            let weights = core::array::from_ref(self.weights_ref());
             let done = crate::simd::encode_srgb8_batch(weights, samples, out.as_flattened_mut());
             crate::planar::portable::encode_srgb8_batch_portable(
                 weights,

@@ -30,13 +30,13 @@ use crate::{CalibrationProblem, Error};
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Calibration<const N: usize> {
-    // `pub(crate)`: the baked tables (`crate::tables`, a sensor's fitted `<NAME>_CALIBRATION`)
-    // set them; users call `new` or `from_dark_white`.
+    // Private: every calibration, a sensor's fitted `<NAME>_CALIBRATION` too, is made by `new`
+    // (or `from_dark_white`).
     /// Each channel's reading in the dark, subtracted first: finite.
-    pub(crate) dark: [f32; N],
+    dark: [f32; N],
     /// Each channel's gain, multiplied after the dark offset is subtracted: finite and
     /// positive.
-    pub(crate) gain: [f32; N],
+    gain: [f32; N],
 }
 
 impl<const N: usize> Calibration<N> {

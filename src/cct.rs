@@ -68,20 +68,48 @@ pub const DUV_MAX_ERROR: f32 = 1e-7;
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct PlanckianLocus<const K: usize> {
-    // `pub(crate)`: the baked table (`crate::tables`) sets them; users read them through the
+    // Private: the baked table is made by `new`, which checks them; users read them through the
     // accessors of the same names.
-    pub(crate) mired: [f32; K],
-    pub(crate) uv: [[f32; 2]; K],
-    pub(crate) tangent: [[f32; 2]; K],
-    pub(crate) chord: [[f32; 2]; K],
+    mired: [f32; K],
+    uv: [[f32; 2]; K],
+    tangent: [[f32; 2]; K],
+    chord: [[f32; 2]; K],
     /// The unit tangent at each node in 1.14 fixed point (16 384 is 1): the binary search over
     /// the nodes runs in integers, where an f32 operation is a library call of a hundred
     /// instructions.
-    pub(crate) unit_tangent_q14: [[i16; 2]; K],
+    unit_tangent_q14: [[i16; 2]; K],
     /// `L · T̂` at each node, the point in 16 fractional bits times the unit tangent above (30
     /// fractional bits): a point P (16 fractional bits) lies on the hot side of the node's
     /// isotemperature line where `P · T̂ − L · T̂ ≥ 0`.
-    pub(crate) along_q30: [i32; K],
+    along_q30: [i32; K],
+}
+
+/// Half a unit in the last place of an f32 in [0.5, 1), and so the most the f32 rounding of a
+/// point's coordinate below 1 (CIE 1960 u and v are) moves it: what [`PlanckianLocus::new`]
+/// allows for in `L · T̂`.
+const POINT_ROUNDING: f64 = 1.0 / 33_554_432.0;
+
+/// The chord's allowance per unit of (1 + |chord|) in [`PlanckianLocus::new`]: half a unit in
+/// the last place of each of the two points (2⁻²⁵ each, for coordinates below 1) and of the
+/// chord (2⁻²⁴ · |chord| at most), all three rounded to f32 separately from their f64 values.
+const CHORD_ROUNDING: f64 = 1.0 / 16_777_216.0;
+
+/// How far the squared length of a unit tangent in 1.14 fixed point, `q = 16 384 · T̂ + e`, may be
+/// from 16 384²: each component of `e` is at most ½, so `|q|² − 16 384² = 2 · 16 384 · (T̂ · e) +
+/// |e|²` with `|T̂ · e| ≤ (|T̂_u| + |T̂_v|) / 2 ≤ √2 / 2` and `|e|² ≤ ½`: within
+/// 16 384 · √2 + ½ = 23 170.98.
+const UNIT_LENGTH_ROUNDING: i64 = 23_171;
+
+/// The cross product of a unit tangent in 1.14 fixed point with the f32 tangent, per unit of
+/// |t_u| + |t_v|, that the components' rounding (½ each) and the tangent's own f32 rounding
+/// (16 384 · 2⁻²⁴ = 2⁻¹⁰ relative) allow, with 2⁻¹⁰ more for the f64 arithmetic: ½ + 2⁻⁹.
+const DIRECTION_ROUNDING: f64 = 0.5 + 1.0 / 512.0;
+
+/// Whether the f32 chord `c` is the difference `d` of the f32 points (in f64, exact), to within
+/// their rounding ([`CHORD_ROUNDING`]).
+const fn chord_near(c: f32, d: f64) -> bool {
+    let c = c as f64;
+    c.is_finite() && (c - d).abs() <= CHORD_ROUNDING * (1.0 + c.abs())
 }
 
 /// At most how many Newton steps refine the foot of the perpendicular on a segment, from where
@@ -130,6 +158,96 @@ pub fn uv_from_xyz(xyz: [f32; 3]) -> Option<[f32; 2]> {
 }
 
 impl<const K: usize> PlanckianLocus<K> {
+    /// A table of your own, or the one the build bakes (`tables::PLANCKIAN_LOCUS` is made by
+    /// this): each node's reciprocal temperature, point, tangent and chord
+    /// ([`mired`](Self::mired), [`uv`](Self::uv), [`tangent`](Self::tangent),
+    /// [`chord`](Self::chord)), and the fixed-point forms the binary search reads: the unit
+    /// tangent in 1.14 fixed point (16 384 is 1) and `L · T̂` with the point in 16 fractional
+    /// bits times that tangent (30 fractional bits), both computed from the point and tangent
+    /// before their rounding to f32 and rounded to nearest.
+    ///
+    /// Checked, never a panic, usable in consts:
+    /// [`Error::InvalidLocus`](crate::Error::InvalidLocus) at the first node where
+    ///
+    /// - the reciprocal temperature is not finite and positive, or not above the one before;
+    /// - a coordinate of the point is not in 0 ≤ u, v < 1, or the tangent is not finite or is
+    ///   zero;
+    /// - the chord is not the difference of this node's point and the next one's (`[0, 0]` at
+    ///   the last node) to within the f32 rounding of the three (half a unit in the last place
+    ///   of each, 2⁻²⁴ · (1 + |chord|) in all for points below 1);
+    /// - the unit tangent's length squared is not 16 384² to within its components' rounding
+    ///   (± ½ each: 16 384 · √2 + ½, so 23 171), it points away from the tangent, or its
+    ///   direction is not the tangent's to within that rounding and the tangent's own (the
+    ///   cross product within (½ + 2⁻⁹) · (|t_u| + |t_v|));
+    /// - `L · T̂` is not the f32 point times the unit tangent, times 2¹⁶, to within its own
+    ///   rounding and the point's (½ + (|T̂_u| + |T̂_v|) · 2¹⁶ · 2⁻²⁵ for points below 1).
+    ///
+    /// It computes in f64 (exactly, for these products of f32 and 15-bit integers): once per
+    /// table, never per pixel.
+    pub const fn new(
+        mired: [f32; K],
+        uv: [[f32; 2]; K],
+        tangent: [[f32; 2]; K],
+        chord: [[f32; 2]; K],
+        unit_tangent_q14: [[i16; 2]; K],
+        along_q30: [i32; K],
+    ) -> Result<PlanckianLocus<K>, crate::Error> {
+        let mut i = 0;
+        while i < K {
+            let refused = Err(crate::Error::InvalidLocus { node: i });
+            let m = mired[i];
+            if !(m.is_finite() && m > 0.0) || (i > 0 && m <= mired[i - 1]) {
+                return refused;
+            }
+            let [u, v] = uv[i];
+            if !(u >= 0.0 && u < 1.0 && v >= 0.0 && v < 1.0) {
+                return refused;
+            }
+            let [tu, tv] = tangent[i];
+            if !(tu.is_finite() && tv.is_finite()) || (tu == 0.0 && tv == 0.0) {
+                return refused;
+            }
+            let [cu, cv] = chord[i];
+            if i + 1 < K {
+                let [nu, nv] = uv[i + 1];
+                let du = nu as f64 - u as f64;
+                let dv = nv as f64 - v as f64;
+                if !(chord_near(cu, du) && chord_near(cv, dv)) {
+                    return refused;
+                }
+            } else if !(cu == 0.0 && cv == 0.0) {
+                return refused;
+            }
+            let [a, b] = unit_tangent_q14[i];
+            let (a, b) = (a as i64, b as i64);
+            let length = a * a + b * b - (1 << 28);
+            if length > UNIT_LENGTH_ROUNDING || length < -UNIT_LENGTH_ROUNDING {
+                return refused;
+            }
+            let (af, bf, tu, tv) = (a as f64, b as f64, tu as f64, tv as f64);
+            let along_tangent = af * tu + bf * tv;
+            let across = af * tv - bf * tu;
+            if !(along_tangent > 0.0 && across.abs() <= DIRECTION_ROUNDING * (tu.abs() + tv.abs()))
+            {
+                return refused;
+            }
+            let exact = 65_536.0 * (u as f64 * af + v as f64 * bf);
+            let bound = 0.5 + (af.abs() + bf.abs()) * 65_536.0 * POINT_ROUNDING;
+            if (along_q30[i] as f64 - exact).abs() > bound {
+                return refused;
+            }
+            i += 1;
+        }
+        Ok(PlanckianLocus {
+            mired,
+            uv,
+            tangent,
+            chord,
+            unit_tangent_q14,
+            along_q30,
+        })
+    }
+
     /// The nodes' reciprocal temperatures μ = 10⁶ / T in mired, ascending (T descending).
     ///
     /// The node accessors return references: a table holds a hundred nodes or more (111 in the
@@ -322,6 +440,118 @@ fn q16(x: f32) -> Option<i32> {
 mod tests {
     use super::*;
     use crate::tables::PLANCKIAN_LOCUS;
+
+    /// The baked table's parts, as `PlanckianLocus::new` takes them.
+    #[allow(clippy::type_complexity)]
+    fn parts<const K: usize>(
+        l: &PlanckianLocus<K>,
+    ) -> (
+        [f32; K],
+        [[f32; 2]; K],
+        [[f32; 2]; K],
+        [[f32; 2]; K],
+        [[i16; 2]; K],
+        [i32; K],
+    ) {
+        (
+            l.mired,
+            l.uv,
+            l.tangent,
+            l.chord,
+            l.unit_tangent_q14,
+            l.along_q30,
+        )
+    }
+
+    /// `new` gives the baked table back (the build made it with `new`), and refuses each kind of
+    /// node a table cannot hold, naming the node.
+    #[test]
+    fn new_checks_every_node() {
+        let (m, uv, t, c, q, a) = parts(&PLANCKIAN_LOCUS);
+        assert_eq!(PlanckianLocus::new(m, uv, t, c, q, a), Ok(PLANCKIAN_LOCUS));
+        let refused = |node| Err(crate::Error::InvalidLocus { node });
+        let k = 40;
+        let mut bad = m;
+        bad[k] = f32::NAN;
+        assert_eq!(PlanckianLocus::new(bad, uv, t, c, q, a), refused(k));
+        bad[k] = m[k - 1];
+        assert_eq!(PlanckianLocus::new(bad, uv, t, c, q, a), refused(k));
+        // A point outside 0..1 (at node 0: elsewhere the chord before it fails first).
+        let mut bad = uv;
+        bad[0][1] = 1.0;
+        assert_eq!(PlanckianLocus::new(m, bad, t, c, q, a), refused(0));
+        bad[0][1] = -0.1;
+        assert_eq!(PlanckianLocus::new(m, bad, t, c, q, a), refused(0));
+        let mut bad = t;
+        bad[k] = [0.0, 0.0];
+        assert_eq!(PlanckianLocus::new(m, uv, bad, c, q, a), refused(k));
+        // The chord of another segment, and a last chord that is not zero.
+        let mut bad = c;
+        bad[k] = c[k + 1];
+        assert_eq!(PlanckianLocus::new(m, uv, t, bad, q, a), refused(k));
+        let mut bad = c;
+        bad[110] = c[109];
+        assert_eq!(PlanckianLocus::new(m, uv, t, bad, q, a), refused(110));
+        // A unit tangent 24 units of 16 384 too long (beyond the components' rounding), one
+        // turned by 2 units (1.2e-4 rad, beyond it too), and one reversed.
+        let [qu, qv] = q[k];
+        let scale = |x: i16, f: f64| (f64::from(x) * f).round() as i16;
+        let longer = 1.0 + 24.0 / 16_384.0;
+        let mut bad = q;
+        bad[k] = [scale(qu, longer), scale(qv, longer)];
+        assert_eq!(PlanckianLocus::new(m, uv, t, c, bad, a), refused(k));
+        let mut bad = q;
+        bad[k] = if qu.abs() > qv.abs() {
+            [qu, qv + 2]
+        } else {
+            [qu + 2, qv]
+        };
+        assert_eq!(PlanckianLocus::new(m, uv, t, c, bad, a), refused(k));
+        let mut bad = q;
+        bad[k] = [-qu, -qv];
+        assert_eq!(PlanckianLocus::new(m, uv, t, c, bad, a), refused(k));
+        // `L · T̂` 64 units of 2⁻³⁰ off (the bound here is about 45).
+        let mut bad = a;
+        bad[k] += 64;
+        assert_eq!(PlanckianLocus::new(m, uv, t, c, q, bad), refused(k));
+    }
+
+    /// How much of each of `new`'s roundings the baked table uses: every node within its
+    /// bounds, and each bound not looser than a few times what the table needs (so that a node
+    /// a few units off fails, as `new_checks_every_node` shows).
+    #[test]
+    fn the_baked_table_uses_the_bounds_new_allows() {
+        let l = &PLANCKIAN_LOCUS;
+        let (mut length, mut direction, mut along, mut chord) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+        for i in 0..l.mired.len() {
+            let [a, b] = l.unit_tangent_q14[i].map(f64::from);
+            let [tu, tv] = l.tangent[i].map(f64::from);
+            let [u, v] = l.uv[i].map(f64::from);
+            length =
+                length.max((a * a + b * b - 268_435_456.0).abs() / UNIT_LENGTH_ROUNDING as f64);
+            direction = direction
+                .max((a * tv - b * tu).abs() / (DIRECTION_ROUNDING * (tu.abs() + tv.abs())));
+            let bound = 0.5 + (a.abs() + b.abs()) * 65_536.0 * POINT_ROUNDING;
+            along =
+                along.max((f64::from(l.along_q30[i]) - 65_536.0 * (u * a + v * b)).abs() / bound);
+            if let Some(next) = l.uv.get(i + 1) {
+                for (k, &end) in next.iter().enumerate() {
+                    let c = f64::from(l.chord[i][k]);
+                    let d = f64::from(end) - f64::from(l.uv[i][k]);
+                    chord = chord.max((c - d).abs() / (CHORD_ROUNDING * (1.0 + c.abs())));
+                }
+            }
+        }
+        for (what, used) in [
+            ("length", length),
+            ("direction", direction),
+            ("along", along),
+            ("chord", chord),
+        ] {
+            assert!(used <= 1.0, "{what}: {used}");
+            assert!(used > 0.05, "{what}: {used} of the bound");
+        }
+    }
 
     /// Empty and one-node tables answer None. Only the crate can build a table (its fields are
     /// the baked table's), so the test is here.

@@ -47,22 +47,22 @@ impl<const CAP: usize> DynamicSet<CAP> {
 
     /// Adds one rule (see [`from_rules`](Self::from_rules)). On error the set is unchanged.
     pub fn add_rule(&mut self, rule: &GaussRule) -> Result<(), Error> {
-        if rule.status != RuleStatus::Defined {
+        if rule.status() != RuleStatus::Defined {
             return Err(Error::UndefinedRule {
-                channel: rule.channel,
-                order: rule.order,
+                channel: rule.channel(),
+                order: rule.order(),
             });
         }
         let new = rule
-            .wavelengths_nm
+            .wavelengths_nm()
             .iter()
             .filter(|l| !self.wavelengths_nm.contains(l))
             .count();
         if self.wavelengths_nm.len() + new > CAP {
             return Err(Error::Capacity { capacity: CAP });
         }
-        let c = rule.channel.index();
-        for (&l, &w) in rule.wavelengths_nm.iter().zip(rule.weights) {
+        let c = rule.channel().index();
+        for (&l, &w) in rule.wavelengths_nm().iter().zip(rule.weights()) {
             let i = match self.wavelengths_nm.iter().position(|&x| x == l) {
                 Some(i) => i,
                 None => {

@@ -260,6 +260,32 @@ pub(crate) struct GammaEncoder8 {
 }
 
 impl GammaEncoder8 {
+    /// The encoder of γ from its thresholds (`tables::GAMMA_ENCODERS` is made by this), or a
+    /// compile-time error where they cannot be an encoder's: γ not finite and positive, entry 0
+    /// not 0, or an entry below the one before. Crate-private and called only in constant
+    /// evaluation, so it stops the build instead of returning an error. Unused where the scene
+    /// bakes no power law.
+    #[allow(dead_code)]
+    pub(crate) const fn new(gamma: f32, thresholds: [u32; 256]) -> GammaEncoder8 {
+        assert!(
+            gamma.is_finite() && gamma > 0.0,
+            "an 8-bit power-law encoder's gamma is not finite and positive"
+        );
+        assert!(
+            thresholds[0] == 0,
+            "an 8-bit power-law encoder's first threshold is not 0"
+        );
+        let mut k = 1;
+        while k < 256 {
+            assert!(
+                thresholds[k] >= thresholds[k - 1],
+                "an 8-bit power-law encoder's thresholds decrease"
+            );
+            k += 1;
+        }
+        GammaEncoder8 { gamma, thresholds }
+    }
+
     /// The code value of `x` clamped to 0..=1 (NaN → 0): the number of thresholds at or below
     /// it. Branch-free binary search.
     #[inline]
@@ -282,6 +308,29 @@ impl GammaEncoder8 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `GammaEncoder8::new` gives a baked encoder back, and stops at thresholds that cannot be
+    /// an encoder's.
+    #[test]
+    fn a_gamma_encoder_is_checked() {
+        let baked = crate::tables::GAMMA_ENCODERS[0];
+        assert_eq!(GammaEncoder8::new(baked.gamma, baked.thresholds), baked);
+        let mut decreasing = baked.thresholds;
+        decreasing[100] = decreasing[99] - 1;
+        let mut first = baked.thresholds;
+        first[0] = 1;
+        for (gamma, thresholds, message) in [
+            (baked.gamma, decreasing, "decrease"),
+            (baked.gamma, first, "first threshold"),
+            (f32::NAN, baked.thresholds, "gamma"),
+            (0.0, baked.thresholds, "gamma"),
+        ] {
+            let panic = std::panic::catch_unwind(|| GammaEncoder8::new(gamma, thresholds))
+                .expect_err(message);
+            let text = panic.downcast_ref::<&str>().copied().unwrap_or_default();
+            assert!(text.contains(message), "{text}");
+        }
+    }
 
     #[test]
     fn not_nan_form_equals_the_float_form() {

@@ -94,11 +94,11 @@ use crate::{
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct LightGroupSet<const N: usize, const L: usize> {
-    // `pub(crate)`: baked tables may set them; users call `new` or `from_members`.
-    pub(crate) wavelengths_nm: [f32; N],
-    pub(crate) weights: [[[f32; N]; 3]; L],
-    pub(crate) lights: [&'static str; L],
-    pub(crate) display: Display,
+    // Private: every set, the baked ones too, is made by `new` or `from_members`.
+    wavelengths_nm: [f32; N],
+    weights: [[[f32; N]; 3]; L],
+    lights: [&'static str; L],
+    display: Display,
 }
 
 impl<const N: usize, const L: usize> LightGroupSet<N, L> {
@@ -193,12 +193,12 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
         let mut l = 0;
         while l < L {
             let m = &members[l];
-            let problem = match m.samples {
+            let problem = match m.samples() {
                 Samples::Reflectance { light } => {
                     lights[l] = light;
-                    if !same_f32_bits(&m.wavelengths_nm, &first.wavelengths_nm) {
+                    if !same_f32_bits(m.wavelengths_ref(), first.wavelengths_ref()) {
                         Some(LightGroupProblem::Wavelengths)
-                    } else if !m.display.same_bits(&first.display) {
+                    } else if !m.display_ref().same_bits(first.display_ref()) {
                         Some(LightGroupProblem::Display)
                     } else {
                         None
@@ -209,14 +209,14 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
             if let Some(problem) = problem {
                 return Err(Error::LightGroup { light: l, problem });
             }
-            weights[l] = m.weights;
+            weights[l] = *m.weights_ref();
             l += 1;
         }
         Ok(LightGroupSet {
-            wavelengths_nm: first.wavelengths_nm,
+            wavelengths_nm: first.wavelengths_nm(),
             weights,
             lights,
-            display: first.display,
+            display: first.display(),
         })
     }
 
@@ -228,6 +228,18 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
     /// `weights[light][channel][i]`, rows R, G, B of each light.
     pub const fn weights(&self) -> [[[f32; N]; 3]; L] {
         self.weights
+    }
+
+    /// The weights by reference, for the crate's tests.
+    #[cfg(test)]
+    pub(crate) const fn weights_ref(&self) -> &[[[f32; N]; 3]; L] {
+        &self.weights
+    }
+
+    /// The display by reference, for the crate's tests.
+    #[cfg(test)]
+    pub(crate) const fn display_ref(&self) -> &Display {
+        &self.display
     }
 
     /// The lights' names, in the order of the groups.
@@ -247,14 +259,14 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
         if l >= L {
             return None;
         }
-        Some(FoldedSet {
-            wavelengths_nm: self.wavelengths_nm,
-            weights: self.weights[l],
-            samples: Samples::Reflectance {
+        Some(FoldedSet::from_checked(
+            self.wavelengths_nm,
+            self.weights[l],
+            Samples::Reflectance {
                 light: self.lights[l],
             },
-            display: self.display,
-        })
+            self.display,
+        ))
     }
 
     /// Linear RGB from one pixel's light groups: `groups[l][i]` is light l's accumulator at

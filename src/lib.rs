@@ -165,11 +165,18 @@
 //! - **Construction**: the baked types' fields are private; read them through `const fn`
 //!   accessors of the same names (`set.weights()`, `display.name()`), and build your own with a
 //!   checked `const fn new` ([`WavelengthSet::new`], [`FoldedSet::new`], [`GaussRule::new`],
-//!   [`LightGroupSet::new`], [`Upsampling::new`], [`IntegerSet::new`], [`ChannelLuts::new`],
-//!   [`Calibration::new`], [`LuxScale::new`]) or [`Display::new`] (f64, not `const`); where no
-//!   value can be wrong the `new` cannot fail ([`CountCalibration::new`], [`RoundTrip::new`]).
-//!   No constructor leaves a placeholder (such as NaN) for the caller to fill. A function's
-//!   result that holds no invariant is a plain record with public fields ([`Cct`]).
+//!   [`LightGroupSet::new`], [`Upsampling::new`] and [`Upsampling::with_measured`],
+//!   [`IntegerSet::new`], [`PlanckianLocus::new`], [`ChannelLuts::new`], [`Calibration::new`],
+//!   [`LuxScale::new`]), [`Display::from_matrices`], or [`Display::new`] (f64, not `const`);
+//!   where no value can be wrong the `new` cannot fail ([`CountCalibration::new`],
+//!   [`RoundTrip::new`]). The generated [`tables`] make every baked constant with the same
+//!   constructors, in constant evaluation: a table one refuses stops the build with the
+//!   refusal's [`Error::summary`]. No constructor leaves a placeholder (such as NaN) for the
+//!   caller to fill. A constructor takes by value what the new value keeps whole
+//!   (`Upsampling::new` its [`FoldedSet`], [`LightGroupSet::from_members`] its members) and by
+//!   reference what it only reads (`IntegerSet::new` the folded set whose weights it converts).
+//!   A function's result that holds no invariant is a plain record with public fields
+//!   ([`Cct`]).
 //! - **Inputs**: no function panics or allocates on any input; each documents what NaN, ±Inf,
 //!   subnormal, huge and negative values yield.
 //! - **No f64 per pixel**: the per-pixel functions use f32 and integers only. They are the
@@ -185,8 +192,9 @@
 //!   `_planar_to_interleaved` and `_interleaved_to_planar` form of them. f64 is only in the
 //!   reference encoders, [`TransferFunction::encode`], [`TransferFunction::decode`] and
 //!   [`Display::encode`] (the exact curve rounded once, what the per-pixel encoders are
-//!   measured against), and in what runs once per display, device or test, off the pixel path:
-//!   [`Display::new`], [`delta_e2000`], [`delta_e76`], [`lab_from_xyz`], [`f32_budget`].
+//!   measured against), and in what runs once per display, table, device or test, off the
+//!   pixel path: [`Display::new`], [`PlanckianLocus::new`], [`delta_e2000`], [`delta_e76`],
+//!   [`lab_from_xyz`], [`f32_budget`].
 //! - **Traits**: every public type is `Debug`, `Clone` and `PartialEq` (`Copy` where it holds no
 //!   buffer, `Eq` and `Hash` where it holds no float), and `defmt::Format` with the `defmt`
 //!   feature.
@@ -228,10 +236,10 @@ extern crate std;
 //    (light-group sets: one folded matrix per light, on model, simd and pixel's products).
 // simd::target (whether the target has f32 vector units) is a leaf that both simd::forced (the
 // test and fuzz builds' loop caps) and planar read, so that neither imports the other. The
-// generated constants in `tables` also name the types they instantiate (model's, cct's,
-// upsample's, integer's, encode's): references down this list, which the module graph cannot
-// see (it does not read the generated file); tables.rs says how they meet the reads of
-// `tables` by model and integer.
+// generated constants in `tables` also call the checked constructors of the types they
+// instantiate (model's, cct's, upsample's, integer's, encode's): references down this list,
+// which the module graph cannot see (it does not read the generated file); tables.rs says how
+// they meet the reads of `tables` by model and integer.
 mod batch;
 mod calibration;
 mod cct;

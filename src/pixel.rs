@@ -41,7 +41,7 @@ impl<const N: usize> WavelengthSet<N> {
     /// Beyond that bound a channel may overflow to ±Inf or NaN.
     #[inline]
     pub fn ac1c2(&self, samples: &[f32; N]) -> [f32; 3] {
-        mat_vec(&self.weights, samples)
+        mat_vec(self.weights_ref(), samples)
     }
 
     /// `[X, Y, Z]` from samples: [`ac1c2`](Self::ac1c2) followed by
@@ -70,7 +70,7 @@ impl<const N: usize> FoldedSet<N> {
     /// no f32 error of their own.
     #[inline]
     pub fn linear_rgb(&self, samples: &[f32; N]) -> [f32; 3] {
-        mat_vec(&self.weights, samples)
+        mat_vec(self.weights_ref(), samples)
     }
 
     /// Linear RGB of a reflectance under a light, for a set for radiances
@@ -106,17 +106,18 @@ impl<const N: usize> FoldedSet<N> {
         // x86-64: the product and the encoder with the channels in the lanes of one SSE2
         // register (the same operations, so the same bytes; see `simd`).
         #[cfg(target_arch = "x86_64")]
-        if self.display.is_srgb_clip(mapping) {
-            return crate::simd::sse2::encode_srgb8(&self.weights, samples);
+        if self.display_ref().is_srgb_clip(mapping) {
+            return crate::simd::sse2::encode_srgb8(self.weights_ref(), samples);
         }
-        self.display
-            .encode_u8(mapping, mat_vec_for_encoding(&self.weights, samples))
+        self.display_ref()
+            .encode_u8(mapping, mat_vec_for_encoding(self.weights_ref(), samples))
     }
 
     /// As [`encode_u8`](Self::encode_u8), 16 bits (N = 0 included).
     #[inline]
     pub fn encode_u16(&self, mapping: crate::GamutMapping, samples: &[f32; N]) -> [u16; 3] {
-        self.display.encode_u16(mapping, self.linear_rgb(samples))
+        self.display_ref()
+            .encode_u16(mapping, self.linear_rgb(samples))
     }
 }
 

@@ -1,15 +1,21 @@
 //! The tables baked at compile time by `build.rs` from `data/` (see the header of the generated
-//! file for the inputs and their checksums).
+//! file for the inputs and their checksums), each constant made by its type's checked
+//! constructor when the crate compiles. [`ALL_TABLES`] lists every constant of numbers with its
+//! size and [`TABLE_BYTES`] sums them; `sets`, `folded`, `groups`, `integer` and `upsampling`
+//! each end with the list of what they hold (`NAMES`, `all!`).
 
-// A module of its own, so that lib.rs is a facade. The generated code instantiates the crate's
-// types, naming them at the crate's root (`crate::WavelengthSet`, `crate::Display`, ...), and a
-// few functions of those types read numbers from it: the observer's matrices (`xyz_from_ac1c2`,
-// `ac1c2_from_xyz`, `Display::new`, `WavelengthSet::fold`) and the 8-bit encoders of the baked
-// power laws (`TransferFunction::encode_u8`, `Display::encode_u8`, `IntegerSet::new`, which the
-// baked integer sets call at compile time). Item by item the two directions form no loop
-// (constant evaluation would reject one); module by module they meet here, as they must while
-// one generated file holds both the numbers and the constants. `.ci/module-graph` does not read
-// the generated file: it counts the reads, so `tables` is at the bottom of its layers.
+// A module of its own, so that lib.rs is a facade. The generated code makes every constant with
+// the checked constructor of the crate's type it instantiates, named at the crate's root
+// (`crate::WavelengthSet::new`, `crate::Display::from_matrices`, ...), in constant evaluation,
+// and a few functions of those types read numbers from it: the observer's matrices
+// (`xyz_from_ac1c2`, `ac1c2_from_xyz`, `Display::new`, `WavelengthSet::fold`) and the 8-bit
+// encoders of the baked power laws (`TransferFunction::encode_u8`, `Display::encode_u8`,
+// `IntegerSet::new`). Item by item the two directions form no loop: the constructors the file
+// calls take what they check as arguments and read no table, but `IntegerSet::new`, which reads
+// `GAMMA_ENCODERS`, made by `GammaEncoder8::new`, which reads nothing (DESIGN.md, "The runtime,
+// by role"). Module by module they meet here, as they must while one generated file holds both
+// the numbers and the constants. `.ci/module-graph` does not read the generated file: it counts
+// the reads, so `tables` is at the bottom of its layers.
 
 include!(concat!(env!("OUT_DIR"), "/tables.rs"));
 

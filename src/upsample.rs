@@ -3,6 +3,7 @@
 
 #![forbid(unsafe_code)]
 
+use crate::model::bits::same_f32_bits;
 use crate::model::error::{check_length, planar_pixels};
 use crate::{Display, Error, FoldedSet, LengthOf, Samples};
 
@@ -17,6 +18,11 @@ pub const UPSAMPLING_CODE_ONE: u16 = u16::MAX;
 /// CIE illuminant D65, the white of the displays' RGB (the generator's
 /// `RADIANCE_REFERENCE_LIGHT`; `tests/upsampling.rs` holds the two to the same name).
 const RADIANCE_REFERENCE_LIGHT: &str = "D65";
+
+/// Whether `x` can be a measured figure: finite and non-negative.
+const fn is_figure(x: f32) -> bool {
+    x.is_finite() && x >= 0.0
+}
 
 /// An upsampling baked for one folded set, and so for its display: linear RGB of that display,
 /// white-balanced under the set's reference light, to the set's N node reflectances. The
@@ -53,21 +59,21 @@ const RADIANCE_REFERENCE_LIGHT: &str = "D65";
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Upsampling<const N: usize> {
-    // `pub(crate)`: the baked tables (`crate::tables`) set them; users call `new`. The three
-    // figures are NaN where `new` made the upsampling (not measured; their accessors say
+    // Private: every upsampling, the baked ones too, is made by `new` (and `with_measured`).
+    // The three figures are NaN where only `new` made it (not measured; their accessors say
     // `None`).
     /// The folded set whose node values it gives: for reflectances under a light, or for
     /// radiances (never a sensor's readings).
-    pub(crate) set: FoldedSet<N>,
-    pub(crate) lipschitz: f32,
-    pub(crate) max_round_trip_delta_e00: f32,
-    pub(crate) reachable_share: f32,
+    set: FoldedSet<N>,
+    lipschitz: f32,
+    max_round_trip_delta_e00: f32,
+    reachable_share: f32,
     /// Points per axis, at least 2.
-    pub(crate) grid: usize,
+    grid: usize,
     /// `grid³` entries, index `(r · grid + g) · grid + b`, codes of
     /// [`UPSAMPLING_CODE_ONE`]ths.
-    pub(crate) table: &'static [[u16; N]],
-    pub(crate) round_trip: Option<RoundTrip<N>>,
+    table: &'static [[u16; N]],
+    round_trip: Option<RoundTrip<N>>,
 }
 
 impl<const N: usize> Upsampling<N> {
@@ -83,7 +89,8 @@ impl<const N: usize> Upsampling<N> {
     /// Errors, never a panic, usable in consts: [`Error::UpsamplingReadings`] for a set for a
     /// sensor's readings ([`Samples::Readings`]: its samples are channel readings, not
     /// values at wavelengths); [`Error::UpsamplingTable`] unless `grid ≥ 2` and
-    /// `table.len() == grid³`.
+    /// `table.len() == grid³`; [`Error::UpsamplingRoundTrip`] for a round trip whose
+    /// [`rgb_to_xyz`](RoundTrip::rgb_to_xyz) is not the set's display's, bit for bit.
     ///
     /// ```
     /// use spectral_quadrature::tables::folded::KQ_C_4_SRGB;
@@ -105,7 +112,7 @@ impl<const N: usize> Upsampling<N> {
         table: &'static [[u16; N]],
         round_trip: Option<RoundTrip<N>>,
     ) -> Result<Self, Error> {
-        if let Samples::Readings { .. } = set.samples {
+        if let Samples::Readings { .. } = set.samples() {
             return Err(Error::UpsamplingReadings);
         }
         let refused = Err(Error::UpsamplingTable {
@@ -121,6 +128,16 @@ impl<const N: usize> Upsampling<N> {
         if grid < 2 || table.len() != cube {
             return refused;
         }
+        if let Some(rt) = &round_trip {
+            let to_xyz = set.display_ref().rgb_to_xyz();
+            let mut r = 0;
+            while r < 3 {
+                if !same_f32_bits(&rt.rgb_to_xyz[r], &to_xyz[r]) {
+                    return Err(Error::UpsamplingRoundTrip);
+                }
+                r += 1;
+            }
+        }
         Ok(Upsampling {
             set,
             lipschitz: f32::NAN,
@@ -129,6 +146,43 @@ impl<const N: usize> Upsampling<N> {
             grid,
             table,
             round_trip,
+        })
+    }
+
+    /// The same upsampling with the figures the build measured of it
+    /// ([`lipschitz`](Self::lipschitz),
+    /// [`max_round_trip_delta_e00`](Self::max_round_trip_delta_e00),
+    /// [`reachable_share`](Self::reachable_share)), as the baked ones carry them. Checked, never
+    /// a panic, usable in consts: [`Error::UpsamplingFigures`] unless each is finite and
+    /// non-negative and the share at most 1.
+    ///
+    /// ```
+    /// use spectral_quadrature::tables::upsampling::KQ_C_4_SRGB as BAKED;
+    /// use spectral_quadrature::Upsampling;
+    /// let made = Upsampling::new(BAKED.set(), BAKED.grid(), BAKED.table(), BAKED.round_trip()).unwrap();
+    /// assert_eq!(made.lipschitz(), None);
+    /// let [l, d, s] = [BAKED.lipschitz(), BAKED.max_round_trip_delta_e00(), BAKED.reachable_share()].map(Option::unwrap);
+    /// assert_eq!(made.with_measured(l, d, s), Ok(BAKED));
+    /// assert!(made.with_measured(l, d, 1.5).is_err());
+    /// ```
+    pub const fn with_measured(
+        self,
+        lipschitz: f32,
+        max_round_trip_delta_e00: f32,
+        reachable_share: f32,
+    ) -> Result<Self, Error> {
+        if !(is_figure(lipschitz)
+            && is_figure(max_round_trip_delta_e00)
+            && is_figure(reachable_share)
+            && reachable_share <= 1.0)
+        {
+            return Err(Error::UpsamplingFigures);
+        }
+        Ok(Upsampling {
+            lipschitz,
+            max_round_trip_delta_e00,
+            reachable_share,
+            ..self
         })
     }
 
@@ -141,13 +195,13 @@ impl<const N: usize> Upsampling<N> {
 
     /// The display whose linear RGB it takes: the set's.
     pub const fn display(&self) -> Display {
-        self.set.display
+        self.set.display()
     }
 
     /// The reference light, under which the RGB is white-balanced: the set's folded light
     /// ([`Samples::Reflectance`]), or `"D65"` for a set for radiances.
     pub const fn light(&self) -> &'static str {
-        match self.set.samples {
+        match self.set.samples() {
             Samples::Reflectance { light } => light,
             _ => RADIANCE_REFERENCE_LIGHT,
         }
@@ -155,7 +209,7 @@ impl<const N: usize> Upsampling<N> {
 
     /// The set's wavelengths in nm: the order of the node values.
     pub const fn wavelengths_nm(&self) -> [f32; N] {
-        self.set.wavelengths_nm
+        self.set.wavelengths_nm()
     }
 
     /// A Lipschitz constant of [`interpolate`](Self::interpolate) (and of

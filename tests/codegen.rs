@@ -5,6 +5,10 @@
 const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data");
 
 use spectral_quadrature::{tables, Channel, RuleStatus, WavelengthSet};
+
+/// `TABLE_BYTES` and `ALL_TABLES` against the constants a `tables.rs` declares (shared with
+/// `.ci/tables-check`, which runs it on every example scene).
+mod table_bytes;
 use spectral_quadrature_generator::{derive, Derivation, Settings};
 use std::sync::OnceLock;
 
@@ -231,16 +235,20 @@ fn sets_say_what_their_samples_are_and_folded_sets_carry_their_display() {
     for (_, display, expected) in folded {
         assert_eq!(display, expected);
     }
-    // The generated source pairs every folded set with the display of its own name.
+    // The generated source pairs every folded set with the display of its own name: the last
+    // argument of its `FoldedSet::new`.
     let baked = include_str!(concat!(env!("OUT_DIR"), "/tables.rs"));
     let mut n = 0;
     for block in baked.split("pub const ").skip(1) {
         if let Some((name, rest)) = block.split_once(": FoldedSet<") {
             let display = rest
-                .split("display: super::displays::")
+                .split("super::displays::")
                 .nth(1)
-                .and_then(|r| r.split(',').next())
-                .expect("a display field");
+                .and_then(|r| {
+                    r.split(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+                        .next()
+                })
+                .expect("a display argument");
             assert!(
                 name.ends_with(&format!("_{display}")),
                 "{name} has {display}"
@@ -312,5 +320,262 @@ fn rustfmt_accepts_the_baked_tables() {
         "rustfmt --check --edition 2021 {TABLES_RS} wants changes:\n{}{}",
         String::from_utf8_lossy(&out.stdout),
         String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+#[test]
+fn table_bytes_is_the_size_of_every_baked_constant() {
+    let baked = include_str!(concat!(env!("OUT_DIR"), "/tables.rs"));
+    let (constants, in_slices) =
+        table_bytes::check(tables::ALL_TABLES, tables::TABLE_BYTES, baked).unwrap();
+    // The default scene bakes every kind of constant: the check above must have seen the
+    // slices of the rules and of the upsampling maps, and the integer, group, light and
+    // upsampling modules (which the old hand count left out).
+    assert!(in_slices > 0);
+    for module in [
+        "integer::",
+        "groups::",
+        "lights::",
+        "upsampling::",
+        "displays::",
+    ] {
+        assert!(
+            tables::ALL_TABLES
+                .iter()
+                .any(|(path, _, _)| path.starts_with(module)),
+            "{module}"
+        );
+    }
+    let declared = table_bytes::declared(baked);
+    assert_eq!(constants, declared.len());
+    // The text the check reads, against what the lists say: every folded set and upsampling.
+    for name in tables::folded::NAMES {
+        assert!(declared.contains(&format!("folded::{name}")), "{name}");
+    }
+    for name in tables::upsampling::NAMES {
+        assert!(declared.contains(&format!("upsampling::{name}")), "{name}");
+    }
+}
+
+#[test]
+fn table_bytes_check_refuses_a_list_that_leaves_a_constant_out_or_miscounts() {
+    let baked = include_str!(concat!(env!("OUT_DIR"), "/tables.rs"));
+    let all = tables::ALL_TABLES;
+    // One constant left out (and its bytes with it): named.
+    let short: Vec<table_bytes::Entry> = all
+        .iter()
+        .copied()
+        .filter(|(path, _, _)| *path != "integer::KQ_C_4_SRGB")
+        .collect();
+    let bytes = short.iter().map(|(_, b, _)| b).sum();
+    let err = table_bytes::check(&short, bytes, baked).unwrap_err();
+    assert!(err.contains("integer::KQ_C_4_SRGB"), "{err}");
+    // An upsampling counted without its edge cells, as a count by hand can drift: named.
+    let mut drifted: Vec<table_bytes::Entry> = all.to_vec();
+    let k = drifted
+        .iter()
+        .position(|(path, _, _)| *path == "upsampling::KQ_C_4_SRGB")
+        .unwrap();
+    drifted[k].1 -= 4;
+    let err = table_bytes::check(&drifted, tables::TABLE_BYTES - 4, baked).unwrap_err();
+    assert!(err.contains("upsampling::KQ_C_4_SRGB"), "{err}");
+    // A total that is not the sum.
+    let err = table_bytes::check(all, tables::TABLE_BYTES + 1, baked).unwrap_err();
+    assert!(err.contains("TABLE_BYTES"), "{err}");
+}
+
+/// Every baked constant is what its checked constructor gives for its parts, read back through
+/// the accessors: the tables call the same constructors, so nothing baked bypasses a check.
+#[test]
+fn every_baked_constant_is_its_constructors_value() {
+    use spectral_quadrature::{
+        Display, FoldedSet, GaussRule, LightGroupSet, Upsampling, WavelengthSet,
+    };
+    for d in tables::displays::ALL {
+        let made = Display::from_matrices(
+            d.name(),
+            d.primaries_xy(),
+            d.white_xy(),
+            d.rgb_to_xyz(),
+            d.xyz_to_rgb(),
+            d.a_from_rgb(),
+            d.transfer(),
+        );
+        assert_eq!(made, Ok(d), "{}", d.name());
+    }
+    for rule in tables::RULES.iter().flatten() {
+        let made = GaussRule::new(
+            rule.channel(),
+            rule.order(),
+            rule.status(),
+            rule.wavelengths_nm(),
+            rule.weights(),
+        );
+        assert_eq!(made, Ok(*rule));
+    }
+    macro_rules! sets {
+        ($($set:ident,)*) => {
+            $(
+                let s = tables::sets::$set;
+                assert_eq!(WavelengthSet::new(s.wavelengths_nm(), s.weights(), s.samples()), Ok(s));
+            )*
+        };
+    }
+    tables::sets::all!(sets);
+    macro_rules! folded {
+        ($($set:ident,)*) => {
+            $(
+                let f = tables::folded::$set;
+                let made = FoldedSet::new(f.wavelengths_nm(), f.weights(), f.samples(), f.display());
+                assert_eq!(made, Ok(f));
+            )*
+        };
+    }
+    tables::folded::all!(folded);
+    macro_rules! groups {
+        ($($group:ident,)*) => {
+            $(
+                let g = tables::groups::$group;
+                let made = LightGroupSet::new(g.wavelengths_nm(), g.weights(), g.lights(), g.display());
+                assert_eq!(made, Ok(g));
+            )*
+        };
+    }
+    tables::groups::all!(groups);
+    macro_rules! upsampling {
+        ($($map:ident,)*) => {
+            $(
+                let u = tables::upsampling::$map;
+                let made = Upsampling::new(u.set(), u.grid(), u.table(), u.round_trip())
+                    .and_then(|m| {
+                        let figure = |f: Option<f32>| f.expect("a baked map's measured figure");
+                        m.with_measured(
+                            figure(u.lipschitz()),
+                            figure(u.max_round_trip_delta_e00()),
+                            figure(u.reachable_share()),
+                        )
+                    });
+                assert_eq!(made, Ok(u));
+            )*
+        };
+    }
+    tables::upsampling::all!(upsampling);
+}
+
+/// `Display::from_matrices` refuses what a baked display cannot be: a singular matrix, a pair
+/// that are not each other's inverse, a value that is not finite, a chromaticity or γ
+/// `Display::new` refuses, each with `Display::new`'s error.
+#[test]
+fn a_display_from_matrices_refuses_singular_and_mismatched_matrices() {
+    use spectral_quadrature::{Display, DisplayError, Error, Point, TransferFunction};
+    let s = tables::displays::SRGB;
+    let make = |rgb_to_xyz: [[f32; 3]; 3], xyz_to_rgb: [[f32; 3]; 3]| {
+        Display::from_matrices(
+            "test",
+            s.primaries_xy(),
+            s.white_xy(),
+            rgb_to_xyz,
+            xyz_to_rgb,
+            s.a_from_rgb(),
+            s.transfer(),
+        )
+    };
+    let singular = |r: Result<Display, Error>| {
+        matches!(
+            r,
+            Err(Error::Display(DisplayError::Collinear { condition })) if condition == f32::INFINITY
+        )
+    };
+    assert!(make(s.rgb_to_xyz(), s.xyz_to_rgb()).is_ok());
+    // Singular: a row of zeros, and two equal rows.
+    let mut zero = s.rgb_to_xyz();
+    zero[1] = [0.0; 3];
+    assert!(singular(make(zero, s.xyz_to_rgb())));
+    let mut equal = s.rgb_to_xyz();
+    equal[2] = equal[0];
+    assert!(singular(make(equal, s.xyz_to_rgb())));
+    // Another display's inverse; an inverse one entry of which is 1 % off.
+    assert!(singular(make(
+        s.rgb_to_xyz(),
+        tables::displays::DISPLAY_P3.xyz_to_rgb()
+    )));
+    let mut off = s.xyz_to_rgb();
+    off[1][1] *= 1.01;
+    assert!(singular(make(s.rgb_to_xyz(), off)));
+    // Not finite.
+    let mut nan = s.xyz_to_rgb();
+    nan[2][0] = f32::NAN;
+    assert!(singular(make(s.rgb_to_xyz(), nan)));
+    let mut huge = s.rgb_to_xyz();
+    huge[0] = [f32::MAX; 3];
+    assert!(singular(make(huge, s.xyz_to_rgb())));
+    // A chromaticity and a γ, named as `Display::new` names them.
+    let mut primaries = s.primaries_xy();
+    primaries[1] = [0.7, 0.4];
+    let refused = Display::from_matrices(
+        "test",
+        primaries,
+        s.white_xy(),
+        s.rgb_to_xyz(),
+        s.xyz_to_rgb(),
+        s.a_from_rgb(),
+        s.transfer(),
+    );
+    assert!(matches!(
+        refused,
+        Err(Error::Display(DisplayError::Chromaticity {
+            point: Point::Green,
+            ..
+        }))
+    ));
+    let gamma = s.with_transfer(TransferFunction::Gamma(0.0));
+    let refused = Display::from_matrices(
+        "test",
+        gamma.primaries_xy(),
+        gamma.white_xy(),
+        gamma.rgb_to_xyz(),
+        gamma.xyz_to_rgb(),
+        gamma.a_from_rgb(),
+        gamma.transfer(),
+    );
+    assert!(matches!(
+        refused,
+        Err(Error::Display(DisplayError::Gamma { .. }))
+    ));
+}
+
+/// `Upsampling::new` refuses a round trip that measures colour in another display's space, and
+/// `with_measured` figures that are not finite and non-negative, or a share above 1.
+#[test]
+fn an_upsampling_refuses_another_displays_round_trip_and_bad_figures() {
+    use spectral_quadrature::{Error, RoundTrip, Upsampling};
+    let u = tables::upsampling::KQ_C_4_SRGB;
+    let rt = u.round_trip().unwrap();
+    let other = RoundTrip::new(
+        rt.weights(),
+        tables::displays::DISPLAY_P3.rgb_to_xyz(),
+        rt.edge_cells(),
+    );
+    assert_eq!(
+        Upsampling::new(u.set(), u.grid(), u.table(), Some(other)),
+        Err(Error::UpsamplingRoundTrip)
+    );
+    let made = Upsampling::new(u.set(), u.grid(), u.table(), Some(rt)).unwrap();
+    for figures in [
+        [f32::NAN, 0.1, 0.9],
+        [1.0, -0.1, 0.9],
+        [1.0, 0.1, 1.5],
+        [f32::INFINITY, 0.1, 0.9],
+    ] {
+        let [l, d, s] = figures;
+        assert_eq!(
+            made.with_measured(l, d, s),
+            Err(Error::UpsamplingFigures),
+            "{figures:?}"
+        );
+    }
+    assert_eq!(
+        made.with_measured(0.0, 0.0, 1.0).unwrap().reachable_share(),
+        Some(1.0)
     );
 }

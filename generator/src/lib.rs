@@ -54,7 +54,9 @@
 //! 4. `scenes`: the scene file ([`scene`]), the sets by name ([`catalog`]), the user's inputs
 //!    ([`user`]), a sensor's white reference and fitted calibration ([`calibration`]) and the
 //!    planner ([`plan`]);
-//! 5. `emit`: the Rust tables (`codegen`), the shader snippets ([`shader`]) and [`generate`].
+//! 5. `emit`: the scene's baked model (`model`: every constant, computed once, as f32) and its
+//!    formatters, the Rust tables (`codegen`) and the shader snippets ([`shader`]), and
+//!    [`generate`].
 //!
 //! This file only re-exports: the modules above under their own names, and at the root what
 //! most callers need.

@@ -285,13 +285,43 @@ fn constant(module: &naga::Module, name: &str) -> Vec<f32> {
     out
 }
 
-/// A baked table by its name in `ALL_TABLES`.
+/// A baked table by name: `<SET>`, a colour set's wavelengths; `<SET>.weights`, its AC1C2
+/// rows; `folded::<SET>_<DISPLAY>.weights`, a folded set's RGB rows (rows one after the other),
+/// from the lists of what the scene bakes (`tables::sets::all!`, `tables::folded::all!`).
 fn table(name: &str) -> &'static [f32] {
-    tables::ALL_TABLES
-        .iter()
+    static TABLES: std::sync::OnceLock<Vec<(String, Vec<f32>)>> = std::sync::OnceLock::new();
+    let all = TABLES.get_or_init(|| {
+        let mut all = Vec::new();
+        macro_rules! sets {
+            ($($set:ident,)*) => {
+                $(
+                    all.push((stringify!($set).to_string(), tables::sets::$set.wavelengths_nm().to_vec()));
+                    all.push((
+                        concat!(stringify!($set), ".weights").to_string(),
+                        tables::sets::$set.weights().as_flattened().to_vec(),
+                    ));
+                )*
+            };
+        }
+        tables::sets::all!(sets);
+        macro_rules! folded {
+            ($($set:ident,)*) => {
+                $(
+                    all.push((
+                        concat!("folded::", stringify!($set), ".weights").to_string(),
+                        folded::$set.weights().as_flattened().to_vec(),
+                    ));
+                )*
+            };
+        }
+        folded::all!(folded);
+        all
+    });
+    all.iter()
         .find(|(n, _)| *n == name)
         .unwrap_or_else(|| panic!("no table {name}"))
         .1
+        .as_slice()
 }
 
 /// A 3×N row-major table as N columns of 3, flattened: the shaders' `vec3` per wavelength.
@@ -845,10 +875,7 @@ fn wgsl_and_glsl_run_on_vulkan_and_agree_with_the_runtime() {
     const PIXELS: usize = 4096;
     let cases = cases();
     // Every folded set the default scene bakes is here.
-    let baked = tables::ALL_TABLES
-        .iter()
-        .filter(|(n, _)| n.starts_with("folded::"))
-        .count();
+    let baked = folded::NAMES.len();
     assert_eq!(
         cases.len(),
         baked,

@@ -160,7 +160,7 @@ impl<const N: usize> IntegerSet<N> {
     /// It computes in integers only, so it may run on the microcontroller, for a set folded
     /// at run time ([`WavelengthSet::fold`](crate::WavelengthSet::fold)).
     pub const fn new(folded: &FoldedSet<N>, sample_unit: f32) -> Result<IntegerSet<N>, Error> {
-        let Some(curve) = curve_for(folded.display.transfer) else {
+        let Some(curve) = curve_for(folded.display_ref().transfer()) else {
             return Err(Error::IntegerTransfer);
         };
         // The encoder settles a coarse sum at or above 1.0 by the last stretch's limit: that
@@ -183,9 +183,9 @@ impl<const N: usize> IntegerSet<N> {
             if !last_below_clamp {
                 return Err(Error::IntegerTransfer);
             }
-            if let Some((weights, coarse)) = split_at(&folded.weights, sample_unit, p) {
+            if let Some((weights, coarse)) = split_at(folded.weights_ref(), sample_unit, p) {
                 return Ok(IntegerSet {
-                    wavelengths_nm: folded.wavelengths_nm,
+                    wavelengths_nm: folded.wavelengths_nm(),
                     weights,
                     coarse,
                     packed: Packed::new(&coarse),
@@ -193,8 +193,8 @@ impl<const N: usize> IntegerSet<N> {
                     shift: (47 - p) as u32,
                     one: 1 << (p - 16),
                     sample_unit,
-                    samples: folded.samples,
-                    display: folded.display,
+                    samples: folded.samples(),
+                    display: folded.display(),
                     curve,
                 });
             }

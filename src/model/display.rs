@@ -2,7 +2,7 @@
 
 #![forbid(unsafe_code)]
 
-use spectral_quadrature_math::{display_matrices, DisplayError, DisplayMatrices};
+use spectral_quadrature_math::{display_matrices, DisplayError, DisplayMatrices, Point};
 
 use super::bits::{same_f32_bits, same_str};
 use super::transfer::{gamma_encoder, gamma_f32, quantize_u8, TransferFunction};
@@ -48,20 +48,30 @@ impl core::fmt::Display for GamutMapping {
     }
 }
 
+/// How far [`Display::from_matrices`] lets each entry of `rgb_to_xyz · xyz_to_rgb`, computed in
+/// f32, lie from the identity's, in units of the sum of its three products' magnitudes: 6 · 2⁻²⁴.
+/// Two matrices that are exact inverses in f64, each rounded to f32 (2⁻²⁴ relative per entry,
+/// 2 · 2⁻²⁴ per product), give a product within (2 + 3) · 2⁻²⁴ of the identity times that sum
+/// once the three-term f32 sum adds its own rounding (3 · 2⁻²⁴); the sixth unit covers the
+/// second-order terms and the f64 inverse's own error (its condition number times 2⁻⁵³, below
+/// 2⁻⁴⁰ for every display [`Display::new`] accepts). A singular matrix's product misses the
+/// identity by a whole unit on some entry.
+const MATRIX_ROUNDING: f32 = 6.0 / 16_777_216.0;
+
 /// A display: primaries, white point (CIE 1931 xy), the matrices between linear RGB and XYZ
 /// (white at Y = 1), and a transfer function.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Display {
-    // `pub(crate)`: the baked tables (`crate::tables`) set them; users call `new`, which derives
-    // the matrices, so that they always agree with the chromaticities.
-    pub(crate) name: &'static str,
-    pub(crate) primaries_xy: [[f32; 2]; 3],
-    pub(crate) white_xy: [f32; 2],
-    pub(crate) rgb_to_xyz: [[f32; 3]; 3],
-    pub(crate) xyz_to_rgb: [[f32; 3]; 3],
-    pub(crate) a_from_rgb: [f32; 3],
-    pub(crate) transfer: TransferFunction,
+    // Private: a display is made by `new`, which derives the matrices so that they always agree
+    // with the chromaticities, or (the baked ones) by `from_matrices`, which checks them.
+    name: &'static str,
+    primaries_xy: [[f32; 2]; 3],
+    white_xy: [f32; 2],
+    rgb_to_xyz: [[f32; 3]; 3],
+    xyz_to_rgb: [[f32; 3]; 3],
+    a_from_rgb: [f32; 3],
+    transfer: TransferFunction,
 }
 
 impl Display {
@@ -164,6 +174,125 @@ impl Display {
             return Err(Error::Display(DisplayError::Collinear {
                 condition: f32::INFINITY,
             }));
+        }
+        Ok(Display {
+            name,
+            primaries_xy,
+            white_xy,
+            rgb_to_xyz,
+            xyz_to_rgb,
+            a_from_rgb,
+            transfer,
+        })
+    }
+
+    /// A display from its matrices, as the build bakes them ([`tables::displays`](crate::tables::displays)):
+    /// the chromaticities, both matrices and the A of one unit of R, G and B, as
+    /// [`Display::new`] would derive them in f64 and round them to f32. Checked, never a panic,
+    /// usable in consts (where [`new`](Self::new), in f64, is not), with the errors
+    /// [`Display::new`] gives, all [`Error::Display`]:
+    ///
+    /// - [`DisplayError::Gamma`] for a `Gamma(γ)` whose γ is not finite and positive;
+    /// - [`DisplayError::Chromaticity`] (naming the point, primaries first) for a coordinate
+    ///   that is not finite, negative, or with x + y > 1 or y ≤ 0;
+    /// - [`DisplayError::Collinear`] with an infinite condition number where a matrix entry or
+    ///   an A is not finite, or where the matrices are not each other's inverse: an entry of
+    ///   `rgb_to_xyz · xyz_to_rgb` (in f32) farther from the identity's than 6 · 2⁻²⁴ times
+    ///   the sum of its products' magnitudes, the bound the f32 rounding of an inverse pair
+    ///   computed in f64 keeps (`MATRIX_ROUNDING` in the source says where each unit comes
+    ///   from). A singular matrix has no inverse, so it is refused.
+    ///
+    /// The chromaticities are not checked against the matrices: the matrices are the display.
+    ///
+    /// ```
+    /// use spectral_quadrature::{tables::displays::SRGB, Display, DisplayError, Error};
+    /// let same = Display::from_matrices(
+    ///     SRGB.name(),
+    ///     SRGB.primaries_xy(),
+    ///     SRGB.white_xy(),
+    ///     SRGB.rgb_to_xyz(),
+    ///     SRGB.xyz_to_rgb(),
+    ///     SRGB.a_from_rgb(),
+    ///     SRGB.transfer(),
+    /// );
+    /// assert_eq!(same, Ok(SRGB));
+    /// // A singular RGB → XYZ (its blue column zero) has no inverse.
+    /// let mut flat = SRGB.rgb_to_xyz();
+    /// flat.iter_mut().for_each(|row| row[2] = 0.0);
+    /// let refused = Display::from_matrices(
+    ///     "flat", SRGB.primaries_xy(), SRGB.white_xy(), flat, SRGB.xyz_to_rgb(),
+    ///     SRGB.a_from_rgb(), SRGB.transfer(),
+    /// );
+    /// assert!(matches!(refused, Err(Error::Display(DisplayError::Collinear { .. }))));
+    /// ```
+    pub const fn from_matrices(
+        name: &'static str,
+        primaries_xy: [[f32; 2]; 3],
+        white_xy: [f32; 2],
+        rgb_to_xyz: [[f32; 3]; 3],
+        xyz_to_rgb: [[f32; 3]; 3],
+        a_from_rgb: [f32; 3],
+        transfer: TransferFunction,
+    ) -> Result<Display, Error> {
+        if let TransferFunction::Gamma(gamma) = transfer {
+            if !(gamma.is_finite() && gamma > 0.0) {
+                return Err(Error::Display(DisplayError::Gamma { gamma }));
+            }
+        }
+        let points = [Point::Red, Point::Green, Point::Blue, Point::White];
+        let mut k = 0;
+        while k < 4 {
+            let xy = if k < 3 { primaries_xy[k] } else { white_xy };
+            let [x, y] = xy;
+            let valid = x.is_finite() && y.is_finite() && x >= 0.0 && y > 0.0 && x + y <= 1.0;
+            if !valid {
+                return Err(Error::Display(DisplayError::Chromaticity {
+                    point: points[k],
+                    xy,
+                }));
+            }
+            k += 1;
+        }
+        let singular = Err(Error::Display(DisplayError::Collinear {
+            condition: f32::INFINITY,
+        }));
+        let mut i = 0;
+        while i < 3 {
+            if !a_from_rgb[i].is_finite() {
+                return singular;
+            }
+            let mut j = 0;
+            while j < 3 {
+                if !(rgb_to_xyz[i][j].is_finite() && xyz_to_rgb[i][j].is_finite()) {
+                    return singular;
+                }
+                j += 1;
+            }
+            i += 1;
+        }
+        let mut i = 0;
+        while i < 3 {
+            let mut j = 0;
+            while j < 3 {
+                let mut product = 0.0f32;
+                let mut magnitude = 0.0f32;
+                let mut k = 0;
+                while k < 3 {
+                    let term = rgb_to_xyz[i][k] * xyz_to_rgb[k][j];
+                    product += term;
+                    magnitude += term.abs();
+                    k += 1;
+                }
+                let identity = if i == j { 1.0 } else { 0.0 };
+                // A product that overflows (an infinite magnitude, a NaN sum) is refused too.
+                let inverse = magnitude.is_finite()
+                    && (product - identity).abs() <= MATRIX_ROUNDING * magnitude;
+                if !inverse {
+                    return singular;
+                }
+                j += 1;
+            }
+            i += 1;
         }
         Ok(Display {
             name,

@@ -87,6 +87,19 @@ pub enum Error {
     /// ([`Samples::Readings`](crate::Samples::Readings)): its samples are channel readings,
     /// not values at wavelengths, so there are no node reflectances to upsample to.
     UpsamplingReadings,
+    /// [`Upsampling::new`](crate::Upsampling::new) got a [`RoundTrip`](crate::RoundTrip) whose
+    /// RGB → XYZ is not the set's display's, bit for bit: the round trip would measure colours
+    /// in another display's space than the one whose RGB the upsampling takes.
+    UpsamplingRoundTrip,
+    /// [`Upsampling::with_measured`](crate::Upsampling::with_measured) got a figure that is not
+    /// finite and non-negative, or a reachable share above 1.
+    UpsamplingFigures,
+    /// [`PlanckianLocus::new`](crate::PlanckianLocus::new) got a node whose values are not a
+    /// locus table's: see there for each check.
+    InvalidLocus {
+        /// The first such node's index.
+        node: usize,
+    },
     /// [`IntegerSet::new`](crate::IntegerSet::new) got a weight that is not finite, a sample
     /// unit that is not finite and positive, or weights too large for 32-bit sums of u16
     /// counts.
@@ -269,6 +282,110 @@ impl fmt::Display for LightGroupProblem {
     }
 }
 
+impl Error {
+    /// The error's sentence without the numbers its [`Display`](fmt::Display) adds, as a
+    /// `&'static str` from a `const fn`: what a constant can `panic!` with where a constructor
+    /// refuses its arguments at compile time (a panic in constant evaluation prints a string,
+    /// not a `Display`). The generated tables make every baked constant with its checked
+    /// constructor and stop the build with this sentence where one refuses.
+    ///
+    /// ```
+    /// use spectral_quadrature::{Error, Samples, WavelengthSet};
+    /// const fn checked<T: Copy>(made: Result<T, Error>) -> T {
+    ///     match made {
+    ///         Ok(value) => value,
+    ///         Err(e) => panic!("{}", e.summary()),
+    ///     }
+    /// }
+    /// const MINE: WavelengthSet<1> = checked(WavelengthSet::new([550.0], [[1.0], [0.0], [0.0]], Samples::Radiance));
+    /// let refused = WavelengthSet::new([550.0], [[f32::NAN], [0.0], [0.0]], Samples::Radiance);
+    /// assert_eq!(refused.unwrap_err().summary(), "a set's or rule's weight is not finite");
+    /// # let _ = MINE;
+    /// ```
+    pub const fn summary(&self) -> &'static str {
+        match self {
+            Error::LengthMismatch { what, .. } => match what {
+                LengthOf::Output => "length mismatch: an output's pixels against its input's",
+                LengthOf::InputPlane => "length mismatch: an input plane against the first",
+                LengthOf::OutputPlane => {
+                    "length mismatch: an output plane against the input's pixels"
+                }
+                LengthOf::Samples => "length mismatch: the samples against the set's wavelengths",
+                LengthOf::RuleWavelengths => {
+                    "length mismatch: a rule's wavelengths against its order"
+                }
+                LengthOf::RuleWeights => "length mismatch: a rule's weights against its order",
+            },
+            Error::Capacity { .. } => "the set would need more wavelengths than its capacity",
+            Error::UndefinedRule { .. } => "the rule is not a defined rule",
+            Error::InvalidLut { .. } => {
+                "a lookup table needs 2 or more finite, non-decreasing entries in 0..=1"
+            }
+            Error::Display(e) => match e {
+                DisplayError::Chromaticity { .. } => {
+                    "display refused: a chromaticity is not finite, is negative, or has y <= 0 or x + y > 1"
+                }
+                DisplayError::Collinear { .. } => {
+                    "display refused: the primaries are collinear, or a matrix is singular or not finite or not the other's inverse"
+                }
+                DisplayError::WhiteOutside { .. } => {
+                    "display refused: the white is not a mix of the primaries"
+                }
+                DisplayError::Gamma { .. } => "display refused: gamma is not finite and positive",
+                _ => "display refused",
+            },
+            Error::Calibration { problem, .. } => match problem {
+                CalibrationProblem::NoSignal => {
+                    "calibration: the white reading is not above the dark one"
+                }
+                CalibrationProblem::Reference => {
+                    "calibration: the reference reading is not finite and positive"
+                }
+                CalibrationProblem::OutOfRange => {
+                    "calibration: the gain or dark offset is out of range"
+                }
+            },
+            Error::InvalidWavelength { .. } => {
+                "a wavelength is not finite and positive, or not above the one before"
+            }
+            Error::InvalidWeight { .. } => "a set's or rule's weight is not finite",
+            Error::UpsamplingTable { .. } => {
+                "an upsampling table is not grid³ entries for a grid of 2 or more"
+            }
+            Error::UpsamplingReadings => {
+                "an upsampling needs a set whose samples are at wavelengths, not a sensor's readings"
+            }
+            Error::UpsamplingRoundTrip => {
+                "an upsampling's round trip must measure colour in the set's display's RGB → XYZ"
+            }
+            Error::UpsamplingFigures => {
+                "an upsampling's measured figures must be finite and non-negative, the reachable share at most 1"
+            }
+            Error::InvalidLocus { .. } => {
+                "a Planckian locus node is not finite, not ordered, or its chord or fixed-point tangent does not match its point and tangent"
+            }
+            Error::IntegerRange => {
+                "the weights or the sample unit have no fixed-point form for u16 counts"
+            }
+            Error::IntegerTransfer => "the transfer function has no integer encoder",
+            Error::InvalidLuxScale => "a lux scale needs a finite, positive illuminance per unit Y",
+            Error::LightGroup { problem, .. } => match problem {
+                LightGroupProblem::NoLights => "light group: a light-group set needs at least one light",
+                LightGroupProblem::NotReflectance => {
+                    "light group: a member is not a set for reflectances under a folded light"
+                }
+                LightGroupProblem::Wavelengths => {
+                    "light group: a member's wavelengths are not member 0's"
+                }
+                LightGroupProblem::Display => "light group: a member's display is not member 0's",
+                LightGroupProblem::InvalidWeight { .. } => {
+                    "light group: a weight of a light's matrix is not finite"
+                }
+            },
+        }
+    }
+}
+
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {
@@ -336,6 +453,16 @@ impl fmt::Display for Error {
             ),
             Error::UpsamplingReadings => f.write_str(
                 "an upsampling needs a set whose samples are at wavelengths, not a sensor's readings",
+            ),
+            Error::UpsamplingRoundTrip => f.write_str(
+                "an upsampling's round trip must measure colour in the set's display's RGB → XYZ",
+            ),
+            Error::UpsamplingFigures => f.write_str(
+                "an upsampling's measured figures must be finite and non-negative, the reachable share at most 1",
+            ),
+            Error::InvalidLocus { node } => write!(
+                f,
+                "node {node} of a Planckian locus table is not finite, not ordered, or its chord or fixed-point tangent does not match its point and tangent"
             ),
             Error::IntegerRange => f.write_str(
                 "the weights or the sample unit have no fixed-point form for u16 counts",

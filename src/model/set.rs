@@ -106,12 +106,12 @@ impl Samples {
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct GaussRule {
-    // `pub(crate)`: the baked tables (`crate::tables`) set them; users call `new`.
-    pub(crate) channel: Channel,
-    pub(crate) order: u8,
-    pub(crate) status: RuleStatus,
-    pub(crate) wavelengths_nm: &'static [f32],
-    pub(crate) weights: &'static [f32],
+    // Private: every rule, the baked ones too, is made by `new`.
+    channel: Channel,
+    order: u8,
+    status: RuleStatus,
+    wavelengths_nm: &'static [f32],
+    weights: &'static [f32],
 }
 
 impl GaussRule {
@@ -298,10 +298,10 @@ pub(crate) const fn assert_width<const N: usize>() {
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct WavelengthSet<const N: usize> {
-    // `pub(crate)`: the baked tables (`crate::tables`) set them; users call `new`.
-    pub(crate) wavelengths_nm: [f32; N],
-    pub(crate) weights: [[f32; N]; 3],
-    pub(crate) samples: Samples,
+    // Private: every set, the baked ones too, is made by `new` (or `fold`).
+    wavelengths_nm: [f32; N],
+    weights: [[f32; N]; 3],
+    samples: Samples,
 }
 
 impl<const N: usize> WavelengthSet<N> {
@@ -360,6 +360,13 @@ impl<const N: usize> WavelengthSet<N> {
         self.samples
     }
 
+    /// [`weights`](Self::weights) by reference, for the crate's own paths (the fields are
+    /// private, so that a set is made by a checked constructor; the accessors copy).
+    #[inline(always)]
+    pub(crate) const fn weights_ref(&self) -> &[[f32; N]; 3] {
+        &self.weights
+    }
+
     /// Folds AC1C2 → XYZ → the display's linear RGB and a `scale` into the weights, in f32, so
     /// that [`FoldedSet::linear_rgb`] is one 3×N product; the folded set keeps `display` (its
     /// encoders use it) and [`samples`](Self::samples). The baked
@@ -367,7 +374,7 @@ impl<const N: usize> WavelengthSet<N> {
     /// `scale = 1 / UNIT_SPECTRUM_Y`. Non-finite weights or scale propagate into the result; with
     /// N = 0 the folded set has no weights either.
     pub fn fold(&self, display: &crate::Display, scale: f32) -> FoldedSet<N> {
-        let m = super::matrix::mat3_mul(&display.xyz_to_rgb, &crate::tables::AC1C2_TO_XYZ);
+        let m = super::matrix::mat3_mul(&display.xyz_to_rgb(), &crate::tables::AC1C2_TO_XYZ);
         let mut weights = [[0.0f32; N]; 3];
         for (r, row) in weights.iter_mut().enumerate() {
             for (i, w) in row.iter_mut().enumerate() {
@@ -416,12 +423,11 @@ impl<const N: usize> WavelengthSet<N> {
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct FoldedSet<const N: usize> {
-    // `pub(crate)`: the baked tables (`crate::tables`) set them; users call `new` or
-    // `WavelengthSet::fold`.
-    pub(crate) wavelengths_nm: [f32; N],
-    pub(crate) weights: [[f32; N]; 3],
-    pub(crate) samples: Samples,
-    pub(crate) display: crate::Display,
+    // Private: every set, the baked ones too, is made by `new` (or `WavelengthSet::fold`).
+    wavelengths_nm: [f32; N],
+    weights: [[f32; N]; 3],
+    samples: Samples,
+    display: crate::Display,
 }
 
 impl<const N: usize> FoldedSet<N> {
@@ -466,5 +472,40 @@ impl<const N: usize> FoldedSet<N> {
     /// The display the weights were folded for: its transfer function encodes the output.
     pub const fn display(&self) -> crate::Display {
         self.display
+    }
+
+    /// [`weights`](Self::weights) by reference, for the crate's own paths (the fields are
+    /// private, so that a set is made by a checked constructor; the accessors copy).
+    #[inline(always)]
+    pub(crate) const fn weights_ref(&self) -> &[[f32; N]; 3] {
+        &self.weights
+    }
+
+    /// [`wavelengths_nm`](Self::wavelengths_nm) by reference.
+    #[inline(always)]
+    pub(crate) const fn wavelengths_ref(&self) -> &[f32; N] {
+        &self.wavelengths_nm
+    }
+
+    /// [`display`](Self::display) by reference.
+    #[inline(always)]
+    pub(crate) const fn display_ref(&self) -> &crate::Display {
+        &self.display
+    }
+
+    /// A folded set of parts already checked (a light-group set's member): what
+    /// [`new`](Self::new) would give for them, without checking again.
+    pub(crate) const fn from_checked(
+        wavelengths_nm: [f32; N],
+        weights: [[f32; N]; 3],
+        samples: Samples,
+        display: crate::Display,
+    ) -> FoldedSet<N> {
+        FoldedSet {
+            wavelengths_nm,
+            weights,
+            samples,
+            display,
+        }
     }
 }

@@ -69,7 +69,7 @@ impl<const N: usize> FoldedSet<N> {
         let [r, g, b] = out;
         // The AVX-512 or AVX2 loop where the CPU has one (the same bits; see `simd`), then the
         // rest in the portable one.
-        let weights = core::array::from_ref(&self.weights);
+        let weights = core::array::from_ref(self.weights_ref());
         let done = crate::simd::linear_planar(weights, [samples], [&mut *r, &mut *g, &mut *b]);
         linear_planar_portable(
             weights,
@@ -147,13 +147,13 @@ impl<const N: usize> FoldedSet<N> {
             LengthOf::Output,
             &[out.len()],
         )?;
-        let srgb_clip = self.display.is_srgb_clip(mapping);
+        let srgb_clip = self.display_ref().is_srgb_clip(mapping);
         let vector_units = VECTOR_UNITS && crate::simd::allowed!(Portable);
         if !(vector_units && srgb_clip) {
             if srgb_clip {
                 // No vector units: one pixel at a time, the weights in registers.
                 crate::simd::note!(Scalar, false);
-                scalar::encode_srgb8_clip(&self.weights, samples, out);
+                scalar::encode_srgb8_clip(self.weights_ref(), samples, out);
                 return Ok(());
             }
             // Every plane has `pixels` values (checked above), so the slices are in range, and
@@ -167,7 +167,7 @@ impl<const N: usize> FoldedSet<N> {
         }
         // The AVX-512 or AVX2 loop where the CPU has one (the same bytes; see `simd`), then the
         // rest in the portable one.
-        let weights = core::array::from_ref(&self.weights);
+        let weights = core::array::from_ref(self.weights_ref());
         let done = crate::simd::encode_srgb8_planar(weights, [samples], out.as_flattened_mut());
         encode_srgb8_planar_portable(
             weights,

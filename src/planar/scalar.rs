@@ -112,7 +112,7 @@ mod tests {
             });
             let mut out = [[7u8; 3]; BATCH];
             encode_srgb8_clip(
-                &set.weights,
+                set.weights_ref(),
                 planes.each_ref().map(|p| &p[..n]),
                 &mut out[..n],
             );
@@ -151,18 +151,21 @@ mod tests {
         assert_eq!(n, pixels.len());
         check(&set, &pixels);
         // Weights with both signs and zeros of both signs: first products of −0.0.
-        let mut mixed = set;
-        mixed.weights[1] = [-0.5, 0.0, 0.25, -0.0];
-        mixed.weights[2] = [-0.0, -1.0, 0.0, 2.0];
+        let mut weights = set.weights();
+        weights[1] = [-0.5, 0.0, 0.25, -0.0];
+        weights[2] = [-0.0, -1.0, 0.0, 2.0];
+        let with = |weights| {
+            FoldedSet::new(set.wavelengths_nm(), weights, set.samples(), set.display()).unwrap()
+        };
+        let mixed = with(weights);
         check(&mixed, &pixels);
         // Channels of +Inf and −Inf (a NaN sum, but no NaN channel, so not black) for the
         // pixels with an infinite sample.
-        let mut opposite = set;
-        opposite.weights = [
+        let opposite = with([
             [1.0, 0.5, 0.5, 0.5],
             [-1.0, 0.5, 0.5, 0.5],
             [1.0, -2.0, 3.0, 4.0],
-        ];
+        ]);
         check(&opposite, &pixels);
         let px = [f32::INFINITY, 0.2, 0.25, 0.1];
         let [r, g, b] = opposite.linear_rgb(&px);
@@ -200,29 +203,24 @@ mod tests {
         let set = TABLE2_ROW2_SRGB;
         check_random(&set, 0x9E37_79B9_7F4A_7C15, 5000 / scale);
         // Other lengths of the product: only written-out terms, and terms in the loop (N = 9).
-        let with = |weights| FoldedSet {
-            wavelengths_nm: [0.0; 9],
-            weights,
-            samples: set.samples,
-            display: set.display,
+        let with = |weights: [[f32; 9]; 3]| {
+            let nm = core::array::from_fn(|i| 400.0 + i as f32);
+            FoldedSet::new(nm, weights, set.samples(), set.display()).unwrap()
         };
+        let weights4 = set.weights();
         let weights9 = core::array::from_fn(|c| {
-            core::array::from_fn(|i| set.weights[c][i % 4] * (1.0 - 0.1 * i as f32))
+            core::array::from_fn(|i| weights4[c][i % 4] * (1.0 - 0.1 * i as f32))
         });
         check_random(&with(weights9), 1, 2000 / scale);
-        let one = FoldedSet {
-            wavelengths_nm: [0.0; 1],
-            weights: [[0.7], [0.5], [-0.2]],
-            samples: set.samples,
-            display: set.display,
-        };
+        let one = FoldedSet::new(
+            [550.0],
+            [[0.7], [0.5], [-0.2]],
+            set.samples(),
+            set.display(),
+        )
+        .unwrap();
         check_random(&one, 2, 2000 / scale);
-        let none = FoldedSet::<0> {
-            wavelengths_nm: [],
-            weights: [[]; 3],
-            samples: set.samples,
-            display: set.display,
-        };
+        let none = FoldedSet::<0>::new([], [[]; 3], set.samples(), set.display()).unwrap();
         check(&none, &[[]; 5]);
     }
 
@@ -232,9 +230,9 @@ mod tests {
         let a = [0.5f32; 5];
         let b = [0.4f32; 3];
         let mut out = [[9u8; 3]; 5];
-        encode_srgb8_clip(&set.weights, [&a, &b, &a, &a], &mut out);
+        encode_srgb8_clip(set.weights_ref(), [&a, &b, &a, &a], &mut out);
         assert_eq!(out, [[9; 3]; 5]);
-        encode_srgb8_clip(&set.weights, [&a, &b, &a, &a], &mut out[..3]);
+        encode_srgb8_clip(set.weights_ref(), [&a, &b, &a, &a], &mut out[..3]);
         let one = set.encode_u8(GamutMapping::Clip, &[0.5, 0.4, 0.5, 0.5]);
         assert_eq!(out, [one, one, one, [9; 3], [9; 3]]);
     }

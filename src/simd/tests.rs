@@ -65,7 +65,7 @@ fn linear_reference<const N: usize, const L: usize>(
 
 impl<const N: usize> Subject<N, 1> for crate::FoldedSet<N> {
     fn weights(&self) -> &[[[f32; N]; 3]; 1] {
-        core::array::from_ref(&self.weights)
+        core::array::from_ref(self.weights_ref())
     }
     fn encode_u8(&self, px: &[[f32; N]; 1]) -> [u8; 3] {
         crate::FoldedSet::encode_u8(self, GamutMapping::Clip, &px[0])
@@ -74,9 +74,9 @@ impl<const N: usize> Subject<N, 1> for crate::FoldedSet<N> {
         crate::FoldedSet::encode_u16(self, GamutMapping::Clip, &px[0])
     }
     fn reference(&self, px: &[[f32; N]; 1]) -> [u8; 3] {
-        self.display.encode_u8(
+        self.display_ref().encode_u8(
             GamutMapping::Clip,
-            mat_vec_for_encoding(&self.weights, &px[0]),
+            mat_vec_for_encoding(self.weights_ref(), &px[0]),
         )
     }
     fn encode_u8_planar(&self, planes: [[&[f32]; N]; 1], out: &mut [[u8; 3]]) {
@@ -100,7 +100,7 @@ impl<const N: usize> Subject<N, 1> for crate::FoldedSet<N> {
 
 impl<const N: usize, const L: usize> Subject<N, L> for crate::LightGroupSet<N, L> {
     fn weights(&self) -> &[[[f32; N]; 3]; L] {
-        &self.weights
+        self.weights_ref()
     }
     fn encode_u8(&self, px: &[[f32; N]; L]) -> [u8; 3] {
         crate::LightGroupSet::encode_u8(self, GamutMapping::Clip, px)
@@ -109,8 +109,8 @@ impl<const N: usize, const L: usize> Subject<N, L> for crate::LightGroupSet<N, L
         crate::LightGroupSet::encode_u16(self, GamutMapping::Clip, px)
     }
     fn reference(&self, px: &[[f32; N]; L]) -> [u8; 3] {
-        let rgb = sum_lights(&self.weights, px, mat_vec_for_encoding);
-        self.display.encode_u8(GamutMapping::Clip, rgb)
+        let rgb = sum_lights(self.weights_ref(), px, mat_vec_for_encoding);
+        self.display_ref().encode_u8(GamutMapping::Clip, rgb)
     }
     fn encode_u8_planar(&self, planes: [[&[f32]; N]; L], out: &mut [[u8; 3]]) {
         self.encode_u8_planar_to_interleaved(GamutMapping::Clip, planes, out)
@@ -407,8 +407,8 @@ fn random_set<const N: usize>(seed: u64) -> crate::FoldedSet<N> {
     crate::FoldedSet::new(
         core::array::from_fn(|i| 400.0 + i as f32),
         [0, 1, 2].map(|_| core::array::from_fn(|_| 2.0 * rng.unit() - 0.6)),
-        TABLE2_ROW2_SRGB.samples,
-        TABLE2_ROW2_SRGB.display,
+        TABLE2_ROW2_SRGB.samples(),
+        TABLE2_ROW2_SRGB.display(),
     )
     .unwrap()
 }
@@ -672,9 +672,9 @@ fn no_wavelengths_give_the_colour_of_no_signal_on_every_path() {
 fn random_groups<const N: usize, const L: usize>(seed: u64) -> crate::LightGroupSet<N, L> {
     crate::LightGroupSet::new(
         core::array::from_fn(|i| 400.0 + i as f32),
-        core::array::from_fn(|l| random_set::<N>(seed + 1000 * l as u64).weights),
+        core::array::from_fn(|l| random_set::<N>(seed + 1000 * l as u64).weights()),
         [""; L],
-        TABLE2_ROW2_SRGB.display,
+        TABLE2_ROW2_SRGB.display(),
     )
     .unwrap()
 }
@@ -749,7 +749,7 @@ fn light_groups_beyond_the_loops_go_pixel_by_pixel() {
                 Subject::linear_rgb_planar(&set, planes, [r, g, b]);
             }
             for (p, s) in aos.iter().enumerate() {
-                let one = linear_reference(&set.weights, s);
+                let one = linear_reference(set.weights_ref(), s);
                 assert!((0..3).all(|c| same_f32(lin[c][p], one[c])), "{level:?} {p}");
             }
             assert_eq!(take_ran(), None, "{level:?}");

@@ -13,13 +13,13 @@
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct RoundTrip<const N: usize> {
-    // Set by `new` alone (the baked tables call it too).
-    pub(crate) weights: [[f32; N]; 3],
-    pub(crate) rgb_to_xyz: [[f32; 3]; 3],
-    pub(crate) edge_cells: &'static [u32],
+    // Set by `new` alone (the baked tables call it too); `pub(super)`: the upsampling reads them.
+    pub(super) weights: [[f32; N]; 3],
+    pub(super) rgb_to_xyz: [[f32; 3]; 3],
+    pub(super) edge_cells: &'static [u32],
     /// Per channel, the largest residual the table's rounding alone can leave: half a code
     /// times the sum of the row's absolute weights.
-    pub(crate) rounding: [f32; 3],
+    pub(super) rounding: [f32; 3],
 }
 
 /// Below this many times [`RoundTrip::rounding`] the residual is the table's rounding and the

@@ -23,7 +23,7 @@ use spectral_quadrature_spectra::{
     builtin_illuminant, surfaces_under_lights, Curve, Errors, EvalSet, Reference, Spectra, Stimulus,
 };
 
-use crate::evaluate::{channel_rules, combinations, shared_on_radiance};
+use crate::evaluate::{channel_rules, combinations, errors_of_sets, shared_on_radiance};
 use crate::Error;
 
 /// The lights the crate judges its shared sets under.
@@ -249,12 +249,17 @@ pub fn compare_on(
     let mut best: Vec<(usize, Vec<Option<Entry>>)> = BUDGETS
         .map(|n| (n, std::vec![None; METHODS.len()]))
         .collect();
-    let all = others
+    let all: Vec<(&'static str, &EvalSet)> = others
         .iter()
         .map(|(m, s)| (*m, s))
         .chain(radiance.iter().map(|s| ("KQ radiance", s)))
-        .chain(folded.iter().map(|s| ("KQ folded", s)));
-    for (method, set) in all {
+        .chain(folded.iter().map(|s| ("KQ folded", s)))
+        .filter(|(_, s)| BUDGETS.contains(&s.len()))
+        .collect();
+    // Every set's errors at once, on every core (`Reference::errors` for each, bit for bit).
+    let sets: Vec<EvalSet> = all.iter().map(|(_, s)| (*s).clone()).collect();
+    let measured = errors_of_sets(&reference, &stimuli, &sets, &|_| true, &|_| {});
+    for ((method, set), errors) in all.into_iter().zip(measured) {
         let Some(slot) = best.iter_mut().find(|b| b.0 == set.len()) else {
             continue;
         };
@@ -262,7 +267,6 @@ pub fn compare_on(
             .iter()
             .position(|m| *m == method)
             .ok_or_else(|| Error::UnknownMethod(method.into()))?;
-        let errors = reference.errors(set, &stimuli);
         if slot.1[k]
             .as_ref()
             .is_none_or(|e| errors.mean_de00() < e.errors.mean_de00())

@@ -290,6 +290,7 @@ pub fn mean_p95(v: &[f64]) -> (f64, f64) {
 /// section 9 runs it: each fold trains on `training` and the other folds of `judged` (as they
 /// are, or their [`training_forms`]) and judges the fold's reflectances in every form of
 /// [`Form::all`]. `cv[form][light]` is (plain, bounce-trained) mean CIEDE2000 over every fold.
+/// `done` is called with 1 as each fold is finished, for a progress line.
 pub fn cross_validated(
     d: &Derivation,
     lights: &[Curve],
@@ -297,6 +298,7 @@ pub fn cross_validated(
     judged: &[Curve],
     n: usize,
     seed: u64,
+    done: &(dyn Fn(usize) + Sync),
 ) -> Result<Vec<Vec<(f64, f64)>>, Error> {
     use crate::light_groups::FOLDS;
     let range = d.settings.range_nm;
@@ -334,6 +336,7 @@ pub fn cross_validated(
                 sums[fi][l] = (e[0], e[1]);
             }
         }
+        done(1);
         Ok((sums, test.len()))
     });
     let per_fold = per_fold.into_iter().collect::<Result<Vec<_>, Error>>()?;

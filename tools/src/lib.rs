@@ -1,7 +1,8 @@
 //! What only people at a desk need, on top of `spectral-quadrature-generator`: the analysis behind
 //! the report and the planner. The programs are `report` (error against run time, the crate's
 //! main job), `plan` (a scene for an error budget), `tables` (the derived tables beside the
-//! paper's) and `cornell` (the Cornell box rendered once per spectral method).
+//! paper's), `cornell` (the Cornell box rendered once per spectral method) and `render` (the
+//! box path traced with every method, error against render time).
 //!
 //! - [`budget`]: every method at each wavelength budget (report section 5).
 //! - [`cli`]: the command-line arguments the programs share.
@@ -9,15 +10,16 @@
 //! - [`csv_table`]: every CSV the programs write, through the `csv` crate's writer.
 //! - [`evaluate`]: the sets the report builds to measure beside the crate's (every combination
 //!   of per-channel rules, a shared set on radiances).
-//! - [`interreflection`]: light that bounces off several surfaces: fixed sets and random
-//!   wavelengths on ρᵏ, products and enclosures (section 10).
-//! - [`light_groups`]: several lights at one node set, against each light's own set and a
-//!   radiance set (section 9).
+//! - [`interreflection`]: light that bounces, the forms of reflectance a path carries after
+//!   several surfaces and the fixed sets judged on them (section 10).
+//! - [`light_groups`]: light groups judged on reflectances no fit saw, by five-fold
+//!   cross-validation (section 9).
 //! - [`paper`]: the numbers the paper prints, which `tables` and the tests compare with.
 //! - [`prefilter`]: spiky lamps, band-averaged and exact-line pre-filtering (section 6d).
 //! - [`stability`]: unstable alternatives to the crate's quadrature (section 6b).
 //! - [`sensitivity`]: how rules move with the grid, the range and the observer (section 6c).
 //! - [`random_wavelengths`]: what renderers do instead, random wavelengths per sample (section 7).
+//! - [`render`]: one path tracer for every spectral method, error against render time (`render`).
 //! - [`scene_file`]: the scene file `plan` writes for the set it chose.
 //! - [`upsampling`]: RGB materials under another light, the crate's upsampling beside
 //!   Jakob-Hanika, Mallett-Yuksel and Smits (section 8).
@@ -36,6 +38,7 @@ pub mod light_groups;
 pub mod paper;
 pub mod prefilter;
 pub mod random_wavelengths;
+pub mod render;
 pub mod scene_file;
 pub mod sensitivity;
 pub mod stability;

@@ -30,6 +30,9 @@ pub struct Method {
     pub mean_de00: Vec<f64>,
     /// Per light: the 95th percentile of CIEDE2000 over the same.
     pub p95_de00: Vec<f64>,
+    /// Per light: the standard deviation of CIEDE2000 over the same (n − 1 in the
+    /// denominator), for the standard error of `mean_de00` when the reflectances are a sample.
+    pub sd_de00: Vec<f64>,
     /// Per fold: the nodes, nm.
     pub nodes_nm: Vec<Vec<f64>>,
 }
@@ -127,13 +130,15 @@ pub fn judged_reflectances(
 }
 
 /// Cross-validates the light group of `lights` at each of `sizes` on `training` (trained on in
-/// every fold, judged in none) and `judged` (split into folds).
+/// every fold, judged in none) and `judged` (split into folds). `done` is called with 1 as each
+/// fold of each size is finished ([`FOLDS`] × `sizes.len()` in all), for a progress line.
 pub fn compare(
     d: &Derivation,
     lights: &[Curve],
     training: &[Curve],
     judged: &[Curve],
     sizes: &[usize],
+    done: &(dyn Fn(usize) + Sync),
 ) -> Result<Vec<Comparison>, Error> {
     let range = d.settings.range_nm;
     let full = d.observer.full_integration(range, 1.0)?;
@@ -171,6 +176,7 @@ pub fn compare(
                     .collect();
                 methods.push((judge(&full, lights, &test, &sets), g.wavelengths_nm));
             }
+            done(1);
             Ok(methods)
         });
         let per_fold = per_fold.into_iter().collect::<Result<Vec<_>, Error>>()?;
@@ -181,12 +187,15 @@ pub fn compare(
             .map(|(m, name)| {
                 let mut mean = Vec::new();
                 let mut p95 = Vec::new();
+                let mut sd = Vec::new();
                 for l in 0..lights.len() {
                     let mut all: Vec<f64> = per_fold
                         .iter()
                         .flat_map(|f| f[m].0[l].iter().copied())
                         .collect();
-                    mean.push(all.iter().sum::<f64>() / all.len() as f64);
+                    let mu = all.iter().sum::<f64>() / all.len() as f64;
+                    mean.push(mu);
+                    sd.push(standard_deviation(&all));
                     all.sort_by(f64::total_cmp);
                     p95.push(percentile(&all, 0.95));
                 }
@@ -194,6 +203,7 @@ pub fn compare(
                     name: (*name).into(),
                     mean_de00: mean,
                     p95_de00: p95,
+                    sd_de00: sd,
                     nodes_nm: per_fold.iter().map(|f| f[m].1.clone()).collect(),
                 }
             })
@@ -220,6 +230,41 @@ fn judge(full: &EvalSet, lights: &[Curve], test: &[Curve], sets: &[EvalSet]) -> 
                 .de00
         })
         .collect()
+}
+
+/// The standard deviation of `values` with n − 1 in the denominator (NaN for fewer than two).
+pub fn standard_deviation(values: &[f64]) -> f64 {
+    let n = values.len() as f64;
+    let mean = values.iter().sum::<f64>() / n;
+    (values.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / (n - 1.0)).sqrt()
+}
+
+/// The standard error of a mean over `n` values drawn without repeats from `population`, whose
+/// standard deviation is `sd`: `sd / √n · √(1 − n / population)` (the finite-population
+/// correction: zero when the sample is the whole population).
+pub fn standard_error(sd: f64, n: usize, population: usize) -> f64 {
+    let (n, big_n) = (n as f64, population as f64);
+    sd / n.sqrt() * (1.0 - n / big_n).max(0.0).sqrt()
+}
+
+/// A seeded sample of `most` of `curves` without repeats, in their order (all of them when
+/// there are no more): a partial Fisher-Yates shuffle of their indices on the random stream
+/// `[seed, 0x5a3e]` ([`pixel_rng`](crate::random_wavelengths::pixel_rng)), the chosen indices
+/// then sorted.
+pub fn sample(curves: &[Curve], most: usize, seed: u64) -> Vec<Curve> {
+    use rand::RngExt;
+    if curves.len() <= most {
+        return curves.to_vec();
+    }
+    let mut rng = crate::random_wavelengths::pixel_rng(seed, &[0x5a3e]);
+    let mut index: Vec<usize> = (0..curves.len()).collect();
+    for i in 0..most {
+        let j = rng.random_range(i..index.len());
+        index.swap(i, j);
+    }
+    let mut chosen = index[..most].to_vec();
+    chosen.sort_unstable();
+    chosen.into_iter().map(|k| curves[k].clone()).collect()
 }
 
 /// The `q` quantile of sorted values (nearest rank).

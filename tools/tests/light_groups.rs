@@ -6,7 +6,7 @@ use spectral_quadrature_generator::shared::{
     nodes_of, problem_for, GroupFit, GroupObjective, Weights, TRAINING_FILE,
 };
 use spectral_quadrature_generator::{derive, Settings};
-use spectral_quadrature_spectra::{builtin_illuminant, Spectra};
+use spectral_quadrature_spectra::{builtin_illuminant, Curve, Spectra};
 use spectral_quadrature_tools::light_groups::{self, GROUP_MEAN, OWN, RADIANCE};
 
 const DATA_DIR: &str = spectral_quadrature_tools::DATA_DIR;
@@ -35,8 +35,14 @@ fn a_group_of_four_lights_at_8_nodes_meets_its_targets_on_held_out_reflectances(
     ] {
         judged.extend(Spectra::builtin(dir, f).unwrap().curves(range).unwrap());
     }
-    let c = &light_groups::compare(&d, &lights, &training, &judged, &[8]).unwrap()[0];
+    let folds = std::sync::atomic::AtomicUsize::new(0);
+    let done = |n: usize| {
+        folds.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
+    };
+    let c = &light_groups::compare(&d, &lights, &training, &judged, &[8], &done).unwrap()[0];
     assert_eq!(c.judged, 214);
+    // One call per fold, for the report's progress line.
+    assert_eq!(folds.into_inner(), light_groups::FOLDS);
     let own = &c.method(OWN).unwrap().mean_de00;
     let group = &c.method(GROUP_MEAN).unwrap().mean_de00;
     let radiance = &c.method(RADIANCE).unwrap().mean_de00;
@@ -110,4 +116,36 @@ fn a_groups_weights_integrate_each_lights_white_exactly() {
             }
         }
     }
+}
+
+#[test]
+fn a_sample_is_seeded_without_repeats_in_the_files_order() {
+    let curves: Vec<Curve> = (0..50)
+        .map(|k| Curve::constant(&format!("r{k}"), k as f64, [380.0, 770.0]))
+        .collect();
+    let names = |v: &[Curve]| v.iter().map(|c| c.name.clone()).collect::<Vec<_>>();
+    let a = light_groups::sample(&curves, 20, 7);
+    assert_eq!(a.len(), 20);
+    // In the file's order, none twice: the values (the indices) strictly ascend.
+    assert!(a.windows(2).all(|w| w[0].values[0] < w[1].values[0]));
+    assert_eq!(names(&a), names(&light_groups::sample(&curves, 20, 7)));
+    assert_ne!(names(&a), names(&light_groups::sample(&curves, 20, 8)));
+    // Not simply the first ones.
+    assert_ne!(names(&a), names(&curves[..20]));
+    // No more than asked for: all of them, unchanged.
+    assert_eq!(light_groups::sample(&curves, 50, 7), curves);
+    assert_eq!(light_groups::sample(&curves, 80, 7), curves);
+}
+
+#[test]
+fn the_standard_error_of_a_sample_mean_has_the_finite_population_correction() {
+    // Cochran, Sampling Techniques (3rd ed., 1977), theorem 2.2: the variance of the mean of n
+    // drawn without replacement from N is S²/n · (1 − n/N). Values 1, 2, 3, 4: S² = 5/3.
+    let sd = light_groups::standard_deviation(&[1.0, 2.0, 3.0, 4.0]);
+    assert!((sd * sd - 5.0 / 3.0).abs() < 1e-15, "{sd}");
+    // n = 4 of N = 8: S²/4 · 1/2 = 5/24 (f64 rounding only).
+    let se = light_groups::standard_error(sd, 4, 8);
+    assert!((se * se - 5.0 / 24.0).abs() < 1e-15, "{se}");
+    // The whole population: no sampling error.
+    assert_eq!(light_groups::standard_error(sd, 8, 8), 0.0);
 }

@@ -3,11 +3,13 @@
 //! Run one file's tests with its module name as the filter, `--test integration -- plan::`.
 
 mod cornell;
+mod evaluate;
 mod interreflection;
 mod light_groups;
 mod plan;
 mod prefilter;
 mod random_wavelengths;
+mod render;
 mod report;
 mod reproduction;
 mod sensitivity;

@@ -597,3 +597,280 @@ fn a_bounded_exact_linear_map_exists_for_kq_8_only() {
         assert!(linear || residual > 1e-3, "{name}: {residual}");
     }
 }
+
+/// The columns of the report's CSVs that are times: they differ from run to run, so the
+/// fixtures leave them out.
+const TIMES: [&str; 3] = ["ns_per_pixel", "ns_per_sample", "light_search_s"];
+
+/// Whether two printed numbers (`1.2345`, `-0.0012`, `1.797e-16`, `~960`) are equal within one
+/// unit in the last place printed; other text must be equal.
+fn same_printed(a: &str, b: &str) -> bool {
+    if a == b {
+        return true;
+    }
+    // A prefix the report prints before a number (`~` extrapolated, `+` a difference).
+    let number = |s: &str| -> Option<(f64, f64)> {
+        let s = s.trim_start_matches(['~', '+']);
+        let v: f64 = s.parse().ok()?;
+        let (mantissa, exponent) = match s.split_once(['e', 'E']) {
+            Some((m, e)) => (m, e.parse::<i32>().ok()?),
+            None => (s, 0),
+        };
+        let decimals = mantissa.split_once('.').map_or(0, |(_, d)| d.len()) as i32;
+        Some((v, 10f64.powi(exponent - decimals)))
+    };
+    match (number(a), number(b)) {
+        // The prefixes must agree too.
+        (Some((x, ux)), Some((y, uy))) if a.starts_with('~') == b.starts_with('~') => {
+            (x - y).abs() <= 1.000_001 * ux.max(uy)
+        }
+        _ => false,
+    }
+}
+
+/// The report's figures do not move unless a change says so: every CSV of a `--quick` run on
+/// the built-in spectra against `tests/fixtures/report-quick/` (the report's output before its
+/// sections learnt to share and sample their work; see the README there), every cell but the
+/// times. Numbers may differ by one unit in the last place printed: the fixtures come from a
+/// release build and this test runs the dev profile, whose code may round a last bit of an f64
+/// differently (`powi`, vectorised loops), which moves a printed digit only at a rounding
+/// boundary. `SQ_REPORT_FIXTURES=write` writes the fixtures from this run instead.
+#[test]
+fn the_quick_reports_figures_are_the_fixtures() {
+    let fixtures =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/report-quick");
+    let dir = Scratch::new("fixtures");
+    let out = dir.path("out");
+    let (code, _, stderr) = report(&["--quick", "--out", out.to_str().unwrap()], &dir.0);
+    assert_eq!(code, Some(0), "{stderr}");
+    let csvs = check_files(&out, &stderr);
+    let write = std::env::var("SQ_REPORT_FIXTURES").is_ok_and(|v| v == "write");
+    let mut differences = Vec::new();
+    for (name, (header, rows)) in &csvs {
+        let keep: Vec<usize> = (0..header.len())
+            .filter(|&i| !TIMES.contains(&header[i].as_str()))
+            .collect();
+        let pick =
+            |row: &Vec<String>| -> Vec<String> { keep.iter().map(|&i| row[i].clone()).collect() };
+        if write {
+            let mut w = csv::WriterBuilder::new()
+                .terminator(csv::Terminator::Any(b'\n'))
+                .from_path(fixtures.join(name))
+                .unwrap();
+            w.write_record(pick(header)).unwrap();
+            for r in rows {
+                w.write_record(pick(r)).unwrap();
+            }
+            continue;
+        }
+        let text = std::fs::read_to_string(fixtures.join(name))
+            .unwrap_or_else(|e| panic!("{name}: no fixture ({e})"));
+        let (expected_header, expected) = strict_csv(name, &text);
+        assert_eq!(pick(header), expected_header, "{name}: the columns");
+        assert_eq!(rows.len(), expected.len(), "{name}: the number of rows");
+        for (k, (row, want)) in rows.iter().map(pick).zip(&expected).enumerate() {
+            for ((column, got), want) in expected_header.iter().zip(&row).zip(want) {
+                let tokens_agree = got.split(' ').count() == want.split(' ').count()
+                    && got
+                        .split(' ')
+                        .zip(want.split(' '))
+                        .all(|(g, w)| same_printed(g, w));
+                if !tokens_agree {
+                    differences.push(format!(
+                        "{name} row {}: {column} = {got}, was {want}",
+                        k + 1
+                    ));
+                }
+            }
+        }
+    }
+    assert!(
+        differences.is_empty(),
+        "{} cells differ:\n{}",
+        differences.len(),
+        differences
+            .iter()
+            .take(40)
+            .cloned()
+            .collect::<Vec<_>>()
+            .join("\n")
+    );
+}
+
+#[test]
+fn printed_numbers_agree_within_one_unit_in_the_last_place() {
+    assert!(same_printed("1.2345", "1.2346"));
+    assert!(same_printed("1.797e-16", "1.798e-16"));
+    assert!(same_printed("~960", "~961"));
+    assert!(same_printed("+0.0016", "0.0017"));
+    assert!(!same_printed("1.2345", "1.2347"));
+    assert!(!same_printed("1.797e-16", "1.797e-15"));
+    assert!(!same_printed("~960", "960"));
+    assert!(!same_printed("defined", "undefined"));
+}
+
+/// The progress lines `[k/N] ...` of a run's standard error: (k, N) each.
+fn progress_lines(stderr: &str) -> Vec<(usize, usize)> {
+    stderr
+        .lines()
+        .filter_map(|l| {
+            let (k, rest) = l.strip_prefix('[')?.split_once('/')?;
+            let (n, _) = rest.split_once(']')?;
+            Some((k.parse().ok()?, n.parse().ok()?))
+        })
+        .collect()
+}
+
+#[test]
+fn sections_runs_only_the_sections_named_and_writes_only_their_files() {
+    let dir = Scratch::new("sections");
+    let out = dir.path("out");
+    let (code, stdout, stderr) = report(
+        &[
+            "--quick",
+            "--sections",
+            "4,1",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &dir.0,
+    );
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(stdout.contains("1. Table 2") && stdout.contains("4. Error against run time"));
+    for other in [
+        "2. Fig. 6",
+        "3. Fig. 7",
+        "5. Shared sets",
+        "7. Against random",
+    ] {
+        assert!(!stdout.contains(other), "{other} ran: {stdout}");
+    }
+    // Deriving, reading, sections 1 and 4: counted 1..4, each once.
+    assert_eq!(
+        progress_lines(&stderr),
+        [(1, 4), (2, 4), (3, 4), (4, 4)],
+        "{stderr}"
+    );
+    let mut listed: Vec<String> = listed_files(&stderr)
+        .iter()
+        .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+        .collect();
+    listed.sort();
+    let mut found: Vec<String> = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    found.sort();
+    assert_eq!(listed, found);
+    assert_eq!(
+        found,
+        [
+            "error_vs_time.csv",
+            "error_vs_time.svg",
+            "report.txt",
+            "swatches.svg",
+            "table2.csv"
+        ]
+    );
+    // Section 3 alone: Fig. 7's files, not Fig. 6's.
+    let out3 = dir.path("out3");
+    let (code, stdout, stderr) = report(
+        &[
+            "--quick",
+            "--sections",
+            "3",
+            "--out",
+            out3.to_str().unwrap(),
+        ],
+        &dir.0,
+    );
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(
+        stdout.contains("3. Fig. 7") && !stdout.contains("2. Fig. 6"),
+        "{stdout}"
+    );
+    assert!(out3.join("fig7.csv").exists() && !out3.join("fig6.csv").exists());
+}
+
+#[test]
+fn sections_refuses_what_is_not_a_section_with_a_clear_error() {
+    let dir = Scratch::new("bad-sections");
+    for (args, says) in [
+        (&["--sections", "11"][..], "11"),
+        (&["--sections", "0"][..], "0"),
+        (&["--sections", "4,seven"][..], "seven"),
+        (&["--sections", ""][..], "--sections"),
+        (&["--csv", "--sections", "4"][..], "--sections"),
+        (&["--sample", "3"][..], "at least 15"),
+    ] {
+        let (code, stdout, stderr) = report(args, &dir.0);
+        assert_eq!(code, Some(2), "{args:?}: {stderr}");
+        assert!(stdout.is_empty(), "{args:?}: {stdout}");
+        assert!(stderr.contains(says), "{args:?}: {stderr}");
+        // Refused before any work.
+        assert!(progress_lines(&stderr).is_empty(), "{args:?}: {stderr}");
+    }
+    // A scene's sets join section 4: with section 4 left out it is an error, not ignored.
+    let [_, _, scene] = warm_led_inputs(&dir, "\"KQ_WARM_LED_8\"");
+    let (code, _, stderr) = report(&["--quick", "--scene", &scene, "--sections", "1"], &dir.0);
+    assert_eq!(code, Some(2), "{stderr}");
+    assert!(
+        stderr.contains("--scene") && stderr.contains("section 4"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn sections_7_9_and_10_judge_a_seeded_sample_of_more_reflectances_than_sample_and_say_so() {
+    // The ColorChecker's 24 with --sample 15: sections 7, 9 and 10 judge 15 of them (section 7
+    // under each of the report's six lights) and state the standard error the sample adds.
+    let dir = Scratch::new("sample");
+    let cc = std::path::Path::new(DATA_DIR).join("reflectance_colorchecker_ohta.csv");
+    let out = dir.path("out");
+    let run = |sample: &str| {
+        report(
+            &[
+                "--quick",
+                "--reflectances",
+                cc.to_str().unwrap(),
+                "--sections",
+                "7,9,10",
+                "--sample",
+                sample,
+                "--out",
+                out.to_str().unwrap(),
+            ],
+            &dir.0,
+        )
+    };
+    let (code, stdout, stderr) = run("15");
+    assert_eq!(code, Some(0), "{stderr}");
+    assert_eq!(
+        stdout.matches("Sampled: 15 of the 24 reflectances").count(),
+        3,
+        "{stdout}"
+    );
+    assert!(stdout.contains("   90 stimuli: "), "{stdout}");
+    assert!(stdout.contains("9. Several lights in one scene: light groups (15 reflectances"));
+    assert!(stdout.contains("10. Light that bounces: 15 reflectances"));
+    // The standard error is a number, and not zero for a proper sample.
+    let line = stdout
+        .lines()
+        .find(|l| l.contains("within a standard error of at most"))
+        .unwrap();
+    let se: f64 = line
+        .split("at most ")
+        .nth(1)
+        .and_then(|r| r.split(' ').next())
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("{line}"));
+    assert!(se > 0.0 && se.is_finite(), "{line}");
+    // As many as there are, or `all`: every one, nothing said.
+    for sample in ["24", "all"] {
+        let (code, stdout, stderr) = run(sample);
+        assert_eq!(code, Some(0), "{stderr}");
+        assert!(!stdout.contains("Sampled:"), "{stdout}");
+        assert!(stdout.contains("(24 reflectances"), "{stdout}");
+        assert!(stdout.contains("   144 stimuli: "), "{stdout}");
+    }
+}

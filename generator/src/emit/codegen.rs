@@ -1,56 +1,21 @@
-//! Writes the runtime's `tables.rs` from a [`Derivation`]: `const` items with doc comments and a
-//! header naming the inputs and their checksums (no timestamp, so the output only changes when
-//! an input does). f64 values are rounded to f32 with `as f32` and printed with Rust's shortest
-//! round-trip formatting, so the baked constant is exactly `value as f32`. The items are laid out
-//! as rustfmt lays them out, at most 100 columns wide (`layout`), so that a person can read what
-//! a scene bakes.
+//! Writes the runtime's `tables.rs` from a scene's [`Model`]: `const` items with doc comments
+//! and a header naming the inputs and their checksums (no timestamp, so the output only changes
+//! when an input does). The model holds every value as the runtime's f32 (`as f32` of the
+//! derivation's f64), printed here with Rust's shortest round-trip formatting, so the baked
+//! constant is exactly that f32. The items are laid out as rustfmt lays them out, at most 100
+//! columns wide (`layout`), so that a person can read what a scene bakes.
 
-use spectral_quadrature_spectra::Spectra;
 use std::fmt::Write as _;
 use std::string::{String, ToString};
 use std::vec::Vec;
 
-use super::layout::{self, Expr};
-use super::lists::names_rs;
+use super::layout::{self, f32s, lit, Expr};
+use super::lists::{all_tables_rs, names_rs, Constant};
+use super::model::{Model, Rule, Samples, Set, Transfer, CHANNEL_NAMES};
 use super::transfer_tables::gamma_encoders_rs;
-use crate::base::error::Error;
-use crate::derivation::derive::Derivation;
-use crate::derivation::display::Transfer;
-use crate::derivation::quadrature::Rule;
-use crate::derivation::sets::{WavelengthSet, CHANNELS};
-use crate::scenes::scene::Resolved;
 
-/// The literal for an f64 rounded to f32 (`as f32`), which must be finite.
-pub(crate) fn f32_literal(v: f64) -> Result<String, Error> {
-    let x = v as f32;
-    if !x.is_finite() {
-        return Err(Error::Literal {
-            value: v,
-            language: "Rust",
-        });
-    }
-    let mut s = std::format!("{x:?}");
-    if !s.contains(['.', 'e', 'E']) {
-        s.push_str(".0");
-    }
-    Ok(s)
-}
-
-/// An array of f64 values rounded to f32.
-fn f32s(values: &[f64]) -> Result<Expr, Error> {
-    values
-        .iter()
-        .map(|&v| f32_literal(v).map(Expr::Atom))
-        .collect::<Result<Vec<_>, _>>()
-        .map(Expr::Array)
-}
-
-fn matrix(m: &[[f64; 3]; 3]) -> Result<Expr, Error> {
-    Ok(Expr::Array(std::vec![
-        f32s(&m[0])?,
-        f32s(&m[1])?,
-        f32s(&m[2])?
-    ]))
+fn matrix(m: &[[f32; 3]; 3]) -> Expr {
+    Expr::Array(m.iter().map(|r| f32s(r)).collect())
 }
 
 /// A `const` or `static` item with its doc comment, at block indent `indent`.
@@ -60,32 +25,34 @@ fn item(o: &mut String, indent: usize, doc: &str, lhs: &str, value: &Expr) {
     o.push('\n');
 }
 
-fn set_literal(set: &WavelengthSet) -> Result<Expr, Error> {
-    Ok(Expr::Struct(
-        "WavelengthSet".into(),
+/// `checked(made)`: a checked constructor's `Result`, unwrapped in constant evaluation (the
+/// generated file's `checked`, which stops the build with the refusal's sentence).
+pub(crate) fn checked(made: Expr) -> Expr {
+    Expr::Call("checked".into(), std::vec![made])
+}
+
+fn set_literal(set: &Set) -> Expr {
+    checked(Expr::Call(
+        "WavelengthSet::new".into(),
         std::vec![
-            ("wavelengths_nm".into(), f32s(&set.wavelengths_nm)?),
-            ("weights".into(), weights(&set.weights)?),
-            ("samples".into(), samples_literal(set)),
+            f32s(&set.wavelengths_nm),
+            weights(&set.weights),
+            samples_literal(&set.samples),
         ],
     ))
 }
 
-fn weights(w: &[Vec<f64>; 3]) -> Result<Expr, Error> {
-    Ok(Expr::Array(std::vec![
-        f32s(&w[0])?,
-        f32s(&w[1])?,
-        f32s(&w[2])?
-    ]))
+fn weights(w: &[Vec<f32>; 3]) -> Expr {
+    Expr::Array(w.iter().map(|r| f32s(r)).collect())
 }
 
-/// The runtime's `Samples` value for a set.
-fn samples_literal(set: &WavelengthSet) -> Expr {
-    match (&set.sensor, &set.light) {
-        (Some(s), light) => Expr::Struct(
+/// The runtime's `Samples` value.
+fn samples_literal(samples: &Samples) -> Expr {
+    match samples {
+        Samples::Readings { sensor, light } => Expr::Struct(
             "Samples::Readings".into(),
             std::vec![
-                ("sensor".into(), quoted(s)),
+                ("sensor".into(), quoted(sensor)),
                 (
                     "light".into(),
                     Expr::atom(match light {
@@ -95,109 +62,72 @@ fn samples_literal(set: &WavelengthSet) -> Expr {
                 ),
             ],
         ),
-        (None, Some(l)) => Expr::Struct(
+        Samples::Reflectance { light } => Expr::Struct(
             "Samples::Reflectance".into(),
-            std::vec![("light".into(), quoted(l))],
+            std::vec![("light".into(), quoted(light))],
         ),
-        (None, None) => Expr::atom("Samples::Radiance"),
+        Samples::Radiance => Expr::atom("Samples::Radiance"),
     }
 }
 
-fn rule_literal(channel: usize, rule: &Rule) -> Result<Expr, Error> {
-    let (nodes, weights) = if rule.is_defined() {
-        (f32s(&rule.nodes_nm)?, f32s(&rule.weights)?)
-    } else {
-        (Expr::Array(Vec::new()), Expr::Array(Vec::new()))
-    };
-    Ok(Expr::Struct(
-        "GaussRule".into(),
+fn rule_literal(channel: usize, rule: &Rule) -> Expr {
+    checked(Expr::Call(
+        "GaussRule::new".into(),
         std::vec![
-            (
-                "channel".into(),
-                Expr::atom(std::format!("Channel::{}", CHANNELS[channel]))
-            ),
-            ("order".into(), Expr::atom(rule.order.to_string())),
-            (
-                "status".into(),
-                Expr::atom(std::format!("RuleStatus::{}", rule.status.variant()))
-            ),
-            ("wavelengths_nm".into(), nodes.by_ref()),
-            ("weights".into(), weights.by_ref()),
+            Expr::atom(std::format!("Channel::{}", CHANNEL_NAMES[channel])),
+            Expr::atom(rule.order.to_string()),
+            Expr::atom(std::format!("RuleStatus::{}", rule.status)),
+            f32s(&rule.nodes_nm).by_ref(),
+            f32s(&rule.weights).by_ref(),
         ],
     ))
 }
 
-/// The provenance of the generated tables, one item a line: the generator, the settings, the
-/// scene, what a planned scene chose, and each input with its SHA-256. `tables_rs` writes it as
-/// the file's leading comment and as the const `HEADER`.
-pub(crate) fn header(d: &Derivation, inputs: &[(String, String)], scene: &Resolved) -> String {
-    let mut o = String::new();
-    writeln!(
-        o,
-        "@generated by spectral-quadrature's build.rs (spectral-quadrature-generator, emit/codegen.rs): do not edit."
-    )
-    .ok();
-    writeln!(o, "`cargo build` regenerates it whenever an input below, the scene or the generator crate changes.").ok();
-    writeln!(o, "Settings: {}", d.settings).ok();
-    writeln!(o, "Scene: {}", scene.file).ok();
-    if let Some(p) = &scene.planned {
-        writeln!(o, "Planned: {p}").ok();
-    }
-    writeln!(o, "Inputs:").ok();
-    for (file, sha) in inputs {
-        writeln!(o, "  {file} sha256={sha}").ok();
-    }
-    o
-}
-
-/// The generated Rust source for a scene. `inputs` lists (file label, SHA-256) for the header.
-/// It is laid out as rustfmt lays it out: at most 100 columns, one array item a line, or short
-/// numbers filling their lines. Each section has its emitter below (or in its own module), in
-/// the order the file holds them.
-pub(crate) fn tables_rs(
-    d: &Derivation,
-    inputs: &[(String, String)],
-    scene: &Resolved,
-) -> Result<String, Error> {
+/// The generated Rust source for a scene's model. It is laid out as rustfmt lays it out: at most
+/// 100 columns, one array item a line, or short numbers filling their lines. Each section has its
+/// emitter below (or in its own module), in the order the file holds them.
+pub(crate) fn tables_rs(m: &Model) -> String {
     let mut t = Tables::default();
-    provenance_rs(&mut t, d, inputs, scene);
-    opponent_rs(&mut t, d)?;
-    if scene.extras.cct {
-        let (locus, n) = super::planckian::planckian_rs(d, f32_literal)?;
-        t.o.push_str(&locus);
+    provenance_rs(&mut t, m);
+    opponent_rs(&mut t, m);
+    if let Some(locus) = &m.locus {
+        t.o.push_str(&super::planckian::planckian_rs(locus, &mut t.consts));
         writeln!(t.o).ok();
-        t.floats += n;
     }
-    if scene.extras.sensitivities {
-        sensitivities_rs(&mut t, d)?;
-    }
-    if scene.extras.rules {
-        rules_rs(&mut t, d)?;
-    }
-    rule_sets_rs(&mut t, scene)?;
-    colour_sets_rs(&mut t, scene)?;
-    displays_rs(&mut t, d, scene)?;
-    folded_rs(&mut t, d, scene)?;
-    groups_rs(&mut t, d, scene)?;
-    lights_rs(&mut t, d, scene)?;
-    let (upsampling, upsampling_bytes) = super::upsampling::upsampling_rs(scene, &f32_literal)?;
-    t.o.push_str(&upsampling);
-    let (sensors, sensor_tables, n) = super::sensors::sensors_rs(&scene.sensors, f32_literal)?;
-    t.o.push_str(&sensors);
-    t.floats += n;
-    t.o.push_str(&super::fixed_point::integer_rs(scene)?);
-    all_tables_rs(&mut t, d, scene, sensor_tables, upsampling_bytes);
-    t.o.push_str(&gamma_encoders_rs(
-        scene.displays.iter().map(|(spec, _)| &spec.transfer),
-    ));
-    Ok(t.o)
+    sensitivities_rs(&mut t, m);
+    rules_rs(&mut t, m);
+    rule_sets_rs(&mut t, m);
+    colour_sets_rs(&mut t, m);
+    displays_rs(&mut t, m);
+    folded_rs(&mut t, m);
+    groups_rs(&mut t, m);
+    lights_rs(&mut t, m);
+    t.o.push_str(&super::upsampling::upsampling_rs(m, &mut t.consts));
+    t.o.push_str(&super::sensors::sensors_rs(&m.sensors, &mut t.consts));
+    t.o.push_str(&super::fixed_point::integer_rs(m, &mut t.consts));
+    // Declared in every scene, empty where no display has a power law.
+    t.baked(
+        "GAMMA_ENCODERS",
+        std::format!("[crate::encode::GammaEncoder8; {}]", m.gamma_encoders.len()),
+    );
+    t.o.push_str(&all_tables_rs(&t.consts));
+    t.o.push_str(&gamma_encoders_rs(&m.gamma_encoders));
+    t.o
 }
 
-/// The text written so far and how many f32 values it bakes (for `TABLE_BYTES`).
+/// The text written so far and every constant of numbers it bakes (for `ALL_TABLES`).
 #[derive(Default)]
 struct Tables {
     o: String,
-    floats: usize,
+    consts: Vec<Constant>,
+}
+
+impl Tables {
+    /// A constant of numbers of type `ty` at `path` in `tables`, written: one entry of
+    /// `ALL_TABLES`.
+    fn baked(&mut self, path: impl Into<String>, ty: impl Into<String>) {
+        self.consts.push(Constant::new(path, ty));
+    }
 }
 
 /// A quoted string literal.
@@ -207,37 +137,43 @@ fn quoted(s: &str) -> Expr {
 
 /// The file's leading comment, the imports, and the provenance consts: `SCENE`, `OBSERVER`,
 /// `SETTINGS`, `HEADER` and `INPUTS`.
-fn provenance_rs(t: &mut Tables, d: &Derivation, inputs: &[(String, String)], scene: &Resolved) {
+fn provenance_rs(t: &mut Tables, m: &Model) {
     let o = &mut t.o;
-    let s = &d.settings;
-    let header = header(d, inputs, scene);
-    o.push_str(&layout::comment(0, "//", header.trim_end(), 4));
+    let p = &m.provenance;
+    o.push_str(&layout::comment(0, "//", p.header.trim_end(), 4));
     writeln!(o).ok();
     writeln!(
         o,
         "#[allow(unused_imports)]\nuse crate::{{Channel, GaussRule, RuleStatus, Samples, WavelengthSet}};\n"
     )
     .ok();
+    o.push_str(&layout::comment(
+        0,
+        "///",
+        "A baked constant from its checked constructor: the value, or, where the constructor refuses it, a compile-time error with the refusal's sentence ([`Error::summary`](crate::Error::summary)). Every constant below that a type of the crate holds is made so.",
+        0,
+    ));
+    o.push_str("#[allow(dead_code)]\nconst fn checked<T: Copy>(made: Result<T, crate::Error>) -> T {\n    match made {\n        Ok(value) => value,\n        Err(e) => panic!(\"{}\", e.summary()),\n    }\n}\n\n");
     item(
         o,
         0,
         "The scene these tables were baked for (`default`, or the file named by `SPECTRAL_QUADRATURE_SCENE`).",
         "pub const SCENE: &str =",
-        &quoted(&scene.file),
+        &quoted(&p.scene),
     );
     item(
         o,
         0,
         "The observer the tables were derived from.",
         "pub const OBSERVER: &str =",
-        &quoted(s.observer.name()),
+        &quoted(&p.observer),
     );
     item(
         o,
         0,
         "The derivation's settings, as one line.",
         "pub const SETTINGS: &str =",
-        &quoted(&s.to_string()),
+        &quoted(&p.settings),
     );
     let header_lhs = "pub const HEADER: &str =";
     item(
@@ -245,9 +181,10 @@ fn provenance_rs(t: &mut Tables, d: &Derivation, inputs: &[(String, String)], sc
         0,
         "The header of the generated tables: the generator, the settings, the scene, and every input file with its SHA-256 (the provenance a firmware can log at start-up).",
         header_lhs,
-        &Expr::atom(layout::string_literal(&header, header_lhs.len() + 1)),
+        &Expr::atom(layout::string_literal(&p.header, header_lhs.len() + 1)),
     );
-    let inputs_lit: Vec<Expr> = inputs
+    let inputs_lit: Vec<Expr> = p
+        .inputs
         .iter()
         .map(|(f, h)| Expr::Tuple(std::vec![quoted(f), quoted(h)]))
         .collect();
@@ -262,60 +199,71 @@ fn provenance_rs(t: &mut Tables, d: &Derivation, inputs: &[(String, String)], sc
 
 /// The range, the grid step, the AC1C2 matrices (Eq. 9), the eigenvalues (Eq. 10) and the unit
 /// spectrum's Y.
-fn opponent_rs(t: &mut Tables, d: &Derivation) -> Result<(), Error> {
+fn opponent_rs(t: &mut Tables, m: &Model) {
     let o = &mut t.o;
-    let s = &d.settings;
+    let p = &m.opponent;
     item(
         o,
         0,
         "The spectrum's limits in nm (Eq. 2).",
         "pub const RANGE_NM: [f32; 2] =",
-        &f32s(&s.range_nm)?,
+        &f32s(&p.range_nm),
     );
     item(
         o,
         0,
         "The grid step in nm: weights are for dλ in nm.",
         "pub const STEP_NM: f32 =",
-        &Expr::Atom(f32_literal(s.step_nm)?),
+        &Expr::Atom(lit(p.step_nm)),
     );
     item(
         o,
         0,
         "Eq. 9: `[A, C1, C2] = XYZ_TO_AC1C2 · [X, Y, Z]` (rows scaled to unit peak sensitivity).",
         "pub const XYZ_TO_AC1C2: [[f32; 3]; 3] =",
-        &matrix(&d.opponent.xyz_to_ac1c2)?,
+        &matrix(&p.xyz_to_ac1c2),
     );
     item(
         o,
         0,
         "The inverse of [`XYZ_TO_AC1C2`]: `[X, Y, Z] = AC1C2_TO_XYZ · [A, C1, C2]`.",
         "pub const AC1C2_TO_XYZ: [[f32; 3]; 3] =",
-        &matrix(&d.opponent.ac1c2_to_xyz)?,
+        &matrix(&p.ac1c2_to_xyz),
     );
     item(
         o,
         0,
         "Eq. 10: eigenvalues of the covariance matrix of Eq. 4 for A, C1, C2 (largest first).",
         "pub const EIGENVALUES: [f32; 3] =",
-        &f32s(&d.opponent.eigenvalues)?,
+        &f32s(&p.eigenvalues),
     );
     item(
         o,
         0,
         "∫ ȳ dλ over the grid (dλ in nm): the luminance Y of a spectrum of constant 1 with these weights' units. The folded sets divide by it.",
         "pub const UNIT_SPECTRUM_Y: f32 =",
-        &Expr::Atom(f32_literal(d.unit_spectrum_y)?),
+        &Expr::Atom(lit(p.unit_spectrum_y)),
     );
     writeln!(o).ok();
-    t.floats += 9 + 9 + 3 + 1;
-    Ok(())
+    for (path, ty) in [
+        ("RANGE_NM", "[f32; 2]"),
+        ("STEP_NM", "f32"),
+        ("XYZ_TO_AC1C2", "[[f32; 3]; 3]"),
+        ("AC1C2_TO_XYZ", "[[f32; 3]; 3]"),
+        ("EIGENVALUES", "[f32; 3]"),
+        ("UNIT_SPECTRUM_Y", "f32"),
+    ] {
+        t.baked(path, ty);
+    }
 }
 
 /// The `sensitivities` extra: the grid and the opponent sensitivities on it (Fig. 4).
-fn sensitivities_rs(t: &mut Tables, d: &Derivation) -> Result<(), Error> {
+fn sensitivities_rs(t: &mut Tables, m: &Model) {
+    let Some(s) = &m.sensitivities else {
+        return;
+    };
     let o = &mut t.o;
-    let n_grid = d.grid_nm.len();
+    let n_grid = s.grid_nm.len();
     item(
         o,
         0,
@@ -328,40 +276,38 @@ fn sensitivities_rs(t: &mut Tables, d: &Derivation) -> Result<(), Error> {
         0,
         "The grid wavelengths in nm.",
         "pub const GRID_NM: [f32; GRID_LEN] =",
-        &f32s(&d.grid_nm)?,
+        &f32s(&s.grid_nm),
     );
-    let rows = d
-        .sensitivities
-        .iter()
-        .map(|r| f32s(r))
-        .collect::<Result<Vec<_>, Error>>()?;
     item(
         o,
         0,
         "The opponent sensitivities `[ā, c̄1, c̄2]` at each grid wavelength (Fig. 4).",
         "pub const SENSITIVITIES: [[f32; 3]; GRID_LEN] =",
-        &Expr::Array(rows),
+        &Expr::Array(s.rows.iter().map(|r| f32s(r)).collect()),
     );
     writeln!(o).ok();
-    t.floats += 4 * n_grid;
-    Ok(())
+    t.baked("GRID_NM", "[f32; GRID_LEN]");
+    t.baked("SENSITIVITIES", "[[f32; 3]; GRID_LEN]");
 }
 
 /// The `rules` extra: every channel's Gauss rules as `GaussRule`s, defined or not.
-fn rules_rs(t: &mut Tables, d: &Derivation) -> Result<(), Error> {
+fn rules_rs(t: &mut Tables, m: &Model) {
+    let Some(rules) = &m.rules else {
+        return;
+    };
     let o = &mut t.o;
     item(
         o,
         0,
         "Rules were formed for orders 1..=MAX_ORDER in each channel.",
         "pub const MAX_ORDER: usize =",
-        &Expr::atom(d.settings.max_order.to_string()),
+        &Expr::atom(rules.max_order.to_string()),
     );
-    for (c, name) in CHANNELS.iter().enumerate() {
-        let items = d.rules[c]
+    for (c, name) in CHANNEL_NAMES.iter().enumerate() {
+        let items = rules.channels[c]
             .iter()
             .map(|r| rule_literal(c, r))
-            .collect::<Result<Vec<_>, Error>>()?;
+            .collect();
         item(
             o,
             0,
@@ -369,11 +315,15 @@ fn rules_rs(t: &mut Tables, d: &Derivation) -> Result<(), Error> {
             &std::format!("pub const {name}_RULES: [GaussRule; MAX_ORDER] ="),
             &Expr::Array(items),
         );
-        t.floats += d.rules[c]
+        // Each defined rule's nodes and weights: two slices of `order` f32.
+        let floats: usize = rules.channels[c]
             .iter()
-            .filter(|r| r.is_defined())
-            .map(|r| 2 * r.order)
-            .sum::<usize>();
+            .map(|r| r.nodes_nm.len() + r.weights.len())
+            .sum();
+        t.consts.push(
+            Constant::new(std::format!("{name}_RULES"), "[GaussRule; MAX_ORDER]")
+                .with_slices(4 * floats),
+        );
     }
     item(
         o,
@@ -387,54 +337,78 @@ fn rules_rs(t: &mut Tables, d: &Derivation) -> Result<(), Error> {
         ]),
     );
     writeln!(o).ok();
-    Ok(())
+    // `RULES` holds the three channels' rules, and so points to their slices too.
+    let floats: usize = rules
+        .channels
+        .iter()
+        .flatten()
+        .map(|r| r.nodes_nm.len() + r.weights.len())
+        .sum();
+    t.consts
+        .push(Constant::new("RULES", "[[GaussRule; MAX_ORDER]; 3]").with_slices(4 * floats));
 }
 
 /// `pub mod rules`: the scene's per-channel rules as wavelength sets.
-fn rule_sets_rs(t: &mut Tables, scene: &Resolved) -> Result<(), Error> {
-    if scene.rule_sets.is_empty() {
-        return Ok(());
+fn rule_sets_rs(t: &mut Tables, m: &Model) {
+    if m.rule_sets.is_empty() {
+        return;
     }
     let o = &mut t.o;
     o.push_str(&layout::comment(0, "///", "Per-channel Gauss rules as [`WavelengthSet`]s (the other two rows zero), named `<channel>_<order>`.", 0));
     writeln!(
         o,
-        "pub mod rules {{\n    use crate::{{Samples, WavelengthSet}};"
+        "pub mod rules {{\n    use super::checked;\n    use crate::{{Samples, WavelengthSet}};"
     )
     .ok();
-    for set in &scene.rule_sets {
+    for set in &m.rule_sets {
         item(
             o,
             4,
             &set.doc,
             &std::format!("pub const {}: WavelengthSet<{}> =", set.name, set.len()),
-            &set_literal(set)?,
+            &set_literal(set),
         );
-        t.floats += 4 * set.len();
+        t.consts.push(Constant::new(
+            std::format!("rules::{}", set.name),
+            std::format!("WavelengthSet<{}>", set.len()),
+        ));
     }
     writeln!(o, "}}\n").ok();
-    Ok(())
 }
 
 /// The scene's colour sets, at the top level.
-fn colour_sets_rs(t: &mut Tables, scene: &Resolved) -> Result<(), Error> {
-    for set in &scene.colour_sets {
+fn colour_sets_rs(t: &mut Tables, m: &Model) {
+    for set in &m.colour_sets {
         item(
             &mut t.o,
             0,
             &set.doc,
             &std::format!("pub const {}: WavelengthSet<{}> =", set.name, set.len()),
-            &set_literal(set)?,
+            &set_literal(set),
         );
-        t.floats += 4 * set.len();
+        t.baked(&set.name, std::format!("WavelengthSet<{}>", set.len()));
     }
-    Ok(())
+    if !m.colour_sets.is_empty() {
+        let names: Vec<String> = m.colour_sets.iter().map(|s| s.name.clone()).collect();
+        writeln!(t.o).ok();
+        t.o.push_str(&layout::comment(0, "///", "The colour sets above, at the top of `tables`, re-exported here with their list: `sets::<SET>` is `<SET>`.", 0));
+        writeln!(t.o, "pub mod sets {{").ok();
+        // One `use` a set, in rustfmt's order: byte order, the names being upper snake case.
+        let mut sorted = names.clone();
+        sorted.sort();
+        for n in &sorted {
+            writeln!(t.o, "    pub use super::{n};").ok();
+        }
+        writeln!(t.o).ok();
+        t.o.push_str(&names_rs("sets", "colour set", &names));
+        writeln!(t.o, "}}").ok();
+    }
 }
 
 /// `pub mod displays`: each display's primaries, white, matrices and transfer, and `ALL`.
-fn displays_rs(t: &mut Tables, d: &Derivation, scene: &Resolved) -> Result<(), Error> {
-    if scene.displays.is_empty() {
-        return Ok(());
+fn displays_rs(t: &mut Tables, m: &Model) {
+    if m.displays.is_empty() {
+        return;
     }
     let o = &mut t.o;
     // One blank line before the displays, also where the rule sets' module ends in one.
@@ -444,56 +418,45 @@ fn displays_rs(t: &mut Tables, d: &Derivation, scene: &Resolved) -> Result<(), E
     o.push_str(&layout::comment(0, "///", "Displays: primaries, white and transfer function, with matrices derived in f64 (white at Y = 1).", 0));
     writeln!(
         o,
-        "pub mod displays {{\n    use crate::{{Display, TransferFunction}};"
+        "pub mod displays {{\n    use super::checked;\n    use crate::{{Display, TransferFunction}};"
     )
     .ok();
     let mut names = Vec::new();
-    for (spec, m) in &scene.displays {
-        let a_from_rgb: Vec<f64> = (0..3)
-            .map(|j| {
-                (0..3)
-                    .map(|k| d.opponent.xyz_to_ac1c2[0][k] * m.rgb_to_xyz[k][j])
-                    .sum()
-            })
-            .collect();
-        let transfer = match spec.transfer {
+    for d in &m.displays {
+        let transfer = match d.transfer {
             Transfer::Linear => "TransferFunction::Linear".to_string(),
             Transfer::Srgb => "TransferFunction::Srgb".to_string(),
-            Transfer::Gamma(g) => {
-                std::format!("TransferFunction::Gamma({})", f32_literal(g)?)
+            Transfer::Gamma { gamma, .. } => {
+                std::format!("TransferFunction::Gamma({})", lit(gamma))
             }
         };
-        let display = Expr::Struct(
-            "Display".into(),
+        let display = checked(Expr::Call(
+            "Display::from_matrices".into(),
             std::vec![
-                ("name".into(), quoted(&spec.label)),
-                (
-                    "primaries_xy".into(),
-                    Expr::Array(std::vec![
-                        f32s(&spec.primaries_xy[0])?,
-                        f32s(&spec.primaries_xy[1])?,
-                        f32s(&spec.primaries_xy[2])?,
-                    ]),
-                ),
-                ("white_xy".into(), f32s(&spec.white_xy)?),
-                ("rgb_to_xyz".into(), matrix(&m.rgb_to_xyz)?),
-                ("xyz_to_rgb".into(), matrix(&m.xyz_to_rgb)?),
-                ("a_from_rgb".into(), f32s(&a_from_rgb)?),
-                ("transfer".into(), Expr::Atom(transfer)),
+                quoted(&d.label),
+                Expr::Array(d.primaries_xy.iter().map(|p| f32s(p)).collect()),
+                f32s(&d.white_xy),
+                matrix(&d.rgb_to_xyz),
+                matrix(&d.xyz_to_rgb),
+                f32s(&d.a_from_rgb),
+                Expr::Atom(transfer),
             ],
-        );
+        ));
         item(
             o,
             4,
             &std::format!(
                 "{} White balance Y_r : Y_g : Y_b = {:.4} : {:.4} : {:.4}; matrix condition number {:.2}.",
-                spec.doc, m.luminance[0], m.luminance[1], m.luminance[2], m.condition
+                d.doc, d.luminance[0], d.luminance[1], d.luminance[2], d.condition
             ),
-            &std::format!("pub const {}: Display =", spec.name),
+            &std::format!("pub const {}: Display =", d.name),
             &display,
         );
-        t.floats += 6 + 2 + 9 + 9 + 3;
-        names.push(Expr::atom(spec.name.clone()));
+        t.consts.push(Constant::new(
+            std::format!("displays::{}", d.name),
+            "crate::Display",
+        ));
+        names.push(Expr::atom(d.name.clone()));
     }
     item(
         o,
@@ -502,284 +465,153 @@ fn displays_rs(t: &mut Tables, d: &Derivation, scene: &Resolved) -> Result<(), E
         &std::format!("pub const ALL: [Display; {}] =", names.len()),
         &Expr::Array(names),
     );
+    t.consts.push(Constant::new(
+        "displays::ALL",
+        std::format!("[crate::Display; {}]", m.displays.len()),
+    ));
     writeln!(o, "}}\n").ok();
-    Ok(())
 }
 
 /// `pub mod folded`: each colour set folded for each display, and their list (`lists`).
-fn folded_rs(t: &mut Tables, d: &Derivation, scene: &Resolved) -> Result<(), Error> {
-    if scene.colour_sets.is_empty() || scene.displays.is_empty() {
-        return Ok(());
+fn folded_rs(t: &mut Tables, m: &Model) {
+    if m.folded.is_empty() {
+        return;
     }
     let o = &mut t.o;
     o.push_str(&layout::comment(0, "///", "Each colour set folded for each display: samples → linear RGB in one 3×N product, a spectrum of constant 1 at Y = 1. Named `<SET>_<DISPLAY>`.", 0));
     writeln!(
         o,
-        "pub mod folded {{\n    use crate::{{FoldedSet, Samples}};"
+        "pub mod folded {{\n    use super::checked;\n    use crate::{{FoldedSet, Samples}};"
     )
     .ok();
     let mut names = Vec::new();
-    for set in &scene.colour_sets {
-        for (spec, m) in &scene.displays {
-            let folded = Expr::Struct(
-                "FoldedSet".into(),
-                std::vec![
-                    ("wavelengths_nm".into(), f32s(&set.wavelengths_nm)?),
-                    ("weights".into(), weights(&d.folded(set, m))?),
-                    ("samples".into(), samples_literal(set)),
-                    (
-                        "display".into(),
-                        Expr::atom(std::format!("super::displays::{}", spec.name)),
-                    ),
-                ],
-            );
-            item(
-                o,
-                4,
-                &std::format!(
-                    "[`{}`](super::{}) folded for [`{}`](super::displays::{}).",
-                    set.name,
-                    set.name,
-                    spec.name,
-                    spec.name
-                ),
-                &std::format!(
-                    "pub const {}_{}: FoldedSet<{}> =",
-                    set.name,
-                    spec.name,
-                    set.len()
-                ),
-                &folded,
-            );
-            t.floats += 4 * set.len();
-            names.push(std::format!("{}_{}", set.name, spec.name));
-        }
+    for f in &m.folded {
+        let set = &m.colour_sets[f.set];
+        let display = &m.displays[f.display].name;
+        let folded = checked(Expr::Call(
+            "FoldedSet::new".into(),
+            std::vec![
+                f32s(&set.wavelengths_nm),
+                weights(&f.weights),
+                samples_literal(&set.samples),
+                Expr::atom(std::format!("super::displays::{display}")),
+            ],
+        ));
+        item(
+            o,
+            4,
+            &std::format!(
+                "[`{}`](super::{}) folded for [`{display}`](super::displays::{display}).",
+                set.name,
+                set.name,
+            ),
+            &std::format!(
+                "pub const {}_{display}: FoldedSet<{}> =",
+                set.name,
+                set.len()
+            ),
+            &folded,
+        );
+        t.consts.push(Constant::new(
+            std::format!("folded::{}", m.folded_name(f)),
+            std::format!("crate::FoldedSet<{}>", set.len()),
+        ));
+        names.push(m.folded_name(f));
     }
     o.push_str(&names_rs("folded", "folded set", &names));
     writeln!(o, "}}\n").ok();
-    Ok(())
 }
 
 /// `pub mod groups`: each light group folded for each display, and their list (`lists`).
-fn groups_rs(t: &mut Tables, d: &Derivation, scene: &Resolved) -> Result<(), Error> {
-    if scene.groups.is_empty() || scene.displays.is_empty() {
-        return Ok(());
+fn groups_rs(t: &mut Tables, m: &Model) {
+    if m.groups.is_empty() || m.displays.is_empty() {
+        return;
     }
     let o = &mut t.o;
     o.push_str(&layout::comment(0, "///", "Each light group folded for each display: one node set shared by several lights, a weight matrix per light (samples: the reflectance products a path carries from that light; the light is in its weights), summed into linear RGB, a reflectance of 1 under every light at Y = 1 per light. Named `<GROUP>_<DISPLAY>`.", 0));
-    writeln!(o, "pub mod groups {{\n    use crate::LightGroupSet;").ok();
+    writeln!(
+        o,
+        "pub mod groups {{\n    use super::checked;\n    use crate::LightGroupSet;"
+    )
+    .ok();
     let mut names = Vec::new();
-    for (name, group) in &scene.groups {
+    for group in &m.groups {
+        let name = &group.name;
         let n = group.wavelengths_nm.len();
-        let lights: Vec<&str> = group.members.iter().map(|m| m.light.as_str()).collect();
-        for (spec, m) in &scene.displays {
-            let members = group
-                .members
-                .iter()
-                .map(|member| {
-                    let set = member.wavelength_set(d, name, &group.wavelengths_nm);
-                    weights(&d.folded(&set, m))
-                })
-                .collect::<Result<Vec<Expr>, Error>>()?;
-            let value = Expr::Struct(
-                "LightGroupSet".into(),
+        let lights = &group.lights;
+        for (display, members) in m.displays.iter().zip(&group.folded) {
+            let value = checked(Expr::Call(
+                "LightGroupSet::new".into(),
                 std::vec![
-                    ("wavelengths_nm".into(), f32s(&group.wavelengths_nm)?),
-                    ("weights".into(), Expr::Array(members)),
-                    (
-                        "lights".into(),
-                        Expr::Array(lights.iter().map(|l| quoted(l)).collect()),
-                    ),
-                    (
-                        "display".into(),
-                        Expr::atom(std::format!("super::displays::{}", spec.name)),
-                    ),
+                    f32s(&group.wavelengths_nm),
+                    Expr::Array(members.iter().map(weights).collect()),
+                    Expr::Array(lights.iter().map(|l| quoted(l)).collect()),
+                    Expr::atom(std::format!("super::displays::{}", display.name)),
                 ],
-            );
+            ));
             item(
                 o,
                 4,
                 &std::format!(
                     "Light group of {} sharing {n} wavelengths (nodes searched for the {} ratio to each light's own folded set; each light's weights fitted by least squares on the crate's reflectances{}, white pinned), folded for [`{}`](super::displays::{}). Accumulators in this order.",
                     lights.join(", "),
-                    group.objective.name(),
-                    match group.training {
-                        crate::shared::GroupTraining::Bounces => " and their bounce forms",
-                        _ => "",
+                    group.objective,
+                    if group.bounces {
+                        " and their bounce forms"
+                    } else {
+                        ""
                     },
-                    spec.name,
-                    spec.name
+                    display.name,
+                    display.name
                 ),
                 &std::format!(
                     "pub const {name}_{}: LightGroupSet<{n}, {}> =",
-                    spec.name,
+                    display.name,
                     lights.len()
                 ),
                 &value,
             );
-            t.floats += n + 3 * n * lights.len();
-            names.push(std::format!("{name}_{}", spec.name));
+            t.consts.push(Constant::new(
+                std::format!("groups::{name}_{}", display.name),
+                std::format!("crate::LightGroupSet<{n}, {}>", lights.len()),
+            ));
+            names.push(std::format!("{name}_{}", display.name));
         }
     }
     o.push_str(&names_rs("groups", "light group", &names));
     writeln!(o, "}}\n").ok();
-    Ok(())
 }
 
-/// `pub mod lights`: each scene light's fitted samples at each colour set for radiances
-/// (`crate::derivation::relight`), for relighting a material's node values under it.
-fn lights_rs(t: &mut Tables, d: &Derivation, scene: &Resolved) -> Result<(), Error> {
-    let radiance: Vec<&WavelengthSet> = scene
-        .colour_sets
-        .iter()
-        .filter(|s| s.light.is_none() && s.sensor.is_none())
-        .collect();
-    if radiance.is_empty() || scene.lights.is_empty() {
-        return Ok(());
+/// `pub mod lights`: each scene light's fitted samples at each colour set for radiances, for
+/// relighting a material's node values under it.
+fn lights_rs(t: &mut Tables, m: &Model) {
+    if m.lights.is_empty() {
+        return;
     }
-    let training = Spectra::builtin(&d.settings.data_dir, crate::shared::TRAINING_FILE)?
-        .curves(d.settings.range_nm)?;
     let o = &mut t.o;
     o.push_str(&layout::comment(0, "///", "Each scene light at each set for radiances, for relighting a material: `<LIGHT>_AT_<SET>`, the values `l` with which samples `r ⊙ l` of a reflectance r at the set's nodes give, through the set ([`FoldedSet::linear_rgb_under`](crate::FoldedSet::linear_rgb_under)), r's colour under the light. Fitted, not the light's values at the nodes: the least-squares fit on the CIE test colours of their colours under the light, with a reflectance of 1 pinned to the light's own white at Y = 1.", 0));
     writeln!(o, "pub mod lights {{").ok();
-    for set in &radiance {
-        for light in &scene.lights {
-            let l = crate::derivation::relight::light_at_nodes(d, set, light, &training)?;
-            item(
-                o,
-                4,
-                &std::format!(
-                    "Light {} at [`{}`](super::{})'s nodes: a reflectance of 1 gives the light's white, Y = 1.",
-                    light.name, set.name, set.name
-                ),
-                &std::format!(
-                    "pub const {}_AT_{}: [f32; {}] =",
-                    light.name,
-                    set.name,
-                    set.len()
-                ),
-                &f32s(&l)?,
-            );
-            t.floats += set.len();
-        }
+    for l in &m.lights {
+        let set = &m.colour_sets[l.set];
+        item(
+            o,
+            4,
+            &std::format!(
+                "Light {} at [`{}`](super::{})'s nodes: a reflectance of 1 gives the light's white, Y = 1.",
+                l.light, set.name, set.name
+            ),
+            &std::format!(
+                "pub const {}_AT_{}: [f32; {}] =",
+                l.light,
+                set.name,
+                set.len()
+            ),
+            &f32s(&l.values),
+        );
+        t.consts.push(Constant::new(
+            std::format!("lights::{}_AT_{}", l.light, set.name),
+            std::format!("[f32; {}]", set.len()),
+        ));
     }
     writeln!(o, "}}\n").ok();
-    Ok(())
-}
-
-/// `ALL_TABLES` (every numeric table as a slice, by name) and `TABLE_BYTES`.
-fn all_tables_rs(
-    t: &mut Tables,
-    d: &Derivation,
-    scene: &Resolved,
-    sensor_tables: Vec<(String, Expr)>,
-    upsampling_bytes: usize,
-) {
-    // Every table as a slice, so a program can link them all (examples/size_probe measures
-    // what a scene costs when nothing is left unused).
-    let chain = |root: &str, children: &[&str]| {
-        Expr::Chain(
-            root.into(),
-            children.iter().map(|c| String::from(*c)).collect(),
-        )
-    };
-    let mut all: Vec<(String, Expr)> = std::vec![
-        (
-            "XYZ_TO_AC1C2".into(),
-            chain("XYZ_TO_AC1C2", &[".as_flattened()"])
-        ),
-        (
-            "AC1C2_TO_XYZ".into(),
-            chain("AC1C2_TO_XYZ", &[".as_flattened()"])
-        ),
-        ("EIGENVALUES".into(), Expr::atom("EIGENVALUES").by_ref()),
-    ];
-    if scene.extras.sensitivities {
-        all.push(("GRID_NM".into(), Expr::atom("GRID_NM").by_ref()));
-        all.push((
-            "SENSITIVITIES".into(),
-            chain("SENSITIVITIES", &[".as_flattened()"]),
-        ));
-    }
-    if scene.extras.cct {
-        all.push((
-            "PLANCKIAN_LOCUS.mired".into(),
-            chain("PLANCKIAN_LOCUS", &[".mired"]).by_ref(),
-        ));
-        for field in ["uv", "tangent", "chord"] {
-            all.push((
-                std::format!("PLANCKIAN_LOCUS.{field}"),
-                chain(
-                    "PLANCKIAN_LOCUS",
-                    &[&std::format!(".{field}"), ".as_flattened()"],
-                ),
-            ));
-        }
-    }
-    if scene.extras.rules {
-        for (c, name) in CHANNELS.iter().enumerate() {
-            for r in d.rules[c].iter().filter(|r| r.is_defined()) {
-                let i = r.order - 1;
-                let root = std::format!("{name}_RULES[{i}]");
-                all.push((
-                    std::format!("{root}.wavelengths_nm"),
-                    chain(&root, &[".wavelengths_nm"]),
-                ));
-                all.push((std::format!("{root}.weights"), chain(&root, &[".weights"])));
-            }
-        }
-    }
-    for set in &scene.rule_sets {
-        let root = std::format!("rules::{}", set.name);
-        all.push((root.clone(), chain(&root, &[".wavelengths_nm"]).by_ref()));
-        all.push((
-            std::format!("{root}.weights"),
-            chain(&root, &[".weights", ".as_flattened()"]),
-        ));
-    }
-    for set in &scene.colour_sets {
-        let n = &set.name;
-        all.push((n.clone(), chain(n, &[".wavelengths_nm"]).by_ref()));
-        all.push((
-            std::format!("{n}.weights"),
-            chain(n, &[".weights", ".as_flattened()"]),
-        ));
-        for (spec, _) in &scene.displays {
-            let f = std::format!("folded::{n}_{}", spec.name);
-            all.push((
-                std::format!("{f}.weights"),
-                chain(&f, &[".weights", ".as_flattened()"]),
-            ));
-        }
-    }
-    for (spec, _) in &scene.displays {
-        let n = std::format!("displays::{}", spec.name);
-        all.push((
-            std::format!("{n}.rgb_to_xyz"),
-            chain(&n, &[".rgb_to_xyz", ".as_flattened()"]),
-        ));
-        all.push((
-            std::format!("{n}.xyz_to_rgb"),
-            chain(&n, &[".xyz_to_rgb", ".as_flattened()"]),
-        ));
-    }
-    all.extend(sensor_tables);
-    let all = all
-        .into_iter()
-        .map(|(name, e)| Expr::Tuple(std::vec![quoted(&name), e]))
-        .collect();
-    item(
-        &mut t.o,
-        0,
-        "Every numeric table above as a slice, by name: for programs that must link them all (see `examples/size_probe.rs`).",
-        "pub static ALL_TABLES: &[(&str, &[f32])] =",
-        &Expr::Array(all).by_ref(),
-    );
-    item(
-        &mut t.o,
-        0,
-        "Bytes of the numeric tables above (f32 values; rule tables count their nodes and weights; upsampling tables two bytes a code): what the scene bakes.",
-        "pub const TABLE_BYTES: usize =",
-        &Expr::atom((4 * t.floats + upsampling_bytes).to_string()),
-    );
 }

@@ -8,10 +8,11 @@ use std::string::{String, ToString};
 use std::vec::Vec;
 
 use super::codegen::tables_rs;
-use super::shader::{snippet, Language};
+use super::model::Model;
+use super::shader::{snippet_of, Language};
 use crate::base::error::Error;
 use crate::base::files::{read_data, sha256_hex};
-use crate::derivation::derive::{derive, Derivation};
+use crate::derivation::derive::derive;
 use crate::scenes::catalog;
 use crate::scenes::scene::{Resolved, Scene, SCENE_ENV};
 use crate::shared;
@@ -101,7 +102,7 @@ pub fn generate(crate_dir: &Path, scene: Option<&OsStr>) -> Result<Output, Error
     // Every data file a baked set was made from, after the observer and the scene's own files.
     let sets = resolved.colour_sets.iter().chain(&resolved.rule_sets);
     let own = scene.user.data_files();
-    let upsampling = super::upsampling::input_files(&resolved);
+    let upsampling = upsampling_input_files(&resolved);
     let groups = group_input_files(&resolved);
     let sets = sets.flat_map(|s| catalog::input_files(&s.name));
     for label in sets.chain(own).chain(upsampling).chain(groups) {
@@ -115,8 +116,11 @@ pub fn generate(crate_dir: &Path, scene: Option<&OsStr>) -> Result<Output, Error
             Err(e) => return Err(e.into()),
         }
     }
-    let tables_rs = tables_rs(&d, &inputs, &resolved)?;
-    let [wgsl, glsl] = shaders(&d, &resolved)?;
+    // The scene's every constant, computed once: each target is a formatter of it.
+    let model = Model::bake(&d, &inputs, &resolved)?;
+    let tables_rs = tables_rs(&model);
+    let wgsl = snippet_of(&model, Language::Wgsl)?;
+    let glsl = snippet_of(&model, Language::Glsl)?;
     let warnings = d
         .observer
         .zeroed
@@ -124,7 +128,7 @@ pub fn generate(crate_dir: &Path, scene: Option<&OsStr>) -> Result<Output, Error
         .chain(&resolved.warnings)
         .map(ToString::to_string)
         .collect();
-    let files = super::upsampling::shader_files(&resolved)?;
+    let files = super::upsampling::shader_files(&model);
     Ok(Output {
         tables_rs,
         wgsl,
@@ -135,12 +139,25 @@ pub fn generate(crate_dir: &Path, scene: Option<&OsStr>) -> Result<Output, Error
     })
 }
 
-/// The scene's shader snippets, WGSL and GLSL.
-fn shaders(d: &Derivation, scene: &Resolved) -> Result<[String; 2], Error> {
-    Ok([
-        snippet(d, scene, Language::Wgsl)?,
-        snippet(d, scene, Language::Glsl)?,
-    ])
+/// The data files (labels `data/<file>`) the scene's upsamplings are made from: the training
+/// reflectances, each built-in reference light, and the cache (`upsampling::CACHE_FILE`). Empty
+/// when there are none.
+fn upsampling_input_files(scene: &Resolved) -> Vec<String> {
+    if scene.upsamplings.is_empty() {
+        return Vec::new();
+    }
+    let mut files: Vec<String> = upsampling::TRAINING_FILES
+        .iter()
+        .map(|f| f.to_string())
+        .collect();
+    files.push(upsampling::CACHE_FILE.to_string());
+    for u in &scene.upsamplings {
+        let file = std::format!("data/illuminant_{}.csv", u.light);
+        if builtin_lights().contains(&u.light.as_str()) && !files.contains(&file) {
+            files.push(file);
+        }
+    }
+    files
 }
 
 /// The data files the scene's light groups were made from: the kernel model's and the groups'

@@ -4,15 +4,45 @@
 //! Cargo's default opt-level 0 and must stay cheap.
 //!
 //! Only the forms the tables use are laid out: tokens that never break (numbers, strings,
-//! paths), arrays, tuples, `&`, struct literals and field or method chains, each with rustfmt's
-//! rules and widths (`array_width` 60, `fn_call_width` 60, `struct_lit_width` 18,
-//! `chain_width` 60, `short_array_element_width_threshold` 10), and `const`/`static` items
+//! paths), arrays, tuples, `&`, struct literals and function calls, each with rustfmt's rules
+//! and widths (`array_width` 60, `fn_call_width` 60, `struct_lit_width` 18,
+//! `short_array_element_width_threshold` 10), and `const`/`static` items
 //! whose value goes on the next line where that reads better, as rustfmt decides it. Comments,
 //! which rustfmt leaves as they are, are wrapped at spaces. `tests/codegen.rs` checks the baked
-//! tables with `rustfmt --check` where rustfmt is installed.
+//! tables with `rustfmt --check` where rustfmt is installed. An f32 is written in Rust's shortest
+//! round-trip form ([`lit`]), the one literal every formatter writes for it.
 
 use std::string::String;
 use std::vec::Vec;
+
+use crate::base::error::Error;
+
+/// The literal for an f64 rounded to f32 (`as f32`), which must be finite.
+pub(crate) fn f32_literal(v: f64) -> Result<String, Error> {
+    let x = v as f32;
+    if !x.is_finite() {
+        return Err(Error::Literal {
+            value: v,
+            language: "Rust",
+        });
+    }
+    Ok(lit(x))
+}
+
+/// The literal of an f32 of the model (finite): Rust's shortest round-trip form, with a `.` or
+/// an exponent.
+pub(crate) fn lit(x: f32) -> String {
+    let mut s = std::format!("{x:?}");
+    if !s.contains(['.', 'e', 'E']) {
+        s.push_str(".0");
+    }
+    s
+}
+
+/// An array of f32 values.
+pub(crate) fn f32s(values: &[f32]) -> Expr {
+    Expr::Array(values.iter().map(|&v| Expr::Atom(lit(v))).collect())
+}
 
 /// rustfmt's `max_width`.
 pub(crate) const MAX_WIDTH: usize = 100;
@@ -24,9 +54,6 @@ const ARRAY_WIDTH: usize = 60;
 const TUPLE_WIDTH: usize = 60;
 /// The widest body of a struct literal laid out on one line (rustfmt's `struct_lit_width`).
 const STRUCT_LIT_WIDTH: usize = 18;
-/// The widest chain of several fields or calls laid out on one line (rustfmt's
-/// `chain_width`).
-const CHAIN_WIDTH: usize = 60;
 /// Arrays of simple items this short fill their lines (rustfmt's
 /// `short_array_element_width_threshold`) instead of taking one line each.
 const SHORT_ITEM: usize = 10;
@@ -46,8 +73,6 @@ pub(crate) enum Expr {
     Tuple(Vec<Expr>),
     /// `Path { field: value, … }`.
     Struct(String, Vec<(String, Expr)>),
-    /// A root and its fields or method calls: `root.field.method()`, each child with its dot.
-    Chain(String, Vec<String>),
     /// `path(a, b, …)`: a function call, its arguments laid out as a tuple's (rustfmt's
     /// `fn_call_width`), without a tuple's trailing comma after a single argument.
     Call(String, Vec<Expr>),
@@ -62,6 +87,15 @@ impl Expr {
     /// `&self`.
     pub(crate) fn by_ref(self) -> Expr {
         Expr::Ref(std::boxed::Box::new(self))
+    }
+
+    /// A function call, or `&` of one (rustfmt's nested calls).
+    fn is_nested_call(&self) -> bool {
+        match self {
+            Expr::Call(..) => true,
+            Expr::Ref(e) => e.is_nested_call(),
+            _ => false,
+        }
     }
 
     /// A literal or a path, or `&` of one (rustfmt's simple expressions): arrays of short
@@ -152,7 +186,6 @@ fn rewrite(expr: &Expr, shape: Shape) -> Option<String> {
         Expr::Array(items) => list(items, "[", "]", ARRAY_WIDTH, false, shape),
         Expr::Tuple(items) => list(items, "(", ")", TUPLE_WIDTH, items.len() == 1, shape),
         Expr::Struct(path, fields) => struct_lit(path, fields, shape),
-        Expr::Chain(root, children) => chain(root, children, shape),
         Expr::Call(path, args) => list(
             args,
             "(",
@@ -203,10 +236,21 @@ fn list(
         .map(|e| rewrite(e, nested))
         .collect::<Option<Vec<_>>>()?;
     let own_lines = laid.clone();
-    // A single item may open on the bracket's line and overflow below it.
+    // A single item may open on the bracket's line and overflow below it; a nested call does so
+    // within the list's item width (rustfmt's `last_item_shape`), so that a call of calls
+    // breaks the inner call's arguments rather than running past that width.
     let mut overflowed = None;
     if items.len() == 1 {
-        let one_line_shape = shape.offset_left(1).and_then(|s| s.sub_width(1));
+        let one_line_shape = shape
+            .offset_left(1)
+            .and_then(|s| s.sub_width(1))
+            .map(|s| match items[0].is_nested_call() {
+                true => Shape {
+                    width: s.width.min(max_item_width),
+                    ..s
+                },
+                false => s,
+            });
         if let Some(rw) = one_line_shape.and_then(|s| rewrite(&items[0], s)) {
             laid[0] = first_line(&rw).into();
             overflowed = Some(rw);
@@ -339,33 +383,6 @@ fn struct_lit(path: &str, fields: &[(String, Expr)], shape: Shape) -> Option<Str
     ))
 }
 
-/// A chain of fields and method calls: on one line where it fits (within [`CHAIN_WIDTH`]
-/// when it has several children), else one child a line below its root.
-fn chain(root: &str, children: &[String], shape: Shape) -> Option<String> {
-    let one_line: String = std::iter::once(root)
-        .chain(children.iter().map(String::as_str))
-        .collect();
-    let limit = if children.len() == 1 {
-        shape.width
-    } else {
-        shape.width.min(CHAIN_WIDTH)
-    };
-    if width(&one_line) <= limit {
-        return Some(one_line);
-    }
-    if width(root) > shape.width {
-        return None;
-    }
-    let child_indent = shape.indent + TAB;
-    let mut out = String::from(root);
-    for c in children {
-        out.push('\n');
-        out.push_str(&spaces(child_indent));
-        out.push_str(c);
-    }
-    Some(out)
-}
-
 /// `lhs = rhs;` at block indent `indent`, as rustfmt lays out a `const` or `static` item: the
 /// value on `lhs`'s line where it fits there on one line; else below it, indented, where it
 /// fits there on one line, or takes fewer lines, or does not otherwise fit; else on `lhs`'s
@@ -420,7 +437,6 @@ fn unformatted(e: &Expr) -> String {
                 .collect();
             std::format!("{path} {{ {} }}", f.join(", "))
         }
-        Expr::Chain(root, children) => std::format!("{root}{}", children.concat()),
         Expr::Call(path, args) => std::format!("{path}({})", join(args)),
     }
 }

@@ -1,6 +1,8 @@
-//! The lists of a module's baked items in `tables.rs`: `NAMES` and the macro `all!` at the end
-//! of `folded`, `integer` and `upsampling`, emitted from the same loops as the items, so that
-//! no list is kept by hand (the runtime's tests visit every baked set through them).
+//! The lists of the baked items in `tables.rs`, each emitted from the same loops as the items,
+//! so that no list is kept by hand: `NAMES` and the macro `all!` at the end of `sets`, `folded`,
+//! `groups`, `integer` and `upsampling` (the runtime's tests visit every baked set through
+//! them), and `ALL_TABLES` with `TABLE_BYTES`, every constant of numbers the file bakes
+//! ([`Constant`], which each emitter registers as it writes the item).
 
 use std::fmt::Write as _;
 use std::string::String;
@@ -49,5 +51,80 @@ pub(crate) fn names_rs(module: &str, what: &str, names: &[String]) -> String {
     }
     writeln!(o, "            }}\n        }};\n    }}").ok();
     writeln!(o, "    #[doc(inline)]\n    pub use {hidden} as all;").ok();
+    o
+}
+
+/// One baked constant of the numbers a scene bakes, as the Rust tables name it: every emitter
+/// registers each such item it writes, so that [`all_tables_rs`] lists them all from the one
+/// list the items were written from.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Constant {
+    /// Its path in `tables` (`KQ_C_4`, `folded::KQ_C_4_SRGB`).
+    pub(crate) path: String,
+    /// Its type, as the item declares it.
+    pub(crate) ty: String,
+    /// The bytes of the slices it points to (a rule's nodes and weights, an upsampling's table
+    /// and edge cells).
+    pub(crate) slice_bytes: usize,
+}
+
+impl Constant {
+    /// A constant of `ty` at `path` that points to no slice of its own.
+    pub(crate) fn new(path: impl Into<String>, ty: impl Into<String>) -> Constant {
+        Constant {
+            path: path.into(),
+            ty: ty.into(),
+            slice_bytes: 0,
+        }
+    }
+
+    /// The same, with `bytes` of slices of its own.
+    pub(crate) fn with_slices(self, bytes: usize) -> Constant {
+        Constant {
+            slice_bytes: bytes,
+            ..self
+        }
+    }
+}
+
+/// `ALL_TABLES`, every constant of `constants` by its path with its size (its type's, plus its
+/// slices') and a reference to it, and `TABLE_BYTES`, their sum.
+pub(crate) fn all_tables_rs(constants: &[Constant]) -> String {
+    let entries = constants
+        .iter()
+        .map(|c| {
+            let size = if c.slice_bytes == 0 {
+                std::format!("size_of::<{}>()", c.ty)
+            } else {
+                std::format!("size_of::<{}>() + {}", c.ty, c.slice_bytes)
+            };
+            Expr::Tuple(std::vec![
+                Expr::atom(std::format!("{:?}", c.path)),
+                Expr::atom(size),
+                Expr::atom(std::format!("&{}", c.path)),
+            ])
+        })
+        .collect();
+    let mut o = layout::comment(
+        0,
+        "///",
+        "Every constant of this file that holds the scene's numbers, by its path in `tables`, with its size in bytes and a reference to it. The size is what the constant costs linked alone: its type's size (`size_of`) plus the bytes of the slices it points to (a rule's nodes and weights, an upsampling's table and edge cells), so that the rules' nodes and weights count in each channel's array of rules and again in the array of all three. Not here: the text (the provenance, the shader sources, the lists of names) and the `usize` lengths that type the tables. A program that names this links every table the scene bakes (see `examples/size_probe.rs`).",
+        0,
+    );
+    o.push_str(&layout::item(
+        0,
+        "pub static ALL_TABLES: &[(&str, usize, &(dyn core::any::Any + Sync))] =",
+        &Expr::Array(entries).by_ref(),
+    ));
+    o.push('\n');
+    o.push_str(&layout::comment(
+        0,
+        "///",
+        "The bytes the scene bakes: the sum of the sizes in [`ALL_TABLES`], each constant's as if linked alone.",
+        0,
+    ));
+    o.push_str(
+        "pub const TABLE_BYTES: usize = {\n    let mut bytes = 0;\n    let mut i = 0;\n    while i < ALL_TABLES.len() {\n        bytes += ALL_TABLES[i].1;\n        i += 1;\n    }\n    bytes\n};\n",
+    );
     o
 }

@@ -5,28 +5,16 @@
 use std::string::String;
 use std::vec::Vec;
 
-use super::layout::{self, Expr};
-use crate::base::error::Error;
-use crate::scenes::calibration::SensorTables;
+use super::layout::{self, f32s, Expr};
+use super::lists::Constant;
+use super::model::Sensor;
 
-/// The module `sensors` for `sensors` (empty text if there are none), the names of its tables
-/// for `ALL_TABLES` (each with its path and the expression of its slice), and how many f32
-/// values it holds. `f32_literal` writes each value (the code generator's, which calls this
-/// one).
-#[allow(clippy::type_complexity)]
-pub(crate) fn sensors_rs(
-    sensors: &[SensorTables],
-    f32_literal: impl Fn(f64) -> Result<String, Error>,
-) -> Result<(String, Vec<(String, Expr)>, usize), Error> {
+/// The module `sensors` for `sensors` (empty text if there are none), each constant registered
+/// in `consts`; a fitted calibration is made by `Calibration::new`, which checks it.
+pub(crate) fn sensors_rs(sensors: &[Sensor], consts: &mut Vec<Constant>) -> String {
     if sensors.is_empty() {
-        return Ok((String::new(), Vec::new(), 0));
+        return String::new();
     }
-    let array = |v: &[f64]| -> Result<Expr, Error> {
-        v.iter()
-            .map(|&x| f32_literal(x).map(Expr::Atom))
-            .collect::<Result<Vec<_>, _>>()
-            .map(Expr::Array)
-    };
     let mut o = layout::comment(
         0,
         "///",
@@ -34,7 +22,6 @@ pub(crate) fn sensors_rs(
         0,
     );
     o.push_str("pub mod sensors {\n");
-    let (mut all, mut floats) = (Vec::new(), 0);
     for s in sensors {
         let n = s.white.len();
         let doc = std::format!(
@@ -46,14 +33,13 @@ pub(crate) fn sensors_rs(
         o.push_str(&layout::item(
             4,
             &std::format!("pub const {name}: [f32; {n}] ="),
-            &array(&s.white)?,
+            &f32s(&s.white),
         ));
         o.push('\n');
-        all.push((
+        consts.push(Constant::new(
             std::format!("sensors::{name}"),
-            Expr::atom(std::format!("sensors::{name}")).by_ref(),
+            std::format!("[f32; {n}]"),
         ));
-        floats += n;
         if let Some(fit) = &s.calibration {
             let doc = std::format!(
                 "The device's calibration fitted at build time to its readings of known reflectances: `apply` turns its raw readings into the golden {}'s, for the set's weights. Root-mean-square residual of the fit per channel, in the readings' units: {}.",
@@ -66,12 +52,12 @@ pub(crate) fn sensors_rs(
             );
             o.push_str(&layout::comment(4, "///", &doc, 0));
             let name = std::format!("{}_CALIBRATION", s.name);
-            let value = Expr::Struct(
-                "crate::Calibration".into(),
-                std::vec![
-                    ("dark".into(), array(&fit.dark)?),
-                    ("gain".into(), array(&fit.gain)?),
-                ],
+            let value = Expr::Call(
+                "super::checked".into(),
+                std::vec![Expr::Call(
+                    "crate::Calibration::new".into(),
+                    std::vec![f32s(&fit.dark), f32s(&fit.gain)],
+                )],
             );
             o.push_str(&layout::item(
                 4,
@@ -79,13 +65,12 @@ pub(crate) fn sensors_rs(
                 &value,
             ));
             o.push('\n');
-            for field in ["dark", "gain"] {
-                let path = std::format!("sensors::{name}.{field}");
-                all.push((path.clone(), Expr::atom(path).by_ref()));
-            }
-            floats += 2 * n;
+            consts.push(Constant::new(
+                std::format!("sensors::{name}"),
+                std::format!("crate::Calibration<{n}>"),
+            ));
         }
     }
     o.push_str("}\n\n");
-    Ok((o, all, floats))
+    o
 }

@@ -4,48 +4,24 @@
 use std::string::{String, ToString};
 use std::vec::Vec;
 
-use super::layout::{self, Expr};
-use super::lists::names_rs;
-use crate::base::error::Error;
-use crate::scenes::scene::Resolved;
-use crate::upsampling::{Baked, CACHE_FILE, TRAINING_FILES};
-use spectral_quadrature_spectra::builtin_lights;
+use super::layout::{self, lit, Expr};
+use super::lists::{names_rs, Constant};
+use super::model::{Model, Upsampling};
 
 /// The const name of the upsampling of `set` for `display`: `<SET>_<DISPLAY>`.
 pub(crate) fn const_name(set: &str, display: &str) -> String {
     std::format!("{set}_{display}")
 }
 
-/// The data files (labels `data/<file>`) the scene's upsamplings are made from: the training
-/// reflectances, each built-in reference light, and the cache ([`CACHE_FILE`]). Empty when
-/// there are none.
-pub(crate) fn input_files(scene: &Resolved) -> Vec<String> {
-    if scene.upsamplings.is_empty() {
-        return Vec::new();
-    }
-    let mut files: Vec<String> = TRAINING_FILES.iter().map(|f| f.to_string()).collect();
-    files.push(CACHE_FILE.to_string());
-    for u in &scene.upsamplings {
-        let file = std::format!("data/illuminant_{}.csv", u.light);
-        if builtin_lights().contains(&u.light.as_str()) && !files.contains(&file) {
-            files.push(file);
-        }
-    }
-    files
-}
-
-/// The module's source and the bytes of its tables (two per code), or an empty string and 0
-/// when the scene asks for no upsampling. `f32_literal`: the Rust literal of an f64 rounded to
-/// f32 (`codegen`'s, so that every baked f32 is written one way).
-pub(crate) fn upsampling_rs(
-    scene: &Resolved,
-    f32_literal: &dyn Fn(f64) -> Result<String, Error>,
-) -> Result<(String, usize), Error> {
-    if scene.upsamplings.is_empty() {
-        return Ok((String::new(), 0));
+/// The module's source, each upsampling registered in `consts` with its table and edge cells
+/// (two bytes a code, four an edge cells' word), or an empty string when the scene asks for no
+/// upsampling. Each is made by `Upsampling::new` and given its measured figures by
+/// `with_measured`, both checked.
+pub(crate) fn upsampling_rs(m: &Model, consts: &mut Vec<Constant>) -> String {
+    if m.upsamplings.is_empty() {
+        return String::new();
     }
     let mut o = String::new();
-    let mut bytes = 0;
     let mut names = Vec::new();
     o.push_str(&layout::comment(
         0,
@@ -53,46 +29,41 @@ pub(crate) fn upsampling_rs(
         "RGB materials: each upsampling maps the display's linear RGB, white-balanced under the set's reference light, to the set's node reflectances in [0, 1] (see `docs/upsampling.md`). Named `<SET>_<DISPLAY>`.",
         0,
     ));
-    o.push_str("pub mod upsampling {\n    use crate::{RoundTrip, Upsampling};\n");
-    for u in &scene.upsamplings {
-        let (spec, matrices) = scene
-            .displays
-            .iter()
-            .find(|(s, _)| s.name == u.display)
-            .ok_or_else(|| Error::UnknownDisplay {
-                name: u.display.clone(),
-                valid: scene.displays.iter().map(|(s, _)| s.name.clone()).collect(),
-            })?;
-        let n = u.wavelengths_nm.len();
+    o.push_str(
+        "pub mod upsampling {\n    use super::checked;\n    use crate::{RoundTrip, Upsampling};\n\n",
+    );
+    o.push_str(&layout::comment(
+        4,
+        "///",
+        "An upsampling from its checked constructor, given the figures the build measured of it (`[lipschitz, max_round_trip_delta_e00, reachable_share]`), checked too.",
+        0,
+    ));
+    o.push_str("    const fn measured<const N: usize>(\n        made: Result<Upsampling<N>, crate::Error>,\n        figures: [f32; 3],\n    ) -> Upsampling<N> {\n        checked(checked(made).with_measured(figures[0], figures[1], figures[2]))\n    }\n\n");
+    for u in &m.upsamplings {
+        let n = u.n;
         let rows: Vec<Expr> = u
             .codes
             .iter()
             .map(|c| Expr::Array(c.iter().map(|v| Expr::atom(v.to_string())).collect()))
             .collect();
-        bytes += 2 * n * rows.len();
-        let edge = u.edge_cells();
-        bytes += 4 * edge.len() + 4 * 3 * n + 4 * 9;
-        let rows_f32 = |m: &[Vec<f64>]| -> Result<Expr, Error> {
-            m.iter()
-                .map(|row| {
-                    row.iter()
-                        .map(|&x| f32_literal(x).map(Expr::Atom))
-                        .collect::<Result<Vec<_>, _>>()
-                        .map(Expr::Array)
-                })
-                .collect::<Result<Vec<_>, _>>()
-                .map(Expr::Array)
+        let rows_f32 = |m: &[Vec<f32>]| -> Expr {
+            Expr::Array(
+                m.iter()
+                    .map(|row| Expr::Array(row.iter().map(|&x| Expr::Atom(lit(x))).collect()))
+                    .collect(),
+            )
         };
-        let to_xyz: Vec<Vec<f64>> = matrices.rgb_to_xyz.iter().map(|r| r.to_vec()).collect();
+        let to_xyz: Vec<Vec<f32>> = u.rgb_to_xyz.iter().map(|r| r.to_vec()).collect();
         let round_trip = Expr::Call(
             "Some".into(),
             std::vec![Expr::Call(
                 "RoundTrip::new".into(),
                 std::vec![
-                    rows_f32(&u.encoding)?,
-                    rows_f32(&to_xyz)?,
+                    rows_f32(&u.encoding),
+                    rows_f32(&to_xyz),
                     Expr::Array(
-                        edge.iter()
+                        u.edge_cells
+                            .iter()
                             .map(|w| Expr::atom(std::format!("0x{w:08x}")))
                             .collect()
                     )
@@ -106,44 +77,48 @@ pub(crate) fn upsampling_rs(
             "super::folded::{}",
             const_name(&u.set, &u.display)
         ));
-        let value = Expr::Struct(
-            "Upsampling".into(),
+        let value = Expr::Call(
+            "measured".into(),
             std::vec![
-                ("set".into(), folded),
-                ("lipschitz".into(), Expr::Atom(f32_literal(u.lipschitz)?)),
-                (
-                    "max_round_trip_delta_e00".into(),
-                    Expr::Atom(f32_literal(u.max_round_trip_de00)?)
+                Expr::Call(
+                    "Upsampling::new".into(),
+                    std::vec![
+                        folded,
+                        Expr::atom(u.grid.to_string()),
+                        Expr::Array(rows).by_ref(),
+                        round_trip,
+                    ],
                 ),
-                (
-                    "reachable_share".into(),
-                    Expr::Atom(f32_literal(u.reachable_share())?)
-                ),
-                ("grid".into(), Expr::atom(u.grid.to_string())),
-                ("table".into(), Expr::Array(rows).by_ref()),
-                ("round_trip".into(), round_trip),
+                Expr::Array(u.figures.iter().map(|&x| Expr::Atom(lit(x))).collect()),
             ],
         );
         let doc = std::format!(
             "[`{set}`](super::{set}) for [`{disp}`](super::displays::{disp}): linear {label} RGB white-balanced under {light} → {n} node reflectances, a {g}×{g}×{g} grid ({bytes} bytes); {share:.1} % of the grid reachable; Lipschitz {lip:.3}; round trip within {rt:.4} ΔE00 at the reachable grid points.",
             set = u.set,
             disp = u.display,
-            label = spec.label,
+            label = u.display_label,
             light = u.light,
             g = u.grid,
             bytes = 2 * n * u.codes.len(),
-            share = 100.0 * u.reachable_share(),
-            lip = u.lipschitz,
-            rt = u.max_round_trip_de00,
+            share = 100.0 * u.measured.reachable_share,
+            lip = u.measured.lipschitz,
+            rt = u.measured.max_round_trip_de00,
         );
         o.push_str(&layout::comment(4, "///", &doc, 0));
-        let name = const_name(&u.set, &u.display);
+        let name = u.name();
         o.push_str(&layout::item(
             4,
             &std::format!("pub const {name}: Upsampling<{n}> ="),
             &value,
         ));
         o.push('\n');
+        consts.push(
+            Constant::new(
+                std::format!("upsampling::{name}"),
+                std::format!("crate::Upsampling<{n}>"),
+            )
+            .with_slices(2 * n * u.codes.len() + 4 * u.edge_cells.len()),
+        );
         names.push(name.clone());
         for (lang, ext, decl, where_) in [
             (
@@ -185,7 +160,7 @@ pub(crate) fn upsampling_rs(
     }
     o.push_str(&names_rs("upsampling", "upsampling", &names));
     o.push_str("}\n\n");
-    Ok((o, bytes))
+    o
 }
 
 /// The file in `OUT_DIR` that holds the shader source of the upsampling of `set` for `display`
@@ -199,17 +174,17 @@ pub(crate) fn shader_file(set: &str, display: &str, ext: &str) -> String {
 
 /// The scene's upsamplings' shader files: name in `OUT_DIR` ([`shader_file`]) and text, WGSL
 /// then GLSL for each.
-pub(crate) fn shader_files(scene: &Resolved) -> Result<Vec<(String, String)>, Error> {
+pub(crate) fn shader_files(m: &Model) -> Vec<(String, String)> {
     let mut files = Vec::new();
-    for u in &scene.upsamplings {
+    for u in &m.upsamplings {
         for (ext, wgsl) in [("wgsl", true), ("glsl", false)] {
             files.push((
                 shader_file(&u.set, &u.display, ext),
-                shader_snippet(u, wgsl)?,
+                shader_snippet(u, wgsl),
             ));
         }
     }
-    Ok(files)
+    files
 }
 
 /// The shader source of one upsampling `<SET>_<DISPLAY>`: the functions
@@ -219,15 +194,15 @@ pub(crate) fn shader_files(scene: &Resolved) -> Result<Vec<(String, String)>, Er
 /// cells' bits, then the weights, RGB → XYZ and the rounding as f32 bits) from
 /// `<SET>_<DISPLAY>_CODES`, a storage buffer of `u32` the shader declares and the application
 /// fills with `Upsampling::shader_words`. `wgsl`: WGSL, else GLSL.
-pub(crate) fn shader_snippet(u: &Baked, wgsl: bool) -> Result<String, Error> {
+pub(crate) fn shader_snippet(u: &Upsampling, wgsl: bool) -> String {
     // Rust's shortest round-trip form of the f32 ("8.0", "1.5259022e-5"): a float literal in
     // WGSL and GLSL alike.
-    let float = |v: f64| -> Result<String, Error> { Ok(std::format!("{:?}", v as f32)) };
+    let float = |v: f64| std::format!("{:?}", v as f32);
     let mut o = String::new();
     {
-        let name = const_name(&u.set, &u.display);
+        let name = u.name();
         let lower = name.to_ascii_lowercase();
-        let n = u.wavelengths_nm.len();
+        let n = u.n;
         let g = u.grid;
         let (uint, float_t, vec3) = if wgsl {
             ("u32", "f32", "vec3<f32>")
@@ -238,10 +213,10 @@ pub(crate) fn shader_snippet(u: &Baked, wgsl: bool) -> Result<String, Error> {
             "// {name}: linear RGB (white-balanced under {}) -> {n} node reflectances in [0, 1] (Upsampling::interpolate): a {g}x{g}x{g} grid of 16-bit codes, two to a word, read from {name}_CODES from word 0.\n",
             u.light
         ));
-        let (zero, one) = (float(0.0)?, float(1.0)?);
-        let cells = float((g - 1) as f64)?;
+        let (zero, one) = (float(0.0), float(1.0));
+        let cells = float((g - 1) as f64);
         // The runtime's scale, 1 / 65535 rounded to f32 by an f32 division.
-        let scale = float(f64::from(1.0f32 / 65535.0f32))?;
+        let scale = float(f64::from(1.0f32 / 65535.0f32));
         let clamp = |c: &str| std::format!("select({zero}, min(rgb.{c}, {one}), rgb.{c} > {zero})");
         let clamp_glsl =
             |c: &str| std::format!("(rgb.{c} > {zero} ? min(rgb.{c}, {one}) : {zero})");
@@ -364,7 +339,7 @@ pub(crate) fn shader_snippet(u: &Baked, wgsl: bool) -> Result<String, Error> {
             include_str!("upsampling_round_trip.glsl")
         };
         let codes = (g * g * g * n).div_ceil(2);
-        let edge_words = u.edge_cells().len();
+        let edge_words = u.edge_cells.len();
         let f = |x: f32| std::format!("{x:?}");
         let d = 6.0f32 / 29.0;
         let text = template
@@ -391,5 +366,5 @@ pub(crate) fn shader_snippet(u: &Baked, wgsl: bool) -> Result<String, Error> {
             .replace("@G1@", &(g - 1).to_string());
         o.push_str(&text);
     }
-    Ok(o)
+    o
 }

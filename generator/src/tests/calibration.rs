@@ -111,12 +111,13 @@ fn a_sensor_bakes_its_white_and_a_calibration_its_fit() {
         "{:?}",
         fit.rms_residual
     );
-    let src = crate::codegen::tables_rs(d(), &[], &with).unwrap();
+    let src = crate::tests::tables_rs(d(), &[], &with).unwrap();
     assert!(src.contains("pub mod sensors {"));
     assert!(src.contains("pub const AS7341_WHITE: [f32; 8] ="));
     assert!(src.contains("pub const AS7341_CALIBRATION: crate::Calibration<8> ="));
-    assert!(src.contains("\"sensors::AS7341_CALIBRATION.gain\""));
-    let plain_src = crate::codegen::tables_rs(d(), &[], &plain).unwrap();
+    assert!(src.contains("\"sensors::AS7341_CALIBRATION\""));
+    assert!(src.contains("super::checked(crate::Calibration::new("));
+    let plain_src = crate::tests::tables_rs(d(), &[], &plain).unwrap();
     assert!(plain_src.contains("pub const AS7341_WHITE") && !plain_src.contains("CALIBRATION"));
 }
 

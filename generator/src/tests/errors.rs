@@ -172,7 +172,7 @@ fn at_keeps_the_first_location() {
 #[test]
 fn values_no_literal_reproduces_are_typed() {
     assert_eq!(
-        crate::codegen::f32_literal(1e39),
+        crate::emit::layout::f32_literal(1e39),
         Err(Error::Literal {
             value: 1e39,
             language: "Rust"
@@ -224,9 +224,9 @@ fn displays_have_one_description() {
     }
     assert_eq!(resolved.displays[1].0.transfer, Transfer::Gamma(2.2));
     // Code generation bakes each display's label as its name, once per display.
-    let src = crate::codegen::tables_rs(d, &[], &resolved).unwrap();
+    let src = crate::tests::tables_rs(d, &[], &resolved).unwrap();
     for (spec, _) in &resolved.displays {
-        let baked = format!("name: {:?},", spec.label);
+        let baked = format!("Display::from_matrices(\n        {:?},", spec.label);
         assert_eq!(src.matches(&baked).count(), 1, "{baked}");
     }
     // The shaders name the same displays.

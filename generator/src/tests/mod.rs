@@ -19,3 +19,14 @@ mod shared;
 mod shared_cache;
 mod upsampling;
 mod user;
+
+/// The Rust tables of `scene` resolved against `d`: its model baked (`inputs` for the header),
+/// then formatted, as `generate` does.
+pub(crate) fn tables_rs(
+    d: &crate::Derivation,
+    inputs: &[(std::string::String, std::string::String)],
+    scene: &crate::scene::Resolved,
+) -> Result<std::string::String, crate::Error> {
+    let model = crate::emit::model::Model::bake(d, inputs, scene)?;
+    Ok(crate::codegen::tables_rs(&model))
+}

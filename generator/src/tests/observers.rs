@@ -131,7 +131,7 @@ fn a_scene_can_choose_any_observer() {
         assert_eq!(scene.settings.range_nm, id.default_range_nm());
         let d = derive(&scene.settings).unwrap();
         let resolved = scene.resolve(&d).unwrap();
-        let src = crate::codegen::tables_rs(&d, &[], &resolved).unwrap();
+        let src = crate::tests::tables_rs(&d, &[], &resolved).unwrap();
         assert!(src.contains(&format!("pub const OBSERVER: &str = {:?};", id.name())));
     }
 }

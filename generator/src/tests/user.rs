@@ -180,11 +180,11 @@ fn a_scene_bakes_its_lights_fixed_wavelengths_and_sensors() {
         r.colour_sets[1].wavelengths_nm,
         [450.0, 550.0, 600.5, 650.0]
     );
-    let src = crate::codegen::tables_rs(d(), &[], &r).unwrap();
+    let src = crate::tests::tables_rs(d(), &[], &r).unwrap();
     assert!(src.contains("pub const CHIP: WavelengthSet<8>"), "{src}");
     // The struct literal laid out as rustfmt would, one field a line.
     let flat: String = src.split_whitespace().collect();
-    assert!(flat.contains("samples:Samples::Readings{sensor:\"CHIP\",light:None,},"));
+    assert!(flat.contains("Samples::Readings{sensor:\"CHIP\",light:None,},"));
     assert!(src.contains("pub const HERO_SRGB: FoldedSet<4>"));
     assert!(src.contains("Samples::Reflectance { light: \"SHOP\" }"));
 }

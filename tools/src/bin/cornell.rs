@@ -44,7 +44,7 @@ struct Args {
     patches: usize,
     /// The light (repeatable): `box` (the box's own), `F11`, `LED_B2`. Default: all three.
     #[arg(long = "light", value_enum)]
-    lights: Vec<Light>,
+    lights: Vec<LightArg>,
     /// Samples per pixel the random-wavelength curves go up to (powers of 2 from 1; 1 to 65536).
     #[arg(long, default_value_t = 1024, value_parser = clap::value_parser!(u32).range(1..=65536).map(|v| v as usize))]
     max_spp: usize,
@@ -55,6 +55,31 @@ struct Args {
     /// (for the path tracer's check, `examples/renderer`), and nothing else.
     #[arg(long, value_name = "FILE")]
     reference_xyz: Option<PathBuf>,
+}
+
+/// The lights on the command line: clap's names for [`Light`], which the library keeps free of
+/// the command line's parser.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum LightArg {
+    /// The box's own light (`cornell_box_light.csv`).
+    #[value(name = "box")]
+    Box,
+    /// CIE F11, three narrow lines.
+    #[value(name = "F11")]
+    F11,
+    /// CIE LED-B2, a narrow blue pump beside a phosphor.
+    #[value(name = "LED_B2")]
+    LedB2,
+}
+
+impl From<LightArg> for Light {
+    fn from(a: LightArg) -> Light {
+        match a {
+            LightArg::Box => Light::Box,
+            LightArg::F11 => Light::F11,
+            LightArg::LedB2 => Light::LedB2,
+        }
+    }
 }
 
 const SIZES: [usize; 3] = [4, 6, 8];
@@ -173,9 +198,9 @@ fn run(args: &Args) -> Result<(), Error> {
     }
     let start = Instant::now();
     let lights = if args.lights.is_empty() {
-        vec![Light::Box, Light::F11, Light::LedB2]
+        Light::ALL.to_vec()
     } else {
-        args.lights.clone()
+        args.lights.iter().map(|&l| Light::from(l)).collect()
     };
     std::fs::create_dir_all(&args.out).map_err(|e| Error::Write {
         path: args.out.clone(),
@@ -384,6 +409,17 @@ fn run(args: &Args) -> Result<(), Error> {
                 legend.push(label.clone());
             }
         }
+        // Each method's name drawn above its image, and what the map below shows.
+        let top: Vec<Rgb8> = top
+            .iter()
+            .zip(&legend)
+            .map(|(t, l)| picture::labelled(t, l, 3))
+            .collect();
+        let bottom: Vec<Rgb8> = bottom
+            .iter()
+            .enumerate()
+            .map(|(k, t)| picture::labelled(t, if k == 0 { "" } else { "dE00 map" }, 3))
+            .collect();
         let path = args.out.join(format!("{name}.png"));
         picture::grid(&[top, bottom], 4).write_png(&path)?;
         legends.push(format!("{}: {}", path.display(), legend.join(" | ")));

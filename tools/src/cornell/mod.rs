@@ -31,20 +31,25 @@ use crate::Error;
 pub const RANGE_NM: [f64; 2] = [400.0, 700.0];
 
 /// The lights the box can be rendered under.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Light {
     /// The box's own light (`cornell_box_light.csv`).
-    #[value(name = "box")]
     Box,
     /// CIE F11, three narrow lines.
-    #[value(name = "F11")]
     F11,
     /// CIE LED-B2, a narrow blue pump beside a phosphor.
-    #[value(name = "LED_B2")]
     LedB2,
 }
 
 impl Light {
+    /// Every light, in the order the tools render them.
+    pub const ALL: [Light; 3] = [Light::Box, Light::F11, Light::LedB2];
+
+    /// The light whose [`name`](Self::name) is `name`.
+    pub fn from_name(name: &str) -> Option<Light> {
+        Light::ALL.into_iter().find(|l| l.name() == name)
+    }
+
     /// The name in tables, and the `<light>` of its `KQ_<light>_<n>` sets.
     pub fn name(self) -> &'static str {
         match self {

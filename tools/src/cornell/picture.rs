@@ -188,3 +188,73 @@ pub fn grid(rows: &[Vec<Rgb8>], gap: usize) -> Rgb8 {
     }
     img
 }
+
+/// The height of one line of [`labelled`]'s text, pixels: the 8 × 8 glyph and a pixel of
+/// space above and below.
+pub const LABEL_LINE: usize = 10;
+
+/// `text` broken into lines of at most `chars` characters, at spaces where it can be.
+fn wrap(text: &str, chars: usize) -> Vec<String> {
+    let chars = chars.max(1);
+    let mut lines: Vec<String> = Vec::new();
+    let mut line = String::new();
+    for word in text.split(' ') {
+        let mut word: Vec<char> = word.chars().collect();
+        while word.len() > chars {
+            if !line.is_empty() {
+                lines.push(std::mem::take(&mut line));
+            }
+            lines.push(word.drain(..chars).collect());
+        }
+        let word: String = word.into_iter().collect();
+        let len = line.chars().count();
+        if len > 0 && len + 1 + word.chars().count() > chars {
+            lines.push(std::mem::take(&mut line));
+        }
+        if !line.is_empty() {
+            line.push(' ');
+        }
+        line.push_str(&word);
+    }
+    if !line.is_empty() {
+        lines.push(line);
+    }
+    lines
+}
+
+/// Draws `text` at (x, y) (its top left) in the 8 × 8 bitmap font of the `font8x8` crate
+/// (ASCII; other characters as `?`, except `×` as `x`), in `colour`, clipped to the image.
+pub fn draw_text(img: &mut Rgb8, text: &str, x: usize, y: usize, colour: [u8; 3]) {
+    for (i, ch) in text.chars().enumerate() {
+        let ch = if ch == '×' { 'x' } else { ch };
+        let glyph = if ch.is_ascii() {
+            font8x8::legacy::BASIC_LEGACY[ch as usize]
+        } else {
+            font8x8::legacy::BASIC_LEGACY[b'?' as usize]
+        };
+        for (row, bits) in glyph.iter().enumerate() {
+            for col in 0..8 {
+                if bits & (1 << col) == 0 {
+                    continue;
+                }
+                let (px, py) = (x + 8 * i + col, y + row);
+                if px < img.width && py < img.height {
+                    let k = (py * img.width + px) * 3;
+                    img.data[k..k + 3].copy_from_slice(&colour);
+                }
+            }
+        }
+    }
+}
+
+/// `tile` with `text` written above it in a strip of `lines` lines (the text wrapped to the
+/// tile's width; what does not fit is cut), light grey on the background of [`grid`].
+pub fn labelled(tile: &Rgb8, text: &str, lines: usize) -> Rgb8 {
+    let strip = lines * LABEL_LINE;
+    let mut img = Rgb8::filled(tile.width, tile.height + strip, [24, 24, 24]);
+    for (k, line) in wrap(text, tile.width / 8).iter().take(lines).enumerate() {
+        draw_text(&mut img, line, 0, k * LABEL_LINE + 1, [230, 230, 230]);
+    }
+    img.paste(tile, 0, strip);
+    img
+}

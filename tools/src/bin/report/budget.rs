@@ -8,9 +8,11 @@ use std::path::{Path, PathBuf};
 use plotters::prelude::*;
 
 use crate::plot::plot_err;
+use crate::progress::Meter;
+use crate::timing::time_set;
 use crate::tools::budget::{self, Entry, LIGHTS, METHODS};
 use crate::tools::csv_table::Table;
-use crate::{time_set, Error};
+use crate::Error;
 use spectral_quadrature_generator::{shared, Derivation};
 use spectral_quadrature_spectra::{builtin_illuminant, surfaces_under_lights, Curve, EvalSet};
 
@@ -44,6 +46,7 @@ pub fn section(
     let mut tables = Vec::new();
     // (heading, the light's name for the CSV)
     let mut names: Vec<(String, String)> = Vec::new();
+    let meter = Meter::new("judging", LIGHTS.len() + user.len(), "lights");
     for (light, f) in LIGHTS.iter().zip(&folded) {
         tables.push(match surfaces {
             None => budget::compare(d, light, &others, radiance, f)?,
@@ -54,9 +57,11 @@ pub fn section(
             }
         });
         names.push((light.to_string(), light.to_string()));
+        meter.add(1);
     }
     for (light, f, stimuli) in user {
         tables.push(budget::compare_on(d, light, stimuli, &others, radiance, f)?);
+        meter.add(1);
         names.push((
             format!("{} (yours; on {surfaces_from})", light.name),
             light.name.clone(),

@@ -5,7 +5,9 @@
 //!
 //! By default the reflectances judged are the ColorChecker and the 190 rawtoaces patches, which
 //! no set saw (the sets and the groups train on the CIE test colours); with `--reflectances`,
-//! the user's file. The lights are the report's C, D65, A, F11 and LED_B2; the random samplers
+//! the user's file, or a seeded sample of `--sample` of them, as section 9 judges (10d refits
+//! on each fold's others, and 10b runs a pixel per form of each): the text then says so and
+//! gives the standard error the sample adds to 10a's means. The lights are the report's C, D65, A, F11 and LED_B2; the random samplers
 //! run under C, F11 and LED_B2.
 
 use std::fmt::Write as _;
@@ -17,8 +19,10 @@ use spectral_quadrature_generator::shared::TRAINING_FILE;
 use spectral_quadrature_generator::Derivation;
 use spectral_quadrature_spectra::{builtin_illuminant, Curve, Spectra};
 
+use crate::inputs::Reflectances;
 use crate::plot::{legend, legend_height, plot_err};
-use crate::random::ROUND;
+use crate::progress::Meter;
+use crate::random_wavelengths::ROUND;
 use crate::tools::csv_table::Table;
 use crate::tools::interreflection::{
     self as ir, fixed_sets, forms, mean_p95, Form, Judged, Sets, METHODS, POWERS,
@@ -44,8 +48,8 @@ const CV_SIZE: usize = 8;
 pub struct Inputs<'a> {
     /// The derivation.
     pub d: &'a Derivation,
-    /// The user's reflectances, if `--reflectances` was given.
-    pub reflectances: Option<(&'a [Curve], &'a str)>,
+    /// The reflectances judged.
+    pub judged: &'a Reflectances,
     /// The set sizes.
     pub sizes: &'a [usize],
     /// Trials per sampler (`None`: half of one of section 7's rounds, [`ROUND`] / 2).
@@ -76,7 +80,7 @@ pub fn section(x: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
         .map(|n| builtin_illuminant(dir, n, range))
         .collect::<Result<_, _>>()?;
     let training = Spectra::builtin(dir, TRAINING_FILE)?.curves(range)?;
-    let (judged, judged_from) = light_groups::judged_reflectances(d, x.reflectances)?;
+    let (judged, judged_from) = (&x.judged.curves, x.judged.from.as_str());
     if judged.len() < 3 {
         return Err(Error::Sampling(format!(
             "section 10 needs at least three reflectances for its products, {judged_from} has {}",
@@ -86,7 +90,7 @@ pub fn section(x: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
     let all_forms = Form::all();
     let form_curves: Vec<Vec<Curve>> = all_forms
         .iter()
-        .map(|&f| forms(f, &judged, x.seed, range))
+        .map(|&f| forms(f, judged, x.seed, range))
         .collect();
     let full = d.observer.full_integration(range, 1.0)?;
 
@@ -101,6 +105,9 @@ pub fn section(x: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
     });
     let judge = |l: usize, f: usize| &judges[l * all_forms.len() + f];
     type Cell = Option<(f64, f64)>;
+    // The largest standard error a sample of the reflectances adds to a mean of 10a, and the
+    // largest relative to its mean.
+    let mut sampling = (0.0f64, 0.0f64);
     let errors: Vec<Vec<Vec<Vec<Cell>>>> = sets
         .iter()
         .map(|s| {
@@ -112,7 +119,20 @@ pub fn section(x: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
                         .enumerate()
                         .map(|(l, set)| {
                             (0..all_forms.len())
-                                .map(|f| set.as_ref().map(|s| mean_p95(&judge(l, f).de00(s))))
+                                .map(|f| {
+                                    set.as_ref().map(|s| {
+                                        let de = judge(l, f).de00(s);
+                                        let (mean, p95) = mean_p95(&de);
+                                        if x.judged.sampled() {
+                                            let se = x.judged.standard_error(
+                                                light_groups::standard_deviation(&de),
+                                            );
+                                            sampling =
+                                                (sampling.0.max(se), sampling.1.max(se / mean));
+                                        }
+                                        (mean, p95)
+                                    })
+                                })
                                 .collect()
                         })
                         .collect()
@@ -153,6 +173,11 @@ pub fn section(x: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
     let which: Vec<Vec<usize>> = random_groups.iter().map(|g| g.1.clone()).collect();
     let mut randoms = Vec::new();
+    // Half of one of section 7's rounds: each trial is every tabled form under three lights
+    // (5136 pixels of 1024 samples by default), and eight give means with standard errors of a
+    // few per cent (printed with them), enough for the reach.
+    let trial_count = x.trials.unwrap_or(ROUND / 2);
+    let meter = Meter::new("random trials", 2 * trial_count, "trials");
     for (i, sampler) in [Sampler::Visible, Sampler::Hero { range_nm: span }]
         .into_iter()
         .enumerate()
@@ -165,10 +190,15 @@ pub fn section(x: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
         let run = |r: std::ops::Range<usize>| {
             run_trials(config, &targets, spp, r, x.seed, 100 + i as u64, threads)
         };
-        // Half of one of section 7's rounds: each trial is every tabled form under three
-        // lights (4494 pixels of 1024 samples by default), and eight give means with standard
-        // errors of a few per cent (printed with them), enough for the reach.
-        let trials = run(0..x.trials.unwrap_or(ROUND / 2))?;
+        // A few trials at a time (each on every thread), for the progress line: the trials are
+        // the same however they are split (`run_trials`).
+        let mut trials = run(0..threads.min(trial_count))?;
+        meter.add(trials.len());
+        while trials.len() < trial_count {
+            let more = run(trials.len()..(trials.len() + threads).min(trial_count))?;
+            meter.add(more.len());
+            trials.append(more)?;
+        }
         randoms.push(Random {
             config,
             trials: trials.len(),
@@ -196,9 +226,10 @@ pub fn section(x: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
         .collect();
     // Not in a quick run: ten group searches, on up to five times the training reflectances.
     let cv = if !x.quick && group.len() >= 2 && judged.len() >= 3 * light_groups::FOLDS {
-        Some(ir::cross_validated(
-            d, &group, &training, &judged, CV_SIZE, x.seed,
-        )?)
+        let meter = Meter::new("cross-validating", light_groups::FOLDS, "folds");
+        let counter = meter.counter();
+        let cv = ir::cross_validated(d, &group, &training, judged, CV_SIZE, x.seed, &counter)?;
+        Some(cv)
     } else {
         None
     };
@@ -209,7 +240,7 @@ pub fn section(x: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
     text(
         &mut o,
         x,
-        &judged_from,
+        judged_from,
         judged.len(),
         &names,
         &sets,
@@ -217,6 +248,9 @@ pub fn section(x: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
         &randoms,
         &random_groups,
         cv.as_deref(),
+        x.judged
+            .sampled()
+            .then(|| x.judged.statement(sampling.0, sampling.1)),
     );
     writeln!(
         o,
@@ -268,6 +302,7 @@ fn text(
     randoms: &[Random],
     random_groups: &[((usize, usize), Vec<usize>)],
     cv: Option<&[Vec<(f64, f64)>]>,
+    sampling: Option<String>,
 ) {
     let lines = [
         format!("10. Light that bounces: {judged} reflectances from {judged_from}, in the forms a path carries after several surfaces"),
@@ -278,6 +313,9 @@ fn text(
     ];
     for l in lines {
         writeln!(o, "{l}").ok();
+    }
+    if let Some(s) = sampling {
+        writeln!(o, "{s}").ok();
     }
     let tabled = Form::tabled();
     for (l, light) in lights.iter().enumerate() {

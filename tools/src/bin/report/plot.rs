@@ -8,7 +8,9 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use spectral_quadrature::{tables, GamutMapping};
 
-use crate::{Error, Fig6, Fig7, Row, K};
+use crate::error_vs_time::Row;
+use crate::fig6_fig7::{Fig6, Fig7, K};
+use crate::Error;
 use spectral_quadrature_spectra::{EvalSet, Stimulus};
 
 /// A plotting library's error, as the report's.

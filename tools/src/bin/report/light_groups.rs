@@ -5,7 +5,9 @@
 //!
 //! By default the reflectances judged are the ColorChecker and the 190 rawtoaces patches (the
 //! CIE test colours, the folded sets' own training, are trained on in every fold); with
-//! `--reflectances`, the user's file. The lights are D65, A, F11 and LED_B2 unless
+//! `--reflectances`, the user's file, or a seeded sample of `--sample` of them (each fold refits
+//! on the others, so the time grows with their number): the text then says so and gives the
+//! standard error the sample adds. The lights are D65, A, F11 and LED_B2 unless
 //! `--illuminants` names others (two or more).
 
 use std::fmt::Write as _;
@@ -16,6 +18,9 @@ use spectral_quadrature_generator::Derivation;
 use spectral_quadrature_spectra::{builtin_illuminant, Curve, Spectra};
 use spectral_quadrature_tools as tools;
 use tools::csv_table::Table;
+
+use crate::inputs::Reflectances;
+use crate::progress::Meter;
 use tools::light_groups::{self, Comparison, GROUP_MEAN, GROUP_WORST, OWN, RADIANCE};
 use tools::Error;
 
@@ -28,8 +33,8 @@ const TARGET_WORST: f64 = 1.5;
 pub struct Inputs<'a> {
     /// The derivation.
     pub d: &'a Derivation,
-    /// The user's reflectances, if `--reflectances` was given.
-    pub reflectances: Option<(&'a [Curve], &'a str)>,
+    /// The reflectances judged.
+    pub judged: &'a Reflectances,
     /// The user's lights, if `--illuminants` was given with two or more.
     pub lights: Option<&'a [Curve]>,
     /// The set sizes.
@@ -49,10 +54,22 @@ pub fn section(inputs: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Er
             .collect::<Result<_, _>>()?,
     };
     let training = Spectra::builtin(dir, TRAINING_FILE)?.curves(range)?;
-    let (judged, judged_from) = light_groups::judged_reflectances(d, inputs.reflectances)?;
-    let comparisons = light_groups::compare(d, &lights, &training, &judged, inputs.sizes)?;
+    let judged = inputs.judged;
+    let meter = Meter::new(
+        "cross-validating",
+        light_groups::FOLDS * inputs.sizes.len(),
+        "folds",
+    );
+    let comparisons = light_groups::compare(
+        d,
+        &lights,
+        &training,
+        &judged.curves,
+        inputs.sizes,
+        &meter.counter(),
+    )?;
     let mut o = String::new();
-    print(&mut o, &comparisons, &judged_from);
+    print(&mut o, &comparisons, judged);
     let file = csv(&comparisons).write(out, "light_groups.csv")?;
     Ok((o, std::vec![file]))
 }
@@ -61,16 +78,29 @@ fn mean(v: &[f64]) -> f64 {
     v.iter().sum::<f64>() / v.len() as f64
 }
 
-fn print(o: &mut String, comparisons: &[Comparison], judged_from: &str) {
+fn print(o: &mut String, comparisons: &[Comparison], judged: &Reflectances) {
     let Some(first) = comparisons.first() else {
         return;
     };
     let lights = first.lights.join(", ");
     let _ = writeln!(
         o,
-        "9. Several lights in one scene: light groups ({} reflectances from {judged_from}, five-fold cross-validation: each fold judged by fits on the other four and the CIE test colours)\n",
-        first.judged
+        "9. Several lights in one scene: light groups ({} reflectances from {}, five-fold cross-validation: each fold judged by fits on the other four and the CIE test colours)\n",
+        first.judged, judged.from
     );
+    if judged.sampled() {
+        // The largest standard error over every mean of the tables, and relative to its mean.
+        let (worst, relative) = comparisons
+            .iter()
+            .flat_map(|c| &c.methods)
+            .flat_map(|m| m.mean_de00.iter().zip(&m.sd_de00))
+            .map(|(mean, sd)| {
+                let se = judged.standard_error(*sd);
+                (se, se / mean)
+            })
+            .fold((0.0, 0.0), |a: (f64, f64), b| (a.0.max(b.0), a.1.max(b.1)));
+        let _ = writeln!(o, "{}\n", judged.statement(worst, relative));
+    }
     let _ = writeln!(
         o,
         "Lights: {lights}. A light group shares N nodes among the lights and folds each light into its own weights (least squares, white pinned); the radiance set has one weight matrix for radiances under every light. Mean ΔE00 per light (95th percentile), and the ratio to the light's own folded set.\n"

@@ -11,13 +11,16 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use spectral_quadrature::{tables, GamutMapping};
 
+use crate::inputs::Reflectances;
 use crate::plot::plot_err;
+use crate::progress::Meter;
+use crate::timing::time_set;
 use crate::tools::budget;
 use crate::tools::csv_table::Table;
 use crate::tools::random_wavelengths::{
     pixel_rng, reach, run_trials, Cells, Config, Reach, Sampler, SensorRgb, Summary, Target, Trials,
 };
-use crate::{time_set, Error};
+use crate::Error;
 use spectral_quadrature_generator::Derivation;
 use spectral_quadrature_spectra::{
     surfaces_under_lights, Curve, EvalSet, Reference, Spectra, Stimulus,
@@ -73,6 +76,9 @@ pub struct Inputs<'a> {
     pub seed: u64,
     /// Timing runs (the median is reported).
     pub runs: usize,
+    /// The reflectances, when `stimuli` are a seeded sample of them under each light (light
+    /// by light, the sample's reflectances in the same order under each).
+    pub sample: Option<&'a Reflectances>,
 }
 
 /// The random samplers: pbrt-v4's, hero and uniform at 4 wavelengths a sample, then at 8.
@@ -119,6 +125,8 @@ struct Fixed {
     ns_per_pixel: f64,
     /// The light folded in, and how long its node search took in this run.
     search_s: Option<f64>,
+    /// The standard error a sample of the reflectances adds to `mean_de00` (zero for all).
+    sampling_se: f64,
 }
 
 /// One sampler's trials and what they cost.
@@ -181,9 +189,36 @@ pub fn section(x: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
     );
     let mut randoms = Vec::new();
     let group_targets: Vec<Vec<usize>> = groups.iter().map(|(_, w)| w.clone()).collect();
-    for (i, config) in configs(span).into_iter().enumerate() {
-        let run = |r: std::ops::Range<usize>| {
-            run_trials(config, &targets, &SPP, r, x.seed, i as u64, threads)
+    let samplers = configs(span);
+    // Trials counted as they finish: a round (or `--trials`) per sampler to begin with, more
+    // when a sampler's means need another round.
+    let first = x.trials.unwrap_or(ROUND);
+    let meter = Meter::new("random trials", samplers.len() * first, "trials");
+    for (i, config) in samplers.into_iter().enumerate() {
+        // A few trials at a time (each on every thread), for the progress line: the trials are
+        // the same however they are split (`run_trials`).
+        let run = |r: std::ops::Range<usize>| -> Result<Trials, Error> {
+            let mut t = Trials {
+                spp: SPP.to_vec(),
+                errors: Vec::new(),
+            };
+            let step = threads.max(1);
+            let mut k = r.start;
+            while k < r.end {
+                let more = run_trials(
+                    config,
+                    &targets,
+                    &SPP,
+                    k..(k + step).min(r.end),
+                    x.seed,
+                    i as u64,
+                    threads,
+                )?;
+                meter.add(more.len());
+                k += more.len();
+                t.append(more)?;
+            }
+            Ok(t)
         };
         let trials = match x.trials {
             Some(n) => run(0..n)?,
@@ -192,6 +227,7 @@ pub fn section(x: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
                 while t.len() < MAX_TRIALS
                     && t.worst_relative_error(&group_targets) > TARGET_RELATIVE_ERROR
                 {
+                    meter.more(ROUND);
                     t.append(run(t.len()..t.len() + ROUND)?)?;
                 }
                 t
@@ -228,7 +264,9 @@ pub fn section(x: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
      -> Result<Fixed, Error> {
         let stimuli: Vec<Stimulus> = which.iter().map(|&k| x.stimuli[k].clone()).collect();
         let e = Reference::new(reference.set.clone(), &stimuli).errors(set, &stimuli);
+        let sampling_se = sampling_se(x.sample, which, |k| e.de00[k]);
         Ok(Fixed {
+            sampling_se,
             set: set.clone(),
             group: group.clone(),
             mean_de00: e.mean_de00(),
@@ -263,9 +301,44 @@ pub fn section(x: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
         .map(|r| groups.iter().map(|(_, w)| r.trials.summarize(w)).collect())
         .collect();
 
+    // What a sample of the reflectances adds to the means: the largest standard error, and the
+    // largest relative to its mean, over the samplers at every level and the fixed sets.
+    let mut sampling = (0.0f64, 0.0f64);
+    if x.sample.is_some_and(|r| r.sampled()) {
+        let mut add = |se: f64, mean: f64| {
+            sampling = (sampling.0.max(se), sampling.1.max(se / mean));
+        };
+        for (r, per_group) in randoms.iter().zip(&summaries) {
+            for ((_, which), levels) in groups.iter().zip(per_group) {
+                for (level, summary) in levels.iter().enumerate() {
+                    // A stimulus' error averaged over the trials (their noise left in: the
+                    // spread, and so the standard error, is if anything overstated).
+                    let se = sampling_se(x.sample, which, |k| {
+                        r.trials
+                            .errors
+                            .iter()
+                            .map(|t| t[level][which[k]].0)
+                            .sum::<f64>()
+                            / r.trials.len() as f64
+                    });
+                    add(se, summary.mean_de00);
+                }
+            }
+        }
+        for f in &fixed {
+            add(f.sampling_se, f.mean_de00);
+        }
+    }
+
     let mut o = String::new();
     let mut files = Vec::new();
-    text(&mut o, x, &groups, &randoms, &summaries, &fixed, span);
+    let statement = x
+        .sample
+        .filter(|r| r.sampled())
+        .map(|r| r.statement(sampling.0, sampling.1));
+    text(
+        &mut o, x, &groups, &randoms, &summaries, &fixed, span, statement,
+    );
     files.push(summary_csv(&groups, &randoms, &summaries).write(out, "random_wavelengths.csv")?);
     files.push(reach_csv(&groups, &randoms, &summaries, &fixed).write(out, "random_vs_fixed.csv")?);
     files.push(plot(out, &groups, &randoms, &summaries, &fixed)?);
@@ -279,6 +352,35 @@ pub fn section(x: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
     )
     .ok();
     Ok((o, files))
+}
+
+/// The standard error that a sample of the reflectances adds to a mean over the stimuli
+/// `which` (indices into the section's stimuli, the sample's reflectances under each light in
+/// turn), `error(i)` the error of `which[i]`: the errors averaged per reflectance (over the
+/// lights in `which`), their spread over the reflectances, and the sample's standard error of
+/// it (zero when the reflectances are not a sample).
+fn sampling_se(
+    sample: Option<&Reflectances>,
+    which: &[usize],
+    error: impl Fn(usize) -> f64,
+) -> f64 {
+    let Some(r) = sample.filter(|r| r.sampled()) else {
+        return 0.0;
+    };
+    let m = r.curves.len();
+    let mut sum = vec![0.0; m];
+    let mut count = vec![0usize; m];
+    for (i, &k) in which.iter().enumerate() {
+        sum[k % m] += error(i);
+        count[k % m] += 1;
+    }
+    let means: Vec<f64> = sum
+        .iter()
+        .zip(&count)
+        .filter(|(_, &c)| c > 0)
+        .map(|(s, &c)| s / c as f64)
+        .collect();
+    r.standard_error(crate::tools::light_groups::standard_deviation(&means))
 }
 
 /// The cell of a reach table: `12`, `≤1`, `~3.1k` (extrapolated past the last level, two
@@ -327,6 +429,7 @@ fn text(
     summaries: &[Vec<Vec<Summary>>],
     fixed: &[Fixed],
     span: [f64; 2],
+    sampling: Option<String>,
 ) {
     let n = x.stimuli.len();
     let what = if x.lights.is_empty() {
@@ -369,6 +472,9 @@ fn text(
     ];
     for l in lines {
         writeln!(o, "{l}").ok();
+    }
+    if let Some(s) = sampling {
+        writeln!(o, "{s}").ok();
     }
 
     let all = 0;
