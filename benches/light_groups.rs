@@ -11,11 +11,14 @@
 //!   the 4096 pixels, the input through `black_box`; the set is a const and the mapping a
 //!   literal, as in an application's pixel loop.
 //! - `light_groups/batch_4096/encode_u8_srgb/<set>`: one batch call over all 4096 pixels, with
-//!   `Throughput::Elements(4096)`; ns/pixel = time / 4096.
+//!   `Throughput::Elements(4096)`; ns/pixel = time / 4096. `<set>_pixel_by_pixel` is the same
+//!   4096 pixels through the per-pixel `encode_u8` in a loop, what the batch call did before it
+//!   had vector loops: the two in one run.
 //! - `light_groups/planar_4096/encode_u8_srgb/<set>` and `light_groups/planar_4096/linear/<set>`:
 //!   the same pixels as planes (one `Vec<f32>` of 4096 values per light and node, each an
 //!   allocation of its own), `encode_u8_planar_to_interleaved` and `linear_rgb_planar` over all
-//!   of them per iteration.
+//!   of them per iteration; `l4_n8_pixel_by_pixel`, each pixel's groups gathered from the planes
+//!   and passed to the per-pixel function, what the planar calls did before.
 //!
 //! Sets: `folded_n8` (`KQ_C_8_SRGB`), `l2_n8` and `l4_n8` (it and made-up lights at its nodes).
 //!
@@ -151,6 +154,13 @@ fn light_groups(c: &mut Criterion) {
                 .unwrap()
         })
     });
+    g.bench_function("l4_n8_pixel_by_pixel", |b| {
+        b.iter(|| {
+            for (o, px) in out.iter_mut().zip(black_box(&g4)) {
+                *o = L4.encode_u8(GamutMapping::Clip, px);
+            }
+        })
+    });
     g.finish();
 
     let (p1, p2, p4) = (
@@ -180,6 +190,15 @@ fn light_groups(c: &mut Criterion) {
         b.iter(|| {
             L4.encode_u8_planar_to_interleaved(GamutMapping::Clip, black_box(r4), &mut out)
                 .unwrap()
+        })
+    });
+    g.bench_function("l4_n8_pixel_by_pixel", |b| {
+        b.iter(|| {
+            let planes = black_box(r4);
+            for (p, o) in out.iter_mut().enumerate() {
+                let px = planes.map(|light| light.map(|plane| plane[p]));
+                *o = L4.encode_u8(GamutMapping::Clip, &px);
+            }
         })
     });
     g.finish();
