@@ -674,4 +674,59 @@ mod tests {
         let seen = run(&crate::tables::folded::KQ_C_8_SRGB, 0x0fed_cba9_8765_4321);
         assert!(seen.iter().all(|&n| n > 100), "{seen:?}");
     }
+
+    /// Which way each channel of the sensor firmware's N = 4 sweep takes (its generator, over
+    /// 4096 pixels), every code the exact one; `--nocapture` prints the shares that
+    /// docs/sensor-firmware.md quotes ("Why not under 100 at N = 4").
+    #[cfg(not(arm_dsp))]
+    #[test]
+    fn the_ways_the_firmware_sweep_takes() {
+        let set = crate::tables::integer::TABLE2_ROW2_SRGB;
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        // Above 1.0, below 0, at the limit, the threshold after the next, settle.
+        let mut ways = [0usize; 5];
+        for _ in 0..4096 {
+            let x: [u16; 4] = core::array::from_fn(|_| {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                ((state >> 48) as u16) >> (state % 8)
+            });
+            let (h, total) = set.coarse_sums(&x);
+            let got = set.encode_u8(&x);
+            for (c, &h) in h.iter().enumerate() {
+                assert_eq!(got[c], exact_code(&set, c, &x), "{x:?} channel {c}");
+                let way = if (h as u32) >= set.one as u32 {
+                    usize::from(h < 0)
+                } else {
+                    let limit = set.curve.limits[((h as u32) >> (set.frac_bits - 28)) as usize];
+                    let code = usize::from(limit as u8);
+                    let key_top = ((h + total).max(0) as u32) << set.shift;
+                    if top30(h, total, set.shift) < limit {
+                        2
+                    } else if (h as u32) << set.shift >= set.curve.q31[code + 1]
+                        && key_top < set.curve.q31[(code + 2) & 255]
+                    {
+                        3
+                    } else {
+                        4
+                    }
+                };
+                ways[way] += 1;
+            }
+        }
+        let all = 3.0 * 4096.0 / 100.0;
+        let share = ways.map(|n| n as f64 / all);
+        std::println!(
+            "N = 4 sweep, % of channels: above 1.0 {:.1}, below 0 {:.1}, at the limit {:.1}, \
+             the threshold after the next {:.1}, settle {:.1}",
+            share[0],
+            share[1],
+            share[2],
+            share[3],
+            share[4]
+        );
+        // Every way taken, the limit the commonest.
+        assert!(ways.iter().all(|&n| n > 0) && ways[2] > ways.iter().sum::<usize>() / 2);
+    }
 }
