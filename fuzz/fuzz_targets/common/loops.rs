@@ -546,7 +546,13 @@ fn groups<const N: usize, const L: usize>(level: Loops, b: &mut Bytes) {
                 if l == 0 {
                     *s
                 } else {
-                    std::array::from_fn(|_| if b.is_empty() { rng.sample() } else { b.value() })
+                    std::array::from_fn(|_| {
+                        if b.is_empty() {
+                            rng.sample()
+                        } else {
+                            b.value()
+                        }
+                    })
                 }
             })
         })
@@ -557,7 +563,8 @@ fn groups<const N: usize, const L: usize>(level: Loops, b: &mut Bytes) {
             Placed::new(&plane, (first.leads[i] + 3 * l) % 16, f32::NAN)
         })
     });
-    let refs: [[&[f32]; N]; L] = std::array::from_fn(|l| std::array::from_fn(|i| planes[l][i].get()));
+    let refs: [[&[f32]; N]; L] =
+        std::array::from_fn(|l| std::array::from_fn(|i| planes[l][i].get()));
     // The vector loops take L · N up to MAX_WAVELENGTHS; beyond, pixel by pixel.
     let loops = N * L <= spectral_quadrature::MAX_WAVELENGTHS;
     let fast = set.display().transfer() == spectral_quadrature::TransferFunction::Srgb
@@ -578,7 +585,11 @@ fn groups<const N: usize, const L: usize>(level: Loops, b: &mut Bytes) {
     let ran = take_ran();
     if loops {
         let ran = ran.expect("linear_rgb_planar of light groups records its loop");
-        assert_eq!(ran.loops, level.max(Loops::Portable), "groups linear N={N} L={L}");
+        assert_eq!(
+            ran.loops,
+            level.max(Loops::Portable),
+            "groups linear N={N} L={L}"
+        );
     } else {
         assert_eq!(ran, None, "groups linear N={N} L={L}: pixel by pixel");
     }
@@ -632,7 +643,11 @@ fn groups<const N: usize, const L: usize>(level: Loops, b: &mut Bytes) {
         Ok(())
     );
     for p in 0..n {
-        assert_eq!([r[p], g[p], bl[p]], want8[p], "groups encode_u8_planar pixel {p}");
+        assert_eq!(
+            [r[p], g[p], bl[p]],
+            want8[p],
+            "groups encode_u8_planar pixel {p}"
+        );
     }
     // One plane shorter: an error naming it, and nothing written.
     if n > 0 && N > 0 {
@@ -642,9 +657,17 @@ fn groups<const N: usize, const L: usize>(level: Loops, b: &mut Bytes) {
         let mut out = vec![[9u8; 3]; n];
         let got = set.encode_u8_planar_to_interleaved(mapping, bad, &mut out);
         let want = if L * N == 1 {
-            Err(Error::LengthMismatch { what: LengthOf::Output, expected: n - 1, got: n })
+            Err(Error::LengthMismatch {
+                what: LengthOf::Output,
+                expected: n - 1,
+                got: n,
+            })
         } else {
-            Err(Error::LengthMismatch { what: LengthOf::InputPlane, expected: n, got: n - 1 })
+            Err(Error::LengthMismatch {
+                what: LengthOf::InputPlane,
+                expected: n,
+                got: n - 1,
+            })
         };
         assert_eq!(got, want, "groups N={N} L={L}");
         assert!(out.iter().all(|o| *o == [9; 3]));
