@@ -11,7 +11,14 @@
 //!   the 4096 pixels, the input through `black_box`; the set is a const and the mapping a
 //!   literal, as in an application's pixel loop.
 //! - `light_groups/batch_4096/encode_u8_srgb/<set>`: one batch call over all 4096 pixels, with
-//!   `Throughput::Elements(4096)`; ns/pixel = time / 4096.
+//!   `Throughput::Elements(4096)`; ns/pixel = time / 4096. `<set>_pixel_by_pixel` is the same
+//!   4096 pixels through the per-pixel `encode_u8` in a loop, what the batch call did before it
+//!   had vector loops: the two in one run.
+//! - `light_groups/planar_4096/encode_u8_srgb/<set>` and `light_groups/planar_4096/linear/<set>`:
+//!   the same pixels as planes (one `Vec<f32>` of 4096 values per light and node, each an
+//!   allocation of its own), `encode_u8_planar_to_interleaved` and `linear_rgb_planar` over all
+//!   of them per iteration; `l4_n8_pixel_by_pixel`, each pixel's groups gathered from the planes
+//!   and passed to the per-pixel function, what the planar calls did before.
 //!
 //! Sets: `folded_n8` (`KQ_C_8_SRGB`), `l2_n8` and `l4_n8` (it and made-up lights at its nodes).
 //!
@@ -147,7 +154,91 @@ fn light_groups(c: &mut Criterion) {
                 .unwrap()
         })
     });
+    g.bench_function("l4_n8_pixel_by_pixel", |b| {
+        b.iter(|| {
+            for (o, px) in out.iter_mut().zip(black_box(&g4)) {
+                *o = L4.encode_u8(GamutMapping::Clip, px);
+            }
+        })
+    });
     g.finish();
+
+    let (p1, p2, p4) = (
+        planes(&g1.iter().map(|s| [*s]).collect::<Vec<_>>()),
+        planes(&g2),
+        planes(&g4),
+    );
+    let (r1, r2, r4) = (refs(&p1), refs(&p2), refs(&p4));
+    let mut g = c.benchmark_group(format!("light_groups/planar_{PIXELS}/encode_u8_srgb"));
+    g.warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(3))
+        .throughput(Throughput::Elements(PIXELS as u64));
+    g.bench_function("folded_n8", |b| {
+        b.iter(|| {
+            FOLDED
+                .encode_u8_planar_to_interleaved(GamutMapping::Clip, black_box(r1[0]), &mut out)
+                .unwrap()
+        })
+    });
+    g.bench_function("l2_n8", |b| {
+        b.iter(|| {
+            L2.encode_u8_planar_to_interleaved(GamutMapping::Clip, black_box(r2), &mut out)
+                .unwrap()
+        })
+    });
+    g.bench_function("l4_n8", |b| {
+        b.iter(|| {
+            L4.encode_u8_planar_to_interleaved(GamutMapping::Clip, black_box(r4), &mut out)
+                .unwrap()
+        })
+    });
+    g.bench_function("l4_n8_pixel_by_pixel", |b| {
+        b.iter(|| {
+            let planes = black_box(r4);
+            for (p, o) in out.iter_mut().enumerate() {
+                let px = planes.map(|light| light.map(|plane| plane[p]));
+                *o = L4.encode_u8(GamutMapping::Clip, &px);
+            }
+        })
+    });
+    g.finish();
+
+    let mut lin = [0, 1, 2].map(|_| vec![0.0f32; PIXELS]);
+    let mut g = c.benchmark_group(format!("light_groups/planar_{PIXELS}/linear"));
+    g.warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(3))
+        .throughput(Throughput::Elements(PIXELS as u64));
+    g.bench_function("folded_n8", |b| {
+        b.iter(|| {
+            let [r, gr, bl] = &mut lin;
+            FOLDED
+                .linear_rgb_planar(black_box(r1[0]), [r, gr, bl])
+                .unwrap()
+        })
+    });
+    g.bench_function("l2_n8", |b| {
+        b.iter(|| {
+            let [r, gr, bl] = &mut lin;
+            L2.linear_rgb_planar(black_box(r2), [r, gr, bl]).unwrap()
+        })
+    });
+    g.bench_function("l4_n8", |b| {
+        b.iter(|| {
+            let [r, gr, bl] = &mut lin;
+            L4.linear_rgb_planar(black_box(r4), [r, gr, bl]).unwrap()
+        })
+    });
+    g.finish();
+}
+
+/// The pixels as planes: `planes[l][i][p]`, one allocation per light and node.
+fn planes<const L: usize>(px: &[[[f32; 8]; L]]) -> [[Vec<f32>; 8]; L] {
+    std::array::from_fn(|l| std::array::from_fn(|i| px.iter().map(|g| g[l][i]).collect()))
+}
+
+/// References to the planes.
+fn refs<const L: usize>(planes: &[[Vec<f32>; 8]; L]) -> [[&[f32]; 8]; L] {
+    planes.each_ref().map(|l| l.each_ref().map(|p| &p[..]))
 }
 
 criterion_group!(benches, light_groups);

@@ -70,13 +70,10 @@ impl<const N: usize> FoldedSet<N> {
         // loop where the CPU has one (the same bytes; see `simd`), then the portable loop for
         // the rest.
         if vector_units && srgb_clip {
-            let done = crate::simd::encode_srgb8_batch(
-                self.weights_ref(),
-                samples,
-                out.as_flattened_mut(),
-            );
+            let weights = core::array::from_ref(self.weights_ref());
+            let done = crate::simd::encode_srgb8_batch(weights, samples, out.as_flattened_mut());
             crate::planar::portable::encode_srgb8_batch_portable(
-                self.weights_ref(),
+                weights,
                 &samples[done..],
                 &mut out[done..],
             );

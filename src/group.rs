@@ -2,15 +2,23 @@
 //! so that a renderer that keeps one accumulator per light ("light groups") gets the colour of
 //! their sum: `rgb = Σ_l W_l · s_l`. Per pixel, batch (interleaved) and planar, each light's
 //! product computed as [`FoldedSet`]'s per-pixel functions compute it, and the sum encoded by
-//! the set's [`Display`] as [`FoldedSet`]'s encoders encode. Nothing allocates; a length
-//! mismatch is an [`Error`], checked before any output is written.
+//! the set's [`Display`] as [`FoldedSet`]'s encoders encode. The batch and planar forms run the
+//! folded sets' vector loops (`simd`, `planar::portable`), which take the planes and weights
+//! light by light. Nothing allocates; a length mismatch is an [`Error`], checked before any
+//! output is written.
 
 #![forbid(unsafe_code)]
 
 use crate::model::bits::same_f32_bits;
 use crate::model::error::{check_length, planar_pixels};
 use crate::pixel::{mat_vec, mat_vec_for_encoding};
-use crate::{Display, Error, FoldedSet, GamutMapping, LengthOf, LightGroupProblem, Rgb, Samples};
+use crate::planar::portable::{
+    encode_srgb8_batch_portable, encode_srgb8_planar_portable, linear_planar_portable, VECTOR_UNITS,
+};
+use crate::{
+    Display, Error, FoldedSet, GamutMapping, LengthOf, LightGroupProblem, Rgb, Samples,
+    MAX_WAVELENGTHS,
+};
 
 /// N wavelengths shared by L lights, and one 3×N weight matrix (display RGB, like a
 /// [`FoldedSet`]'s) per light: the colour of a pixel lit by several lights of different
@@ -222,6 +230,18 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
         self.weights
     }
 
+    /// The weights by reference, for the crate's tests.
+    #[cfg(test)]
+    pub(crate) const fn weights_ref(&self) -> &[[[f32; N]; 3]; L] {
+        &self.weights
+    }
+
+    /// The display by reference, for the crate's tests.
+    #[cfg(test)]
+    pub(crate) const fn display_ref(&self) -> &Display {
+        &self.display
+    }
+
     /// The lights' names, in the order of the groups.
     pub const fn lights(&self) -> [&'static str; L] {
         self.lights
@@ -345,7 +365,18 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
     }
 
     /// [`encode_u8`](Self::encode_u8) for every pixel, the same bytes (NaN anywhere in a
-    /// pixel's sum → black). Pixel by pixel.
+    /// pixel's sum → black).
+    ///
+    /// With the sRGB curve and [`GamutMapping::Clip`], on a target with f32 vector units and
+    /// for L · N up to [`MAX_WAVELENGTHS`], the loops of
+    /// [`FoldedSet::encode_u8_batch`] run, with each light's product added in light order: on
+    /// x86-64 CPUs with AVX2 (detected at run time, once) eight pixels go through each register,
+    /// elsewhere (SSE2, NEON, WebAssembly SIMD) chunks of 16 pixels are transposed into planes
+    /// on the stack and encoded in loops the compiler vectorizes. Every way computes each
+    /// light's product and the lights' sum with the same f32 operations in the same order as
+    /// [`encode_u8`](Self::encode_u8), so it gives its bytes, bit for bit. Other curves and
+    /// mappings, larger L · N, and targets without vector units (microcontrollers) go pixel by
+    /// pixel.
     ///
     /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless the lengths agree
     /// ([`LengthOf::Output`]).
@@ -356,6 +387,20 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
         out: &mut [[u8; 3]],
     ) -> Result<(), Error> {
         check_length(LengthOf::Output, groups.len(), out.len())?;
+        let srgb_clip = self.display.is_srgb_clip(mapping);
+        let vector_units = VECTOR_UNITS && crate::simd::allowed!(Portable);
+        if vector_units && srgb_clip && vector_loops::<N, L>() {
+            // The AVX2 loop where the CPU has it (the same bytes; see `simd`), then the
+            // portable loop for the rest.
+            let done =
+                crate::simd::encode_srgb8_batch(&self.weights, groups, out.as_flattened_mut());
+            encode_srgb8_batch_portable(&self.weights, &groups[done..], &mut out[done..]);
+            return Ok(());
+        }
+        // Pixel by pixel: other curves and mappings, larger sets, targets without vector units.
+        if srgb_clip && vector_loops::<N, L>() {
+            crate::simd::note!(Scalar, false);
+        }
         for (o, g) in out.iter_mut().zip(groups) {
             *o = self.encode_u8(mapping, g);
         }
@@ -385,8 +430,14 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
     /// `out[c][p]` receives channel c (R, G, B) of pixel p. As
     /// [`FoldedSet::linear_rgb_planar`], with one array of N planes per light.
     ///
-    /// Pixel by pixel through [`linear_rgb`](Self::linear_rgb): the same bits on every pixel,
-    /// and its input handling. Never panics.
+    /// For L · N up to [`MAX_WAVELENGTHS`], the loops of [`FoldedSet::linear_rgb_planar`] run
+    /// with every light's planes (each light's product summed from 0.0, the lights added in
+    /// order): on x86-64 CPUs with AVX-512 (F, BW and VBMI) sixteen pixels per register, with
+    /// AVX2 eight (detected at run time, once), elsewhere chunks of 16 pixels that the compiler
+    /// vectorizes for the target; larger sets go pixel by pixel. Every way gives
+    /// [`linear_rgb`](Self::linear_rgb)'s bits on every pixel (NaN payloads aside), and its
+    /// input handling. Never panics. With AVX-512 and at least 2²⁰ pixels the output is written
+    /// with non-temporal stores, as [`FoldedSet::linear_rgb_planar`] says.
     ///
     /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless every plane and every
     /// output has the same length, at the first that differs from `planes[0][0]`'s
@@ -398,7 +449,26 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
         planes: [[&[f32]; N]; L],
         out: [&mut [f32]; 3],
     ) -> Result<(), Error> {
-        to_planes(planes, out, |groups| self.linear_rgb(groups))
+        if !vector_loops::<N, L>() {
+            return to_planes(planes, out, |groups| self.linear_rgb(groups));
+        }
+        let pixels = planar_pixels(
+            plane_lengths(&planes),
+            LengthOf::OutputPlane,
+            &[out[0].len(), out[1].len(), out[2].len()],
+        )?;
+        let planes = planes.map(|light| light.map(|plane| &plane[..pixels]));
+        let [r, g, b] = out;
+        let (r, g, b) = (&mut r[..pixels], &mut g[..pixels], &mut b[..pixels]);
+        // The AVX-512 or AVX2 loop where the CPU has one (the same bits; see `simd`), then the
+        // rest in the portable one.
+        let done = crate::simd::linear_planar(&self.weights, planes, [&mut *r, &mut *g, &mut *b]);
+        linear_planar_portable(
+            &self.weights,
+            planes.map(|light| light.map(|plane| &plane[done..])),
+            [&mut r[done..], &mut g[done..], &mut b[done..]],
+        );
+        Ok(())
     }
 
     /// Light groups in planes (as for [`linear_rgb_planar`](Self::linear_rgb_planar)) →
@@ -406,7 +476,15 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
     /// `out[p] = [r, g, b]`. As [`FoldedSet::encode_u8_planar_to_interleaved`], with one array
     /// of N planes per light.
     ///
-    /// Pixel by pixel through [`encode_u8`](Self::encode_u8): the same bytes on every pixel,
+    /// With the sRGB curve and [`GamutMapping::Clip`], on a target with f32 vector units and
+    /// for L · N up to [`MAX_WAVELENGTHS`], the loops of
+    /// [`FoldedSet::encode_u8_planar_to_interleaved`] run with every light's planes, each
+    /// light's product added in light order: on x86-64 CPUs with AVX-512 (F, BW and VBMI)
+    /// sixteen pixels per register, the code values from the polynomial and the pixels it
+    /// hands back encoded by [`encode_u8`](Self::encode_u8); with AVX2 eight pixels per
+    /// register (detected at run time, once); elsewhere chunks of 16 pixels that the compiler
+    /// vectorizes. Otherwise (other curves and mappings, larger sets, no vector units) pixel by
+    /// pixel through [`encode_u8`](Self::encode_u8). Every way gives its bytes on every pixel,
     /// and its input handling (NaN anywhere in a pixel's sum → black; ±Inf and huge channels
     /// clip; never panics).
     ///
@@ -419,12 +497,34 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
         planes: [[&[f32]; N]; L],
         out: &mut [[u8; 3]],
     ) -> Result<(), Error> {
-        to_interleaved(planes, out, |groups| self.encode_u8(mapping, groups))
+        let srgb_clip = self.display.is_srgb_clip(mapping);
+        let vector_units = VECTOR_UNITS && crate::simd::allowed!(Portable);
+        if !(vector_units && srgb_clip && vector_loops::<N, L>()) {
+            if srgb_clip && vector_loops::<N, L>() {
+                // No vector units: one pixel at a time.
+                crate::simd::note!(Scalar, false);
+            }
+            return to_interleaved(planes, out, |groups| self.encode_u8(mapping, groups));
+        }
+        let pixels = planar_pixels(plane_lengths(&planes), LengthOf::Output, &[out.len()])?;
+        let planes = planes.map(|light| light.map(|plane| &plane[..pixels]));
+        let out = &mut out[..pixels];
+        // The AVX-512 or AVX2 loop where the CPU has one (the same bytes; see `simd`), then the
+        // rest in the portable one.
+        let done = crate::simd::encode_srgb8_planar(&self.weights, planes, out.as_flattened_mut());
+        encode_srgb8_planar_portable(
+            &self.weights,
+            planes.map(|light| light.map(|plane| &plane[done..])),
+            &mut out[done..],
+        );
+        Ok(())
     }
 
     /// [`encode_u8_planar_to_interleaved`](Self::encode_u8_planar_to_interleaved) with the
     /// output in planes too: `out[c][p]` receives channel c (R, G, B) of pixel p. The same
-    /// bytes as [`encode_u8`](Self::encode_u8) on every pixel, the same input handling.
+    /// loops, run on chunks of 64 pixels through a small buffer on the stack (192 bytes), as
+    /// [`FoldedSet::encode_u8_planar`]: the same bytes as [`encode_u8`](Self::encode_u8) on
+    /// every pixel, the same input handling.
     ///
     /// Errors with [`Error::LengthMismatch`] (and writes nothing) unless every plane of
     /// `planes` and of `out` has the same length, reported as for
@@ -435,7 +535,25 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
         planes: [[&[f32]; N]; L],
         out: [&mut [u8]; 3],
     ) -> Result<(), Error> {
-        to_planes(planes, out, |groups| self.encode_u8(mapping, groups))
+        let pixels = planar_pixels(
+            plane_lengths(&planes),
+            LengthOf::OutputPlane,
+            &[out[0].len(), out[1].len(), out[2].len()],
+        )?;
+        let [r, g, b] = out;
+        let mut buf = [[0u8; 3]; CHUNK];
+        let mut start = 0;
+        while start < pixels {
+            let end = pixels.min(start + CHUNK);
+            let chunk = &mut buf[..end - start];
+            let planes = planes.map(|light| light.map(|plane| &plane[start..end]));
+            self.encode_u8_planar_to_interleaved(mapping, planes, chunk)?;
+            for (k, px) in chunk.iter().enumerate() {
+                [r[start + k], g[start + k], b[start + k]] = *px;
+            }
+            start = end;
+        }
+        Ok(())
     }
 
     /// Light groups in planes (as for [`linear_rgb_planar`](Self::linear_rgb_planar)) →
@@ -470,6 +588,17 @@ impl<const N: usize, const L: usize> LightGroupSet<N, L> {
     ) -> Result<(), Error> {
         to_planes(planes, out, |groups| self.encode_u16(mapping, groups))
     }
+}
+
+/// Pixels per chunk of [`LightGroupSet::encode_u8_planar`]: its stack buffer holds 3 · 64
+/// bytes.
+const CHUNK: usize = 64;
+
+/// Whether the batch and planar functions run the vector loops for N wavelengths and L lights:
+/// for L · N up to [`MAX_WAVELENGTHS`], the folded sets' limit (the loops keep arrays of L · N
+/// planes and samples on the stack); larger sets go pixel by pixel.
+const fn vector_loops<const N: usize, const L: usize>() -> bool {
+    matches!(N.checked_mul(L), Some(planes) if planes <= MAX_WAVELENGTHS)
 }
 
 /// `a + b` per channel, in f32.

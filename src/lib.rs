@@ -85,8 +85,12 @@
 //! light at shared nodes; its per-pixel functions run [`FoldedSet::linear_rgb`]'s product for
 //! each light's accumulator (light 0's as [`FoldedSet::encode_u8`] starts it), add them in light
 //! order, and encode the sum with [`Display::encode_u8`] or [`Display::encode_u16`] (on x86-64,
-//! the sRGB curve with `Clip` in one SSE2 register, as [`FoldedSet::encode_u8`]); its batch and
-//! planar functions call the per-pixel ones on each pixel (see `docs/light-groups.md`).
+//! the sRGB curve with `Clip` in one SSE2 register, as [`FoldedSet::encode_u8`]). Its batch and
+//! planar functions run the folded sets' loops above (AVX-512, AVX2, portable) light by light,
+//! for the 8-bit forms with the sRGB curve and `Clip` and for [`LightGroupSet::linear_rgb_planar`],
+//! with L · N up to [`MAX_WAVELENGTHS`]: each light's product in the per-pixel order, the lights
+//! added in order, so the same bits; the others call the per-pixel functions on each pixel (see
+//! `docs/light-groups.md`).
 //!
 //! **RGB materials** (`src/upsample.rs`): [`Upsampling::reflectance`] takes a linear RGB colour
 //! to a set's N node reflectances: each channel clamped to [0, 1] (NaN to 0), the cell of the

@@ -29,8 +29,13 @@ fn warm(set: FoldedSet<8>) -> FoldedSet<8> {
     let w = set
         .weights()
         .map(|row| std::array::from_fn(|i| row[i] * (0.6 + 0.1 * i as f32)));
-    FoldedSet::new(set.wavelengths_nm(), w, Samples::Reflectance { light: "A" }, set.display())
-        .unwrap()
+    FoldedSet::new(
+        set.wavelengths_nm(),
+        w,
+        Samples::Reflectance { light: "A" },
+        set.display(),
+    )
+    .unwrap()
 }
 
 /// Every batch and planar path of `set` against its per-pixel functions.
@@ -43,11 +48,15 @@ fn check_paths<const L: usize>(set: &LightGroupSet<8, L>, px: &[[[f32; 8]; L]]) 
     let mut batch = vec![[0f32; 3]; n];
     set.linear_rgb_batch(px, &mut batch).unwrap();
     let (mut r, mut g, mut b) = (vec![0f32; n], vec![0f32; n], vec![0f32; n]);
-    set.linear_rgb_planar(refs, [&mut r, &mut g, &mut b]).unwrap();
+    set.linear_rgb_planar(refs, [&mut r, &mut g, &mut b])
+        .unwrap();
     for (p, groups) in px.iter().enumerate() {
         let one = set.linear_rgb(groups);
         assert!(same3(batch[p], one), "batch pixel {p}: {groups:?}");
-        assert!(same3([r[p], g[p], b[p]], one), "planar pixel {p}: {groups:?}");
+        assert!(
+            same3([r[p], g[p], b[p]], one),
+            "planar pixel {p}: {groups:?}"
+        );
     }
     for m in MAPPINGS {
         let want8: Vec<[u8; 3]> = px.iter().map(|g| set.encode_u8(m, g)).collect();
@@ -55,17 +64,21 @@ fn check_paths<const L: usize>(set: &LightGroupSet<8, L>, px: &[[[f32; 8]; L]]) 
         let mut o8 = vec![[0u8; 3]; n];
         set.encode_u8_batch(m, px, &mut o8).unwrap();
         assert_eq!(o8, want8);
-        set.encode_u8_planar_to_interleaved(m, refs, &mut o8).unwrap();
+        set.encode_u8_planar_to_interleaved(m, refs, &mut o8)
+            .unwrap();
         assert_eq!(o8, want8);
         let (mut r, mut g, mut b) = (vec![0u8; n], vec![0u8; n], vec![0u8; n]);
-        set.encode_u8_planar(m, refs, [&mut r, &mut g, &mut b]).unwrap();
+        set.encode_u8_planar(m, refs, [&mut r, &mut g, &mut b])
+            .unwrap();
         let mut o16 = vec![[0u16; 3]; n];
         set.encode_u16_batch(m, px, &mut o16).unwrap();
         assert_eq!(o16, want16);
-        set.encode_u16_planar_to_interleaved(m, refs, &mut o16).unwrap();
+        set.encode_u16_planar_to_interleaved(m, refs, &mut o16)
+            .unwrap();
         assert_eq!(o16, want16);
         let (mut r16, mut g16, mut b16) = (vec![0u16; n], vec![0u16; n], vec![0u16; n]);
-        set.encode_u16_planar(m, refs, [&mut r16, &mut g16, &mut b16]).unwrap();
+        set.encode_u16_planar(m, refs, [&mut r16, &mut g16, &mut b16])
+            .unwrap();
         for p in 0..n {
             assert_eq!([r[p], g[p], b[p]], want8[p], "u8 planes, pixel {p}");
             assert_eq!([r16[p], g16[p], b16[p]], want16[p], "u16 planes, pixel {p}");

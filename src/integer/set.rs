@@ -374,15 +374,70 @@ impl<const N: usize> IntegerSet<N> {
     /// The code value of channel `c` from its coarse sum `h` and `total = Σᵢ xᵢ`.
     #[inline(always)]
     fn encode_channel<const S: u32>(&self, c: usize, h: i32, total: i32, x: &[u16; N]) -> u8 {
+        // h clamped to 0..1.0 on the 2³¹ scale: below 0 it has code 0 (the first threshold is
+        // above 0), from 1.0 − 2^(16−P) up code 255 (new() checked that the last threshold is
+        // not above it, nor in the last stretch). Armv7E-M clamps in the USAT of `limit`.
+        #[cfg(arm_dsp)]
+        {
+            let key = (h.clamp(0, self.one - 1) as u32) << self.shift;
+            let limit = self.limit::<S>(h, key);
+            self.code_at_limit(c, h, key, limit, total, x)
+        }
+        // Elsewhere one unsigned comparison finds h inside 0..1.0; of the rest (channels out
+        // of the gamut), h at or above 1.0 is 255 at once, since F ≥ 2^P, and h below 0 takes
+        // the key 0 in `below_zero`. Inside, the stretch is h's top bits, with no clamp.
+        #[cfg(not(arm_dsp))]
+        {
+            if (h as u32) >= self.one as u32 {
+                if h >= 0 {
+                    return 255;
+                }
+                // Below 0: most often top is below the first threshold too, code 0.
+                let limit = self.curve.limits[0];
+                if top30(h, total, self.shift) < limit {
+                    return limit as u8;
+                }
+                return self.below_zero(c, h, total, x);
+            }
+            let stretch = if self.frac_bits >= 28 {
+                (h as u32) >> (self.frac_bits - 28)
+            } else {
+                ((h as u32) << self.shift) >> INDEX_SHIFT
+            };
+            let limit = self.curve.limits[stretch as usize & (INDEX_LEN - 1)];
+            if top30(h, total, self.shift) < limit {
+                return limit as u8;
+            }
+            self.code_at_limit(c, h, (h as u32) << self.shift, limit, total, x)
+        }
+    }
+
+    /// [`encode_channel`](Self::encode_channel) for a coarse sum below 0: the first stretch's
+    /// limit, as for the key 0.
+    #[cfg(not(arm_dsp))]
+    #[cold]
+    #[inline(never)]
+    fn below_zero(&self, c: usize, h: i32, total: i32, x: &[u16; N]) -> u8 {
+        let limit = self.curve.limits[0];
+        self.code_at_limit(c, h, 0, limit, total, x)
+    }
+
+    /// The code value of channel `c` from its key (h clamped to 0..1.0 on the 2³¹ scale) and
+    /// the limit of the key's stretch.
+    #[inline(always)]
+    fn code_at_limit(
+        &self,
+        c: usize,
+        h: i32,
+        key: u32,
+        limit: i32,
+        total: i32,
+        x: &[u16; N],
+    ) -> u8 {
         // F / 2^16 = h + Σᵢ (Vᵢ mod 2¹⁶) · xᵢ / 2¹⁶, and the low halves are below 2¹⁶: F / 2^16
         // is at least h and, unless every count is 0 (then F = h = 0), below h + Σᵢ xᵢ, `top`.
         // No overflow: new() bounded |h| + N · 65535 by i32::MAX.
         let top = h.wrapping_add(total);
-        // h clamped to 0..1.0 on the 2³¹ scale: below 0 it has code 0 (the first threshold is
-        // above 0), from 1.0 − 2^(16−P) up code 255 (new() checked that the last threshold is
-        // not above it, nor in the last stretch).
-        let key = (h.clamp(0, self.one - 1) as u32) << self.shift;
-        let limit = self.limit::<S>(h, key);
         // top on the 2³⁰ scale, as i32. For 0 ≤ h < 1.0 it is exact: top is below 1.0 plus
         // the margin, less than 2 · 1.0 (new() made 1.0 exceed the margin). Then below the
         // limit it is below the next threshold after the stretch's start, and so is F: the
@@ -390,8 +445,7 @@ impl<const N: usize> IntegerSet<N> {
         // below top, which is then below the first threshold or negative), and for h ≥ 1.0
         // the last (code 255, `i32::MAX`): there a wrapped value is wrong only in which path
         // it takes, never in the code.
-        let top30 = (top as u32).wrapping_shl(self.shift - 1) as i32;
-        if top30 < limit {
+        if top30(h, total, self.shift) < limit {
             return limit as u8;
         }
         // Most often the stretch holds one threshold, at or below h: then the code is one
@@ -408,15 +462,14 @@ impl<const N: usize> IntegerSet<N> {
     }
 
     /// The limit of the stretch of `h`, whose key (h clamped to 0..1.0 on the 2³¹ scale) is
-    /// `key`. `S` is 0, or on Armv7E-M `P − 28`: then the shift is a constant in the code.
+    /// `key`. `S` is 0, or `P − 28`: then the shift is a constant in the code.
+    #[cfg(arm_dsp)]
     #[inline(always)]
     fn limit<const S: u32>(&self, h: i32, key: u32) -> i32 {
         // (h clamped) >> (P − 28) is key >> 19: see `dsp::limit`.
-        #[cfg(arm_dsp)]
         if S != 0 {
             return dsp::limit::<S>(&self.curve.limits, h);
         }
-        let _ = h;
         self.curve.limits[(key >> INDEX_SHIFT) as usize & (INDEX_LEN - 1)]
     }
 
@@ -496,6 +549,12 @@ impl<const N: usize> IntegerSet<N> {
     }
 }
 
+/// `h + total` on the 2³⁰ scale (`shift` is that of the 2³¹ scale), as i32.
+#[inline(always)]
+fn top30(h: i32, total: i32, shift: u32) -> i32 {
+    (h.wrapping_add(total) as u32).wrapping_shl(shift - 1) as i32
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -553,5 +612,121 @@ mod tests {
             assert!(refined > 0 && coarse_off > 0, "{refined} {coarse_off}");
             assert!(coarse_off <= refined);
         }
+    }
+
+    /// Every fractional precision P from the largest down, with coarse sums below 0, inside
+    /// 0..1.0 and at or above 1.0 (the channels out of the gamut take their own branches,
+    /// and a set's stretch is found from h's top bits at P ≥ 28, from its key below): every
+    /// code is the exact one, on random counts of every magnitude and on the extremes.
+    #[test]
+    fn every_precision_gives_the_exact_code_inside_and_outside_the_gamut() {
+        fn run<const N: usize>(folded: &FoldedSet<N>, seed: u64) -> [usize; 3] {
+            // [h < 0, 0 ≤ h < 1.0, h ≥ 1.0] over all sets and inputs, channel by channel.
+            let mut seen = [0usize; 3];
+            let mut state = seed;
+            let mut next = || {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                state
+            };
+            // Larger sample units lower P, by one bit per doubling.
+            for k in 0..=24 {
+                let unit = (1u64 << k) as f32 / 65535.0;
+                let Ok(set) = IntegerSet::new(folded, unit) else {
+                    continue;
+                };
+                let extremes = [[0u16; N], [65535; N], [1; N]];
+                let random = (0..400).map(|_| {
+                    core::array::from_fn(|_| {
+                        let r = next();
+                        (r >> 48) as u16 >> (r % 16)
+                    })
+                });
+                for x in extremes.into_iter().chain(random) {
+                    let (h, _) = set.coarse_sums(&x);
+                    let got = set.encode_u8(&x);
+                    for c in 0..3 {
+                        assert_eq!(
+                            got[c],
+                            exact_code(&set, c, &x),
+                            "P {} {x:?} {c}",
+                            set.frac_bits
+                        );
+                        let i = if h[c] < 0 {
+                            0
+                        } else if h[c] < set.one {
+                            1
+                        } else {
+                            2
+                        };
+                        seen[i] += 1;
+                    }
+                }
+            }
+            seen
+        }
+        let seen = run(
+            &crate::tables::folded::TABLE2_ROW2_SRGB,
+            0x1234_5678_9abc_def1,
+        );
+        assert!(seen.iter().all(|&n| n > 100), "{seen:?}");
+        let seen = run(&crate::tables::folded::KQ_C_8_SRGB, 0x0fed_cba9_8765_4321);
+        assert!(seen.iter().all(|&n| n > 100), "{seen:?}");
+    }
+
+    /// Which way each channel of the sensor firmware's N = 4 sweep takes (its generator, over
+    /// 4096 pixels), every code the exact one; `--nocapture` prints the shares that
+    /// docs/sensor-firmware.md quotes ("Why not under 100 at N = 4").
+    #[cfg(not(arm_dsp))]
+    #[test]
+    fn the_ways_the_firmware_sweep_takes() {
+        let set = crate::tables::integer::TABLE2_ROW2_SRGB;
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        // Above 1.0, below 0, at the limit, the threshold after the next, settle.
+        let mut ways = [0usize; 5];
+        for _ in 0..4096 {
+            let x: [u16; 4] = core::array::from_fn(|_| {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                ((state >> 48) as u16) >> (state % 8)
+            });
+            let (h, total) = set.coarse_sums(&x);
+            let got = set.encode_u8(&x);
+            for (c, &h) in h.iter().enumerate() {
+                assert_eq!(got[c], exact_code(&set, c, &x), "{x:?} channel {c}");
+                let way = if (h as u32) >= set.one as u32 {
+                    usize::from(h < 0)
+                } else {
+                    let limit = set.curve.limits[((h as u32) >> (set.frac_bits - 28)) as usize];
+                    let code = usize::from(limit as u8);
+                    let key_top = ((h + total).max(0) as u32) << set.shift;
+                    if top30(h, total, set.shift) < limit {
+                        2
+                    } else if (h as u32) << set.shift >= set.curve.q31[code + 1]
+                        && key_top < set.curve.q31[(code + 2) & 255]
+                    {
+                        3
+                    } else {
+                        4
+                    }
+                };
+                ways[way] += 1;
+            }
+        }
+        let all = 3.0 * 4096.0 / 100.0;
+        let share = ways.map(|n| n as f64 / all);
+        std::println!(
+            "N = 4 sweep, % of channels: above 1.0 {:.1}, below 0 {:.1}, at the limit {:.1}, \
+             the threshold after the next {:.1}, settle {:.1}",
+            share[0],
+            share[1],
+            share[2],
+            share[3],
+            share[4]
+        );
+        // Every way taken, the limit the commonest.
+        assert!(ways.iter().all(|&n| n > 0) && ways[2] > ways.iter().sum::<usize>() / 2);
     }
 }

@@ -69,11 +69,11 @@ impl<const N: usize> FoldedSet<N> {
         let [r, g, b] = out;
         // The AVX-512 or AVX2 loop where the CPU has one (the same bits; see `simd`), then the
         // rest in the portable one.
-        let done =
-            crate::simd::linear_planar(self.weights_ref(), samples, [&mut *r, &mut *g, &mut *b]);
+        let weights = core::array::from_ref(self.weights_ref());
+        let done = crate::simd::linear_planar(weights, [samples], [&mut *r, &mut *g, &mut *b]);
         linear_planar_portable(
-            self.weights_ref(),
-            samples.map(|p| &p[done..]),
+            weights,
+            [samples.map(|p| &p[done..])],
             [&mut r[done..], &mut g[done..], &mut b[done..]],
         );
         Ok(())
@@ -167,11 +167,11 @@ impl<const N: usize> FoldedSet<N> {
         }
         // The AVX-512 or AVX2 loop where the CPU has one (the same bytes; see `simd`), then the
         // rest in the portable one.
-        let done =
-            crate::simd::encode_srgb8_planar(self.weights_ref(), samples, out.as_flattened_mut());
+        let weights = core::array::from_ref(self.weights_ref());
+        let done = crate::simd::encode_srgb8_planar(weights, [samples], out.as_flattened_mut());
         encode_srgb8_planar_portable(
-            self.weights_ref(),
-            samples.map(|p| &p[done..]),
+            weights,
+            [samples.map(|p| &p[done..])],
             &mut out[done..pixels],
         );
         Ok(())

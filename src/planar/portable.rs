@@ -3,70 +3,100 @@
 //! vectorizes them for the baseline target (SSE2 on x86-64, NEON on aarch64; no `target-cpu`
 //! needed), with no branch per pixel. They run wherever no loop of [`simd`](crate::simd) does,
 //! and after one for the pixels it leaves.
+//!
+//! The weights and samples are light by light, `[[f32; N]; 3]` and N planes per light: a
+//! folded set is one light, a [`LightGroupSet`](crate::LightGroupSet) L, whose lights'
+//! products are added in light order.
 
 #![forbid(unsafe_code)]
 
 use crate::encode::{entry, segment_bits};
+use crate::simd::Lights;
 
 /// Pixels per step of the planar loops. A partial last chunk is padded with zeros on the stack.
 const CHUNK: usize = 16;
 
-/// One chunk's samples: plane i's `CHUNK` values starting at pixel `start`, or the zero-padded
-/// rest of it when fewer remain.
+/// One chunk's samples: plane i of light l's `CHUNK` values starting at pixel `start`, or the
+/// zero-padded rest of it when fewer remain.
 #[inline(always)]
-fn gather<const N: usize>(samples: &[&[f32]; N], start: usize) -> [[f32; CHUNK]; N] {
-    core::array::from_fn(|i| {
-        let mut chunk = [0.0f32; CHUNK];
-        let rest = samples[i].get(start..).unwrap_or(&[]);
-        let n = rest.len().min(CHUNK);
-        chunk[..n].copy_from_slice(&rest[..n]);
-        chunk
+fn gather<const N: usize, const L: usize>(
+    samples: &[[&[f32]; N]; L],
+    start: usize,
+) -> [[[f32; CHUNK]; N]; L] {
+    samples.map(|light| {
+        light.map(|plane| {
+            let mut chunk = [0.0f32; CHUNK];
+            let rest = plane.get(start..).unwrap_or(&[]);
+            let n = rest.len().min(CHUNK);
+            chunk[..n].copy_from_slice(&rest[..n]);
+            chunk
+        })
     })
 }
 
-/// `weights · samples` for one chunk, each pixel accumulated in index order from 0.0 in f32,
-/// exactly as [`FoldedSet::linear_rgb`](crate::FoldedSet::linear_rgb) does, so the results are bit
-/// for bit the same.
+/// References to one chunk's planes, light by light.
 #[inline(always)]
-fn product<const N: usize>(
-    weights: &[[f32; N]; 3],
-    samples: [&[f32; CHUNK]; N],
+fn refs<const N: usize, const L: usize>(chunk: &[[[f32; CHUNK]; N]; L]) -> [[&[f32; CHUNK]; N]; L] {
+    chunk.each_ref().map(|light| light.each_ref())
+}
+
+/// `weights · samples` for one chunk, each pixel accumulated in index order from 0.0 in f32,
+/// light by light, and the lights added in order: exactly as
+/// [`FoldedSet::linear_rgb`](crate::FoldedSet::linear_rgb) (one light) and
+/// [`LightGroupSet::linear_rgb`](crate::LightGroupSet::linear_rgb) do, so the results are bit for
+/// bit the same.
+#[inline(always)]
+fn product<const N: usize, const L: usize>(
+    weights: &[[[f32; N]; 3]; L],
+    samples: [[&[f32; CHUNK]; N]; L],
 ) -> [[f32; CHUNK]; 3] {
     let mut out = [[0.0f32; CHUNK]; 3];
     // Pixels outermost, so the loop over them vectorizes once the short loops inside unroll.
     for p in 0..CHUNK {
-        for (o, row) in out.iter_mut().zip(weights) {
-            let mut acc = 0.0f32;
-            for (w, s) in row.iter().zip(samples) {
-                acc += w * s[p];
+        for (c, o) in out.iter_mut().enumerate() {
+            let mut sum = 0.0f32;
+            for (l, (light, samples)) in weights.iter().zip(&samples).enumerate() {
+                let mut acc = 0.0f32;
+                for (w, s) in light[c].iter().zip(samples) {
+                    acc += w * s[p];
+                }
+                sum = if l == 0 { acc } else { sum + acc };
             }
-            o[p] = acc;
+            o[p] = sum;
         }
     }
     out
 }
 
-/// As [`product`], but starting from the first product instead of 0.0: one addition less per
-/// channel, and the same result except that an exact zero may be −0.0, which encodes as +0.0.
+/// As [`product`], but each light's sum starting from its first product instead of 0.0: one
+/// addition less per channel and light, and the same result except that an exact zero may be
+/// −0.0, which encodes as +0.0 (as in `sse2::encode_srgb8_groups`, the per-pixel function on
+/// x86-64).
 #[inline(always)]
-fn product_for_encoding<const N: usize>(
-    weights: &[[f32; N]; 3],
-    samples: [&[f32; CHUNK]; N],
+fn product_for_encoding<const N: usize, const L: usize>(
+    weights: &[[[f32; N]; 3]; L],
+    samples: [[&[f32; CHUNK]; N]; L],
 ) -> [[f32; CHUNK]; 3] {
     let mut out = [[0.0f32; CHUNK]; 3];
-    let Some((first, rest)) = samples.split_first() else {
+    if N == 0 {
         return out;
-    };
+    }
     for p in 0..CHUNK {
-        for (o, row) in out.iter_mut().zip(weights) {
-            let Some((w0, ws)) = row.split_first() else {
-                continue;
-            };
-            let mut acc = w0 * first[p];
-            for (w, s) in ws.iter().zip(rest) {
-                acc += w * s[p];
+        for (c, o) in out.iter_mut().enumerate() {
+            let mut sum = 0.0f32;
+            for (l, (light, samples)) in weights.iter().zip(&samples).enumerate() {
+                let (Some((w0, ws)), Some((first, rest))) =
+                    (light[c].split_first(), samples.split_first())
+                else {
+                    continue;
+                };
+                let mut acc = w0 * first[p];
+                for (w, s) in ws.iter().zip(rest) {
+                    acc += w * s[p];
+                }
+                sum = if l == 0 { acc } else { sum + acc };
             }
-            o[p] = acc;
+            o[p] = sum;
         }
     }
     out
@@ -172,9 +202,9 @@ fn encode_chunk_buffered(rgb: &[[f32; CHUNK]; 3], out: &mut [u8]) {
 
 /// The portable planar linear loop (chunks of [`CHUNK`] pixels that the compiler vectorizes
 /// for the baseline target). Every plane and output holds the same number of pixels.
-pub(crate) fn linear_planar_portable<const N: usize>(
-    weights: &[[f32; N]; 3],
-    samples: [&[f32]; N],
+pub(crate) fn linear_planar_portable<const N: usize, const L: usize>(
+    weights: &[[[f32; N]; 3]; L],
+    samples: [[&[f32]; N]; L],
     out: [&mut [f32]; 3],
 ) {
     let pixels = out[0].len();
@@ -182,10 +212,11 @@ pub(crate) fn linear_planar_portable<const N: usize>(
     let (r_chunks, r_rest) = r.as_chunks_mut::<CHUNK>();
     let (g_chunks, g_rest) = g.as_chunks_mut::<CHUNK>();
     let (b_chunks, b_rest) = b.as_chunks_mut::<CHUNK>();
-    let full: [&[[f32; CHUNK]]; N] = samples.map(|p| p.as_chunks::<CHUNK>().0);
+    let full: [[&[[f32; CHUNK]]; N]; L] =
+        samples.map(|light| light.map(|p| p.as_chunks::<CHUNK>().0));
     let chunks = r_chunks.iter_mut().zip(g_chunks).zip(b_chunks);
     for (j, ((r, g), b)) in chunks.enumerate() {
-        let rgb = product(weights, full.map(|p| &p[j]));
+        let rgb = product(weights, full.map(|light| light.map(|p| &p[j])));
         *r = rgb[0];
         *g = rgb[1];
         *b = rgb[2];
@@ -193,7 +224,7 @@ pub(crate) fn linear_planar_portable<const N: usize>(
     let done = pixels - r_rest.len();
     if done < pixels {
         let tail = gather(&samples, done);
-        let rgb = product(weights, core::array::from_fn(|i| &tail[i]));
+        let rgb = product(weights, refs(&tail));
         let n = r_rest.len();
         r_rest.copy_from_slice(&rgb[0][..n]);
         g_rest.copy_from_slice(&rgb[1][..n]);
@@ -203,34 +234,36 @@ pub(crate) fn linear_planar_portable<const N: usize>(
 
 /// The portable planar sRGB 8-bit loop with `Clip` (chunks of [`CHUNK`] pixels that the
 /// compiler vectorizes for the baseline target). Every plane holds `out.len()` pixels.
-pub(crate) fn encode_srgb8_planar_portable<const N: usize>(
-    weights: &[[f32; N]; 3],
-    samples: [&[f32]; N],
+pub(crate) fn encode_srgb8_planar_portable<const N: usize, const L: usize>(
+    weights: &[[[f32; N]; 3]; L],
+    samples: [[&[f32]; N]; L],
     out: &mut [[u8; 3]],
 ) {
     let pixels = out.len();
-    let full: [&[[f32; CHUNK]]; N] = samples.map(|p| p.as_chunks::<CHUNK>().0);
+    let full: [[&[[f32; CHUNK]]; N]; L] =
+        samples.map(|light| light.map(|p| p.as_chunks::<CHUNK>().0));
     let bytes = out.as_flattened_mut();
     let (byte_chunks, byte_rest) = bytes.as_chunks_mut::<CHUNK_BYTES>();
     for (j, dst) in byte_chunks.iter_mut().enumerate() {
-        let rgb = product_for_encoding(weights, full.map(|p| &p[j]));
+        let rgb = product_for_encoding(weights, full.map(|light| light.map(|p| &p[j])));
         encode_chunk(&rgb, dst);
     }
     if !byte_rest.is_empty() {
         let done = pixels - byte_rest.len() / 3;
         let tail = gather(&samples, done);
-        let rgb = product_for_encoding(weights, core::array::from_fn(|i| &tail[i]));
+        let rgb = product_for_encoding(weights, refs(&tail));
         encode_chunk_buffered(&rgb, byte_rest);
     }
 }
 
 /// The portable interleaved sRGB 8-bit loop with `Clip`, for
-/// [`FoldedSet::encode_u8_batch`](crate::FoldedSet::encode_u8_batch): each chunk of [`CHUNK`]
-/// pixels transposed into planes on the stack, then encoded as by [`encode_srgb8_planar_portable`]
-/// (a partial last chunk padded with zeros). `out` holds as many pixels as `samples`.
-pub(crate) fn encode_srgb8_batch_portable<const N: usize>(
-    weights: &[[f32; N]; 3],
-    samples: &[[f32; N]],
+/// [`FoldedSet::encode_u8_batch`](crate::FoldedSet::encode_u8_batch) (one light) and [`LightGroupSet::encode_u8_batch`](crate::LightGroupSet::encode_u8_batch):
+/// each chunk of [`CHUNK`] pixels transposed into planes on the stack, then encoded as by
+/// [`encode_srgb8_planar_portable`] (a partial last chunk padded with zeros). `out` holds as
+/// many pixels as `samples`.
+pub(crate) fn encode_srgb8_batch_portable<const N: usize, const L: usize, P: Lights<N, L>>(
+    weights: &[[[f32; N]; 3]; L],
+    samples: &[P],
     out: &mut [[u8; 3]],
 ) {
     debug_assert_eq!(samples.len(), out.len());
@@ -238,20 +271,26 @@ pub(crate) fn encode_srgb8_batch_portable<const N: usize>(
     let (byte_chunks, byte_rest) = out.as_flattened_mut().as_chunks_mut::<CHUNK_BYTES>();
     for (pixels, dst) in chunks.iter().zip(byte_chunks) {
         let planes = transpose(pixels);
-        encode_chunk(&product_for_encoding(weights, planes.each_ref()), dst);
+        encode_chunk(&product_for_encoding(weights, refs(&planes)), dst);
     }
     if !rest.is_empty() {
-        let mut tail = [[0.0f32; N]; CHUNK];
-        tail[..rest.len()].copy_from_slice(rest);
+        let mut tail = [[[0.0f32; N]; L]; CHUNK];
+        for (t, s) in tail.iter_mut().zip(rest) {
+            *t = *s.lights();
+        }
         let planes = transpose(&tail);
-        encode_chunk_buffered(&product_for_encoding(weights, planes.each_ref()), byte_rest);
+        encode_chunk_buffered(&product_for_encoding(weights, refs(&planes)), byte_rest);
     }
 }
 
-/// One chunk of pixels as planes: `out[i][p]` is sample i of pixel p.
+/// One chunk of pixels as planes: `out[l][i][p]` is sample i of light l of pixel p.
 #[inline(always)]
-fn transpose<const N: usize>(pixels: &[[f32; N]; CHUNK]) -> [[f32; CHUNK]; N] {
-    core::array::from_fn(|i| core::array::from_fn(|p| pixels[p][i]))
+fn transpose<const N: usize, const L: usize, P: Lights<N, L>>(
+    pixels: &[P; CHUNK],
+) -> [[[f32; CHUNK]; N]; L] {
+    core::array::from_fn(|l| {
+        core::array::from_fn(|i| core::array::from_fn(|p| pixels[p].lights()[l][i]))
+    })
 }
 
 #[cfg(test)]

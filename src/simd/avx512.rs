@@ -346,21 +346,23 @@ fn store48(bytes: __m512i, dst: &mut [u8; 3 * LANES]) {
 }
 
 /// Encodes the `flagged` pixels of a group again, one by one, with the per-pixel function
-/// (`sse2::encode_srgb8`, the bytes of [`FoldedSet::encode_u8`](crate::FoldedSet::encode_u8)):
-/// pixel p's samples are `sample(p)`.
+/// (`sse2::encode_srgb8_groups`, the bytes of
+/// [`LightGroupSet::encode_u8`](crate::LightGroupSet::encode_u8), and with one light those of
+/// [`FoldedSet::encode_u8`](crate::FoldedSet::encode_u8)): pixel p's samples are `sample(p)`,
+/// light by light.
 #[cold]
 #[inline(never)]
-fn encode_again<const N: usize>(
-    weights: &[[f32; N]; 3],
+fn encode_again<const N: usize, const L: usize>(
+    weights: &[[[f32; N]; 3]; L],
     flagged: __mmask16,
-    sample: impl Fn(usize) -> [f32; N],
+    sample: impl Fn(usize) -> [[f32; N]; L],
     dst: &mut [u8; 3 * LANES],
 ) {
     let mut left = flagged;
     while left != 0 {
         let p = left.trailing_zeros() as usize;
         left &= left - 1;
-        let px = super::sse2::encode_srgb8(weights, &sample(p));
+        let px = super::sse2::encode_srgb8_groups(weights, &sample(p));
         dst[3 * p..3 * p + 3].copy_from_slice(&px);
     }
 }
@@ -377,17 +379,32 @@ fn encode_into(enc: &Encoder, rgb: [__m512; 3], dst: &mut [u8; 3 * LANES]) -> __
 
 // --- Products ------------------------------------------------------------------------------------
 
-/// The weights, each broadcast to a register.
+/// The weights, each broadcast to a register, light by light.
 #[inline]
 #[target_feature(enable = "avx512f,avx512bw,avx512vbmi")]
-fn broadcast<const N: usize>(weights: &[[f32; N]; 3]) -> [[__m512; N]; 3] {
-    let mut w = [[_mm512_setzero_ps(); N]; 3];
-    for (w, row) in w.iter_mut().zip(weights) {
-        for (w, v) in w.iter_mut().zip(row) {
-            *w = _mm512_set1_ps(*v);
+fn broadcast<const N: usize, const L: usize>(
+    weights: &[[[f32; N]; 3]; L],
+) -> [[[__m512; N]; 3]; L] {
+    let mut w = [[[_mm512_setzero_ps(); N]; 3]; L];
+    for (w, light) in w.iter_mut().zip(weights) {
+        for (w, row) in w.iter_mut().zip(light) {
+            for (w, v) in w.iter_mut().zip(row) {
+                *w = _mm512_set1_ps(*v);
+            }
         }
     }
     w
+}
+
+/// `a + b`, channel by channel.
+#[inline]
+#[target_feature(enable = "avx512f,avx512bw,avx512vbmi")]
+fn add3(a: [__m512; 3], b: [__m512; 3]) -> [__m512; 3] {
+    [
+        _mm512_add_ps(a[0], b[0]),
+        _mm512_add_ps(a[1], b[1]),
+        _mm512_add_ps(a[2], b[2]),
+    ]
 }
 
 /// `weights · samples` for sixteen pixels, each channel from its first product with the others
@@ -406,7 +423,9 @@ fn products<const N: usize>(w: &[[__m512; N]; 3], s: &[__m512; N]) -> [__m512; 3
 }
 
 /// [`products`] with each weight read from `weights` at its multiplication (a broadcast
-/// memory operand of the `vmulps`), not held in a register.
+/// memory operand of the `vmulps`), not held in a register; group j of `planes`, light by
+/// light, each light's product added to the lights before it in order (with one light, that
+/// light's product).
 ///
 /// The planar sRGB loop passes `weights` through [`black_box`] at every group, so that the
 /// compiler cannot move these reads out of the loop. Moved out, the 3·N broadcast weights (12
@@ -418,15 +437,24 @@ fn products<const N: usize>(w: &[[__m512; N]; 3], s: &[__m512; N]) -> [__m512; 3
 /// were it to stop hiding them, the loop would give the same bytes.
 #[inline]
 #[target_feature(enable = "avx512f,avx512bw,avx512vbmi")]
-fn products_of<const N: usize>(weights: &[[f32; N]; 3], s: &[__m512; N]) -> [__m512; 3] {
-    let mut out = [_mm512_setzero_ps(); 3];
-    for (acc, row) in out.iter_mut().zip(weights) {
-        for (i, (w, s)) in row.iter().zip(s).enumerate() {
-            let p = _mm512_mul_ps(_mm512_set1_ps(*w), *s);
-            *acc = if i == 0 { p } else { _mm512_add_ps(*acc, p) };
+fn products_of<const N: usize, const L: usize>(
+    weights: &[[[f32; N]; 3]; L],
+    planes: &[[&[[f32; LANES]]; N]; L],
+    j: usize,
+) -> [__m512; 3] {
+    let mut rgb = [_mm512_setzero_ps(); 3];
+    for (l, (light, planes)) in weights.iter().zip(planes).enumerate() {
+        let s = load_group(planes, j);
+        let mut out = [_mm512_setzero_ps(); 3];
+        for (acc, row) in out.iter_mut().zip(light) {
+            for (i, (w, s)) in row.iter().zip(&s).enumerate() {
+                let p = _mm512_mul_ps(_mm512_set1_ps(*w), *s);
+                *acc = if i == 0 { p } else { _mm512_add_ps(*acc, p) };
+            }
         }
+        rgb = if l == 0 { out } else { add3(rgb, out) };
     }
-    out
+    rgb
 }
 
 // --- Memory ---------------------------------------------------------------------------------
@@ -445,8 +473,12 @@ const FAR: usize = 128;
 /// `j + FAR` into the second. Hints: any address is allowed, and nothing is read here.
 #[inline]
 #[target_feature(enable = "avx512f,avx512bw,avx512vbmi")]
-fn prefetch<const N: usize>(planes: &[&[[f32; LANES]]; N], j: usize, near: bool) {
-    for p in planes {
+fn prefetch<const N: usize, const L: usize>(
+    planes: &[[&[[f32; LANES]]; N]; L],
+    j: usize,
+    near: bool,
+) {
+    for p in planes.as_flattened() {
         // `_mm_prefetch` is a safe function from Rust 1.91 and unsafe before it (the crate's
         // rust-version is 1.89): the block is needed there and redundant here.
         // SAFETY: a prefetch reads nothing and faults on no address (`wrapping_add` forms the
@@ -477,15 +509,16 @@ fn load_group<const N: usize>(planes: &[&[[f32; LANES]]; N], j: usize) -> [__m51
 
 // --- The loops ------------------------------------------------------------------------------
 
-/// The planar sRGB 8-bit loop: `planes[i]` and `out` (3 bytes per pixel). Returns how many
-/// pixels it wrote (16 or more, or 0 below 16); the caller encodes the rest.
+/// The planar sRGB 8-bit loop: `planes[l][i]` (light by light; one light for a folded set)
+/// and `out` (3 bytes per pixel). Returns how many pixels it wrote (16 or more, or 0 below
+/// 16); the caller encodes the rest.
 ///
 /// The groups of sixteen pixels start where most planes start a 64-byte line
 /// ([`on_lines`](super::loops::on_lines)), after one group at the planes' start.
 #[target_feature(enable = "avx512f,avx512bw,avx512vbmi")]
-pub(crate) fn encode_srgb8_planar<const N: usize>(
-    weights: &[[f32; N]; 3],
-    planes: [&[f32]; N],
+pub(crate) fn encode_srgb8_planar<const N: usize, const L: usize>(
+    weights: &[[[f32; N]; 3]; L],
+    planes: [[&[f32]; N]; L],
     out: &mut [u8],
 ) -> usize {
     srgb8_from_lines(planes, out, LANES, 64, |planes, out| {
@@ -510,28 +543,33 @@ pub(crate) fn encode_srgb8_planar<const N: usize>(
 /// measured (AMD Zen 4) each of the two made the loop faster, in cache and from memory
 /// (docs/performance.md has the figures).
 #[target_feature(enable = "avx512f,avx512bw,avx512vbmi")]
-fn encode_srgb8_groups<const N: usize>(
-    weights: &[[f32; N]; 3],
-    planes: [&[f32]; N],
+fn encode_srgb8_groups<const N: usize, const L: usize>(
+    weights: &[[[f32; N]; 3]; L],
+    planes: [[&[f32]; N]; L],
     out: &mut [u8],
 ) -> usize {
-    let planes: [&[[f32; LANES]]; N] = planes.map(|p| p.as_chunks::<LANES>().0);
+    let planes: [[&[[f32; LANES]]; N]; L] =
+        planes.map(|light| light.map(|p| p.as_chunks::<LANES>().0));
     let (dst, _) = out.as_chunks_mut::<{ 3 * LANES }>();
-    let groups = planes.iter().map(|p| p.len()).fold(dst.len(), usize::min);
+    let groups = planes
+        .as_flattened()
+        .iter()
+        .map(|p| p.len())
+        .fold(dst.len(), usize::min);
     if groups == 0 {
         return 0;
     }
     let enc = Encoder::new();
-    let mut next = products_of(black_box(weights), &load_group(&planes, 0));
+    let mut next = products_of(black_box(weights), &planes, 0);
     for (j, dst) in dst[..groups].iter_mut().enumerate() {
         prefetch(&planes, j, true);
         let rgb = next;
         if j + 1 < groups {
-            next = products_of(black_box(weights), &load_group(&planes, j + 1));
+            next = products_of(black_box(weights), &planes, j + 1);
         }
         let flagged = encode_into(&enc, rgb, dst);
         if flagged != 0 {
-            let sample = |p: usize| core::array::from_fn(|i| planes[i][j][p]);
+            let sample = |p: usize| planes.map(|light| light.map(|plane| plane[j][p]));
             encode_again(weights, flagged, sample, dst);
         }
     }
@@ -541,31 +579,32 @@ fn encode_srgb8_groups<const N: usize>(
 /// The widths N of the interleaved loop [`encode_srgb8_batch`]; the AVX2 loop takes the others.
 pub(crate) const BATCH_WIDTHS: [usize; 1] = [4];
 
-/// The interleaved (one `[f32; N]` per pixel) sRGB 8-bit loop over whole groups of sixteen
-/// pixels, for the widths of [`BATCH_WIDTHS`] (returns 0 for others): the pixels of a
-/// group in four loads, turned into one register per sample by eight shuffles.
+/// The interleaved sRGB 8-bit loop of a folded set (N samples per pixel, pixel after pixel, in
+/// `samples`) over whole groups of sixteen pixels, for the widths of [`BATCH_WIDTHS`] (returns
+/// 0 for others): the pixels of a group in four loads, turned into one register per sample by
+/// eight shuffles.
 #[target_feature(enable = "avx512f,avx512bw,avx512vbmi")]
 pub(crate) fn encode_srgb8_batch<const N: usize>(
     weights: &[[f32; N]; 3],
-    samples: &[[f32; N]],
+    samples: &[f32],
     out: &mut [u8],
 ) -> usize {
     if !BATCH_WIDTHS.contains(&N) {
         return 0;
     }
-    let (pixels, _) = samples.as_flattened().as_chunks::<{ 4 * LANES }>();
+    let (pixels, _) = samples.as_chunks::<{ 4 * LANES }>();
     let (dst, _) = out.as_chunks_mut::<{ 3 * LANES }>();
     let groups = pixels.len().min(dst.len());
     let enc = Encoder::new();
-    let w = broadcast(weights);
+    let [w] = broadcast(core::array::from_ref(weights));
     for (px, dst) in pixels[..groups].iter().zip(&mut dst[..groups]) {
         let s = transpose4(px);
         let mut samples = [_mm512_setzero_ps(); N];
         samples.copy_from_slice(&s[..N]);
         let flagged = encode_into(&enc, products(&w, &samples), dst);
         if flagged != 0 {
-            let sample = |p: usize| core::array::from_fn(|i| px[N * p + i]);
-            encode_again(weights, flagged, sample, dst);
+            let sample = |p: usize| [core::array::from_fn(|i| px[N * p + i])];
+            encode_again(core::array::from_ref(weights), flagged, sample, dst);
         }
     }
     groups * LANES
@@ -621,9 +660,9 @@ const NEAR_LINEAR_PLANES: usize = 8;
 /// 8 and came close to it at N = 16, and the non-temporal ones took less time than those at
 /// N = 4, 8 and 16 (docs/performance.md has the runs).
 #[target_feature(enable = "avx512f,avx512bw,avx512vbmi")]
-pub(crate) fn linear_planar<const N: usize>(
-    weights: &[[f32; N]; 3],
-    planes: [&[f32]; N],
+pub(crate) fn linear_planar<const N: usize, const L: usize>(
+    weights: &[[[f32; N]; 3]; L],
+    planes: [[&[f32]; N]; L],
     out: [&mut [f32]; 3],
     stream: bool,
 ) -> usize {
@@ -634,31 +673,38 @@ pub(crate) fn linear_planar<const N: usize>(
 
 /// [`linear_planar`] over whole groups of sixteen pixels from the planes' start.
 #[target_feature(enable = "avx512f,avx512bw,avx512vbmi")]
-fn linear_groups<const N: usize>(
-    weights: &[[f32; N]; 3],
-    planes: [&[f32]; N],
+fn linear_groups<const N: usize, const L: usize>(
+    weights: &[[[f32; N]; 3]; L],
+    planes: [[&[f32]; N]; L],
     out: [&mut [f32]; 3],
     stream: bool,
 ) -> usize {
-    let planes: [&[[f32; LANES]]; N] = planes.map(|p| p.as_chunks::<LANES>().0);
+    let planes: [[&[[f32; LANES]]; N]; L] =
+        planes.map(|light| light.map(|p| p.as_chunks::<LANES>().0));
     let out = out.map(|o| o.as_chunks_mut::<LANES>().0);
     let groups = planes
+        .as_flattened()
         .iter()
         .map(|p| p.len())
         .fold(out.iter().map(|o| o.len()).min().unwrap_or(0), usize::min);
     let [r, g, b] = out.map(|o| &mut o[..groups]);
     let w = broadcast(weights);
     let zero = _mm512_setzero_ps();
+    // Each light's product from 0.0 (`pixel::mat_vec`), the lights added in order.
     let rgb = |j: usize| {
-        prefetch(&planes, j, N <= NEAR_LINEAR_PLANES);
-        let s = load_group(&planes, j);
-        let mut acc = [zero; 3];
-        for (acc, row) in acc.iter_mut().zip(&w) {
-            for (w, s) in row.iter().zip(&s) {
-                *acc = _mm512_add_ps(*acc, _mm512_mul_ps(*w, *s));
+        prefetch(&planes, j, N * L <= NEAR_LINEAR_PLANES);
+        let mut rgb = [zero; 3];
+        for (l, (w, planes)) in w.iter().zip(&planes).enumerate() {
+            let s = load_group(planes, j);
+            let mut acc = [zero; 3];
+            for (acc, row) in acc.iter_mut().zip(w) {
+                for (w, s) in row.iter().zip(&s) {
+                    *acc = _mm512_add_ps(*acc, _mm512_mul_ps(*w, *s));
+                }
             }
+            rgb = if l == 0 { acc } else { add3(rgb, acc) };
         }
-        acc
+        rgb
     };
     if stream {
         // The fence follows the non-temporal stores on every way out of this block.

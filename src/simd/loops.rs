@@ -24,50 +24,64 @@ impl Drop for StoreFence {
 
 /// Runs an accelerated planar sRGB 8-bit loop, `steps` (whole steps of `unit` pixels from the
 /// start of the planes and output it is given; it returns how many pixels it wrote), once at
-/// the planes' start and then from [`on_lines`]. Returns how many pixels were written in all:
-/// all but fewer than `unit`, or 0 below `unit`. The pixels in between are computed twice, to
-/// the same values.
+/// the planes' start and then from [`on_lines`]. The planes are light by light (L = 1 for a
+/// folded set's N planes; a light-group set's N planes per light). Returns how many pixels were
+/// written in all: all but fewer than `unit`, or 0 below `unit`. The pixels in between are
+/// computed twice, to the same values.
 #[inline]
-pub(super) fn srgb8_from_lines<const N: usize>(
-    planes: [&[f32]; N],
+pub(super) fn srgb8_from_lines<const N: usize, const L: usize>(
+    planes: [[&[f32]; N]; L],
     out: &mut [u8],
     unit: usize,
     line: usize,
-    mut steps: impl FnMut([&[f32]; N], &mut [u8]) -> usize,
+    mut steps: impl FnMut([[&[f32]; N]; L], &mut [u8]) -> usize,
 ) -> usize {
     let pixels = planes
+        .as_flattened()
         .iter()
         .map(|p| p.len())
         .fold(out.len() / 3, usize::min);
-    let head = on_lines(&planes, pixels, unit, line);
+    let head = on_lines(planes.as_flattened(), pixels, unit, line);
     if head > 0 {
-        steps(planes.map(|p| &p[..unit]), &mut out[..3 * unit]);
+        steps(cut(planes, 0, unit), &mut out[..3 * unit]);
     }
-    head + steps(planes.map(|p| &p[head..]), &mut out[3 * head..])
+    head + steps(cut(planes, head, usize::MAX), &mut out[3 * head..])
 }
 
 /// As [`srgb8_from_lines`], for a planar linear loop: `steps`' last argument is whether it
 /// runs the step at the planes' start (which is not worth streaming).
 #[inline]
-pub(super) fn linear_from_lines<const N: usize>(
-    planes: [&[f32]; N],
+pub(super) fn linear_from_lines<const N: usize, const L: usize>(
+    planes: [[&[f32]; N]; L],
     out: [&mut [f32]; 3],
     unit: usize,
     line: usize,
-    mut steps: impl FnMut([&[f32]; N], [&mut [f32]; 3], bool) -> usize,
+    mut steps: impl FnMut([[&[f32]; N]; L], [&mut [f32]; 3], bool) -> usize,
 ) -> usize {
     let pixels = planes
+        .as_flattened()
         .iter()
         .map(|p| p.len())
         .fold(out.iter().map(|o| o.len()).min().unwrap_or(0), usize::min);
-    let head = on_lines(&planes, pixels, unit, line);
+    let head = on_lines(planes.as_flattened(), pixels, unit, line);
     let [r, g, b] = out;
     if head > 0 {
         let first = [&mut r[..unit], &mut g[..unit], &mut b[..unit]];
-        steps(planes.map(|p| &p[..unit]), first, true);
+        steps(cut(planes, 0, unit), first, true);
     }
     let rest = [&mut r[head..], &mut g[head..], &mut b[head..]];
-    head + steps(planes.map(|p| &p[head..]), rest, false)
+    head + steps(cut(planes, head, usize::MAX), rest, false)
+}
+
+/// Every plane from `from` on, at most `len` values of it. The callers' `from` and `len` lie
+/// inside every plane (below the number of pixels they found).
+#[inline]
+fn cut<const N: usize, const L: usize>(
+    planes: [[&[f32]; N]; L],
+    from: usize,
+    len: usize,
+) -> [[&[f32]; N]; L] {
+    planes.map(|light| light.map(|p| &p[from..from.saturating_add(len).min(p.len())]))
 }
 
 /// Where an accelerated planar loop starts its steps of `unit` pixels: the pixel from which
@@ -79,18 +93,20 @@ pub(super) fn linear_from_lines<const N: usize>(
 /// faster that way from memory at every width, while the streaming bound over the same bytes
 /// does not change (`soa/srgb_u8_aligned` in the bench; docs/performance.md has the figures).
 #[inline]
-fn on_lines<const N: usize>(
-    planes: &[&[f32]; N],
-    pixels: usize,
-    unit: usize,
-    line: usize,
-) -> usize {
-    // Pixels to each plane's first boundary (f32 are 4-byte aligned: 0..line / 4).
-    let to_line = planes.map(|p| p.as_ptr().align_offset(line));
-    let votes = |h: usize| to_line.iter().filter(|&&t| t == h).count();
-    let head = to_line
+fn on_lines(planes: &[&[f32]], pixels: usize, unit: usize, line: usize) -> usize {
+    // Pixels to each plane's first boundary (f32 are 4-byte aligned: 0..line / 4, below 16
+    // for the lines of 32 and 64 bytes the loops take), and how many planes have each.
+    let to_line = |p: &&[f32]| p.as_ptr().align_offset(line);
+    let mut votes = [0usize; 16];
+    for h in planes.iter().map(to_line) {
+        if let Some(v) = votes.get_mut(h) {
+            *v += 1;
+        }
+    }
+    let votes = |h: usize| votes.get(h).copied().unwrap_or(0);
+    let head = planes
         .iter()
-        .copied()
+        .map(to_line)
         .fold(0, |best, h| if votes(h) > votes(best) { h } else { best });
     if head < unit && pixels >= head + unit {
         head

@@ -31,6 +31,7 @@
 //! differ in the last bit, and now and then in an encoded code value. (The AVX-512 encoder's
 //! polynomial uses FMA: its result is checked, not trusted.)
 
+pub(crate) use lights::Lights;
 pub(crate) use target::VECTOR_UNITS;
 
 #[cfg(target_arch = "x86_64")]
@@ -39,6 +40,7 @@ pub(crate) mod avx2;
 pub(crate) mod avx512;
 #[cfg(any(test, fuzzing))]
 pub(crate) mod forced;
+mod lights;
 #[cfg(target_arch = "x86_64")]
 mod loops;
 #[cfg(target_arch = "x86_64")]
@@ -74,10 +76,15 @@ pub(crate) use note;
 /// of `planes` into `out` (3 bytes per pixel), all but fewer than one of its groups (8 or 16
 /// pixels), and returns how many; 0 where there is no accelerated loop, so the caller's
 /// portable loop does everything.
+///
+/// The planes and weights are light by light: a folded set is one light
+/// (`core::array::from_ref(&weights)`, `[planes]`), a light-group set L. Each pixel's channels
+/// are the lights' products added in light order, each light's from its first product (see
+/// [`LightGroupSet::encode_u8`](crate::LightGroupSet::encode_u8)).
 #[inline]
-pub(crate) fn encode_srgb8_planar<const N: usize>(
-    weights: &[[f32; N]; 3],
-    planes: [&[f32]; N],
+pub(crate) fn encode_srgb8_planar<const N: usize, const L: usize>(
+    weights: &[[[f32; N]; 3]; L],
+    planes: [[&[f32]; N]; L],
     out: &mut [u8],
 ) -> usize {
     #[cfg(target_arch = "x86_64")]
@@ -99,11 +106,13 @@ pub(crate) fn encode_srgb8_planar<const N: usize>(
 }
 
 /// As [`encode_srgb8_planar`], for linear f32 output (three planes); the accelerated loop
-/// writes all but fewer than 16 pixels.
+/// writes all but fewer than 16 pixels. Each light's product is summed from 0.0 and the
+/// lights added in order (`pixel::mat_vec`, then
+/// [`LightGroupSet::linear_rgb`](crate::LightGroupSet::linear_rgb)'s sum).
 #[inline]
-pub(crate) fn linear_planar<const N: usize>(
-    weights: &[[f32; N]; 3],
-    planes: [&[f32]; N],
+pub(crate) fn linear_planar<const N: usize, const L: usize>(
+    weights: &[[[f32; N]; 3]; L],
+    planes: [[&[f32]; N]; L],
     out: [&mut [f32]; 3],
 ) -> usize {
     #[cfg(target_arch = "x86_64")]
@@ -115,8 +124,7 @@ pub(crate) fn linear_planar<const N: usize>(
             return unsafe { avx512::linear_planar(weights, planes, out, stream) };
         }
         if allowed!(Avx2) && avx2::available() {
-            // The AVX2 loop streams above four planes only.
-            note!(Avx2, stream && N > avx2::PASS_PLANES);
+            note!(Avx2, stream && avx2::streams::<N, L>());
             // SAFETY: the CPU has AVX2 (checked just above).
             return unsafe { avx2::linear_planar(weights, planes, out, stream) };
         }
@@ -128,26 +136,31 @@ pub(crate) fn linear_planar<const N: usize>(
 
 /// From this many pixels on, the accelerated planar linear loops write their output with
 /// non-temporal stores: the AVX-512 loop at every width (see [`avx512::linear_planar`]), the
-/// AVX2 loop above four planes (see [`avx2::linear_planar`]). 2²⁰ pixels are 12 MiB of output,
-/// more than a core's share of the last-level cache on common x86-64 CPUs, so the output would
-/// leave the caches before it is read again anyway. Smaller calls (a row, a tile) write through
-/// the caches, where the caller reads them next.
+/// AVX2 loop of a folded set above four planes (see [`avx2::linear_planar`]). 2²⁰ pixels are
+/// 12 MiB of output, more than a core's share of the last-level cache on common x86-64 CPUs, so
+/// the output would leave the caches before it is read again anyway. Smaller calls (a row, a
+/// tile) write through the caches, where the caller reads them next.
 #[cfg(target_arch = "x86_64")]
 pub(crate) const STREAM_MIN_PIXELS: usize = 1 << 20;
 
-/// As [`encode_srgb8_planar`], for interleaved samples (one `[f32; N]` per pixel).
+/// As [`encode_srgb8_planar`], for interleaved samples (one `P` per pixel: a folded set's
+/// `[f32; N]`, one light, or a light-group set's `[[f32; N]; L]`).
 #[inline]
-pub(crate) fn encode_srgb8_batch<const N: usize>(
-    weights: &[[f32; N]; 3],
-    samples: &[[f32; N]],
+pub(crate) fn encode_srgb8_batch<const N: usize, const L: usize, P: Lights<N, L>>(
+    weights: &[[[f32; N]; 3]; L],
+    samples: &[P],
     out: &mut [u8],
 ) -> usize {
     #[cfg(target_arch = "x86_64")]
     {
-        if allowed!(Avx512) && avx512::available() && avx512::BATCH_WIDTHS.contains(&N) {
-            note!(Avx512, false);
-            // SAFETY: the CPU has the AVX-512 subsets the loop needs (checked just above).
-            return unsafe { avx512::encode_srgb8_batch(weights, samples, out) };
+        // The AVX-512 interleaved loop takes a folded set (one light) at its widths.
+        if let (1, Some(w)) = (L, weights.first()) {
+            if allowed!(Avx512) && avx512::available() && avx512::BATCH_WIDTHS.contains(&N) {
+                note!(Avx512, false);
+                // SAFETY: the CPU has the AVX-512 subsets the loop needs (checked just above).
+                // With one light, the flattened samples are N per pixel.
+                return unsafe { avx512::encode_srgb8_batch(w, P::flatten(samples), out) };
+            }
         }
         if allowed!(Avx2) && avx2::available() {
             note!(Avx2, false);

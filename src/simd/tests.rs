@@ -18,13 +18,113 @@ fn sample(rng: &mut Rng) -> f32 {
     }
 }
 
-/// The scalar reference: the product of `pixel::mat_vec_for_encoding` then the scalar
-/// `Display::encode_u8`, as on a target without vector code.
-fn reference<const N: usize>(set: &crate::FoldedSet<N>, s: &[f32; N]) -> [u8; 3] {
-    set.display_ref().encode_u8(
-        GamutMapping::Clip,
-        mat_vec_for_encoding(set.weights_ref(), s),
-    )
+/// What the loops compute, for a folded set (one light) and a light-group set (L lights): the
+/// weights light by light, the per-pixel functions, the scalar references and the public batch
+/// and planar functions, so that one check runs every loop on either.
+trait Subject<const N: usize, const L: usize> {
+    fn weights(&self) -> &[[[f32; N]; 3]; L];
+    /// The per-pixel sRGB 8-bit function (`Clip`; SSE2 on x86-64).
+    fn encode_u8(&self, px: &[[f32; N]; L]) -> [u8; 3];
+    fn encode_u16(&self, px: &[[f32; N]; L]) -> [u16; 3];
+    /// The scalar reference, as on a target without vector code: each light's product (light 0
+    /// from its first product, `pixel::mat_vec_for_encoding`, the others from 0.0,
+    /// `pixel::mat_vec`), added in light order, then the scalar `Display::encode_u8`.
+    fn reference(&self, px: &[[f32; N]; L]) -> [u8; 3];
+    fn encode_u8_planar(&self, planes: [[&[f32]; N]; L], out: &mut [[u8; 3]]);
+    fn encode_u8_batch(&self, px: &[[[f32; N]; L]], out: &mut [[u8; 3]]);
+    fn encode_u16_batch(&self, px: &[[[f32; N]; L]], out: &mut [[u16; 3]]);
+    fn linear_rgb_planar(&self, planes: [[&[f32]; N]; L], out: [&mut [f32]; 3]);
+}
+
+/// The scalar sum of the lights' products: light 0's by `first`, the others' by
+/// `pixel::mat_vec`, added in light order.
+fn sum_lights<const N: usize, const L: usize>(
+    weights: &[[[f32; N]; 3]; L],
+    px: &[[f32; N]; L],
+    first: fn(&[[f32; N]; 3], &[f32; N]) -> [f32; 3],
+) -> [f32; 3] {
+    let mut rgb = [0.0f32; 3];
+    for (l, (w, s)) in weights.iter().zip(px).enumerate() {
+        let c = if l == 0 { first(w, s) } else { mat_vec(w, s) };
+        rgb = if l == 0 {
+            c
+        } else {
+            [rgb[0] + c[0], rgb[1] + c[1], rgb[2] + c[2]]
+        };
+    }
+    rgb
+}
+
+/// The linear reference: `pixel::mat_vec` of every light from 0.0, added in light order.
+fn linear_reference<const N: usize, const L: usize>(
+    weights: &[[[f32; N]; 3]; L],
+    px: &[[f32; N]; L],
+) -> [f32; 3] {
+    sum_lights(weights, px, mat_vec)
+}
+
+impl<const N: usize> Subject<N, 1> for crate::FoldedSet<N> {
+    fn weights(&self) -> &[[[f32; N]; 3]; 1] {
+        core::array::from_ref(self.weights_ref())
+    }
+    fn encode_u8(&self, px: &[[f32; N]; 1]) -> [u8; 3] {
+        crate::FoldedSet::encode_u8(self, GamutMapping::Clip, &px[0])
+    }
+    fn encode_u16(&self, px: &[[f32; N]; 1]) -> [u16; 3] {
+        crate::FoldedSet::encode_u16(self, GamutMapping::Clip, &px[0])
+    }
+    fn reference(&self, px: &[[f32; N]; 1]) -> [u8; 3] {
+        self.display_ref().encode_u8(
+            GamutMapping::Clip,
+            mat_vec_for_encoding(self.weights_ref(), &px[0]),
+        )
+    }
+    fn encode_u8_planar(&self, planes: [[&[f32]; N]; 1], out: &mut [[u8; 3]]) {
+        let [planes] = planes;
+        self.encode_u8_planar_to_interleaved(GamutMapping::Clip, planes, out)
+            .unwrap();
+    }
+    fn encode_u8_batch(&self, px: &[[[f32; N]; 1]], out: &mut [[u8; 3]]) {
+        crate::FoldedSet::encode_u8_batch(self, GamutMapping::Clip, px.as_flattened(), out)
+            .unwrap();
+    }
+    fn encode_u16_batch(&self, px: &[[[f32; N]; 1]], out: &mut [[u16; 3]]) {
+        crate::FoldedSet::encode_u16_batch(self, GamutMapping::Clip, px.as_flattened(), out)
+            .unwrap();
+    }
+    fn linear_rgb_planar(&self, planes: [[&[f32]; N]; 1], out: [&mut [f32]; 3]) {
+        let [planes] = planes;
+        crate::FoldedSet::linear_rgb_planar(self, planes, out).unwrap();
+    }
+}
+
+impl<const N: usize, const L: usize> Subject<N, L> for crate::LightGroupSet<N, L> {
+    fn weights(&self) -> &[[[f32; N]; 3]; L] {
+        self.weights_ref()
+    }
+    fn encode_u8(&self, px: &[[f32; N]; L]) -> [u8; 3] {
+        crate::LightGroupSet::encode_u8(self, GamutMapping::Clip, px)
+    }
+    fn encode_u16(&self, px: &[[f32; N]; L]) -> [u16; 3] {
+        crate::LightGroupSet::encode_u16(self, GamutMapping::Clip, px)
+    }
+    fn reference(&self, px: &[[f32; N]; L]) -> [u8; 3] {
+        let rgb = sum_lights(self.weights_ref(), px, mat_vec_for_encoding);
+        self.display_ref().encode_u8(GamutMapping::Clip, rgb)
+    }
+    fn encode_u8_planar(&self, planes: [[&[f32]; N]; L], out: &mut [[u8; 3]]) {
+        self.encode_u8_planar_to_interleaved(GamutMapping::Clip, planes, out)
+            .unwrap();
+    }
+    fn encode_u8_batch(&self, px: &[[[f32; N]; L]], out: &mut [[u8; 3]]) {
+        crate::LightGroupSet::encode_u8_batch(self, GamutMapping::Clip, px, out).unwrap();
+    }
+    fn encode_u16_batch(&self, px: &[[[f32; N]; L]], out: &mut [[u16; 3]]) {
+        crate::LightGroupSet::encode_u16_batch(self, GamutMapping::Clip, px, out).unwrap();
+    }
+    fn linear_rgb_planar(&self, planes: [[&[f32]; N]; L], out: [&mut [f32]; 3]) {
+        crate::LightGroupSet::linear_rgb_planar(self, planes, out).unwrap();
+    }
 }
 
 fn same_f32(a: f32, b: f32) -> bool {
@@ -41,34 +141,36 @@ fn past_line(buf: &[f32], k: usize) -> usize {
 
 /// One x86-64 form of the accelerated loops, as the tests force them.
 #[cfg(target_arch = "x86_64")]
-struct X86Loops<const N: usize> {
+struct X86Loops<const N: usize, const L: usize> {
     name: &'static str,
     /// What `SPECTRAL_QUADRATURE_REQUIRE` calls the CPU feature the loops need.
     capability: &'static str,
     available: bool,
     /// Pixels per group of the sRGB loops.
     group: usize,
-    planar: PlanarLoop<N>,
-    batch: BatchLoop<N>,
-    /// Whether the interleaved loop takes width N (it returns 0 for others).
-    batch_takes: fn(usize) -> bool,
-    linear: LinearLoop<N>,
+    planar: PlanarLoop<N, L>,
+    batch: BatchLoop<N, L>,
+    /// Whether the interleaved loop takes width N with L lights (it returns 0 for others).
+    batch_takes: fn(usize, usize) -> bool,
+    linear: LinearLoop<N, L>,
 }
 
 /// The accelerated planar sRGB loops' signature.
 #[cfg(target_arch = "x86_64")]
-type PlanarLoop<const N: usize> = unsafe fn(&[[f32; N]; 3], [&[f32]; N], &mut [u8]) -> usize;
+type PlanarLoop<const N: usize, const L: usize> =
+    unsafe fn(&[[[f32; N]; 3]; L], [[&[f32]; N]; L], &mut [u8]) -> usize;
 /// The accelerated interleaved sRGB loops' signature.
 #[cfg(target_arch = "x86_64")]
-type BatchLoop<const N: usize> = unsafe fn(&[[f32; N]; 3], &[[f32; N]], &mut [u8]) -> usize;
+type BatchLoop<const N: usize, const L: usize> =
+    unsafe fn(&[[[f32; N]; 3]; L], &[[[f32; N]; L]], &mut [u8]) -> usize;
 /// The accelerated planar linear loops' signature (the last argument: `stream`).
 #[cfg(target_arch = "x86_64")]
-type LinearLoop<const N: usize> =
-    unsafe fn(&[[f32; N]; 3], [&[f32]; N], [&mut [f32]; 3], bool) -> usize;
+type LinearLoop<const N: usize, const L: usize> =
+    unsafe fn(&[[[f32; N]; 3]; L], [[&[f32]; N]; L], [&mut [f32]; 3], bool) -> usize;
 
 /// The AVX-512 and the AVX2 loops.
 #[cfg(target_arch = "x86_64")]
-fn x86_loops<const N: usize>() -> [X86Loops<N>; 2] {
+fn x86_loops<const N: usize, const L: usize>() -> [X86Loops<N, L>; 2] {
     use super::{avx2, avx512};
     [
         X86Loops {
@@ -76,47 +178,81 @@ fn x86_loops<const N: usize>() -> [X86Loops<N>; 2] {
             capability: capability(Loops::Avx512),
             available: avx512::available(),
             group: avx512::LANES,
-            planar: avx512::encode_srgb8_planar::<N>,
-            batch: avx512::encode_srgb8_batch::<N>,
-            batch_takes: |n| avx512::BATCH_WIDTHS.contains(&n),
-            linear: avx512::linear_planar::<N>,
+            planar: avx512::encode_srgb8_planar::<N, L>,
+            // The interleaved AVX-512 loop takes a folded set's pixels (one light).
+            batch: |weights, px, out| match (L, weights.first()) {
+                // SAFETY: the caller checked that the CPU has the loop's features.
+                (1, Some(w)) => unsafe {
+                    avx512::encode_srgb8_batch(w, px.as_flattened().as_flattened(), out)
+                },
+                _ => 0,
+            },
+            batch_takes: |n, l| l == 1 && avx512::BATCH_WIDTHS.contains(&n),
+            linear: avx512::linear_planar::<N, L>,
         },
         X86Loops {
             name: "AVX2",
             capability: capability(Loops::Avx2),
             available: avx2::available(),
             group: avx2::LANES,
-            planar: avx2::encode_srgb8_planar::<N>,
-            batch: avx2::encode_srgb8_batch::<N>,
-            batch_takes: |_| true,
-            linear: avx2::linear_planar::<N>,
+            planar: avx2::encode_srgb8_planar::<N, L>,
+            batch: avx2::encode_srgb8_batch::<N, L, [[f32; N]; L]>,
+            batch_takes: |_, _| true,
+            linear: avx2::linear_planar::<N, L>,
         },
     ]
 }
 
+/// `pixels` random pixels of `set` (the edge inputs in every sample position of every light
+/// first, the other samples random).
+fn random_pixels<const N: usize, const L: usize>(
+    pixels: usize,
+    seed: u64,
+) -> std::vec::Vec<[[f32; N]; L]> {
+    let mut rng = Rng(seed);
+    (0..pixels)
+        .map(|p| {
+            let mut s: [[f32; N]; L] =
+                core::array::from_fn(|_| core::array::from_fn(|_| sample(&mut rng)));
+            // Pixels 0..22·N·L: edge e in position k (light k / N, sample k % N).
+            let positions = N * L;
+            if positions > 0 && p < EDGES.len() * positions {
+                let k = p % positions;
+                s[k / N][k % N] = EDGES[p / positions];
+            }
+            s
+        })
+        .collect()
+}
+
+/// The pixels as planes, light by light.
+fn to_planes<const N: usize, const L: usize>(
+    aos: &[[[f32; N]; L]],
+) -> [[std::vec::Vec<f32>; N]; L] {
+    core::array::from_fn(|l| core::array::from_fn(|i| aos.iter().map(|s| s[l][i]).collect()))
+}
+
+/// References to planes, light by light.
+fn plane_refs<const N: usize, const L: usize>(
+    planes: &[[std::vec::Vec<f32>; N]; L],
+) -> [[&[f32]; N]; L] {
+    planes.each_ref().map(|l| l.each_ref().map(|p| &p[..]))
+}
+
 /// `pixels` random pixels (the edge inputs in every sample position first) through every
 /// loop of `set`.
-fn check<const N: usize>(set: &crate::FoldedSet<N>, pixels: usize, seed: u64) {
-    let mut rng = Rng(seed);
-    let mut aos: std::vec::Vec<[f32; N]> = std::vec::Vec::with_capacity(pixels);
-    for i in 0..pixels {
-        let mut s: [f32; N] = core::array::from_fn(|_| sample(&mut rng));
-        // Pixels 0..16·N: edge e in position i, the others random.
-        if i < EDGES.len() * N {
-            s[i % N] = EDGES[i / N];
-        }
-        aos.push(s);
-    }
-    let planes: std::vec::Vec<std::vec::Vec<f32>> =
-        (0..N).map(|i| aos.iter().map(|s| s[i]).collect()).collect();
-    let planes: [&[f32]; N] = core::array::from_fn(|i| &planes[i][..]);
-    let want: std::vec::Vec<[u8; 3]> = aos.iter().map(|s| reference(set, s)).collect();
+fn check<const N: usize, const L: usize>(set: &impl Subject<N, L>, pixels: usize, seed: u64) {
+    let aos = random_pixels::<N, L>(pixels, seed);
+    let planes = to_planes(&aos);
+    let planes = plane_refs(&planes);
+    let weights = set.weights();
+    let want: std::vec::Vec<[u8; 3]> = aos.iter().map(|s| set.reference(s)).collect();
     let want_linear: std::vec::Vec<[f32; 3]> =
-        aos.iter().map(|s| mat_vec(set.weights_ref(), s)).collect();
+        aos.iter().map(|s| linear_reference(weights, s)).collect();
 
     let compare = |what: &str, got: &[[u8; 3]]| {
         for (p, (g, w)) in got.iter().zip(&want).enumerate() {
-            assert_eq!(g, w, "{what}, N = {N}, pixel {p}: {:?}", aos[p]);
+            assert_eq!(g, w, "{what}, N = {N}, L = {L}, pixel {p}: {:?}", aos[p]);
         }
     };
     let compare_linear = |what: &str, got: &[std::vec::Vec<f32>; 3]| {
@@ -124,7 +260,7 @@ fn check<const N: usize>(set: &crate::FoldedSet<N>, pixels: usize, seed: u64) {
             for c in 0..3 {
                 assert!(
                     same_f32(got[c][p], w[c]),
-                    "{what}, N = {N}, pixel {p}, channel {c}: {} against {} for {:?}",
+                    "{what}, N = {N}, L = {L}, pixel {p}, channel {c}: {} against {} for {:?}",
                     got[c][p],
                     w[c],
                     aos[p]
@@ -134,39 +270,36 @@ fn check<const N: usize>(set: &crate::FoldedSet<N>, pixels: usize, seed: u64) {
     };
 
     // The per-pixel function (SSE2 on x86-64).
-    let got: std::vec::Vec<[u8; 3]> = aos
-        .iter()
-        .map(|s| set.encode_u8(GamutMapping::Clip, s))
-        .collect();
+    let got: std::vec::Vec<[u8; 3]> = aos.iter().map(|s| set.encode_u8(s)).collect();
     compare("encode_u8", &got);
 
     // The portable planar loops.
     let mut got = std::vec![[0u8; 3]; pixels];
-    crate::planar::portable::encode_srgb8_planar_portable(set.weights_ref(), planes, &mut got);
+    crate::planar::portable::encode_srgb8_planar_portable(weights, planes, &mut got);
     compare("portable planar", &got);
     let mut got = std::vec![[0u8; 3]; pixels];
-    crate::planar::portable::encode_srgb8_batch_portable(set.weights_ref(), &aos, &mut got);
+    crate::planar::portable::encode_srgb8_batch_portable(weights, &aos, &mut got);
     compare("portable batch", &got);
     let mut lin = [0, 1, 2].map(|_| std::vec![0.0f32; pixels]);
     {
         let [r, g, b] = &mut lin;
-        crate::planar::portable::linear_planar_portable(set.weights_ref(), planes, [r, g, b]);
+        crate::planar::portable::linear_planar_portable(weights, planes, [r, g, b]);
     }
     compare_linear("portable planar linear", &lin);
 
     // The AVX-512 and AVX2 loops, where this CPU has them: every whole group (of 16 and of
     // 8 pixels; the AVX2 sRGB loops a lone group too, as their pipeline runs only the stages
     // whose group exists; the AVX-512 interleaved loop only at its widths, else nothing).
-    // Linear output with and without `stream` (with AVX2, at most four planes, `stream`
-    // changes nothing), into output planes starting 0 to 15 floats past a 64-byte boundary
-    // (different for each plane and seed), so that the streamed copies' ordinary head and
-    // tail stores are used too; nothing outside the output planes may change.
+    // Linear output with and without `stream` (with AVX2, at most four planes or more than one
+    // light, `stream` changes nothing), into output planes starting 0 to 15 floats past a
+    // 64-byte boundary (different for each plane and seed), so that the streamed copies'
+    // ordinary head and tail stores are used too; nothing outside the output planes may change.
     #[cfg(target_arch = "x86_64")]
-    for x86 in x86_loops::<N>() {
+    for x86 in x86_loops::<N, L>() {
         if !x86.available {
             skipped(
                 x86.capability,
-                &std::format!("the {} loops, N = {N}", x86.name),
+                &std::format!("the {} loops, N = {N}, L = {L}", x86.name),
                 "this CPU does not have them",
             );
             continue;
@@ -174,21 +307,30 @@ fn check<const N: usize>(set: &crate::FoldedSet<N>, pixels: usize, seed: u64) {
         let name = x86.name;
         let srgb8_done = pixels / x86.group * x86.group;
         // The planar loops on copies of the planes starting 0 to 15 floats past a 64-byte
-        // boundary, planes 2k and 2k + 1 at the same offset (which depends on the seed):
-        // where the loops start their groups depends on those offsets (`on_lines`). They
-        // must leave fewer pixels than a step, and write nothing past those they report.
-        let mut copies: std::vec::Vec<std::vec::Vec<f32>> =
-            (0..N).map(|_| std::vec![0.0f32; pixels + 32]).collect();
-        let starts: [usize; N] =
-            core::array::from_fn(|i| past_line(&copies[i], seed as usize + 7 * (i / 2)));
-        for ((c, p), &o) in copies.iter_mut().zip(&planes).zip(&starts) {
+        // boundary, planes 2k and 2k + 1 (counted over all lights) at the same offset (which
+        // depends on the seed): where the loops start their groups depends on those offsets
+        // (`on_lines`). They must leave fewer pixels than a step, and write nothing past those
+        // they report.
+        let flat = planes.as_flattened();
+        let mut copies: std::vec::Vec<std::vec::Vec<f32>> = flat
+            .iter()
+            .map(|_| std::vec![0.0f32; pixels + 32])
+            .collect();
+        let starts: std::vec::Vec<usize> = (0..flat.len())
+            .map(|k| past_line(&copies[k], seed as usize + 7 * (k / 2)))
+            .collect();
+        for ((c, p), &o) in copies.iter_mut().zip(flat).zip(&starts) {
             c[o..o + pixels].copy_from_slice(p);
         }
-        let shifted: [&[f32]; N] =
-            core::array::from_fn(|i| &copies[i][starts[i]..starts[i] + pixels]);
+        let shifted: [[&[f32]; N]; L] = core::array::from_fn(|l| {
+            core::array::from_fn(|i| {
+                let k = l * N + i;
+                &copies[k][starts[k]..starts[k] + pixels]
+            })
+        });
         let mut got = std::vec![[0xA5u8; 3]; pixels];
         // SAFETY: the CPU has the loop's features (`available`).
-        let done = unsafe { (x86.planar)(set.weights_ref(), shifted, got.as_flattened_mut()) };
+        let done = unsafe { (x86.planar)(weights, shifted, got.as_flattened_mut()) };
         assert!(
             done <= pixels && done + x86.group > pixels,
             "{name} planar: {done} of {pixels}"
@@ -200,8 +342,12 @@ fn check<const N: usize>(set: &crate::FoldedSet<N>, pixels: usize, seed: u64) {
         );
         let mut got = std::vec![[0u8; 3]; pixels];
         // SAFETY: the CPU has the loop's features (`available`).
-        let done = unsafe { (x86.batch)(set.weights_ref(), &aos, got.as_flattened_mut()) };
-        let batch_done = if (x86.batch_takes)(N) { srgb8_done } else { 0 };
+        let done = unsafe { (x86.batch)(weights, &aos, got.as_flattened_mut()) };
+        let batch_done = if (x86.batch_takes)(N, L) {
+            srgb8_done
+        } else {
+            0
+        };
         assert_eq!(done, batch_done, "{name} batch");
         compare(&std::format!("{name} batch"), &got[..done]);
         for stream in [false, true] {
@@ -215,7 +361,7 @@ fn check<const N: usize>(set: &crate::FoldedSet<N>, pixels: usize, seed: u64) {
                 &mut b[ob..ob + pixels],
             ];
             // SAFETY: the CPU has the loop's features (`available`).
-            let done = unsafe { (x86.linear)(set.weights_ref(), shifted, out, stream) };
+            let done = unsafe { (x86.linear)(weights, shifted, out, stream) };
             // Steps of 16 pixels.
             assert!(
                 done <= pixels && done + 16 > pixels,
@@ -235,28 +381,21 @@ fn check<const N: usize>(set: &crate::FoldedSet<N>, pixels: usize, seed: u64) {
 
     // The public functions, whichever loops they pick.
     let mut got = std::vec![[0u8; 3]; pixels];
-    set.encode_u8_planar_to_interleaved(GamutMapping::Clip, planes, &mut got)
-        .unwrap();
+    set.encode_u8_planar(planes, &mut got);
     compare("encode_u8_planar_to_interleaved", &got);
     let mut got = std::vec![[0u8; 3]; pixels];
-    set.encode_u8_batch(GamutMapping::Clip, &aos, &mut got)
-        .unwrap();
+    set.encode_u8_batch(&aos, &mut got);
     compare("encode_u8_batch", &got);
     let mut lin = [0, 1, 2].map(|_| std::vec![0.0f32; pixels]);
     {
         let [r, g, b] = &mut lin;
-        set.linear_rgb_planar(planes, [r, g, b]).unwrap();
+        set.linear_rgb_planar(planes, [r, g, b]);
     }
     compare_linear("linear_rgb_planar", &lin);
     let mut got16 = std::vec![[0u16; 3]; pixels];
-    set.encode_u16_batch(GamutMapping::Clip, &aos, &mut got16)
-        .unwrap();
+    set.encode_u16_batch(&aos, &mut got16);
     for (p, (g, s)) in got16.iter().zip(&aos).enumerate() {
-        assert_eq!(
-            *g,
-            set.encode_u16(GamutMapping::Clip, s),
-            "u16, N = {N}, {p}"
-        );
+        assert_eq!(*g, set.encode_u16(s), "u16, N = {N}, L = {L}, {p}");
     }
 }
 
@@ -359,27 +498,28 @@ fn capability(level: Loops) -> &'static str {
     }
 }
 
-/// The level whose loop an interleaved sRGB call at width `n` takes under a cap of `level`:
-/// the AVX-512 interleaved loop takes N = 4 alone, and the AVX2 loop the other widths.
-fn batch_level(level: Loops, n: usize) -> Loops {
+/// The level whose loop an interleaved sRGB call at width `n` with `l` lights takes under a
+/// cap of `level`: the AVX-512 interleaved loop takes a folded set (one light) at N = 4 alone,
+/// and the AVX2 loop the others.
+fn batch_level(level: Loops, n: usize, l: usize) -> Loops {
     #[cfg(target_arch = "x86_64")]
-    if level == Loops::Avx512 && !super::avx512::BATCH_WIDTHS.contains(&n) {
+    if level == Loops::Avx512 && !(l == 1 && super::avx512::BATCH_WIDTHS.contains(&n)) {
         return Loops::Avx2;
     }
-    let _ = n;
+    let _ = (n, l);
     level
 }
 
-/// Whether the linear planar loop of `level` writes with non-temporal stores at width `n`
-/// from `STREAM_MIN_PIXELS` on: the AVX-512 loop at every width, the AVX2 loop above four
-/// planes.
-fn streams(level: Loops, n: usize) -> bool {
+/// Whether the linear planar loop of `level` writes with non-temporal stores at width `n` with
+/// `l` lights from `STREAM_MIN_PIXELS` on: the AVX-512 loop always, the AVX2 loop for a folded
+/// set above four planes.
+fn streams(level: Loops, n: usize, l: usize) -> bool {
     // Only the x86-64 arm reads the width.
-    let _ = n;
+    let _ = (n, l);
     match level {
         Loops::Avx512 => true,
         #[cfg(target_arch = "x86_64")]
-        Loops::Avx2 => n > super::avx2::PASS_PLANES,
+        Loops::Avx2 => l == 1 && n > super::avx2::PASS_PLANES,
         _ => false,
     }
 }
@@ -387,21 +527,15 @@ fn streams(level: Loops, n: usize) -> bool {
 /// Each level through the public functions, on `pixels` pixels (random, the edge inputs in
 /// every position first): the loop that ran is the forced one, streamed where it streams at
 /// that size, and every output equals the per-pixel function's.
-fn public_functions_at<const N: usize>(set: &crate::FoldedSet<N>, pixels: usize, seed: u64) {
-    let mut rng = Rng(seed);
-    let aos: std::vec::Vec<[f32; N]> = (0..pixels)
-        .map(|p| {
-            let mut s: [f32; N] = core::array::from_fn(|_| sample(&mut rng));
-            if N > 0 && p < EDGES.len() * N {
-                s[p % N] = EDGES[p / N];
-            }
-            s
-        })
-        .collect();
-    let planes: std::vec::Vec<std::vec::Vec<f32>> =
-        (0..N).map(|i| aos.iter().map(|s| s[i]).collect()).collect();
-    let planes: [&[f32]; N] = core::array::from_fn(|i| &planes[i][..]);
-    let want: std::vec::Vec<[u8; 3]> = aos.iter().map(|s| reference(set, s)).collect();
+fn public_functions_at<const N: usize, const L: usize>(
+    set: &impl Subject<N, L>,
+    pixels: usize,
+    seed: u64,
+) {
+    let aos = random_pixels::<N, L>(pixels, seed);
+    let planes = to_planes(&aos);
+    let planes = plane_refs(&planes);
+    let want: std::vec::Vec<[u8; 3]> = aos.iter().map(|s| set.reference(s)).collect();
     #[cfg(target_arch = "x86_64")]
     let stream_from = super::STREAM_MIN_PIXELS;
     #[cfg(not(target_arch = "x86_64"))]
@@ -412,39 +546,45 @@ fn public_functions_at<const N: usize>(set: &crate::FoldedSet<N>, pixels: usize,
             let mut lin = [0, 1, 2].map(|_| std::vec![0.0f32; pixels]);
             {
                 let [r, g, b] = &mut lin;
-                set.linear_rgb_planar(planes, [r, g, b]).unwrap();
+                set.linear_rgb_planar(planes, [r, g, b]);
             }
             // Without vector units the linear planar path is the portable loop too.
             let linear_level = level.max(Loops::Portable);
-            let streamed = pixels >= stream_from && streams(level, N);
+            let streamed = pixels >= stream_from && streams(level, N, L);
             assert_eq!(
                 take_ran(),
                 ran(linear_level, streamed),
-                "linear, {level:?}, N = {N}"
+                "linear, {level:?}, N = {N}, L = {L}"
             );
             for (p, s) in aos.iter().enumerate() {
-                let one = mat_vec(set.weights_ref(), s);
+                let one = linear_reference(set.weights(), s);
                 assert!(
                     (0..3).all(|c| same_f32(lin[c][p], one[c])),
-                    "linear_rgb_planar, {level:?}, N = {N}, pixel {p}: {s:?}"
+                    "linear_rgb_planar, {level:?}, N = {N}, L = {L}, pixel {p}: {s:?}"
                 );
             }
             let mut got = std::vec![[0xA5u8; 3]; pixels];
-            set.encode_u8_planar_to_interleaved(GamutMapping::Clip, planes, &mut got)
-                .unwrap();
-            assert_eq!(take_ran(), ran(level, false), "planar, {level:?}, N = {N}");
+            set.encode_u8_planar(planes, &mut got);
+            assert_eq!(
+                take_ran(),
+                ran(level, false),
+                "planar, {level:?}, N = {N}, L = {L}"
+            );
             let bad = got.iter().zip(&want).position(|(g, w)| g != w);
             assert_eq!(
                 bad, None,
-                "encode_u8_planar_to_interleaved, {level:?}, N = {N}"
+                "encode_u8_planar_to_interleaved, {level:?}, N = {N}, L = {L}"
             );
             let mut got = std::vec![[0xA5u8; 3]; pixels];
-            set.encode_u8_batch(GamutMapping::Clip, &aos, &mut got)
-                .unwrap();
-            let batch = batch_level(level, N);
-            assert_eq!(take_ran(), ran(batch, false), "batch, {level:?}, N = {N}");
+            set.encode_u8_batch(&aos, &mut got);
+            let batch = batch_level(level, N, L);
+            assert_eq!(
+                take_ran(),
+                ran(batch, false),
+                "batch, {level:?}, N = {N}, L = {L}"
+            );
             let bad = got.iter().zip(&want).position(|(g, w)| g != w);
-            assert_eq!(bad, None, "encode_u8_batch, {level:?}, N = {N}");
+            assert_eq!(bad, None, "encode_u8_batch, {level:?}, N = {N}, L = {L}");
         });
     }
 }
@@ -524,5 +664,95 @@ fn no_wavelengths_give_the_colour_of_no_signal_on_every_path() {
                 assert!(lin.iter().flatten().all(|v| *v == -7.5 || *v == 1.0));
             });
         }
+    }
+}
+
+/// A light-group set of L lights with N random weights each, of either sign, on the sRGB
+/// display.
+fn random_groups<const N: usize, const L: usize>(seed: u64) -> crate::LightGroupSet<N, L> {
+    crate::LightGroupSet::new(
+        core::array::from_fn(|i| 400.0 + i as f32),
+        core::array::from_fn(|l| random_set::<N>(seed + 1000 * l as u64).weights()),
+        [""; L],
+        TABLE2_ROW2_SRGB.display(),
+    )
+    .unwrap()
+}
+
+#[test]
+fn every_loop_gives_the_per_pixel_bytes_for_light_groups() {
+    // The bench's shape (L = 4, N = 8), the AVX-512 interleaved width with two lights, a light
+    // alone (the folded set's loops), the widths of the remainder columns, and L · N = 64, the
+    // largest the loops take; a partial group and chunk at the end of each (N = 0, no planes,
+    // through the public functions below).
+    check(&random_groups::<8, 4>(1), 100_003, 61);
+    check(&random_groups::<4, 2>(2), 100_001, 62);
+    check(&random_groups::<6, 1>(3), 10_005, 63);
+    check(&random_groups::<1, 3>(4), 10_007, 64);
+    check(&random_groups::<5, 2>(5), 10_009, 65);
+    check(&random_groups::<16, 4>(6), 10_011, 66);
+    // One light: the folded set's bytes and bits on every loop.
+    let one = random_groups::<8, 1>(8);
+    let member = one.member(0).unwrap();
+    check(&member, 10_013, 68);
+    check(&one, 10_013, 68);
+    // Fewer pixels than one group, one group and a part, several groups.
+    for (pixels, seed) in [(0, 70), (7, 71), (9, 72), (17, 73), (24, 74), (40, 75)] {
+        check(&random_groups::<8, 4>(seed), pixels, seed);
+        check(&random_groups::<4, 3>(seed), pixels, seed + 100);
+    }
+}
+
+#[test]
+fn each_light_group_loop_through_the_public_functions() {
+    // Under Miri (the portable and scalar loops alone there), fewer and shorter runs.
+    let sizes: &[usize] = if cfg!(miri) {
+        &[0, 17, 33]
+    } else {
+        &[0, 1, 7, 15, 16, 17, 33, 100, 1029]
+    };
+    for (k, &pixels) in sizes.iter().enumerate() {
+        let seed = 80 + k as u64;
+        public_functions_at(&random_groups::<8, 4>(seed), pixels, seed);
+        public_functions_at(&random_groups::<4, 2>(seed), pixels, seed);
+        public_functions_at(&random_groups::<3, 1>(seed), pixels, seed);
+        public_functions_at(&random_groups::<0, 3>(seed), pixels, seed);
+    }
+}
+
+#[test]
+fn light_group_loops_reach_the_streaming_path() {
+    // 2²⁰ + 13 pixels: the AVX-512 linear loop streams; the AVX2 one, one pass over the
+    // lights' planes, does not.
+    public_functions_at(&random_groups::<4, 2>(90), (1 << 20) + 13, 91);
+}
+
+/// Above L · N = `MAX_WAVELENGTHS` the batch and planar functions go pixel by pixel (no loop
+/// runs), with the same bytes and bits.
+#[test]
+fn light_groups_beyond_the_loops_go_pixel_by_pixel() {
+    let set = random_groups::<17, 4>(92);
+    let aos = random_pixels::<17, 4>(37, 93);
+    let planes = to_planes(&aos);
+    let planes = plane_refs(&planes);
+    let want: std::vec::Vec<[u8; 3]> = aos.iter().map(|s| set.reference(s)).collect();
+    for level in Loops::ALL {
+        with_loops(level, || {
+            let mut got = std::vec![[0u8; 3]; aos.len()];
+            Subject::encode_u8_batch(&set, &aos, &mut got);
+            assert_eq!(got, want, "batch, {level:?}");
+            Subject::encode_u8_planar(&set, planes, &mut got);
+            assert_eq!(got, want, "planar, {level:?}");
+            let mut lin = [0, 1, 2].map(|_| std::vec![0.0f32; aos.len()]);
+            {
+                let [r, g, b] = &mut lin;
+                Subject::linear_rgb_planar(&set, planes, [r, g, b]);
+            }
+            for (p, s) in aos.iter().enumerate() {
+                let one = linear_reference(set.weights_ref(), s);
+                assert!((0..3).all(|c| same_f32(lin[c][p], one[c])), "{level:?} {p}");
+            }
+            assert_eq!(take_ran(), None, "{level:?}");
+        });
     }
 }

@@ -13,19 +13,28 @@
 //!   past a 64-byte boundary, each at its own offset: the accelerated loops choose where their
 //!   groups start from these offsets.
 //!
+//! - One input in four instead takes a light-group set (`LightGroupSet<N, L>`: L lights of N
+//!   nodes, L · N = 3 to 64, and one beyond the loops' 64 that goes pixel by pixel), its
+//!   planes in allocations of their own placed as above.
+//!
 //! Checked, with the level capped by `__fuzzing::force`: the loop that ran is the forced one;
 //! `linear_rgb_planar` and `linear_rgb_batch` equal `linear_rgb` bit for bit (NaN payloads
 //! aside) on every pixel; `encode_u8_planar_to_interleaved` and `encode_u8_batch` equal `encode_u8` and the
 //! scalar route `display.encode_u8(linear_rgb(s))` on every pixel; `encode_u16_batch` and
 //! `ac1c2_batch` equal their per-pixel functions; one plane or output shorter or longer is
-//! `Err(LengthMismatch)` with the lengths the docs name, and writes nothing.
+//! `Err(LengthMismatch)` with the lengths the docs name, and writes nothing. For light-group
+//! sets the same: `linear_rgb_planar` equal to `linear_rgb` bit for bit, the 8-bit planar and
+//! batch forms (and `encode_u8_planar`'s three planes) equal to `encode_u8`, and to the display's
+//! encoding of `linear_rgb`.
 
 use std::alloc::{self, Layout};
 use std::ptr::NonNull;
 
 use spectral_quadrature::__fuzzing::{force, take_ran, Loops};
 use spectral_quadrature::tables::displays;
-use spectral_quadrature::{Display, Error, FoldedSet, GamutMapping, LengthOf, WavelengthSet};
+use spectral_quadrature::{
+    Display, Error, FoldedSet, GamutMapping, LengthOf, LightGroupSet, WavelengthSet,
+};
 
 use super::{same, step_ulps, Bytes, FOLDED_ROW1, FOLDED_ROW2, INTERESTING, MAPPINGS};
 
@@ -51,7 +60,21 @@ pub fn announce(level: Loops) {
 pub fn run(level: Loops, data: &[u8]) {
     let level = force(level);
     let mut b = Bytes::new(data);
-    match b.u8() % 11 {
+    let pick = b.u8();
+    if pick >= 0xC0 {
+        match pick % 8 {
+            0 => groups::<1, 3>(level, &mut b),
+            1 => groups::<4, 2>(level, &mut b),
+            2 => groups::<8, 4>(level, &mut b),
+            3 => groups::<5, 2>(level, &mut b),
+            4 => groups::<3, 1>(level, &mut b),
+            5 => groups::<16, 4>(level, &mut b),
+            6 => groups::<6, 3>(level, &mut b),
+            _ => groups::<17, 4>(level, &mut b),
+        }
+        return;
+    }
+    match pick % 11 {
         0 => shape::<0>(level, &mut b),
         1 => shape::<1>(level, &mut b),
         2 => shape::<2>(level, &mut b),
@@ -491,4 +514,162 @@ fn mismatches<const N: usize>(c: &Case<N>, planes: &[Placed<f32>; N]) {
         })
     );
     assert!(bad.iter().flatten().all(|v| *v == -7.5));
+}
+
+/// One input through a light-group set of L lights at N nodes: each light's weights and the
+/// display as `case` draws a folded set's (the lights' own weights, the display and mapping the
+/// first light's), the planes placed as there.
+fn groups<const N: usize, const L: usize>(level: Loops, b: &mut Bytes) {
+    let first = case::<N>(b);
+    // The first light's weights are the case's, the others drawn as it draws them; a
+    // light-group set's weights are finite (its constructor refuses others).
+    let finite = |w: [[f32; N]; 3]| w.map(|row| row.map(|v| if v.is_finite() { v } else { 0.5 }));
+    let mut weights = [finite(first.set.weights()); L];
+    for w in weights.iter_mut().skip(1) {
+        *w = finite(case::<N>(b).set.weights());
+    }
+    let set = LightGroupSet::new(
+        first.set.wavelengths_nm(),
+        weights,
+        ["fuzz"; L],
+        first.set.display(),
+    )
+    .expect("finite weights at ascending wavelengths");
+    let mapping = first.mapping;
+    let n = first.pixels.len();
+    let mut rng = Rng(u64::from(b.u8()) << 8 | u64::from(b.u8()) | 1);
+    let px: Vec<[[f32; N]; L]> = first
+        .pixels
+        .iter()
+        .map(|s| {
+            std::array::from_fn(|l| {
+                if l == 0 {
+                    *s
+                } else {
+                    std::array::from_fn(|_| {
+                        if b.is_empty() {
+                            rng.sample()
+                        } else {
+                            b.value()
+                        }
+                    })
+                }
+            })
+        })
+        .collect();
+    let planes: [[Placed<f32>; N]; L] = std::array::from_fn(|l| {
+        std::array::from_fn(|i| {
+            let plane: Vec<f32> = px.iter().map(|g| g[l][i]).collect();
+            Placed::new(&plane, (first.leads[i] + 3 * l) % 16, f32::NAN)
+        })
+    });
+    let refs: [[&[f32]; N]; L] =
+        std::array::from_fn(|l| std::array::from_fn(|i| planes[l][i].get()));
+    // The vector loops take L · N up to MAX_WAVELENGTHS; beyond, pixel by pixel.
+    let loops = N * L <= spectral_quadrature::MAX_WAVELENGTHS;
+    let fast = set.display().transfer() == spectral_quadrature::TransferFunction::Srgb
+        && mapping == GamutMapping::Clip;
+
+    let mut lin: [Placed<f32>; 3] =
+        std::array::from_fn(|k| Placed::new(&vec![-7.5; n], first.out_leads[k], 0.0));
+    // Forget what an earlier input's last call ran (its three-plane `encode_u8_planar` leaves
+    // a record nobody takes), so that a set beyond the loops is seen to run none.
+    let _ = take_ran();
+    {
+        let [r, g, bl] = &mut lin;
+        assert_eq!(
+            set.linear_rgb_planar(refs, [r.get_mut(), g.get_mut(), bl.get_mut()]),
+            Ok(())
+        );
+    }
+    let ran = take_ran();
+    if loops {
+        let ran = ran.expect("linear_rgb_planar of light groups records its loop");
+        assert_eq!(
+            ran.loops,
+            level.max(Loops::Portable),
+            "groups linear N={N} L={L}"
+        );
+    } else {
+        assert_eq!(ran, None, "groups linear N={N} L={L}: pixel by pixel");
+    }
+    for (p, g) in px.iter().enumerate() {
+        let one = set.linear_rgb(g);
+        let got = [lin[0].get()[p], lin[1].get()[p], lin[2].get()[p]];
+        assert!(
+            (0..3).all(|k| same(got[k], one[k])),
+            "groups linear_rgb_planar {level:?} N={N} L={L} pixel {p} of {n}: {got:?} != {one:?}; {g:?}"
+        );
+    }
+
+    let want8: Vec<[u8; 3]> = px.iter().map(|g| set.encode_u8(mapping, g)).collect();
+    for (p, g) in px.iter().enumerate() {
+        assert_eq!(
+            want8[p],
+            set.display().encode_u8(mapping, set.linear_rgb(g)),
+            "groups encode_u8 N={N} L={L} pixel {p}: {g:?}"
+        );
+    }
+    let mut out8 = Placed::new(&vec![[0xA5u8; 3]; n], first.out_leads[3], [0x5A; 3]);
+    assert_eq!(
+        set.encode_u8_planar_to_interleaved(mapping, refs, out8.get_mut()),
+        Ok(())
+    );
+    if fast && loops {
+        let ran = take_ran().expect("the light groups' planar 8-bit path records its loop");
+        assert_eq!(ran.loops, level, "groups planar N={N} L={L}: {ran:?}");
+    }
+    assert!(
+        out8.get() == &want8[..],
+        "groups encode_u8_planar_to_interleaved {level:?} N={N} L={L}: pixel {:?} of {n} differs",
+        out8.get().iter().zip(&want8).position(|(a, b)| a != b)
+    );
+    let mut batch8 = Placed::new(&vec![[0xA5u8; 3]; n], first.out_leads[0], [0x5A; 3]);
+    assert_eq!(set.encode_u8_batch(mapping, &px, batch8.get_mut()), Ok(()));
+    if fast && loops {
+        let ran = take_ran().expect("the light groups' batch 8-bit path records its loop");
+        // The interleaved AVX-512 loop takes a folded set at N = 4; light groups the AVX2 one.
+        let ok = ran.loops == level || (level == Loops::Avx512 && ran.loops == Loops::Avx2);
+        assert!(ok, "groups batch {level:?} N={N} L={L}: {ran:?}");
+    }
+    assert!(
+        batch8.get() == &want8[..],
+        "groups encode_u8_batch {level:?} N={N} L={L}: pixel {:?} of {n} differs",
+        batch8.get().iter().zip(&want8).position(|(a, b)| a != b)
+    );
+    let (mut r, mut g, mut bl) = (vec![0u8; n], vec![0u8; n], vec![0u8; n]);
+    assert_eq!(
+        set.encode_u8_planar(mapping, refs, [&mut r, &mut g, &mut bl]),
+        Ok(())
+    );
+    for p in 0..n {
+        assert_eq!(
+            [r[p], g[p], bl[p]],
+            want8[p],
+            "groups encode_u8_planar pixel {p}"
+        );
+    }
+    // One plane shorter: an error naming it, and nothing written.
+    if n > 0 && N > 0 {
+        let short: Vec<f32> = refs[L - 1][N - 1][..n - 1].to_vec();
+        let mut bad = refs;
+        bad[L - 1][N - 1] = &short;
+        let mut out = vec![[9u8; 3]; n];
+        let got = set.encode_u8_planar_to_interleaved(mapping, bad, &mut out);
+        let want = if L * N == 1 {
+            Err(Error::LengthMismatch {
+                what: LengthOf::Output,
+                expected: n - 1,
+                got: n,
+            })
+        } else {
+            Err(Error::LengthMismatch {
+                what: LengthOf::InputPlane,
+                expected: n,
+                got: n - 1,
+            })
+        };
+        assert_eq!(got, want, "groups N={N} L={L}");
+        assert!(out.iter().all(|o| *o == [9; 3]));
+    }
 }
