@@ -589,7 +589,7 @@ pub(crate) fn bake_with(
 /// `lights`: the curves of their lights. The texel colours are under the first light, and the
 /// round trip holds through its member's weights; the least-squares map, global and local as [`bake`]'s, is fitted on the
 /// training reflectances' values at the nodes and on their colours under each light as that
-/// light's member encodes them ([`GROUP_COLOUR_WEIGHT`]), so that a texel's node values give
+/// light's member encodes them (`GROUP_COLOUR_WEIGHT`), so that a texel's node values give
 /// its colour under the other lights too, not only under the first.
 pub fn bake_group(
     d: &Derivation,
