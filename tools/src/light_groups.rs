@@ -22,6 +22,23 @@ pub const FOLDS: usize = 5;
 /// phosphor LED.
 pub const LIGHTS: [&str; 4] = ["D65", "A", "F11", "LED_B2"];
 
+/// The crate's built-in illuminants `names` (`data/illuminant_<name>.csv`) on the derivation's
+/// range: what the report's light-group and interreflection sections, the node cache and the
+/// tests judge groups under.
+pub fn builtin_lights(d: &Derivation, names: &[&str]) -> Result<Vec<Curve>, Error> {
+    names
+        .iter()
+        .map(|n| {
+            spectral_quadrature_spectra::builtin_illuminant(
+                &d.settings.data_dir,
+                n,
+                d.settings.range_nm,
+            )
+            .map_err(Error::from)
+        })
+        .collect()
+}
+
 /// The sizes the report's light-group section compares at (a quick run: 8 alone).
 pub const SIZES: [usize; 3] = [4, 6, 8];
 

@@ -372,14 +372,7 @@ pub fn report_searches(
     let training = Spectra::builtin(dir, spectral_quadrature_generator::shared::TRAINING_FILE)?
         .curves(range)?;
     let (judged, _) = crate::light_groups::judged_reflectances(d, None)?;
-    let builtin = |names: &[&str]| -> Result<Vec<Curve>, Error> {
-        names
-            .iter()
-            .map(|n| {
-                spectral_quadrature_spectra::builtin_illuminant(dir, n, range).map_err(Error::from)
-            })
-            .collect()
-    };
+    let builtin = |names: &[&str]| crate::light_groups::builtin_lights(d, names);
     let group = builtin(&crate::light_groups::LIGHTS)?;
     searching("section 9: the light groups of each fold");
     crate::light_groups::compare_with(

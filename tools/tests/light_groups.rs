@@ -20,10 +20,7 @@ fn a_group_of_four_lights_at_8_nodes_meets_its_targets_on_held_out_reflectances(
     let d = derive(&Settings::new(DATA_DIR)).unwrap();
     let range = d.settings.range_nm;
     let dir = &d.settings.data_dir;
-    let lights: Vec<_> = light_groups::LIGHTS
-        .iter()
-        .map(|n| builtin_illuminant(dir, n, range).unwrap())
-        .collect();
+    let lights = light_groups::builtin_lights(&d, &light_groups::LIGHTS).unwrap();
     let training = Spectra::builtin(dir, TRAINING_FILE)
         .unwrap()
         .curves(range)

@@ -7,7 +7,7 @@ use std::sync::OnceLock;
 
 use spectral_quadrature_generator::shared::{problem_for, GroupObjective, Weights, TRAINING_FILE};
 use spectral_quadrature_generator::{derive, Derivation, Settings};
-use spectral_quadrature_spectra::{builtin_illuminant, Spectra};
+use spectral_quadrature_spectra::Spectra;
 use spectral_quadrature_tools::light_groups;
 use spectral_quadrature_tools::node_cache::{self, NodeCache};
 
@@ -113,10 +113,7 @@ fn a_cached_group_is_the_searched_group() {
     let d = derivation();
     let range = d.settings.range_nm;
     let dir = &d.settings.data_dir;
-    let lights: Vec<_> = light_groups::LIGHTS
-        .iter()
-        .map(|n| builtin_illuminant(dir, n, range).unwrap())
-        .collect();
+    let lights = light_groups::builtin_lights(d, &light_groups::LIGHTS).unwrap();
     let training = Spectra::builtin(dir, TRAINING_FILE)
         .unwrap()
         .curves(range)

@@ -17,7 +17,7 @@ use std::path::{Path, PathBuf};
 
 use spectral_quadrature_generator::shared::TRAINING_FILE;
 use spectral_quadrature_generator::Derivation;
-use spectral_quadrature_spectra::{builtin_illuminant, Curve, Spectra};
+use spectral_quadrature_spectra::{Curve, Spectra};
 use spectral_quadrature_tools as tools;
 use tools::csv_table::Table;
 
@@ -65,10 +65,7 @@ pub fn section(inputs: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Er
     let groups: Vec<Judged> = if inputs.scene_groups.is_empty() {
         let lights: Vec<Curve> = match inputs.lights {
             Some(l) if l.len() >= 2 => l.to_vec(),
-            _ => light_groups::LIGHTS
-                .iter()
-                .map(|n| builtin_illuminant(dir, n, range))
-                .collect::<Result<_, _>>()?,
+            _ => light_groups::builtin_lights(d, &light_groups::LIGHTS)?,
         };
         vec![Judged {
             name: None,
