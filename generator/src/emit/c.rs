@@ -566,9 +566,11 @@ static inline int sq_fixed_point(float w, float q, int p, int64_t *out) {
  * (IntegerTransfer; none of the header's curves). Integers only. */
 static inline unsigned sq_integer_set_new(size_t n, const float *weights, float sample_unit, const uint64_t q63[256], int32_t *fixed) {
     int64_t margin = (int64_t)n * 65535, v, a, sum;
+    uint32_t unit = sq_f32_bits(sample_unit);
     int p;
     size_t c, i;
-    if (!(sample_unit > 0.0f) || sq_is_infinite(sample_unit)) {
+    /* Finite and positive, from the bits: no sign, not zero, not Inf or NaN. */
+    if ((unit >> 31) != 0u || unit == 0u || (unit >> 23) == 0xffu) {
         return 0;
     }
     for (p = 46; p > 16 && ((int64_t)1 << (p - 16)) > margin; p--) {
