@@ -31,6 +31,14 @@ fn main() {
         names.push(rest[at..at + end].to_string());
     }
     assert!(names.len() > 20, "{} functions in the header", names.len());
+    // Every 8-bit curve on the integer scale (`static const uint64_t sq_<name>_q63[256]`), which
+    // the functions for sets made at run time take as an argument.
+    let tables: Vec<&str> = header
+        .lines()
+        .filter_map(|l| l.strip_prefix("static const uint64_t "))
+        .filter_map(|l| l.strip_suffix("[256] = {"))
+        .filter(|n| n.ends_with("_q63"))
+        .collect();
     let mut c = String::from(
         "#include \"spectral_quadrature.h\"\n\ntypedef void (*sqt_fn)(void);\n\nstruct sqt_entry {\n    const char *name;\n    sqt_fn f;\n};\n\nstatic const struct sqt_entry sqt_entries[] = {\n",
     );
@@ -40,6 +48,15 @@ fn main() {
     c.push_str(
         "};\n\n/* The function of the header named `name`, or NULL. */\nsqt_fn sqt_find(const char *name);\nsqt_fn sqt_find(const char *name) {\n    size_t i;\n    for (i = 0; i < sizeof sqt_entries / sizeof sqt_entries[0]; i++) {\n        if (strcmp(sqt_entries[i].name, name) == 0) {\n            return sqt_entries[i].f;\n        }\n    }\n    return NULL;\n}\n\n/* How many functions the header defines, and the name of the i-th, in the header's order. */\nsize_t sqt_function_count(void);\nsize_t sqt_function_count(void) {\n    return sizeof sqt_entries / sizeof sqt_entries[0];\n}\n\nconst char *sqt_function_name(size_t i);\nconst char *sqt_function_name(size_t i) {\n    return i < sqt_function_count() ? sqt_entries[i].name : NULL;\n}\n",
     );
+    c.push_str("\n/* The header's 8-bit curve `name` on the 2^63 scale (sq_..._q63), or NULL. */\nconst uint64_t *sqt_q63(const char *name);\nconst uint64_t *sqt_q63(const char *name) {\n");
+    for t in &tables {
+        writeln!(
+            c,
+            "    if (strcmp(name, \"{t}\") == 0) {{\n        return {t};\n    }}"
+        )
+        .unwrap();
+    }
+    c.push_str("    (void)name;\n    return NULL;\n}\n");
     let out = PathBuf::from(std::env::var_os("OUT_DIR").expect("cargo sets OUT_DIR"));
     let harness = out.join("harness.c");
     std::fs::write(&harness, c).expect("write harness.c");

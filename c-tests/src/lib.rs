@@ -8,6 +8,7 @@ extern "C" {
     fn sqt_find(name: *const c_char) -> Option<unsafe extern "C" fn()>;
     fn sqt_function_count() -> usize;
     fn sqt_function_name(i: usize) -> *const c_char;
+    fn sqt_q63(name: *const c_char) -> *const u64;
 }
 
 /// The header's function `name` (`sq_...`), as an untyped pointer: the caller transmutes it to
@@ -35,4 +36,16 @@ pub fn function_names() -> Vec<String> {
                 .into_owned()
         })
         .collect()
+}
+
+/// The header's 8-bit curve `name` on the 2⁶³ scale (`sq_srgb8_q63`, say: 256 entries), for the
+/// functions of sets made at run time; `None` where the header has no such table.
+pub fn q63(name: &str) -> Option<*const u64> {
+    let mut c = Vec::with_capacity(name.len() + 1);
+    c.extend_from_slice(name.as_bytes());
+    c.push(0);
+    // SAFETY: `c` is a NUL-terminated string that outlives the call; sqt_q63 only reads it and
+    // returns a pointer to one of the header's static tables, or NULL.
+    let p = unsafe { sqt_q63(c.as_ptr().cast()) };
+    (!p.is_null()).then_some(p)
 }

@@ -745,3 +745,221 @@ fn calibrations_and_lux() {
         assert!(same(l, r), "lux {scale} {xyz:?}: {r} {l}");
     }
 }
+
+#[test]
+fn calibrations_and_lux_from_readings() {
+    type FromDarkWhite =
+        unsafe extern "C" fn(usize, *const f32, *const f32, *const f32, *mut f32) -> usize;
+    type ToCounts =
+        unsafe extern "C" fn(usize, *const f32, *const f32, f32, *mut u16, *mut u32) -> usize;
+    let from_dark_white: FromDarkWhite = get("sq_calibration_from_dark_white");
+    let to_counts: ToCounts = get("sq_calibration_to_counts");
+    let from_reading: unsafe extern "C" fn(f32, f32, *mut f32) -> i32 =
+        get("sq_lux_scale_from_reading");
+    const N: usize = 8;
+    let mut rng = Rng::new("calibration from readings");
+    // Mostly plausible readings, one channel in eight any sample at all (NaN, ±∞, huge, tiny,
+    // negative): every error of each channel is reached.
+    let reading = |rng: &mut Rng, scale: f32| -> f32 {
+        if rng.next().is_multiple_of(8) {
+            rng.sample()
+        } else {
+            rng.unit() * scale
+        }
+    };
+    let (mut ok, mut refused) = (0, 0);
+    for _ in 0..COUNT {
+        let dark: [f32; N] = core::array::from_fn(|_| reading(&mut rng, 3000.0));
+        let white: [f32; N] = core::array::from_fn(|k| dark[k] + reading(&mut rng, 60000.0));
+        let reference: [f32; N] = core::array::from_fn(|_| reading(&mut rng, 2.0));
+        let mut gain = [0.0f32; N];
+        // SAFETY: N floats in each, N out.
+        let bad = unsafe {
+            from_dark_white(
+                N,
+                dark.as_ptr(),
+                white.as_ptr(),
+                reference.as_ptr(),
+                gain.as_mut_ptr(),
+            )
+        };
+        match Calibration::from_dark_white(&dark, &white, &reference) {
+            Ok(cal) => {
+                assert_eq!(bad, 0, "{dark:?} {white:?} {reference:?}");
+                assert_same("calibration gain", &(dark, white), cal.gain(), gain);
+                ok += 1;
+            }
+            Err(spectral_quadrature::Error::Calibration { channel_index, .. }) => {
+                assert_eq!(bad, channel_index + 1, "{dark:?} {white:?} {reference:?}");
+                refused += 1;
+            }
+            Err(e) => panic!("{e:?}"),
+        }
+
+        // to_counts of any calibration: darks and gains near and past the counts' range.
+        let dark: [f32; N] = core::array::from_fn(|_| reading(&mut rng, 70000.0) - 1.0);
+        let gain: [f32; N] = core::array::from_fn(|_| 0.01 + rng.unit() * 2.0);
+        let unit = match rng.next() % 8 {
+            0 => rng.sample(),
+            1 => rng.unit() * 1e-7,
+            _ => (0.5 + rng.unit()) * 2f32.powi(-((rng.next() % 20) as i32)),
+        };
+        let (mut d, mut g) = ([0u16; N], [0u32; N]);
+        // SAFETY: N floats in each, N values out.
+        let bad = unsafe {
+            to_counts(
+                N,
+                dark.as_ptr(),
+                gain.as_ptr(),
+                unit,
+                d.as_mut_ptr(),
+                g.as_mut_ptr(),
+            )
+        };
+        let cal = Calibration::new(dark, gain);
+        match cal.map(|c| c.to_counts(unit)) {
+            Ok(Ok(c)) => {
+                assert_eq!(bad, 0, "{dark:?} {gain:?} {unit:e}");
+                assert_eq!(
+                    (d, g),
+                    (c.dark(), c.gain_q16()),
+                    "{dark:?} {gain:?} {unit:e}"
+                );
+            }
+            Ok(Err(spectral_quadrature::Error::Calibration { channel_index, .. })) => {
+                assert_eq!(bad, channel_index + 1, "{dark:?} {gain:?} {unit:e}");
+            }
+            // Calibration::new refuses a dark that is not finite: to_counts never sees it.
+            Err(_) => {}
+            Ok(Err(e)) => panic!("{e:?}"),
+        }
+
+        let (y, lux) = (rng.sample() * 100.0, rng.sample() * 1e4);
+        let mut l = f32::NAN;
+        // SAFETY: one float out.
+        let made = unsafe { from_reading(y, lux, &mut l) };
+        match LuxScale::from_reading(y, lux) {
+            Ok(s) => {
+                assert_eq!(made, 1, "{y:e} {lux:e}");
+                assert!(same(l, s.lux_per_y()), "{y:e} {lux:e}: {l} {s:?}");
+            }
+            Err(_) => assert_eq!(made, 0, "{y:e} {lux:e}"),
+        }
+    }
+    // Both outcomes were compared, many times each.
+    println!("Calibration::from_dark_white: {ok} made, {refused} refused");
+    assert!(ok > COUNT / 10 && refused > COUNT / 10, "{ok} {refused}");
+}
+
+/// IntegerSet::new on `folded` with its weights scaled and random sample units, against the
+/// header's `sq_integer_set_new` with the display's curve `q63`; then each set made through
+/// the encoder on `count` inputs.
+fn check_run_time_integer<const N: usize>(
+    name: &str,
+    folded: &FoldedSet<N>,
+    q63: *const u64,
+    count: usize,
+) -> (usize, usize) {
+    type New = unsafe extern "C" fn(usize, *const f32, f32, *const u64, *mut i32) -> u32;
+    type Fixed = unsafe extern "C" fn(usize, *const i32, *const u16, *mut i64);
+    type Enc = unsafe extern "C" fn(usize, u32, *const i32, *const u64, *const u16, *mut u8);
+    let new: New = get("sq_integer_set_new");
+    let fixed_sums: Fixed = get("sq_integer_set_linear_fixed");
+    let encode: Enc = get("sq_integer_set_encode_u8");
+    let mut rng = Rng::new(name);
+    let (mut made, mut refused) = (0, 0);
+    for round in 0..64 {
+        // The set's own weights, then scaled by 2^-8..2^40 (the last too large for any P), a
+        // weight made NaN or infinite now and then.
+        let scale = if round == 0 {
+            1.0
+        } else {
+            2f32.powi((rng.next() % 49) as i32 - 8) * (0.5 + rng.unit())
+        };
+        let mut weights = folded.weights().map(|row| row.map(|w| w * scale));
+        if round % 16 == 15 {
+            weights[(rng.next() % 3) as usize][(rng.next() % N as u64) as usize] =
+                SPECIALS[(rng.next() % 3) as usize];
+        }
+        let Ok(f) = FoldedSet::new(
+            folded.wavelengths_nm(),
+            weights,
+            folded.samples(),
+            folded.display(),
+        ) else {
+            continue;
+        };
+        let unit = match round % 8 {
+            0 => 1.0 / 65535.0,
+            1 => SPECIALS[(rng.next() % SPECIALS.len() as u64) as usize],
+            _ => (0.5 + rng.unit()) * 2f32.powi(-((rng.next() % 24) as i32)),
+        };
+        let mut fixed = [[0i32; N]; 3];
+        // SAFETY: 3 rows of N weights in, 3 rows of N out, the header's own curve table.
+        let p = unsafe {
+            new(
+                N,
+                weights.as_ptr().cast(),
+                unit,
+                q63,
+                fixed.as_mut_ptr().cast(),
+            )
+        };
+        let Ok(set) = IntegerSet::new(&f, unit) else {
+            assert_eq!(p, 0, "{name} × {scale:e}, unit {unit:e}");
+            refused += 1;
+            continue;
+        };
+        assert_eq!(p, set.frac_bits(), "{name} × {scale:e}, unit {unit:e}");
+        assert_eq!(fixed, set.weights(), "{name} × {scale:e}, unit {unit:e}");
+        made += 1;
+        for x in count_inputs::<N>(name, count / 64) {
+            let (mut a, mut s) = ([0u8; 3], [0i64; 3]);
+            // SAFETY: N counts in, 3 values out; the weights and curve as above.
+            unsafe {
+                encode(N, p, fixed.as_ptr().cast(), q63, x.as_ptr(), a.as_mut_ptr());
+                fixed_sums(N, fixed.as_ptr().cast(), x.as_ptr(), s.as_mut_ptr());
+            }
+            assert_eq!(
+                a,
+                set.encode_u8(&x),
+                "{name} × {scale:e}, unit {unit:e}: {x:?}"
+            );
+            assert_eq!(s, set.linear_fixed(&x), "{name} × {scale:e}: {x:?}");
+        }
+    }
+    (made, refused)
+}
+
+#[test]
+fn integer_sets_made_at_run_time() {
+    let (mut made, mut refused) = (0, 0);
+    macro_rules! each {
+        ($($name:ident,)*) => {
+            $(
+                let f = &tables::folded::$name;
+                let curve = match f.display().transfer() {
+                    TransferFunction::Srgb => spectral_quadrature_c_tests::q63("sq_srgb8_q63"),
+                    TransferFunction::Linear => spectral_quadrature_c_tests::q63("sq_linear8_q63"),
+                    _ => None,
+                };
+                if let Some(q63) = curve {
+                    let (m, r) = check_run_time_integer(
+                        stringify!($name),
+                        f,
+                        q63,
+                        per_item(tables::folded::NAMES.len()),
+                    );
+                    made += m;
+                    refused += r;
+                }
+            )*
+        };
+    }
+    tables::folded::all!(each);
+    println!("IntegerSet::new at run time: {made} sets made, {refused} refused");
+    // Where the header has an integer curve, both outcomes were compared.
+    if !tables::integer::NAMES.is_empty() {
+        assert!(made > 10 && refused > 5, "{made} {refused}");
+    }
+}

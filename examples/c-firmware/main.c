@@ -11,6 +11,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "print.h"
 #include "spectral_quadrature.h"
 
 #define PIXELS 48
@@ -56,67 +57,6 @@ static void inputs(void) {
             }
         }
     }
-}
-
-/* Output: one line at a time, built in a buffer. */
-static char line[192];
-static size_t len;
-
-#if defined(__arm__) && !defined(__linux__)
-#include "firmware.h"
-static void put_line(void) {
-    fw_write(line);
-}
-#else
-#include <stdio.h>
-static void put_line(void) {
-    fputs(line, stdout);
-}
-#endif
-
-static void s(const char *text) {
-    while (*text && len + 2 < sizeof line) {
-        line[len++] = *text++;
-    }
-    line[len] = '\0';
-}
-
-static void u(uint32_t v) {
-    char digits[11];
-    int n = 0;
-    do {
-        digits[n++] = (char)('0' + v % 10u);
-        v /= 10u;
-    } while (v);
-    while (n) {
-        char one[2] = { digits[--n], '\0' };
-        s(one);
-    }
-}
-
-/* An f32 as its bits in hex, or `nan` (its sign and payload are not specified). */
-static void bits(float x) {
-    static const char hex[] = "0123456789abcdef";
-    uint32_t b = sq_f32_bits(x);
-    char out[9];
-    int i;
-    if (sq_is_nan(x)) {
-        s("nan");
-        return;
-    }
-    for (i = 7; i >= 0; i--) {
-        out[i] = hex[b & 15u];
-        b >>= 4;
-    }
-    out[8] = '\0';
-    s(out);
-}
-
-static void end(void) {
-    s("\n");
-    put_line();
-    len = 0;
-    line[0] = '\0';
 }
 
 /* The default scene's displays, in the order of tables::displays::ALL. */
@@ -237,6 +177,7 @@ static void results(void) {
 }
 
 #if defined(__arm__) && !defined(__linux__)
+#include "firmware.h"
 
 #define P 96
 

@@ -459,6 +459,185 @@ static inline size_t sq_count_calibration_from_dark_white(size_t n, const uint16
     return 0;
 }
 
+/* Calibration::from_dark_white: each channel's gain, reference / (white - dark), in f32, so that
+ * the white reading (less dark) becomes the reference; the calibration is then (dark, gain).
+ * Returns 0, or k + 1 for the first channel k where the signal white - dark is not finite and
+ * positive or dark is not finite (NoSignal), the reference is not finite and positive
+ * (Reference), or the gain is not finite (OutOfRange); gain is then undefined from k on. */
+static inline size_t sq_calibration_from_dark_white(size_t n, const float *dark, const float *white, const float *reference, float *gain) {
+    SQ_FP_EXACT
+    size_t k;
+    for (k = 0; k < n; k++) {
+        float signal = white[k] - dark[k], g;
+        if (!(signal > 0.0f) || sq_is_infinite(signal) || sq_is_nan(dark[k]) || sq_is_infinite(dark[k])) {
+            return k + 1;
+        }
+        if (!(reference[k] > 0.0f) || sq_is_infinite(reference[k])) {
+            return k + 1;
+        }
+        g = reference[k] / signal;
+        if (sq_is_nan(g) || sq_is_infinite(g)) {
+            return k + 1;
+        }
+        gain[k] = g;
+    }
+    return 0;
+}
+
+/* Calibration::to_counts: the calibration (dark, gain) for counts of sample_unit each: dark
+ * rounded (dark + 0.5, truncated) and gain / sample_unit in 16 fractional bits (times 65536,
+ * + 0.5, truncated). Returns 0, or k + 1 for the first channel k where sample_unit is not finite
+ * and positive, dark + 0.5 is outside 0..65536 or the gain outside 0..2^32 (OutOfRange); the
+ * outputs are then undefined from k on. */
+static inline size_t sq_calibration_to_counts(size_t n, const float *dark, const float *gain, float sample_unit, uint16_t *dark_counts, uint32_t *gain_q16) {
+    SQ_FP_EXACT
+    size_t k;
+    for (k = 0; k < n; k++) {
+        float d, g;
+        if (!(sample_unit > 0.0f) || sq_is_infinite(sample_unit)) {
+            return k + 1;
+        }
+        d = dark[k] + 0.5f;
+        g = gain[k] / sample_unit * 65536.0f + 0.5f;
+        if (!(d >= 0.0f && d < 65536.0f && g >= 0.0f && g < 4294967296.0f)) {
+            return k + 1;
+        }
+        dark_counts[k] = (uint16_t)d;
+        gain_q16[k] = (uint32_t)g;
+    }
+    return 0;
+}
+
+/* LuxScale::from_reading: the scale lux / y from the luminance y a set gives for a light of `lux`
+ * lux. Returns 1, or 0 (InvalidLuxScale; lux_per_y untouched) where y or lux is not finite and
+ * positive, or their quotient is not. */
+static inline int sq_lux_scale_from_reading(float y, float lux, float *lux_per_y) {
+    float s;
+    if (!(y > 0.0f && lux > 0.0f) || sq_is_infinite(y) || sq_is_infinite(lux)) {
+        return 0;
+    }
+    s = lux / y;
+    if (!(s > 0.0f) || sq_is_infinite(s)) {
+        return 0;
+    }
+    *lux_per_y = s;
+    return 1;
+}
+
+/* w * q * 2^p rounded to the nearest integer (ties away from zero), exactly (the product of two
+ * 24-bit significands is exact in 48 bits); 0 where w or q is not finite or the result reaches
+ * 2^62. */
+static inline int sq_fixed_point(float w, float q, int p, int64_t *out) {
+    uint32_t bw = sq_f32_bits(w), bq = sq_f32_bits(q);
+    int xw = (int)((bw >> 23) & 0xffu), xq = (int)((bq >> 23) & 0xffu), e;
+    uint64_t mw = bw & 0x7fffffu, mq = bq & 0x7fffffu, m, magnitude;
+    if (xw == 0xff || xq == 0xff) {
+        return 0;
+    }
+    mw |= xw ? 0x800000u : 0u;
+    mq |= xq ? 0x800000u : 0u;
+    m = mw * mq;
+    if (m == 0u) {
+        *out = 0;
+        return 1;
+    }
+    e = (xw ? xw - 150 : -149) + (xq ? xq - 150 : -149) + p;
+    if (e >= 0) {
+        if (e >= 14 || (m << e) >= (uint64_t)1 << 62) {
+            return 0;
+        }
+        magnitude = m << e;
+    } else if (-e >= 64) {
+        magnitude = 0;
+    } else {
+        magnitude = (m + ((uint64_t)1 << (-e - 1))) >> -e;
+    }
+    *out = ((bw ^ bq) >> 31) ? -(int64_t)magnitude : (int64_t)magnitude;
+    return 1;
+}
+
+/* IntegerSet::new for a set folded at run time (weights: 3 rows of n, for a display whose
+ * 8-bit curve is q63, one of the header's sq_*8_q63 tables): each weight times sample_unit in
+ * fixed point, V = round(w * sample_unit * 2^P) exactly (ties away from zero), into `fixed`
+ * (3 rows of n), with the largest P from 46 down for which every channel's sum over u16 counts
+ * stays inside int32 (the runtime's rule). Returns P, or 0 where the runtime gives an error:
+ * a weight or sample_unit not finite, sample_unit not positive, weights too large
+ * (IntegerRange), or a curve whose last threshold lies above the encoder's clamp
+ * (IntegerTransfer; none of the header's curves). Integers only. */
+static inline unsigned sq_integer_set_new(size_t n, const float *weights, float sample_unit, const uint64_t q63[256], int32_t *fixed) {
+    int64_t margin = (int64_t)n * 65535, v, a, sum;
+    uint32_t unit = sq_f32_bits(sample_unit);
+    int p;
+    size_t c, i;
+    /* Finite and positive, from the bits: no sign, not zero, not Inf or NaN. */
+    if ((unit >> 31) != 0u || unit == 0u || (unit >> 23) == 0xffu) {
+        return 0;
+    }
+    for (p = 46; p > 16 && ((int64_t)1 << (p - 16)) > margin; p--) {
+        int fits = 1;
+        /* The encoder clamps a coarse sum below 1.0 to 1 - 2^(16 - P): the last threshold must
+         * not lie above it. */
+        if (q63[255] > (((uint64_t)1 << (p - 16)) - 1u) << (79 - p)) {
+            return 0;
+        }
+        /* And the encoder settles a sum at or above 1.0 by the last stretch of 2^-12 in linear
+         * light, which must hold no threshold. */
+        if (q63[255] > (uint64_t)4095 << 51) {
+            return 0;
+        }
+        for (c = 0; c < 3 && fits; c++) {
+            sum = margin;
+            for (i = 0; i < n && fits; i++) {
+                if (!sq_fixed_point(weights[c * n + i], sample_unit, p, &v)) {
+                    fits = 0;
+                    break;
+                }
+                a = v >= 0 ? v / 65536 : -((-v + 65535) / 65536);
+                sum += (a < 0 ? -a : a) * 65535;
+                if (sum > INT32_MAX) {
+                    fits = 0;
+                    break;
+                }
+                fixed[c * n + i] = (int32_t)v;
+            }
+        }
+        if (fits) {
+            return (unsigned)p;
+        }
+    }
+    return 0;
+}
+
+/* IntegerSet::linear_fixed of a set made by sq_integer_set_new: each channel's exact sum of the
+ * fixed-point weights (3 rows of n) times the counts (2^P is 1.0). */
+static inline void sq_integer_set_linear_fixed(size_t n, const int32_t *fixed, const uint16_t *counts, int64_t out[3]) {
+    size_t c, i;
+    for (c = 0; c < 3; c++) {
+        int64_t f = 0;
+        for (i = 0; i < n; i++) {
+            f += (int64_t)fixed[c * n + i] * (int64_t)counts[i];
+        }
+        out[c] = f;
+    }
+}
+
+/* IntegerSet::encode_u8 of a set made by sq_integer_set_new (P its return value, q63 the
+ * display's curve it was made for): the exact sums rounded on the curve, integers only. */
+static inline void sq_integer_set_encode_u8(size_t n, unsigned p, const int32_t *fixed, const uint64_t q63[256], const uint16_t *counts, uint8_t out[3]) {
+    int64_t f[3];
+    size_t c;
+    sq_integer_set_linear_fixed(n, fixed, counts, f);
+    for (c = 0; c < 3; c++) {
+        if (f[c] <= 0) {
+            out[c] = 0;
+        } else if (f[c] >= (int64_t)1 << p) {
+            out[c] = 255;
+        } else {
+            out[c] = sq_count64(q63, (uint64_t)f[c] << (63u - p));
+        }
+    }
+}
+
 /* uv_from_xyz: CIE 1960 (u, v) of XYZ; 0 (and out untouched) where NaN or infinite, or where
  * X + 15Y + 3Z is not positive. */
 static inline int sq_uv_from_xyz(const float xyz[3], float out[2]) {
