@@ -449,12 +449,13 @@ impl<const N: usize> IntegerSet<N> {
             return limit as u8;
         }
         // Most often the stretch holds one threshold, at or below h: then the code is one
-        // more, if the threshold after it is above top. (code + 1 ≤ 256 is in range; code + 2
-        // is masked, and entry 0 for code 254 only sends the value on to `settle`.)
+        // more, if the threshold after it is above top. (code + 2 ≤ 257 is in range: for code
+        // 254 the entry is `u32::MAX`, and h at or above the last threshold is code 255.)
         let code = usize::from(limit as u8);
-        if key >= self.curve.q31[code + 1] {
+        let q = &self.curve.q31;
+        if key >= q[code + 1] {
             let key_top = (top.max(0) as u32) << self.shift;
-            if key_top < self.curve.q31[(code + 2) & 255] {
+            if key_top < q[code + 2] {
                 return code as u8 + 1;
             }
         }
@@ -705,7 +706,7 @@ mod tests {
                     if top30(h, total, set.shift) < limit {
                         2
                     } else if (h as u32) << set.shift >= set.curve.q31[code + 1]
-                        && key_top < set.curve.q31[(code + 2) & 255]
+                        && key_top < set.curve.q31[code + 2]
                     {
                         3
                     } else {
