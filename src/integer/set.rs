@@ -312,7 +312,7 @@ impl<const N: usize> IntegerSet<N> {
     /// registers across pixels.
     #[inline(always)]
     fn encode_batch_with<const S: u32>(&self, counts: &[[u16; N]], out: &mut [[u8; 3]]) {
-        for (o, x) in out.iter_mut().zip(counts) {
+        for (o, x) in out.iter_mut().zip(counts).rev() {
             // Each code stored as soon as it is known: three values fewer to hold at once.
             let (h, total) = self.coarse_sums(x);
             o[0] = self.encode_channel::<S>(0, h[0], total, x);
