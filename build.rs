@@ -18,6 +18,11 @@ fn main() {
     if target.starts_with("thumbv7em-") {
         println!("cargo::rustc-cfg=arm_dsp");
     }
+    // Armv6-M (Cortex-M0, M0+): a pixel's common path at N = 4 in inline assembly.
+    println!("cargo::rustc-check-cfg=cfg(arm_v6m)");
+    if target.starts_with("thumbv6m-") {
+        println!("cargo::rustc-cfg=arm_v6m");
+    }
     let crate_dir = PathBuf::from(
         std::env::var_os("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR"),
     );

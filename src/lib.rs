@@ -214,10 +214,13 @@
 #![cfg_attr(docsrs, feature(doc_cfg))]
 #![deny(missing_docs)]
 // Unsafe code is in the x86-64 vector loops (`simd`, and the table lookup they share in
-// `encode`) and in the integer path's inline assembly on Armv7E-M (`integer`, cfg `arm_dsp`,
-// set by the build script): every other module forbids it, and on other targets the whole
-// crate does.
-#![cfg_attr(not(any(target_arch = "x86_64", arm_dsp)), forbid(unsafe_code))]
+// `encode`) and in the integer path's inline assembly on Armv7E-M and Armv6-M (`integer`, cfgs
+// `arm_dsp` and `arm_v6m`, set by the build script): every other module forbids it, and on
+// other targets the whole crate does.
+#![cfg_attr(
+    not(any(target_arch = "x86_64", arm_dsp, arm_v6m)),
+    forbid(unsafe_code)
+)]
 #![deny(unsafe_op_in_unsafe_fn)]
 #![deny(clippy::undocumented_unsafe_blocks)]
 

@@ -3,8 +3,9 @@
 
 QEMU counts instructions (`-icount shift=0`), not cycles. This runs the M0 sensor firmware
 once more on `microbit` with QEMU's trace of the translated blocks (`-d in_asm,exec,nochain`),
-filtered to the integer path's functions (`encode_u8`, `encode_u8_batch`, `settle`,
-`below_zero`, every instance the firmware links), and prices each executed instruction with the
+filtered to the integer path's functions (`encode_u8`, `encode_u8_batch` with the Armv6-M
+assembly inlined in it, `encode_channels_from`, `settle`, `below_zero`, every instance the
+firmware links), and prices each executed instruction with the
 Cortex-M0's timings (Arm's Cortex-M0 Technical Reference Manual, 3.3): 1 cycle for data
 processing, 2 for a load or store, 1 + n for PUSH, POP (4 + n with PC), LDM and STM of n
 registers, 3 for a taken branch and 1 for one not taken, 4 for BL, 3 for BX and BLX, and for
@@ -27,7 +28,7 @@ import subprocess
 import sys
 import tempfile
 
-FUNCTIONS = ("encode_u8", "encode_u8_batch", "settle", "below_zero")
+FUNCTIONS = ("encode_u8", "encode_u8_batch", "encode_channels_from", "settle", "below_zero")
 
 
 def functions(elf):

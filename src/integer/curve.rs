@@ -21,9 +21,10 @@ pub(crate) struct IntegerCurve {
     /// is below that threshold, so its code is the low byte. Without a next threshold the
     /// entry is `i32::MAX` (code 255), as [`IntegerSet::new`](crate::IntegerSet::new) requires of the last stretch.
     pub(super) limits: [i32; INDEX_LEN],
-    /// `⌈θₖ · 2³¹⌉` for k = 1..=255 (θₖ ≤ 1); entry 0 is 0, entry 256 is `u32::MAX`, above
-    /// every key, so that a search needs no bounds test.
-    pub(super) q31: [u32; 257],
+    /// `⌈θₖ · 2³¹⌉` for k = 1..=255 (θₖ ≤ 1); entry 0 is 0, entries 256 and 257 are
+    /// `u32::MAX`, above every key, so that a search needs no bounds test and entries
+    /// `code + 1` and `code + 2` of any u8 code are in range.
+    pub(super) q31: [u32; 258],
     /// The bits of θₖ as f32, the f32 encoder's own thresholds; entry 0 is 0.
     f32_bits: &'static [u32; 256],
 }
@@ -35,13 +36,14 @@ pub(super) const INDEX_SHIFT: u32 = 31 - 12;
 
 impl IntegerCurve {
     const fn from_f32_thresholds(f32_bits: &'static [u32; 256]) -> IntegerCurve {
-        let mut q31 = [0u32; 257];
+        let mut q31 = [0u32; 258];
         let mut k = 1;
         while k < 256 {
             q31[k] = scaled_ceil(f32_bits[k], 31) as u32;
             k += 1;
         }
         q31[256] = u32::MAX;
+        q31[257] = u32::MAX;
         let mut limits = [0i32; INDEX_LEN];
         let mut code = 0;
         let mut j = 0;
@@ -152,7 +154,7 @@ static GAMMA: [IntegerCurve; crate::tables::GAMMA_ENCODERS.len()] = {
     let mut curves = [const {
         IntegerCurve {
             limits: [0; INDEX_LEN],
-            q31: [0; 257],
+            q31: [0; 258],
             f32_bits: &SRGB_THRESHOLDS,
         }
     }; K];

@@ -4,13 +4,14 @@
 //!
 //! This file only declares the submodules: `set` is the type, its constructor and its
 //! encoding of counts; below it are `curve` (the transfer curve on the integer scales),
-//! `fixed_point` (the weights' conversion, the multiply-accumulate steps) and `dsp` (Armv7E-M's
-//! dual multiply-accumulate).
+//! `fixed_point` (the weights' conversion, the multiply-accumulate steps), `dsp` (Armv7E-M's
+//! dual multiply-accumulate) and `armv6m` (a pixel's common path on Armv6-M).
 
-// Unsafe code only in `dsp`: inline assembly of the DSP extension, on Armv7E-M. The other
-// submodules forbid it.
+// Unsafe code only in `dsp` and `armv6m`: inline assembly, on Armv7E-M and Armv6-M. The
+// other submodules forbid it.
 #![deny(unsafe_code)]
 
+mod armv6m;
 mod curve;
 mod dsp;
 mod fixed_point;

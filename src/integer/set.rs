@@ -7,6 +7,8 @@
 
 #![forbid(unsafe_code)]
 
+#[cfg(all(target_arch = "arm", arm_v6m))]
+use super::armv6m;
 use super::curve::{curve_for, IntegerCurve, INDEX_LEN, INDEX_SHIFT};
 #[cfg(arm_dsp)]
 use super::dsp;
@@ -83,7 +85,9 @@ const MAX_FRAC_BITS: i32 = 46;
 /// with an entry per 2⁻¹² of linear light holds the code at its start and the next threshold
 /// after it, and `h + Σᵢ xᵢ` below that threshold settles the code. On Armv7E-M (Cortex-M4,
 /// M4F, M7) the sums take the DSP extension's dual 16-bit multiply-accumulate, two samples an
-/// instruction, to the same values. So every target gives the same bytes. P is the largest
+/// instruction, to the same values; on Armv6-M (Cortex-M0, M0+) the batch at N = 4 runs these
+/// steps in hand-written assembly, the rarer ways in the same code as elsewhere. So every
+/// target gives the same bytes. P is the largest
 /// (at most 46) for which each channel satisfies `Σᵢ |Vᵢ >> 16| · 65535 + N · 65535 ≤
 /// i32::MAX`: then no coarse sum, nor the sum plus `Σᵢ xᵢ`, overflows for any u16 input. `new`
 /// checks it, at compile time for the baked sets.
@@ -299,9 +303,9 @@ impl<const N: usize> IntegerSet<N> {
         check_length(LengthOf::Output, counts.len(), out.len())?;
         // As in encode_pixel, once for the whole batch.
         match self.frac_bits {
-            #[cfg(arm_dsp)]
+            #[cfg(any(arm_dsp, all(target_arch = "arm", arm_v6m)))]
             45 => self.encode_batch_with::<17>(counts, out),
-            #[cfg(arm_dsp)]
+            #[cfg(any(arm_dsp, all(target_arch = "arm", arm_v6m)))]
             46 => self.encode_batch_with::<18>(counts, out),
             _ => self.encode_batch_with::<0>(counts, out),
         }
@@ -312,12 +316,67 @@ impl<const N: usize> IntegerSet<N> {
     /// registers across pixels.
     #[inline(always)]
     fn encode_batch_with<const S: u32>(&self, counts: &[[u16; N]], out: &mut [[u8; 3]]) {
-        for (o, x) in out.iter_mut().zip(counts) {
+        // Armv6-M at N = 4: the pixels' common paths in assembly, what they leave as elsewhere.
+        #[cfg(all(target_arch = "arm", arm_v6m))]
+        if S != 0 {
+            let coarse = self.coarse.as_flattened().as_chunks::<4>().0;
+            let counts4 = counts.as_flattened().as_chunks::<4>().0;
+            if let (Ok(coarse), true) = (<&[[i32; 4]; 3]>::try_from(coarse), N == 4) {
+                let mut sums = [0i32; 4];
+                let mut from = 0;
+                while let (Some(x4), Some(o)) = (counts4.get(from..), out.get_mut(from..)) {
+                    let (j, k) = armv6m::run4::<S>(coarse, self.curve, x4, o, &mut sums);
+                    let j = from + j;
+                    match (counts.get(j), out.get_mut(j)) {
+                        (Some(x), Some(o)) if k < 3 => {
+                            self.encode_channels_from::<S>(k, sums, x, o);
+                        }
+                        _ => break,
+                    }
+                    from = j + 1;
+                }
+                return;
+            }
+        }
+        let pixels = out.iter_mut().zip(counts);
+        // From the last on Armv6-M (N other than 4, or P other than 45 and 46), which left
+        // the Cortex-M0 a register more in the loop (N = 8: 272 instructions a pixel to 265).
+        #[cfg(all(target_arch = "arm", arm_v6m))]
+        let pixels = pixels.rev();
+        for (o, x) in pixels {
             // Each code stored as soon as it is known: three values fewer to hold at once.
             let (h, total) = self.coarse_sums(x);
             o[0] = self.encode_channel::<S>(0, h[0], total, x);
             o[1] = self.encode_channel::<S>(1, h[1], total, x);
             o[2] = self.encode_channel::<S>(2, h[2], total, x);
+        }
+    }
+}
+
+impl<const N: usize> IntegerSet<N> {
+    /// Channels `k..3` of the pixel `x`, whose coarse sums are `sums` (`h` of the three
+    /// channels, then the total), into `out`: what Armv6-M's assembly leaves (out of line).
+    #[cfg(all(target_arch = "arm", arm_v6m))]
+    #[cold]
+    #[inline(never)]
+    fn encode_channels_from<const S: u32>(
+        &self,
+        k: usize,
+        sums: [i32; 4],
+        x: &[u16; N],
+        out: &mut [u8; 3],
+    ) {
+        // Channel k took none of the ways before `settle` (below 0 neither: see `below_zero`);
+        // at or above 1.0 it would have been 255 (so the test, which also tells the compiler
+        // that `settle` sees h below 1.0 wherever it is called).
+        let (c, h, total) = (k % 3, sums[k % 3], sums[3]);
+        out[c] = if h >= self.one {
+            255
+        } else {
+            self.settle(c, h, total, x)
+        };
+        for c in k + 1..3 {
+            out[c] = self.encode_channel::<S>(c, sums[c], total, x);
         }
     }
 }
@@ -449,12 +508,13 @@ impl<const N: usize> IntegerSet<N> {
             return limit as u8;
         }
         // Most often the stretch holds one threshold, at or below h: then the code is one
-        // more, if the threshold after it is above top. (code + 1 ≤ 256 is in range; code + 2
-        // is masked, and entry 0 for code 254 only sends the value on to `settle`.)
+        // more, if the threshold after it is above top. (code + 2 ≤ 257 is in range: for code
+        // 254 the entry is `u32::MAX`, and h at or above the last threshold is code 255.)
         let code = usize::from(limit as u8);
-        if key >= self.curve.q31[code + 1] {
+        let q = &self.curve.q31;
+        if key >= q[code + 1] {
             let key_top = (top.max(0) as u32) << self.shift;
-            if key_top < self.curve.q31[(code + 2) & 255] {
+            if key_top < q[code + 2] {
                 return code as u8 + 1;
             }
         }
@@ -705,7 +765,7 @@ mod tests {
                     if top30(h, total, set.shift) < limit {
                         2
                     } else if (h as u32) << set.shift >= set.curve.q31[code + 1]
-                        && key_top < set.curve.q31[(code + 2) & 255]
+                        && key_top < set.curve.q31[code + 2]
                     {
                         3
                     } else {

@@ -40,7 +40,20 @@ use simulated::{
 /// compiler can build the weights into the code as constants (a copy per function on the stack
 /// would be read through a pointer instead).
 static SENSOR: IntegerSet<CHANNELS> = integer::AS7341_SRGB;
+#[cfg(not(feature = "set4-p46"))]
 static SET4: IntegerSet<4> = integer::TABLE2_ROW2_SRGB;
+/// With the feature `set4-p46`: Table 2's row 2 for counts of half the sample, 46 fractional
+/// bits where the baked set has 45 (each P has its own code in the integer path).
+#[cfg(feature = "set4-p46")]
+static SET4: IntegerSet<4> = match IntegerSet::new(
+    &folded::TABLE2_ROW2_SRGB,
+    integer::TABLE2_ROW2_SRGB.sample_unit() / 2.0,
+) {
+    Ok(set) => set,
+    Err(_) => panic!("Table 2's row 2 has a fixed-point form for half its sample"),
+};
+#[cfg(feature = "set4-p46")]
+const _: () = assert!(SET4.frac_bits() == 46);
 /// Sets of the sensor's first 5 and 6 channels: on Armv7E-M the integer path sums the samples
 /// in pairs, two pairs a step, so these reach its last lone pair and a last unpaired sample,
 /// beside N = 4 and 8 (whole steps).
