@@ -939,7 +939,10 @@ fn sections_7_9_and_10_judge_a_seeded_sample_of_more_reflectances_than_sample_an
         let (code, stdout, stderr) = run(sample, "7,10");
         assert_eq!(code, Some(0), "{stderr}");
         assert!(!stdout.contains("Sampled:"), "{stdout}");
-        assert!(stdout.contains("10. Light that bounces: 24 reflectances"), "{stdout}");
+        assert!(
+            stdout.contains("10. Light that bounces: 24 reflectances"),
+            "{stdout}"
+        );
         assert!(stdout.contains("   144 stimuli: "), "{stdout}");
     }
 }
