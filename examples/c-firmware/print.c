@@ -45,16 +45,7 @@ void u64(uint64_t v) {
 }
 
 void u(uint32_t v) {
-    char digits[11];
-    int n = 0;
-    do {
-        digits[n++] = (char)('0' + v % 10u);
-        v /= 10u;
-    } while (v);
-    while (n) {
-        char one[2] = { digits[--n], '\0' };
-        s(one);
-    }
+    u64(v);
 }
 
 void i64(int64_t v) {
