@@ -14,8 +14,6 @@
 //! mappings (see `common::check_display`); `ChannelLuts::new` rejects bad tables.
 #![no_main]
 
-mod common;
-
 use common::{check_display, clamp01, in01, step_ulps, Bytes};
 use libfuzzer_sys::fuzz_target;
 use spectral_quadrature::tables::displays;

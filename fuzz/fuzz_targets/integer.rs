@@ -11,8 +11,6 @@
 //! are within 2³¹.
 #![no_main]
 
-mod common;
-
 use common::Bytes;
 use libfuzzer_sys::fuzz_target;
 use spectral_quadrature::tables::{folded, integer};

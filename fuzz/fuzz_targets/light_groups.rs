@@ -10,8 +10,6 @@
 //! payloads aside).
 #![no_main]
 
-mod common;
-
 use common::{same, MAPPINGS};
 use libfuzzer_sys::fuzz_target;
 use spectral_quadrature::tables::folded::{KQ_C_8_DISPLAY_P3, KQ_C_8_SRGB};

@@ -2,8 +2,6 @@
 //! (`common::loops` has the shapes and the checks).
 #![no_main]
 
-mod common;
-
 use libfuzzer_sys::fuzz_target;
 use spectral_quadrature::__fuzzing::Loops;
 

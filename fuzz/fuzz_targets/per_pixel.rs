@@ -7,8 +7,6 @@
 //! display outputs in 0..=1, NaN → black, encodings consistent (see `common`).
 #![no_main]
 
-mod common;
-
 use common::{check_folded, check_set, f32s, reference, FOLDED_ROW1, FOLDED_ROW2};
 use libfuzzer_sys::fuzz_target;
 use spectral_quadrature::tables::{displays, TABLE2_ROW1, TABLE2_ROW2};

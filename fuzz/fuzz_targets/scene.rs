@@ -22,8 +22,6 @@
 //! `cargo +nightly fuzz run scene -- -dict=fuzz/fuzz_targets/scene.dict`.
 #![no_main]
 
-mod common;
-
 use spectral_quadrature_spectra::builtin_lights;
 use std::path::Path;
 use std::sync::OnceLock;

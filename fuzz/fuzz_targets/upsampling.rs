@@ -12,8 +12,6 @@
 //! accumulator, give finite linear RGB: a texel is meant for every light of its group.
 #![no_main]
 
-mod common;
-
 use common::Bytes;
 use libfuzzer_sys::fuzz_target;
 use spectral_quadrature::tables::{groups, upsampling};
@@ -45,8 +43,16 @@ fn check<const N: usize>(name: &str, up: &Upsampling<N>, px: &[[f32; 3]]) {
             assert!((0.0..=1.0).contains(v), "{name} at {hex:?}: {r:?} {i:?}");
         }
         for k in 0..N {
-            assert_eq!(batch[p][k].to_bits(), r[k].to_bits(), "{name} batch at {hex:?}");
-            assert_eq!(planes[k][p].to_bits(), r[k].to_bits(), "{name} planar at {hex:?}");
+            assert_eq!(
+                batch[p][k].to_bits(),
+                r[k].to_bits(),
+                "{name} batch at {hex:?}"
+            );
+            assert_eq!(
+                planes[k][p].to_bits(),
+                r[k].to_bits(),
+                "{name} planar at {hex:?}"
+            );
             assert_eq!(
                 from_interleaved[k][p].to_bits(),
                 r[k].to_bits(),
@@ -54,7 +60,10 @@ fn check<const N: usize>(name: &str, up: &Upsampling<N>, px: &[[f32; 3]]) {
             );
         }
         let colour = up.set().linear_rgb(&r);
-        assert!(colour.iter().all(|c| c.is_finite()), "{name} at {hex:?}: {colour:?}");
+        assert!(
+            colour.iter().all(|c| c.is_finite()),
+            "{name} at {hex:?}: {colour:?}"
+        );
     }
 }
 
@@ -66,7 +75,11 @@ fn check_group<const N: usize, const L: usize>(
     group: &LightGroupSet<N, L>,
     px: &[[f32; 3]],
 ) {
-    assert_eq!(Some(up.set()), group.member(0), "{name}: its set is the first member");
+    assert_eq!(
+        Some(up.set()),
+        group.member(0),
+        "{name}: its set is the first member"
+    );
     for rgb in px {
         let r = up.reflectance(*rgb);
         for k in 0..L {

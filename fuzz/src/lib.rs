@@ -2,7 +2,9 @@
 //!
 //! Every check panics (which libFuzzer reports as a crash) with the inputs as hex bit
 //! patterns, so a failure can be reproduced from the message as well as from the artifact.
-#![allow(dead_code)]
+//!
+//! The targets' library (`[lib]` of fuzz/Cargo.toml), built once with the sanitizer and
+//! coverage flags cargo-fuzz gives every crate.
 
 pub mod loops;
 
