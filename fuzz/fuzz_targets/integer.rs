@@ -11,7 +11,7 @@
 //! are within 2³¹.
 #![no_main]
 
-use common::Bytes;
+use common::{step_ulps, Bytes};
 use libfuzzer_sys::fuzz_target;
 use spectral_quadrature::tables::{folded, integer};
 use spectral_quadrature::{FoldedSet, GamutMapping, IntegerSet};
@@ -23,16 +23,11 @@ const MAX_PIXELS: usize = 24;
 fn f32_at_or_below(v: f64) -> f32 {
     let x = v as f32;
     if f64::from(x) <= v {
-        return x;
-    }
-    // Rounded up: one step toward −∞.
-    let bits = x.to_bits();
-    if x == 0.0 {
-        -f32::from_bits(1)
-    } else if x > 0.0 {
-        f32::from_bits(bits - 1)
+        x
     } else {
-        f32::from_bits(bits + 1)
+        // Rounded up: one step toward −∞. Never from +0.0 (a negative `v` rounds to −0.0 at
+        // most), where `step_ulps` would give −0.0 instead of the smallest negative f32.
+        step_ulps(x, -1)
     }
 }
 
