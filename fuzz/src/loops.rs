@@ -119,6 +119,15 @@ impl Rng {
             _ => 1.2 * self.unit(),
         }
     }
+
+    /// The bytes' next value while they last, then the generator's.
+    fn sample_after(&mut self, b: &mut Bytes) -> f32 {
+        if b.is_empty() {
+            self.sample()
+        } else {
+            b.value()
+        }
+    }
 }
 
 /// `values` in an allocation of their own that ends where they end and starts `lead` elements
@@ -253,15 +262,7 @@ fn case<const N: usize>(b: &mut Bytes) -> Case<N> {
     let wrong = b.u8();
     // The first samples from the bytes, the rest from the generator.
     let pixels = (0..pixels)
-        .map(|_| {
-            std::array::from_fn(|_| {
-                if b.is_empty() {
-                    rng.sample()
-                } else {
-                    b.value()
-                }
-            })
-        })
+        .map(|_| std::array::from_fn(|_| rng.sample_after(b)))
         .collect();
     Case {
         set,
@@ -546,13 +547,7 @@ fn groups<const N: usize, const L: usize>(level: Loops, b: &mut Bytes) {
                 if l == 0 {
                     *s
                 } else {
-                    std::array::from_fn(|_| {
-                        if b.is_empty() {
-                            rng.sample()
-                        } else {
-                            b.value()
-                        }
-                    })
+                    std::array::from_fn(|_| rng.sample_after(b))
                 }
             })
         })
