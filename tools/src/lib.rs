@@ -1,12 +1,11 @@
 //! What only people at a desk need, on top of `spectral-quadrature-generator`: the analysis behind
 //! the report and the planner. The programs are `report` (error against run time, the crate's
-//! main job), `plan` (a scene for an error budget), `tables` (the derived tables beside the
-//! paper's), `cornell` (the Cornell box rendered once per spectral method) and `render` (the
-//! box path traced with every method, error against render time).
+//! main job), `plan` (a scene for an error budget) and `tables` (the derived tables beside the
+//! paper's). The Cornell box renderers, `cornell` and `render`, are the package
+//! `spectral-quadrature-render`, built on this library.
 //!
 //! - [`budget`]: every method at each wavelength budget (report section 5).
 //! - [`cli`]: the command-line arguments the programs share.
-//! - [`cornell`]: the Cornell box rendered by radiosity, once per spectral method (`cornell`).
 //! - [`csv_table`]: every CSV the programs write, through the `csv` crate's writer.
 //! - [`evaluate`]: the sets the report builds to measure beside the crate's (every combination
 //!   of per-channel rules, a shared set on radiances).
@@ -21,7 +20,6 @@
 //! - [`stability`]: unstable alternatives to the crate's quadrature (section 6b).
 //! - [`sensitivity`]: how rules move with the grid, the range and the observer (section 6c).
 //! - [`random_wavelengths`]: what renderers do instead, random wavelengths per sample (section 7).
-//! - [`render`]: one path tracer for every spectral method, error against render time (`render`).
 //! - [`scene_file`]: the scene file `plan` writes for the set it chose.
 //! - [`upsampling`]: RGB materials under another light, the crate's upsampling beside
 //!   Jakob-Hanika, Mallett-Yuksel and Smits (section 8).
@@ -32,7 +30,6 @@ use std::path::PathBuf;
 
 pub mod budget;
 pub mod cli;
-pub mod cornell;
 pub mod csv_table;
 pub mod evaluate;
 pub mod interreflection;
@@ -41,7 +38,6 @@ pub mod node_cache;
 pub mod paper;
 pub mod prefilter;
 pub mod random_wavelengths;
-pub mod render;
 pub mod scene_file;
 pub mod sensitivity;
 pub mod stability;

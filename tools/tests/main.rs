@@ -2,7 +2,6 @@
 //! is a module here, so that a test build compiles and links one binary instead of one per file.
 //! Run one file's tests with its module name as the filter, `--test integration -- plan::`.
 
-mod cornell;
 mod evaluate;
 mod interreflection;
 mod light_groups;
@@ -10,7 +9,6 @@ mod node_cache;
 mod plan;
 mod prefilter;
 mod random_wavelengths;
-mod render;
 mod report;
 mod reproduction;
 mod sensitivity;

@@ -16,13 +16,13 @@
 //!   The group's map takes a texel's linear sRGB as its colour under the group's **first** light,
 //!   D65, which is why D65 is first: the decoded texel goes to the map unchanged. Every texel is
 //!   upsampled once, when the texture is loaded.
-//! - **Light transport** (the render tool's, `tools/src/render/transport.rs`): diffuse surfaces;
+//! - **Light transport** (the render tool's, `render/src/render/transport.rs`): diffuse surfaces;
 //!   at every surface one light chosen by its luminous power (never by spectral values), a
 //!   uniform point on it and a shadow ray; cosine-weighted bounces; a light met by a bounce
 //!   counted only from the camera; from the fourth surface on the path survives with probability
 //!   0.75 (a constant), at most 64 surfaces. Seeded per pixel: the same image on every run and
 //!   with any number of threads.
-//! - **Camera**: the cornell tool's (`tools/src/cornell/camera.rs`), every path through the
+//! - **Camera**: the cornell tool's (`render/src/cornell/camera.rs`), every path through the
 //!   pixel's centre, so the image compares with the render tool's reference pixel by pixel.
 //! - **Display**: exposure so that the reference's brightest seen pixel has luminance 0.85,
 //!   white-balanced to the two lights' white (their whites weighted by luminous power), clipped,

@@ -10,6 +10,7 @@
 //! the two boxes' faces are tested.
 
 use crate::Error;
+use spectral_quadrature_tools as tools;
 
 /// A point or direction in the box's coordinates, mm.
 pub type V3 = [f64; 3];
@@ -501,7 +502,7 @@ pub fn form_factors(mesh: &Mesh, quads: &[Quad]) -> Vec<f64> {
         })
         .collect();
     let rows: Vec<usize> = (0..n).collect();
-    let rows = crate::par_map(&rows, |&i| {
+    let rows = tools::par_map(&rows, |&i| {
         let pi = &mesh.patches[i];
         let x = add(pi.centre, scale(pi.normal, LIFT_MM));
         let mut row = vec![0.0; n];

@@ -18,7 +18,7 @@
 //! over pixels is compiled twice: once for the target's baseline, and once with AVX2 enabled
 //! (`#[target_feature(enable = "avx2")]`, chosen at run time by CPU detection), so that eight
 //! node values are one 256-bit register. The two give the same bits (no fused multiply-add is
-//! enabled); `tools/tests/render.rs` checks it.
+//! enabled); `render/tests/render.rs` checks it.
 
 use std::time::Instant;
 

@@ -8,8 +8,8 @@ use spectral_quadrature_spectra::DataError;
 
 use super::scene::Scene;
 use super::transport::Geometry;
-use crate::upsampling::mean_p95;
 use crate::Error;
+use spectral_quadrature_tools::upsampling::mean_p95;
 
 /// The pixels whose camera ray meets a surface (not a light, not the outside): every
 /// statistic is taken over them.

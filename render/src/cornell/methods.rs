@@ -25,8 +25,9 @@ use super::camera::{view, View};
 use super::geometry::{form_factors, mesh, Mesh, Quad};
 use super::radiosity::{solve, Bounces};
 use super::RANGE_NM;
-use crate::random_wavelengths::{pixel_rng, Sampler};
 use crate::Error;
+use spectral_quadrature_tools as tools;
+use spectral_quadrature_tools::random_wavelengths::{pixel_rng, Sampler};
 
 /// The spatial part, shared by every method: the mesh, its form factors and the camera view.
 pub struct Scene {
@@ -255,7 +256,7 @@ pub fn rgb(
 ) -> Result<Spectral, Error> {
     let (_, m) = d.display("SRGB")?;
     let rgb_paints = match albedo {
-        Albedo::D65 => crate::upsampling::srgb_under_d65(d, paints)?,
+        Albedo::D65 => tools::upsampling::srgb_under_d65(d, paints)?,
         Albedo::UnderLight => {
             spectral_quadrature_generator::upsampling::exact_rgb(d, m, light, paints)?
         }
@@ -283,7 +284,7 @@ pub enum Upsampler {
     /// [`spectral_quadrature::Upsampling`]; the RGB is the paint's white-balanced linear sRGB
     /// under that light (the map's convention).
     CrateMap,
-    /// Jakob-Hanika ([`crate::upsampling::jakob_hanika`]), fitted to the paint's
+    /// Jakob-Hanika ([`tools::upsampling::jakob_hanika`]), fitted to the paint's
     /// white-balanced linear sRGB under D65 (its convention), evaluated at the nodes.
     JakobHanika,
 }
@@ -314,7 +315,7 @@ pub fn upsampled(
                 &training,
                 spectral_quadrature_generator::upsampling::DEFAULT_GRID,
             )?;
-            crate::upsampling::runtime_values(&baked, &rgb)?.ok_or_else(|| {
+            tools::upsampling::runtime_values(&baked, &rgb)?.ok_or_else(|| {
                 Error::Derive(spectral_quadrature_generator::Error::Numerical(format!(
                     "no runtime upsampling path for {} nodes",
                     baked.wavelengths_nm.len()
@@ -322,8 +323,8 @@ pub fn upsampled(
             })?
         }
         Upsampler::JakobHanika => {
-            let jh = crate::upsampling::jakob_hanika::JakobHanika::srgb(d)?;
-            crate::upsampling::srgb_under_d65(d, paints)?
+            let jh = tools::upsampling::jakob_hanika::JakobHanika::srgb(d)?;
+            tools::upsampling::srgb_under_d65(d, paints)?
                 .iter()
                 .map(|c| jh.at(*c, nodes))
                 .collect()
@@ -338,7 +339,7 @@ pub fn upsampled(
 }
 
 /// The reference's integrand per patch and 1 nm cell: `x̄ȳz̄(λₖ) · 1 nm · B(λₖ)` for the
-/// cells centred on 400, 401, …, 700 nm (as [`crate::random_wavelengths::Cells`] reads a grid
+/// cells centred on 400, 401, …, 700 nm (as [`tools::random_wavelengths::Cells`] reads a grid
 /// sum: its integral is exactly the reference's XYZ).
 pub fn cells(reference: &Spectral, b: &DMatrix<f64>) -> Vec<Vec<[f64; 3]>> {
     (0..b.nrows())
@@ -369,7 +370,7 @@ pub fn random_image(
     let t = Instant::now();
     let px: Vec<usize> = (0..scene.view.pixels.len()).collect();
     let last = spp.last().copied().unwrap_or(0);
-    let per_pixel = crate::par_map(&px, |&k| {
+    let per_pixel = tools::par_map(&px, |&k| {
         let p = &scene.view.pixels[k];
         let mut out = Vec::with_capacity(spp.len());
         if p.weights.is_empty() {

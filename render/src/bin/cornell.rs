@@ -2,8 +2,8 @@
 //! against the 1 nm reference, and drawn side by side (`docs/cornell-box.md`).
 //!
 //! ```text
-//! cargo run --release -p spectral-quadrature-tools --bin cornell
-//! cargo run --release -p spectral-quadrature-tools --bin cornell -- --light F11 --size 192 --patches 16
+//! cargo run --release -p spectral-quadrature-render --bin cornell
+//! cargo run --release -p spectral-quadrature-render --bin cornell -- --light F11 --size 192 --patches 16
 //! ```
 //!
 //! Writes `<out>/<light>.png` (the images over their ΔE00 maps), `<out>/scale.png` (the maps'
@@ -13,11 +13,11 @@
 //! box's light, per-pixel XYZ, the reference the path tracer `examples/renderer` checks itself
 //! against.
 
+use spectral_quadrature_render::cornell::methods::{self as m, Albedo, Spectral, Upsampler};
+use spectral_quadrature_render::cornell::picture::{self, Rgb8};
+use spectral_quadrature_render::cornell::radiosity::Bounces;
+use spectral_quadrature_render::cornell::{self as cb, Light};
 use spectral_quadrature_tools as tools;
-use tools::cornell::methods::{self as m, Albedo, Spectral, Upsampler};
-use tools::cornell::picture::{self, Rgb8};
-use tools::cornell::radiosity::Bounces;
-use tools::cornell::{self as cb, Light};
 use tools::random_wavelengths::{stream_seed, Sampler};
 use tools::upsampling::mean_p95;
 use tools::Error;

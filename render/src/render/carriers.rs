@@ -9,7 +9,7 @@ use super::transport::{
     add_product, add_scaled, frame_display, matrix_planes, scale_planes, Carrier, Film, Pcg32,
     Surface,
 };
-use crate::random_wavelengths::Sampler;
+use spectral_quadrature_tools::random_wavelengths::Sampler;
 
 /// The reference's wavelengths: every nm of 400-700 (the paints' measured range).
 pub const GRID_NM: [f64; 2] = [400.0, 700.0];
@@ -80,9 +80,9 @@ pub enum RandomMaterial {
 /// Random wavelengths, K a path, drawn by a [`Sampler`] (pbrt-v4's visible-wavelength density,
 /// or hero wavelengths): each path's radiance at its wavelengths becomes XYZ through the 1 nm
 /// colour-matching weights at their cells over the density (`f(λ)/p(λ)`, as
-/// [`crate::random_wavelengths`]), so its expected value is the reference's 1 nm sum. The film
-/// sums XYZ (as pbrt-v4's film sums each path's colour); its frame is their mean in linear
-/// sRGB.
+/// [`random_wavelengths`](spectral_quadrature_tools::random_wavelengths)), so its expected value
+/// is the reference's 1 nm sum. The film sums XYZ (as pbrt-v4's film sums each path's colour);
+/// its frame is their mean in linear sRGB.
 #[derive(Debug, Clone)]
 pub struct Random<const K: usize> {
     /// How the wavelengths are drawn.

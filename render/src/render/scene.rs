@@ -37,6 +37,7 @@ use toml::Spanned;
 
 use crate::cornell::{self, BoxData, Light};
 use crate::Error;
+use spectral_quadrature_tools as tools;
 
 /// A light of a scene, as every method receives it: its spectrum (windowed to 400-700 nm, in
 /// the scene's units: the first light as its data file gives it, the others scaled to their
@@ -210,7 +211,7 @@ impl Scene {
             line: e.span().map_or(0, |s| line_of(&text, s.start)),
             message: e.message().to_string(),
         })?;
-        let data = cornell::read_data(Path::new(crate::DATA_DIR))?;
+        let data = cornell::read_data(Path::new(tools::DATA_DIR))?;
         let paint_names = ["white", "red", "green"];
         let paint_srgb = match raw.paints.get_ref().as_str() {
             "measured" => {

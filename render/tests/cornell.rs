@@ -4,14 +4,14 @@
 //! and the view against the box's known layout.
 
 use nalgebra::DMatrix;
-use spectral_quadrature_spectra::Curve;
-use spectral_quadrature_tools::cornell::camera::{view, Seen};
-use spectral_quadrature_tools::cornell::geometry::{
+use spectral_quadrature_render::cornell::camera::{view, Seen};
+use spectral_quadrature_render::cornell::geometry::{
     form_factors, mesh, point_to_polygon, Material, Quad,
 };
-use spectral_quadrature_tools::cornell::methods::{self as m, Scene};
-use spectral_quadrature_tools::cornell::radiosity::{solve, Bounces};
-use spectral_quadrature_tools::cornell::{self as cb, Light};
+use spectral_quadrature_render::cornell::methods::{self as m, Scene};
+use spectral_quadrature_render::cornell::radiosity::{solve, Bounces};
+use spectral_quadrature_render::cornell::{self as cb, Light};
+use spectral_quadrature_spectra::Curve;
 
 const DATA_DIR: &str = spectral_quadrature_tools::DATA_DIR;
 

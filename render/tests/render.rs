@@ -10,14 +10,14 @@ use std::path::Path;
 use std::sync::OnceLock;
 
 use spectral_quadrature_generator::Derivation;
+use spectral_quadrature_render::cornell::picture::{self, Rgb8, LABEL_MARGIN};
+use spectral_quadrature_render::render::curves::{self, Point};
+use spectral_quadrature_render::render::measure::{self, CachedReference};
+use spectral_quadrature_render::render::methods::{Method, Setup, HERO};
+use spectral_quadrature_render::render::scene::Scene;
+use spectral_quadrature_render::render::transport::{has_avx2, Geometry, Options};
 use spectral_quadrature_spectra::Curve;
-use spectral_quadrature_tools::cornell::picture::{self, Rgb8, LABEL_MARGIN};
 use spectral_quadrature_tools::random_wavelengths::Sampler;
-use spectral_quadrature_tools::render::curves::{self, Point};
-use spectral_quadrature_tools::render::measure::{self, CachedReference};
-use spectral_quadrature_tools::render::methods::{Method, Setup, HERO};
-use spectral_quadrature_tools::render::scene::Scene;
-use spectral_quadrature_tools::render::transport::{has_avx2, Geometry, Options};
 
 fn derivation() -> &'static Derivation {
     static D: OnceLock<Derivation> = OnceLock::new();

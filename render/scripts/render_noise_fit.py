@@ -4,13 +4,13 @@
 prints, per scene, b and σ of RGB, the 8-node fixed set and the random-wavelength methods at 4
 a path, with each random method's σ over the 8-node set's.
 
-Where a curve stops (`tools/src/render/curves.rs`: its mean fell by less than 5 % over the last
+Where a curve stops (`render/src/render/curves.rs`: its mean fell by less than 5 % over the last
 doubling), σ²/spp = x·b² with x = 0.228; an unbiased method at the same paths has error
 σ_r/√spp = (σ_r/σ_8)·√x·b, which is below the fixed set's b·√(1 + x) when σ_r/σ_8 < 2.32: the
 random method then passes below the fixed set before the fixed set's curve has flattened,
 whatever its bias b.
 
-    python3 tools/scripts/render_noise_fit.py docs/render-time/error_vs_render_time.csv
+    python3 render/scripts/render_noise_fit.py docs/render-time/error_vs_render_time.csv
 """
 import argparse
 import collections

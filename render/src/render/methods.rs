@@ -4,7 +4,7 @@
 //!
 //! - **RGB**: each surface as its linear sRGB under D65, white-balanced (a perfect white is
 //!   (1, 1, 1): what an sRGB texture holds; measured paints are converted as
-//!   [`crate::upsampling::srgb_under_d65`] does), each light as the linear sRGB of its own
+//!   [`tools::upsampling::srgb_under_d65`] does), each light as the linear sRGB of its own
 //!   1 nm XYZ over 400-700 nm, in the reference's units (not white-balanced: a white surface
 //!   lit by it has exactly the light's colour). Pixels: linear sRGB to XYZ.
 //! - **Random wavelengths** (pbrt-v4's visible-wavelength density, hero wavelengths; K = 4 or
@@ -34,9 +34,10 @@ use super::carriers::{
 };
 use super::scene::Scene;
 use super::transport::{run_levels, Carrier, Geometry, Options, Progress, Progressive, Rendered};
-use crate::random_wavelengths::Sampler;
-use crate::upsampling::jakob_hanika::JakobHanika;
 use crate::Error;
+use spectral_quadrature_tools as tools;
+use spectral_quadrature_tools::random_wavelengths::Sampler;
+use spectral_quadrature_tools::upsampling::jakob_hanika::JakobHanika;
 
 /// A spectral method.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -183,7 +184,7 @@ impl<'a> Setup<'a> {
     pub fn srgb_rows(&self) -> Result<Vec<[f64; 3]>, Error> {
         let mut rows: Vec<[f64; 3]> = match self.scene.paint_srgb {
             Some(p) => p.to_vec(),
-            None => crate::upsampling::srgb_under_d65(self.d, &self.scene.data.paints)?,
+            None => tools::upsampling::srgb_under_d65(self.d, &self.scene.data.paints)?,
         };
         if let Some(t) = &self.scene.texture {
             rows.extend(t.linear.iter().copied());
@@ -536,7 +537,7 @@ pub fn d65_weights(
     nodes: &[f64],
     training: &[Curve],
 ) -> Result<[Vec<f64>; 3], Error> {
-    let d65 = crate::upsampling::d65(d)?;
+    let d65 = tools::upsampling::d65(d)?;
     let full = d.observer.full_integration(d.settings.range_nm, 1.0)?;
     let xyz = |f: &dyn Fn(f64) -> f64| -> [f64; 3] {
         [0, 1, 2].map(|c| {
@@ -606,7 +607,7 @@ pub fn texel_map(d: &Derivation, nodes: &[f64], training: &[Curve]) -> Result<Ba
         sensor: None,
     };
     let (_, srgb) = d.display("SRGB")?;
-    let d65 = crate::upsampling::d65(d)?;
+    let d65 = tools::upsampling::d65(d)?;
     Ok(bake(
         d,
         &set,

@@ -3,8 +3,8 @@
 //! (`docs/render-time.md`).
 //!
 //! ```text
-//! cargo run --release -p spectral-quadrature-tools --bin render
-//! cargo run --release -p spectral-quadrature-tools --bin render -- --scene examples/render/a.toml --size 32 --max-spp 16
+//! cargo run --release -p spectral-quadrature-render --bin render
+//! cargo run --release -p spectral-quadrature-render --bin render -- --scene examples/render/a.toml --size 32 --max-spp 16
 //! ```
 //!
 //! Writes `<out>/error_vs_render_time.csv` (every method at every level of samples per pixel),
@@ -44,13 +44,13 @@ use clap::Parser;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 
+use spectral_quadrature_render::cornell::picture::{self, Rgb8};
+use spectral_quadrature_render::render::curves::{self, Point};
+use spectral_quadrature_render::render::measure::{self, CachedReference};
+use spectral_quadrature_render::render::methods::{Method, Setup};
+use spectral_quadrature_render::render::scene::{self, Scene};
+use spectral_quadrature_render::render::transport::{self, Geometry, Options};
 use spectral_quadrature_tools as tools;
-use tools::cornell::picture::{self, Rgb8};
-use tools::render::curves::{self, Point};
-use tools::render::measure::{self, CachedReference};
-use tools::render::methods::{Method, Setup};
-use tools::render::scene::{self, Scene};
-use tools::render::transport::{self, Geometry, Options};
 use tools::Error;
 
 /// Renders the Cornell box scenes with every spectral method and plots error against time.
@@ -163,7 +163,7 @@ fn write_colorchecker(path: &Path) -> Result<(), Error> {
             println!("  {} is outside sRGB (linear {l:.4?}): clipped", c.name);
         }
     }
-    let data = tools::cornell::read_data(Path::new(tools::DATA_DIR))?;
+    let data = spectral_quadrature_render::cornell::read_data(Path::new(tools::DATA_DIR))?;
     let paints = tools::upsampling::srgb_under_d65(&d, &data.paints)?;
     println!("The box's paints' sRGB under D65 (encoded), for a scene's [[paint]]:");
     for (name, l) in ["white", "red", "green"].iter().zip(&paints) {
@@ -260,7 +260,7 @@ fn reference(
         source: e,
     })?;
     let command = format!(
-        "cargo run --release -p spectral-quadrature-tools --bin render -- --scene {} --size {} --reference-spp {} --remake-reference",
+        "cargo run --release -p spectral-quadrature-render --bin render -- --scene {} --size {} --reference-spp {} --remake-reference",
         scene.file.strip_prefix(tools::CRATE_DIR).unwrap_or(&scene.file).display(),
         args.size,
         args.reference_spp
@@ -1209,7 +1209,7 @@ fn scene_curves(
         }
     }
     // Each measured paint at each fixed set's nodes.
-    for n in tools::render::methods::FIXED_SIZES {
+    for n in spectral_quadrature_render::render::methods::FIXED_SIZES {
         for e in setup.paint_errors(n)? {
             tables.paints.row([
                 scene.scene.clone(),
