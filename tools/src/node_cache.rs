@@ -3,9 +3,9 @@
 //! the search reads.
 //!
 //! The report searches nodes in several sections: each shared set of sections 4, 5 and 10
-//! (`Problem::shared`), each light's own folded set that sections 9 and 10 compare a group with
-//! and start its search from, and every light group of sections 9 and 10, for each fold of the
-//! cross-validations ([`GroupFit::optimize`]). On the default inputs those searches are most of
+//! (`Problem::shared`), each light's own folded set that sections 8, 9 and 10 compare a group
+//! with and start its search from, and every light group of sections 8, 9 and 10, for each fold
+//! of the cross-validations ([`GroupFit::optimize`]). On the default inputs those searches are most of
 //! the report's run time, and they find the same nodes in every run. A [`NodeCache`] takes the
 //! nodes from the file when the entry's fingerprint matches the search's inputs and computes
 //! only the weights at them (`Problem::set_at`, [`GroupFit::group_at`]: what the search
@@ -346,7 +346,7 @@ pub fn report_cache_file(d: &Derivation, searching: impl Fn(&str)) -> Result<Str
 
 /// Every node search of the report's default run, through `cache`, with the report's default
 /// inputs: sections 4 and 5's shared sets for radiances at every budget, section 5's folded for
-/// each of its lights at every budget, section 9's
+/// each of its lights at every budget, section 8's light groups of each fold, section 9's
 /// cross-validation, section 10's fixed sets and cross-validation (the judging left out).
 pub fn report_searches(
     d: &Derivation,
@@ -374,6 +374,8 @@ pub fn report_searches(
     let (judged, _) = crate::light_groups::judged_reflectances(d, None)?;
     let builtin = |names: &[&str]| crate::light_groups::builtin_lights(d, names);
     let group = builtin(&crate::light_groups::LIGHTS)?;
+    searching("section 8: the light groups of each fold");
+    crate::upsampling::groups::default_searches(d, cache)?;
     searching("section 9: the light groups of each fold");
     crate::light_groups::compare_with(
         d,

@@ -162,31 +162,19 @@ fn a_light_groups_map_round_trips_under_its_first_light_and_relights_under_the_o
         .iter()
         .map(|n| builtin_illuminant(dir, n, range).unwrap())
         .collect();
-    let mut judged = Vec::new();
-    for f in [
-        "data/reflectance_colorchecker_ohta.csv",
-        "data/reflectance_cie_tcs.csv",
-        "data/reflectance_rawtoaces_190.csv",
-    ] {
-        judged.extend(Spectra::builtin(dir, f).unwrap().curves(range).unwrap());
-    }
-    let folds: Vec<groups::Fold> = (0..light_groups::FOLDS)
-        .map(|f| {
-            let train = (0..judged.len())
-                .filter(|k| k % light_groups::FOLDS != f)
-                .map(|k| judged[k].clone())
-                .collect();
-            let idx = (0..judged.len())
-                .filter(|k| k % light_groups::FOLDS == f)
-                .collect();
-            (train, idx)
-        })
+    // The ColorChecker, the CIE test colours and the rawtoaces patches, as report section 8 (its
+    // folds' groups from the report's node cache).
+    let judged = groups::default_judged(&d).unwrap();
+    assert_eq!(judged.len(), 24 + 14 + 190);
+    let folds: Vec<groups::Fold> = (0..groups::FOLDS)
+        .map(|f| groups::fold(&judged, groups::FOLDS, f))
         .collect();
     let rgb = up::srgb_under_d65(&d, &judged).unwrap();
     let own = light_groups::own_sets(&d, &lights, 8).unwrap();
-    let g = groups::judge(&d, &lights, 8, &own, &judged, &rgb, &folds, &|_| ()).unwrap();
+    let cache = spectral_quadrature_tools::node_cache::NodeCache::report().unwrap();
+    let g = groups::judge(&d, cache, &lights, 8, &own, &judged, &rgb, &folds, &|_| ()).unwrap();
     assert_eq!(g.lights, ["D65", "A"]);
-    assert_eq!(g.nodes_nm.len(), light_groups::FOLDS);
+    assert_eq!(g.nodes_nm.len(), groups::FOLDS);
     let [floor, group, alone, fixed, jh] = [0, 1, 2, 3, 4].map(|m| &g.errors[m]);
     // The round trip under D65, on the texels inside the sRGB cube: the table's 16-bit codes
     // and the f32 path leave at most 0.0021 ΔE00 (measured); the [fixed] set's map, fitted for

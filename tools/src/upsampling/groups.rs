@@ -12,15 +12,28 @@
 //! `[fixed]` set for radiances at the group's nodes with its own map under D65) and Jakob-Hanika.
 
 use spectral_quadrature_generator::scene::Scene;
-use spectral_quadrature_generator::shared::{GroupFit, GroupObjective, Weights};
+use spectral_quadrature_generator::shared::{Group, GroupObjective, Weights};
 use spectral_quadrature_generator::upsampling::{self as up, Baked};
-use spectral_quadrature_generator::{Derivation, WavelengthSet};
-use spectral_quadrature_spectra::Curve;
+use spectral_quadrature_generator::{Derivation, Error as DeriveError, WavelengthSet};
+use spectral_quadrature_spectra::{Curve, Spectra};
 
 use super::jakob_hanika::{self, JakobHanika};
 use super::{relit_de00, runtime_values};
 use crate::evaluate::member_on_radiance;
+use crate::light_groups::OwnSets;
+use crate::node_cache::NodeCache;
 use crate::Error;
+
+/// The light groups report section 8 judges unless `--illuminants` names other lights (then
+/// D65 and those): the default scene's, and daylight with a tungsten lamp
+/// (`examples/scenes/room.toml`). The texels' light, D65, first.
+pub const DEFAULT_GROUPS: [&[&str]; 2] = [&["D65", "A", "F11", "LED_B2"], &["D65", "A"]];
+
+/// The size of the light groups report section 8 judges.
+pub const GROUP_SIZE: usize = 8;
+
+/// Folds of report section 8's cross-validation.
+pub const FOLDS: usize = 5;
 
 /// The methods, in the order of [`GroupMaps::errors`].
 pub const METHODS: [&str; 5] = [
@@ -47,18 +60,87 @@ pub struct GroupMaps {
 /// indices of the judged reflectances it judges.
 pub type Fold = (Vec<Curve>, Vec<usize>);
 
+/// The reflectances report section 8 judges by default: the ColorChecker (Ohta's), then the
+/// upsampling maps' training (the CIE test colours and the 190 rawtoaces patches).
+pub fn default_judged(d: &Derivation) -> Result<Vec<Curve>, DeriveError> {
+    let (dir, range) = (&d.settings.data_dir, d.settings.range_nm);
+    let mut all = Spectra::builtin(dir, "data/reflectance_colorchecker_ohta.csv")?.curves(range)?;
+    all.extend(up::training(dir, range)?);
+    Ok(all)
+}
+
+/// Fold `fold` of `count` over `judged`: it judges every `count`-th reflectance from `fold` on,
+/// and trains on the others.
+pub fn fold(judged: &[Curve], count: usize, fold: usize) -> Fold {
+    let idx: Vec<usize> = (0..judged.len()).filter(|k| k % count == fold).collect();
+    let training = judged
+        .iter()
+        .enumerate()
+        .filter(|(k, _)| k % count != fold)
+        .map(|(_, c)| c.clone())
+        .collect();
+    (training, idx)
+}
+
+/// The group of `lights` at `n` nodes that fold `f` judges (nodes searched for the mean ratio
+/// to each light's own folded set, starting from `own`'s nodes; weights fitted per light on
+/// `training`), its nodes from `cache` where its entry `maps_<lights>_<n>_fold<f>` has a
+/// matching fingerprint.
+pub fn fold_group(
+    d: &Derivation,
+    cache: &NodeCache,
+    lights: &[Curve],
+    n: usize,
+    own: &OwnSets,
+    f: usize,
+    training: &[Curve],
+) -> Result<Group, DeriveError> {
+    let names: Vec<&str> = lights.iter().map(|l| l.name.as_str()).collect();
+    let (problems, _, own_nodes) = own;
+    cache.group(
+        d,
+        &format!("maps_{}_{n}_fold{f}", names.join("+")),
+        problems.clone(),
+        training,
+        n,
+        own_nodes,
+        GroupObjective::Mean,
+        Weights::PerLight,
+    )
+}
+
+/// Every node search of report section 8's default run, through `cache`: each fold's group for
+/// each of [`DEFAULT_GROUPS`] (each light's own set among them), the maps and their judging left
+/// out.
+pub fn default_searches(d: &Derivation, cache: &NodeCache) -> Result<(), DeriveError> {
+    let judged = default_judged(d)?;
+    let folds: Vec<usize> = (0..FOLDS).collect();
+    for names in DEFAULT_GROUPS {
+        let lights = crate::light_groups::builtin_lights(d, names)?;
+        let own = crate::light_groups::own_sets_with(d, cache, &lights, GROUP_SIZE)?;
+        for r in crate::par_map(&folds, |&f| {
+            let (training, _) = fold(&judged, FOLDS, f);
+            fold_group(d, cache, &lights, GROUP_SIZE, &own, f, &training)
+        }) {
+            r?;
+        }
+    }
+    Ok(())
+}
+
 /// Judges the maps of the light group of `lights` (two or more; the texels' light first) at
-/// `n` nodes on `judged`, fold by fold: each fold's group (nodes searched for the mean ratio to
-/// each light's own folded set, `own_nodes` as [`crate::light_groups::own_sets`] gives them,
-/// weights fitted on the fold's training) and each map are fitted on the fold's training only.
+/// `n` nodes on `judged`, fold by fold: each fold's group ([`fold_group`], through `cache`;
+/// `own` as [`crate::light_groups::own_sets`] gives it) and each map are fitted on the fold's
+/// training only.
 /// `rgb`: the judged reflectances' linear sRGB under the first light, white-balanced (the
 /// texels). `done` is called with 1 as each fold is finished.
 #[allow(clippy::too_many_arguments)]
 pub fn judge(
     d: &Derivation,
+    cache: &NodeCache,
     lights: &[Curve],
     n: usize,
-    own: &crate::light_groups::OwnSets,
+    own: &OwnSets,
     judged: &[Curve],
     rgb: &[[f64; 3]],
     folds: &[Fold],
@@ -68,10 +150,10 @@ pub fn judge(
     let reference = d.observer.full_integration(d.settings.range_nm, 1.0)?;
     let jh = JakobHanika::srgb(d)?;
     let jh_coeffs: Vec<[f64; 3]> = rgb.iter().map(|p| jh.fit(*p)).collect();
-    let (problems, _, own_nodes) = own;
-    let per_fold = crate::par_map(folds, |(train, idx)| -> Result<_, Error> {
-        let fit = GroupFit::new(problems.clone(), train)?;
-        let group = fit.optimize(n, own_nodes, GroupObjective::Mean, Weights::PerLight)?;
+    let fold_numbers: Vec<usize> = (0..folds.len()).collect();
+    let per_fold = crate::par_map(&fold_numbers, |&f| -> Result<_, Error> {
+        let (train, idx) = &folds[f];
+        let group = fold_group(d, cache, lights, n, own, f, train)?;
         let nodes = group.wavelengths_nm.clone();
         let members: Vec<WavelengthSet> = group
             .members

@@ -11,7 +11,8 @@
 //! Then light groups whose first light is D65 (`tools::upsampling::groups`): the group's map,
 //! fitted for every light of the group, beside the first light's map alone, a `[fixed]` set's
 //! map at the group's nodes and Jakob-Hanika, relit through each light's member; the group and
-//! every map refitted in each fold.
+//! every map refitted in each fold (the groups' nodes from the report's node cache on the
+//! default inputs, `tools::node_cache`).
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -23,8 +24,9 @@ use spectral_quadrature_generator::Derivation;
 use spectral_quadrature_spectra::{builtin_illuminant, Curve, Spectra};
 use spectral_quadrature_tools as tools;
 use tools::csv_table::Table;
+use tools::node_cache::NodeCache;
 use tools::upsampling::{
-    groups::{GroupMaps, METHODS as GROUP_METHODS},
+    groups::{GroupMaps, DEFAULT_GROUPS, FOLDS, GROUP_SIZE, METHODS as GROUP_METHODS},
     jakob_hanika::JakobHanika,
     mean_p95, relit_de00,
     smooth::{MallettYuksel, Smits},
@@ -35,19 +37,8 @@ use tools::Error;
 /// The lights the report relights under unless `--illuminants` names others.
 pub const DEFAULT_LIGHTS: [&str; 3] = ["A", "F11", "LED_B2"];
 
-/// The light groups whose maps the section judges unless `--illuminants` names other lights
-/// (then D65 and those): the default scene's, and daylight with a tungsten lamp
-/// (`examples/scenes/room.toml`). The texels' light, D65, first.
-pub const DEFAULT_GROUPS: [&[&str]; 2] = [&["D65", "A", "F11", "LED_B2"], &["D65", "A"]];
-
-/// The size of the light groups judged.
-const GROUP_SIZE: usize = 8;
-
 /// The set sizes compared.
 const SIZES: [usize; 3] = [4, 6, 8];
-
-/// Folds of the cross-validation.
-const FOLDS: usize = 5;
 
 /// The methods, in the order the table prints them.
 const METHODS: [&str; 6] = [
@@ -131,8 +122,7 @@ pub fn section(i: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
     let (judged, folds, judged_from): (Vec<Curve>, Vec<usize>, String) = match i.reflectances {
         Some((r, from)) => (r.to_vec(), vec![0; r.len()], from.to_string()),
         None => {
-            let mut all = cc.clone();
-            all.extend(shipped_training.iter().cloned());
+            let all = tools::upsampling::groups::default_judged(d)?;
             let folds = (0..all.len()).map(|k| k % FOLDS).collect();
             (
                 all,
@@ -270,27 +260,18 @@ pub fn section(i: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
             .collect::<Result<_, _>>()?,
     };
     let group_lights = &group_lights[..if i.quick { 1 } else { group_lights.len() }];
-    let group_folds: Vec<tools::upsampling::groups::Fold> =
-        (0..if i.quick { 1 } else { fold_count })
-            .map(|fold| {
-                let idx: Vec<usize> = (0..judged.len()).filter(|&k| folds[k] == fold).collect();
-                let training = match i.reflectances {
-                    Some(_) => shipped_training.clone(),
-                    None => judged
-                        .iter()
-                        .zip(&folds)
-                        .filter(|(_, f)| **f != fold)
-                        .map(|(c, _)| c.clone())
-                        .collect(),
-                };
-                (training, idx)
-            })
-            .collect();
+    let group_folds: Vec<tools::upsampling::groups::Fold> = match i.reflectances {
+        Some(_) => vec![(shipped_training.clone(), (0..judged.len()).collect())],
+        None => (0..if i.quick { 1 } else { FOLDS })
+            .map(|f| tools::upsampling::groups::fold(&judged, FOLDS, f))
+            .collect(),
+    };
     let mut groups = Vec::new();
     for lights in group_lights {
         let own = tools::light_groups::own_sets(d, lights, GROUP_SIZE)?;
         groups.push(tools::upsampling::groups::judge(
             d,
+            NodeCache::report()?,
             lights,
             GROUP_SIZE,
             &own,
