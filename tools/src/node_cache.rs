@@ -18,9 +18,10 @@
 //! `cargo run --release -p spectral-quadrature-tools --bin tables -- --report-cache >
 //! tools/data/report_nodes.csv` writes the file ([`report_cache_file`]). A test runs the
 //! report's default searches through the file and checks that each finds its entry, fingerprint
-//! and all, and that every entry is used (seconds); another, ignored by `cargo test` (a minute of
-//! CPU) and run by CI, runs every search afresh and compares with the file, which catches a
-//! change to the search's code that no fingerprint sees.
+//! and all, and that every entry is used (seconds); another, ignored by `cargo test` (minutes of
+//! CPU in a test build), runs every search afresh and compares with the file, which catches a
+//! change to the search's code that no fingerprint sees. CI makes that comparison with the
+//! release build's `tables --report-cache`.
 
 use std::sync::{Mutex, OnceLock};
 
