@@ -26,7 +26,7 @@ use spectral_quadrature_tools as tools;
 use tools::csv_table::Table;
 use tools::node_cache::NodeCache;
 use tools::upsampling::{
-    groups::{GroupMaps, DEFAULT_GROUPS, FOLDS, GROUP_SIZE, METHODS as GROUP_METHODS},
+    groups::{self, GroupMaps, DEFAULT_GROUPS, FOLDS, GROUP_SIZE, METHODS as GROUP_METHODS},
     jakob_hanika::JakobHanika,
     mean_p95, relit_de00,
     smooth::{MallettYuksel, Smits},
@@ -117,23 +117,30 @@ pub fn section(i: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
     let shipped_training = up::training(dir, range)?;
     let cc = Spectra::builtin(dir, "data/reflectance_colorchecker_ohta.csv")?.curves(range)?;
 
-    // The judged reflectances and, for each, the training of the map that judges it.
-    // Fold k of the cross-validation holds every FOLDS-th reflectance from k.
-    let (judged, folds, judged_from): (Vec<Curve>, Vec<usize>, String) = match i.reflectances {
-        Some((r, from)) => (r.to_vec(), vec![0; r.len()], from.to_string()),
+    // The judged reflectances and the folds: each fold's training (the maps', and the light
+    // groups' fits) and the indices it judges. Fold k of the cross-validation judges every
+    // FOLDS-th reflectance from k.
+    let (judged, all_folds, judged_from): (Vec<Curve>, Vec<groups::Fold>, String) = match i
+        .reflectances
+    {
+        Some((r, from)) => (
+            r.to_vec(),
+            vec![(shipped_training.clone(), (0..r.len()).collect())],
+            from.to_string(),
+        ),
         None => {
-            let all = tools::upsampling::groups::default_judged(d)?;
-            let folds = (0..all.len()).map(|k| k % FOLDS).collect();
+            let all = groups::default_judged(d)?;
+            let folds = (0..FOLDS).map(|f| groups::fold(&all, FOLDS, f)).collect();
             (
-                all,
-                folds,
-                std::format!(
-                    "the ColorChecker, the CIE test colours and the 190 rawtoaces patches, by {FOLDS}-fold cross-validation"
-                ),
-            )
+                    all,
+                    folds,
+                    std::format!(
+                        "the ColorChecker, the CIE test colours and the 190 rawtoaces patches, by {FOLDS}-fold cross-validation"
+                    ),
+                )
         }
     };
-    let fold_count = if i.reflectances.is_some() { 1 } else { FOLDS };
+    let fold_count = all_folds.len();
     let rgb = srgb_under_d65(d, &judged)?;
     let jh_coeffs: Vec<[f64; 3]> = rgb.iter().map(|p| jh.fit(*p)).collect();
 
@@ -147,26 +154,16 @@ pub fn section(i: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
         // The crate's maps, fold by fold.
         let mut crate_values = vec![Vec::new(); judged.len()];
         let mut lsq_values = vec![Vec::new(); judged.len()];
-        for fold in 0..fold_count {
-            let training: Vec<Curve> = match i.reflectances {
-                Some(_) => shipped_training.clone(),
-                None => judged
-                    .iter()
-                    .zip(&folds)
-                    .filter(|(_, f)| **f != fold)
-                    .map(|(c, _)| c.clone())
-                    .collect(),
-            };
+        for (training, idx) in &all_folds {
             let b = up::bake(
                 d,
                 &set,
                 ("SRGB", srgb),
                 &d65,
                 false,
-                &training,
+                training,
                 up::DEFAULT_GRID,
             )?;
-            let idx: Vec<usize> = (0..judged.len()).filter(|&k| folds[k] == fold).collect();
             let pts: Vec<[f64; 3]> = idx.iter().map(|&k| rgb[k]).collect();
             let map = &b.fit.as_ref().expect("a fresh bake has its fit").map;
             for (&k, v) in idx.iter().zip(runtime_values(&b, &pts)?) {
@@ -260,16 +257,11 @@ pub fn section(i: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
             .collect::<Result<_, _>>()?,
     };
     let group_lights = &group_lights[..if i.quick { 1 } else { group_lights.len() }];
-    let group_folds: Vec<tools::upsampling::groups::Fold> = match i.reflectances {
-        Some(_) => vec![(shipped_training.clone(), (0..judged.len()).collect())],
-        None => (0..if i.quick { 1 } else { FOLDS })
-            .map(|f| tools::upsampling::groups::fold(&judged, FOLDS, f))
-            .collect(),
-    };
-    let mut groups = Vec::new();
+    let group_folds = &all_folds[..if i.quick { 1 } else { fold_count }];
+    let mut group_maps = Vec::new();
     for lights in group_lights {
         let own = tools::light_groups::own_sets(d, lights, GROUP_SIZE)?;
-        groups.push(tools::upsampling::groups::judge(
+        group_maps.push(groups::judge(
             d,
             NodeCache::report()?,
             lights,
@@ -277,7 +269,7 @@ pub fn section(i: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
             &own,
             &judged,
             &rgb,
-            &group_folds,
+            group_folds,
             i.done,
         )?);
     }
@@ -368,7 +360,7 @@ pub fn section(i: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
     writeln!(o).ok();
     let mut group_csv =
         Table::new("group,method,light,mean_de00,p95_de00,reflectances,judged_on,nodes_nm_fold1");
-    for g in &groups {
+    for g in &group_maps {
         o.push_str(&group_text(
             g,
             &judged_from,
