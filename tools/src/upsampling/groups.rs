@@ -114,13 +114,12 @@ pub fn fold_group(
 /// out.
 pub fn default_searches(d: &Derivation, cache: &NodeCache) -> Result<(), DeriveError> {
     let judged = default_judged(d)?;
-    let folds: Vec<usize> = (0..FOLDS).collect();
+    let folds: Vec<(usize, Fold)> = (0..FOLDS).map(|f| (f, fold(&judged, FOLDS, f))).collect();
     for names in DEFAULT_GROUPS {
         let lights = crate::light_groups::builtin_lights(d, names)?;
         let own = crate::light_groups::own_sets_with(d, cache, &lights, GROUP_SIZE)?;
-        for r in crate::par_map(&folds, |&f| {
-            let (training, _) = fold(&judged, FOLDS, f);
-            fold_group(d, cache, &lights, GROUP_SIZE, &own, f, &training)
+        for r in crate::par_map(&folds, |(f, (training, _))| {
+            fold_group(d, cache, &lights, GROUP_SIZE, &own, *f, training)
         }) {
             r?;
         }
