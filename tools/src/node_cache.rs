@@ -6,9 +6,9 @@
 //! (`Problem::shared`), each light's own folded set that sections 8, 9 and 10 compare a group
 //! with and start its search from, and every light group of sections 8, 9 and 10, for each fold
 //! of the cross-validations ([`GroupFit::optimize`]). On the default inputs those searches are
-//! most of the report's run time, and they find the same nodes in every run. A [`NodeCache`] takes the
-//! nodes from the file when the entry's fingerprint matches the search's inputs and computes
-//! only the weights at them (`Problem::set_at`, [`GroupFit::group_at`]: what the search
+//! most of the report's run time, and they find the same nodes in every run. A [`NodeCache`]
+//! takes the nodes from the file when the entry's fingerprint matches the search's inputs and
+//! computes only the weights at them (`Problem::set_at`, [`GroupFit::group_at`]: what the search
 //! returns for the nodes it finds, so the report's figures are the same either way); on any
 //! mismatch (a user's reflectances or lights, a changed data file or search constant) it runs
 //! the search as before. A search run once is kept for the rest of the run: section 10's

@@ -120,26 +120,24 @@ pub fn section(i: &Inputs, out: &Path) -> Result<(String, Vec<PathBuf>), Error> 
     // The judged reflectances and the folds: each fold's training (the maps', and the light
     // groups' fits) and the indices it judges. Fold k of the cross-validation judges every
     // FOLDS-th reflectance from k.
-    let (judged, all_folds, judged_from): (Vec<Curve>, Vec<groups::Fold>, String) = match i
-        .reflectances
-    {
-        Some((r, from)) => (
-            r.to_vec(),
-            vec![(shipped_training.clone(), (0..r.len()).collect())],
-            from.to_string(),
-        ),
-        None => {
-            let all = groups::default_judged(d)?;
-            let folds = (0..FOLDS).map(|f| groups::fold(&all, FOLDS, f)).collect();
-            (
+    let (judged, all_folds, judged_from): (Vec<Curve>, Vec<groups::Fold>, String) =
+        match i.reflectances {
+            Some((r, from)) => (
+                r.to_vec(),
+                vec![(shipped_training.clone(), (0..r.len()).collect())],
+                from.to_string(),
+            ),
+            None => {
+                let all = groups::default_judged(d)?;
+                let folds = (0..FOLDS).map(|f| groups::fold(&all, FOLDS, f)).collect();
+                let from = "the ColorChecker, the CIE test colours and the 190 rawtoaces patches";
+                (
                     all,
                     folds,
-                    std::format!(
-                        "the ColorChecker, the CIE test colours and the 190 rawtoaces patches, by {FOLDS}-fold cross-validation"
-                    ),
+                    std::format!("{from}, by {FOLDS}-fold cross-validation"),
                 )
-        }
-    };
+            }
+        };
     let fold_count = all_folds.len();
     let rgb = srgb_under_d65(d, &judged)?;
     let jh_coeffs: Vec<[f64; 3]> = rgb.iter().map(|p| jh.fit(*p)).collect();
