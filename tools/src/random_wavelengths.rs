@@ -225,6 +225,167 @@ impl Sampler {
     }
 }
 
+/// A sampler prepared for one grid of [`Cells`]: [`Sampler::estimate`] from the same random
+/// numbers, faster for [`Sampler::Visible`].
+///
+/// pbrt-v4's wavelength is `atanh` of the random number `u` and its density a `cosh` of the
+/// wavelength: two library calls per wavelength, most of the time the report's random trials
+/// took. A sample's contribution depends on its wavelength only through the cell the
+/// wavelength falls in and the density there, and the wavelength rises with `u`. So the least
+/// `u` that reaches each cell boundary is found once, by bisection over the f64 values with
+/// [`Sampler::wavelength`] and the cells' own arithmetic, and a sample's cell is read from `u`
+/// (a table of 4096 buckets, then a comparison or two): the cell the wavelength falls in. The
+/// density is taken in `u`: `0.0039398042 (1 - x²)` with `x = 0.85691062 - 1.82750197 u`,
+/// which is `cosh⁻²(0.0072 (λ - 538))` at `λ = 538 - 138.888889 atanh(x)` up to pbrt's
+/// constants (`0.0072 × 138.888889 = 1 + 8·10⁻¹⁰`), so an estimate differs from
+/// [`Sampler::estimate`]'s by a few parts in 10⁹ (`tools/tests/random_wavelengths.rs` measures
+/// it). Hero and uniform sampling, whose wavelengths are a multiplication and an addition, take
+/// [`Sampler::estimate`]'s path (read from the table they ran slower: section 7's trials took
+/// 4.2 s instead of 3.4 s), and so do cells on another grid.
+#[derive(Debug, Clone)]
+pub struct Estimator {
+    sampler: Sampler,
+    /// The grid (values all zero).
+    grid: Cells,
+    /// For [`Sampler::Visible`]: its cells in `u`.
+    visible: Option<CellsInU>,
+}
+
+/// Where the wavelengths a sampler draws from `u` fall among a grid's cells.
+#[derive(Debug, Clone)]
+struct CellsInU {
+    /// `thresholds[k]`: the least `u` in [0, 1] whose wavelength lies at or above cell k's
+    /// lower edge (k = 0 ..= the number of cells; infinite where none does). The cell of `u` is
+    /// the number of thresholds at or below it, less one (none: below the first cell; all:
+    /// above the last).
+    thresholds: Vec<f64>,
+    /// `buckets[b]`: how many thresholds are at or below `b / BUCKETS`, where the count for a
+    /// `u` in bucket b starts.
+    buckets: Vec<u32>,
+    /// The `u` where the density becomes positive and the `u` where it ends: `pdf` is zero for
+    /// wavelengths outside the sampler's range, and so is the sample's contribution.
+    density_from: f64,
+    density_to: f64,
+}
+
+impl Estimator {
+    /// `sampler` prepared for cells on the grid of `cells` (their values are not kept).
+    pub fn new(sampler: Sampler, cells: &Cells) -> Estimator {
+        let grid = Cells {
+            first_nm: cells.first_nm,
+            step_nm: cells.step_nm,
+            values: vec![[0.0; 3]; cells.values.len()],
+        };
+        let visible = matches!(sampler, Sampler::Visible).then(|| CellsInU::new(sampler, &grid));
+        Estimator {
+            sampler,
+            grid,
+            visible,
+        }
+    }
+
+    /// The sampler.
+    pub fn sampler(&self) -> Sampler {
+        self.sampler
+    }
+
+    /// One sample's estimate of the integral of `f`, as [`Sampler::estimate`] (N =
+    /// `scratch.len()`, at least 1), drawing the same random numbers from `rng`.
+    pub fn estimate<R: Rng + ?Sized>(
+        &self,
+        f: &Cells,
+        rng: &mut R,
+        scratch: &mut [f64],
+    ) -> [f64; 3] {
+        let Some(in_u) = self.visible.as_ref().filter(|_| self.grid.same_grid(f)) else {
+            return self.sampler.estimate(f, rng, scratch);
+        };
+        let n = scratch.len();
+        let u: f64 = rng.random();
+        let mut sum = [0.0; 3];
+        for i in 0..n {
+            let v = stratum(u, i, n);
+            // Outside every cell, or where the density is zero, a wavelength adds nothing.
+            if let Some(cell) = in_u.cell(v) {
+                let x = VISIBLE_A - VISIBLE_B * v;
+                let p = VISIBLE_PDF_PEAK * ((1.0 - x) * (1.0 + x));
+                for (s, v) in sum.iter_mut().zip(f.values[cell]) {
+                    *s += v / p;
+                }
+            }
+        }
+        sum.map(|s| s / n as f64)
+    }
+}
+
+impl CellsInU {
+    const BUCKETS: usize = 4096;
+
+    fn new(sampler: Sampler, grid: &Cells) -> CellsInU {
+        // The least u in [0, 1] where `reaches` turns true (infinite where it never does). The
+        // wavelength rises with u (for pbrt's map x falls with u, and atanh and every f64
+        // operation are monotonic), so every predicate below is false and then true.
+        let least = |reaches: &dyn Fn(f64) -> bool| {
+            if reaches(0.0) {
+                return 0.0;
+            }
+            if !reaches(1.0) {
+                return f64::INFINITY;
+            }
+            // Bisection over the bits: non-negative f64 values are ordered as their bits.
+            let (mut below, mut at) = (0.0f64.to_bits(), 1.0f64.to_bits());
+            while at - below > 1 {
+                let mid = below + (at - below) / 2;
+                if reaches(f64::from_bits(mid)) {
+                    at = mid;
+                } else {
+                    below = mid;
+                }
+            }
+            f64::from_bits(at)
+        };
+        let thresholds: Vec<f64> = (0..=grid.values.len())
+            .map(|k| {
+                least(&|u| {
+                    grid.position(sampler.wavelength(u))
+                        .is_some_and(|t| t >= k as f64)
+                })
+            })
+            .collect();
+        let buckets = (0..Self::BUCKETS)
+            .map(|b| {
+                let start = b as f64 / Self::BUCKETS as f64;
+                thresholds.partition_point(|&t| t <= start) as u32
+            })
+            .collect();
+        let [lo, hi] = sampler.range_nm();
+        CellsInU {
+            thresholds,
+            buckets,
+            density_from: least(&|u| sampler.wavelength(u) >= lo),
+            density_to: least(&|u| sampler.wavelength(u) > hi),
+        }
+    }
+
+    /// The cell of the wavelength at `u` in [0, 1), `None` outside every cell and where the
+    /// density is zero.
+    #[inline]
+    fn cell(&self, u: f64) -> Option<usize> {
+        if !(self.density_from <= u && u < self.density_to) {
+            return None;
+        }
+        // `u · 2¹²` is exact, so bucket b starts at or below u.
+        let b = ((u * Self::BUCKETS as f64) as usize).min(Self::BUCKETS - 1);
+        let mut count = self.buckets[b] as usize;
+        while count < self.thresholds.len() && self.thresholds[count] <= u {
+            count += 1;
+        }
+        (1..self.thresholds.len())
+            .contains(&count)
+            .then(|| count - 1)
+    }
+}
+
 /// `u + i/n` wrapped into [0, 1): the stratum of the i-th of n wavelengths drawn from one `u`.
 fn stratum(u: f64, i: usize, n: usize) -> f64 {
     let v = u + i as f64 / n as f64;
@@ -308,12 +469,24 @@ impl Cells {
 
     /// The value at `nm`: its cell's, zero outside every cell (and for NaN).
     pub fn at(&self, nm: f64) -> [f64; 3] {
-        let t = (nm - self.first_nm) / self.step_nm + 0.5;
-        if t >= 0.0 && t < self.values.len() as f64 {
-            self.values[t as usize]
-        } else {
-            [0.0; 3]
+        match self.position(nm) {
+            Some(t) if t < self.values.len() as f64 => self.values[t as usize],
+            _ => [0.0; 3],
         }
+    }
+
+    /// Where `nm` lies on the grid, in cells from the first cell's lower edge: its cell is the
+    /// integer part. `None` below the first cell and for NaN.
+    fn position(&self, nm: f64) -> Option<f64> {
+        let t = (nm - self.first_nm) / self.step_nm + 0.5;
+        (t >= 0.0).then_some(t)
+    }
+
+    /// Whether `other` has the same cells (its values aside).
+    fn same_grid(&self, other: &Cells) -> bool {
+        self.first_nm == other.first_nm
+            && self.step_nm == other.step_nm
+            && self.values.len() == other.values.len()
     }
 
     /// The exact integral, `Σ_k values[k] step_nm`.
@@ -453,10 +626,10 @@ pub fn pixel_rng(seed: u64, parts: &[u64]) -> Pcg64Mcg {
 
 /// Runs the seeded trials `trials` (a range of trial numbers) of `config` on every target: in
 /// each, every target gets one pixel of `spp.last()` samples, and the estimate after each level
-/// of `spp` (its first samples) is compared with the exact colour. Trial t of target k draws
-/// from the stream `[stream, t, k]` of `seed`, so a trial's result depends neither on the trials
-/// run with it nor on how they are spread over `threads` threads ([`Trials::append`] joins
-/// ranges). Errors when `spp` is empty or not ascending, `config` draws no wavelengths, or its
+/// of `spp` (its first samples) is compared with the exact colour, each sample estimated by an
+/// [`Estimator`] prepared for the targets' grid. Trial t of target k draws from the stream
+/// `[stream, t, k]` of `seed`, so a trial's result depends neither on the trials run with it
+/// nor on how they are spread over `threads` threads ([`Trials::append`] joins ranges). Errors when `spp` is empty or not ascending, `config` draws no wavelengths, or its
 /// sampler does not cover a target's integrand (which would bias it).
 pub fn run_trials(
     config: Config,
@@ -485,17 +658,29 @@ pub fn run_trials(
             t.cells.span_nm()
         )));
     }
+    // One estimator per grid (the report's targets share one).
+    let mut estimators: Vec<Estimator> = Vec::new();
+    for t in targets {
+        if !estimators.iter().any(|e| e.grid.same_grid(&t.cells)) {
+            estimators.push(Estimator::new(config.sampler, &t.cells));
+        }
+    }
+    let estimator_for = |cells: &Cells| {
+        estimators
+            .iter()
+            .find(|e| e.grid.same_grid(cells))
+            .expect("an estimator for every target's grid")
+    };
     let one = |t: usize| -> TrialErrors {
         let mut levels = vec![Vec::with_capacity(targets.len()); spp.len()];
         let mut scratch = vec![0.0; config.wavelengths];
         for (k, target) in targets.iter().enumerate() {
+            let estimator = estimator_for(&target.cells);
             let mut rng = pixel_rng(seed, &[stream, t as u64, k as u64]);
             let mut sum = [0.0; 3];
             let mut level = 0;
             for s in 1..=spp[spp.len() - 1] {
-                let e = config
-                    .sampler
-                    .estimate(&target.cells, &mut rng, &mut scratch);
+                let e = estimator.estimate(&target.cells, &mut rng, &mut scratch);
                 for (a, e) in sum.iter_mut().zip(e) {
                     *a += e;
                 }

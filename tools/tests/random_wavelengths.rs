@@ -1,11 +1,12 @@
 //! The random-wavelength samplers the report measures the fixed sets against: each density
 //! integrates to 1 on its range and is the density its wavelengths are drawn with, each
-//! estimator is unbiased for the report's 1 nm reference integral, and the f32 path the report
-//! times computes what the f64 one does.
+//! estimator is unbiased for the report's 1 nm reference integral, the prepared estimator the
+//! trials run gives the sampler's own estimates, and the f32 path the report times computes what
+//! the f64 one does.
 
 use spectral_quadrature_tools::random_wavelengths::{
-    pixel_rng, reach, run_trials, Cells, Config, Reach, Sampler, SensorRgb, Target, Trials,
-    VISIBLE_RANGE_NM,
+    pixel_rng, reach, run_trials, Cells, Config, Estimator, Reach, Sampler, SensorRgb, Target,
+    Trials, VISIBLE_RANGE_NM,
 };
 
 use spectral_quadrature_spectra::{
@@ -392,5 +393,133 @@ fn the_f32_path_computes_what_the_f64_one_does() {
                 );
             }
         }
+    }
+}
+
+/// Random numbers a test chooses: rand's `random::<f64>()` is the top 53 bits of `next_u64`
+/// times 2⁻⁵³, so `m` gives `u = m · 2⁻⁵³`.
+struct Chosen(std::vec::IntoIter<u64>);
+
+impl rand::TryRng for Chosen {
+    type Error = std::convert::Infallible;
+    fn try_next_u32(&mut self) -> Result<u32, Self::Error> {
+        Ok((self.try_next_u64()? >> 32) as u32)
+    }
+    fn try_next_u64(&mut self) -> Result<u64, Self::Error> {
+        Ok(self.0.next().expect("a chosen number for every draw") << 11)
+    }
+    fn try_fill_bytes(&mut self, dst: &mut [u8]) -> Result<(), Self::Error> {
+        for chunk in dst.chunks_mut(8) {
+            let v = self.try_next_u64()?.to_le_bytes();
+            chunk.copy_from_slice(&v[..chunk.len()]);
+        }
+        Ok(())
+    }
+}
+
+/// The largest relative difference of two estimates' channels (both non-negative here).
+fn relative_difference(a: [f64; 3], b: [f64; 3]) -> f64 {
+    (0..3)
+        .map(|c| {
+            let d = (a[c] - b[c]).abs();
+            if d == 0.0 {
+                0.0
+            } else {
+                d / b[c].abs()
+            }
+        })
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn the_prepared_estimator_gives_the_samplers_estimates() {
+    let d = spectral_quadrature_generator::derive(&spectral_quadrature_generator::Settings::new(
+        DATA_DIR,
+    ))
+    .unwrap();
+    // The 1 nm grid of these tests and the report's 5 nm one.
+    let grids = [1.0, 5.0].map(|step| d.observer.full_integration(RANGE, step).unwrap());
+    // pbrt's pdf at λ(u) against 0.0039398042 (1 - x²): 0.0072 × 138.888889 = 1 + 8·10⁻¹⁰ inside
+    // cosh², times 2 y tanh(y) ≤ 4.1 (y = atanh(x), |x| ≤ 0.971), 3.3·10⁻⁹; the f64 roundings
+    // of atanh, cosh and the sums are below 10⁻¹³.
+    const TOLERANCE: f64 = 4e-9;
+    let mut worst = 0.0f64;
+    for (g, grid) in grids.iter().enumerate() {
+        for (k, stimulus) in stimuli().iter().enumerate() {
+            let cells = Cells::weighted(grid, |l| stimulus.radiance(l)).unwrap();
+            for (j, s) in samplers().into_iter().enumerate() {
+                let prepared = Estimator::new(s, &cells);
+                assert_eq!(prepared.sampler(), s);
+                for n in [1, 3, 4, 8] {
+                    let parts = [g as u64, k as u64, j as u64, n as u64];
+                    let (mut a, mut b) = (pixel_rng(11, &parts), pixel_rng(11, &parts));
+                    let mut scratch = vec![0.0; n];
+                    for _ in 0..20_000 {
+                        let e = prepared.estimate(&cells, &mut a, &mut scratch);
+                        let want = s.estimate(&cells, &mut b, &mut scratch);
+                        if s == Sampler::Visible {
+                            let r = relative_difference(e, want);
+                            worst = worst.max(r);
+                            assert!(r <= TOLERANCE, "{} ×{n}: {e:?} vs {want:?}", s.name());
+                        } else {
+                            // Hero and uniform take the sampler's own path.
+                            assert_eq!(e, want, "{} ×{n}", s.name());
+                        }
+                    }
+                }
+            }
+            // Every cell boundary's u and 48 steps of 2⁻⁵³ either side, and both ends of [0, 1),
+            // one wavelength a sample: a cell taken one boundary off would differ by a cell's
+            // change, not 10⁻⁹.
+            let [first, step] = [
+                grid.wavelengths_nm[0],
+                grid.wavelengths_nm[1] - grid.wavelengths_nm[0],
+            ];
+            for s in samplers() {
+                let prepared = Estimator::new(s, &cells);
+                let [lo, hi] = s.range_nm();
+                let inverse = |nm: f64| match s {
+                    // pbrt's map, λ = 538 - 138.888889 atanh(0.85691062 - 1.82750197 u).
+                    Sampler::Visible => {
+                        (0.85691062 - ((538.0 - nm) / 138.888889).tanh()) / 1.82750197
+                    }
+                    _ => (nm - lo) / (hi - lo),
+                };
+                const ONE: u64 = 1 << 53;
+                let mut draws = vec![0, 1, ONE - 2, ONE - 1];
+                for edge in 0..=grid.len() {
+                    let u = inverse(first + (edge as f64 - 0.5) * step);
+                    let m = (u.clamp(0.0, 1.0) * ONE as f64).round() as u64;
+                    draws.extend(m.saturating_sub(48)..=(m + 48).min(ONE - 1));
+                }
+                let count = draws.len();
+                let (mut a, mut b) = (Chosen(draws.clone().into_iter()), Chosen(draws.into_iter()));
+                let mut scratch = [0.0; 1];
+                for _ in 0..count {
+                    let e = prepared.estimate(&cells, &mut a, &mut scratch);
+                    let want = s.estimate(&cells, &mut b, &mut scratch);
+                    if s == Sampler::Visible {
+                        let r = relative_difference(e, want);
+                        worst = worst.max(r);
+                        assert!(r <= TOLERANCE, "{e:?} vs {want:?}");
+                    } else {
+                        assert_eq!(e, want, "{}", s.name());
+                    }
+                }
+            }
+        }
+    }
+    println!("largest relative difference from the sampler's estimate: {worst:.2e}");
+    // Prepared for one grid and given cells on another, it takes the sampler's own path.
+    let on_1nm = Cells::weighted(&grids[0], |_| 1.0).unwrap();
+    let on_5nm = Cells::weighted(&grids[1], |_| 1.0).unwrap();
+    let prepared = Estimator::new(Sampler::Visible, &on_1nm);
+    let (mut a, mut b) = (pixel_rng(5, &[]), pixel_rng(5, &[]));
+    let mut scratch = [0.0; 4];
+    for _ in 0..1000 {
+        assert_eq!(
+            prepared.estimate(&on_5nm, &mut a, &mut scratch),
+            Sampler::Visible.estimate(&on_5nm, &mut b, &mut scratch)
+        );
     }
 }

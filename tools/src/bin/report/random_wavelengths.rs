@@ -18,7 +18,8 @@ use crate::timing::time_set;
 use crate::tools::budget;
 use crate::tools::csv_table::Table;
 use crate::tools::random_wavelengths::{
-    pixel_rng, reach, run_trials, Cells, Config, Reach, Sampler, SensorRgb, Summary, Target, Trials,
+    pixel_rng, reach, run_trials, Cells, Config, Estimator, Reach, Sampler, SensorRgb, Summary,
+    Target, Trials,
 };
 use crate::Error;
 use spectral_quadrature_generator::Derivation;
@@ -1005,10 +1006,10 @@ fn picture(out: &Path, x: &Inputs, fixed: &[Fixed]) -> Result<PathBuf, Error> {
             ))
             .map_err(plot_err)?;
         }
-        let config = Sampler::Visible;
         let mut scratch = [0.0; 4];
         for (k, s) in stimuli.iter().enumerate().take((cols * rows) as usize) {
             let cells = Cells::weighted(reference, |l| s.radiance(l))?;
+            let config = Estimator::new(Sampler::Visible, &cells);
             let (cx, cy) = (
                 (k as i32 % cols) * (patch + 2),
                 14 + (k as i32 / cols) * (patch + 2),
