@@ -245,8 +245,8 @@ impl Sampler {
 #[derive(Debug, Clone)]
 pub struct Estimator {
     sampler: Sampler,
-    /// The grid (values all zero).
-    grid: Cells,
+    /// The grid it was prepared for.
+    grid: Grid,
     /// For [`Sampler::Visible`]: its cells in `u`.
     visible: Option<CellsInU>,
 }
@@ -271,15 +271,10 @@ struct CellsInU {
 impl Estimator {
     /// `sampler` prepared for cells on the grid of `cells` (their values are not kept).
     pub fn new(sampler: Sampler, cells: &Cells) -> Estimator {
-        let grid = Cells {
-            first_nm: cells.first_nm,
-            step_nm: cells.step_nm,
-            values: vec![[0.0; 3]; cells.values.len()],
-        };
-        let visible = matches!(sampler, Sampler::Visible).then(|| CellsInU::new(sampler, &grid));
+        let visible = matches!(sampler, Sampler::Visible).then(|| CellsInU::new(sampler, cells));
         Estimator {
             sampler,
-            grid,
+            grid: cells.grid(),
             visible,
         }
     }
@@ -297,7 +292,7 @@ impl Estimator {
         rng: &mut R,
         scratch: &mut [f64],
     ) -> [f64; 3] {
-        let Some(in_u) = self.visible.as_ref().filter(|_| self.grid.same_grid(f)) else {
+        let Some(in_u) = self.visible.as_ref().filter(|_| self.grid == f.grid()) else {
             return self.sampler.estimate(f, rng, scratch);
         };
         let n = scratch.len();
@@ -321,7 +316,7 @@ impl Estimator {
 impl CellsInU {
     const BUCKETS: usize = 4096;
 
-    fn new(sampler: Sampler, grid: &Cells) -> CellsInU {
+    fn new(sampler: Sampler, cells: &Cells) -> CellsInU {
         // The least u in [0, 1] where `reaches` turns true (infinite where it never does). The
         // wavelength rises with u (for pbrt's map x falls with u, and atanh and every f64
         // operation are monotonic), so every predicate below is false and then true.
@@ -344,10 +339,11 @@ impl CellsInU {
             }
             f64::from_bits(at)
         };
-        let thresholds: Vec<f64> = (0..=grid.values.len())
+        let thresholds: Vec<f64> = (0..=cells.values.len())
             .map(|k| {
                 least(&|u| {
-                    grid.position(sampler.wavelength(u))
+                    cells
+                        .position(sampler.wavelength(u))
                         .is_some_and(|t| t >= k as f64)
                 })
             })
@@ -482,11 +478,13 @@ impl Cells {
         (t >= 0.0).then_some(t)
     }
 
-    /// Whether `other` has the same cells (its values aside).
-    fn same_grid(&self, other: &Cells) -> bool {
-        self.first_nm == other.first_nm
-            && self.step_nm == other.step_nm
-            && self.values.len() == other.values.len()
+    /// Where the cells lie, their values aside.
+    fn grid(&self) -> Grid {
+        Grid {
+            first_nm: self.first_nm,
+            step_nm: self.step_nm,
+            cells: self.values.len(),
+        }
     }
 
     /// The exact integral, `Σ_k values[k] step_nm`.
@@ -499,6 +497,14 @@ impl Cells {
         }
         s
     }
+}
+
+/// The cells of a [`Cells`] without their values: what an [`Estimator`] is prepared for.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Grid {
+    first_nm: f64,
+    step_nm: f64,
+    cells: usize,
 }
 
 /// A renderer's per-sample colour path in f32, as pbrt-v4's RGB film runs it: the sensor's
@@ -661,14 +667,14 @@ pub fn run_trials(
     // One estimator per grid (the report's targets share one).
     let mut estimators: Vec<Estimator> = Vec::new();
     for t in targets {
-        if !estimators.iter().any(|e| e.grid.same_grid(&t.cells)) {
+        if !estimators.iter().any(|e| e.grid == t.cells.grid()) {
             estimators.push(Estimator::new(config.sampler, &t.cells));
         }
     }
     let estimator_for = |cells: &Cells| {
         estimators
             .iter()
-            .find(|e| e.grid.same_grid(cells))
+            .find(|e| e.grid == cells.grid())
             .expect("an estimator for every target's grid")
     };
     let one = |t: usize| -> TrialErrors {

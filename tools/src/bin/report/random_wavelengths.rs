@@ -1007,9 +1007,10 @@ fn picture(out: &Path, x: &Inputs, fixed: &[Fixed]) -> Result<PathBuf, Error> {
             .map_err(plot_err)?;
         }
         let mut scratch = [0.0; 4];
+        // Every stimulus' cells lie on the reference's grid: one estimator serves them all.
+        let estimator = Estimator::new(Sampler::Visible, &Cells::weighted(reference, |_| 1.0)?);
         for (k, s) in stimuli.iter().enumerate().take((cols * rows) as usize) {
             let cells = Cells::weighted(reference, |l| s.radiance(l))?;
-            let config = Estimator::new(Sampler::Visible, &cells);
             let (cx, cy) = (
                 (k as i32 % cols) * (patch + 2),
                 14 + (k as i32 / cols) * (patch + 2),
@@ -1038,7 +1039,7 @@ fn picture(out: &Path, x: &Inputs, fixed: &[Fixed]) -> Result<PathBuf, Error> {
                     let mut sum = [0.0; 3];
                     let mut level = 0;
                     for n in 1..=spp_max {
-                        let e = config.estimate(&cells, &mut rng, &mut scratch);
+                        let e = estimator.estimate(&cells, &mut rng, &mut scratch);
                         for (a, e) in sum.iter_mut().zip(e) {
                             *a += e;
                         }
