@@ -3,9 +3,10 @@
 //! output, samples (the first from the bytes, the rest from a generator the bytes seed) and a
 //! length to get wrong.
 //!
-//! - N ∈ {0, 1, 2, 3, 4, 5, 6, 8, 12, 16, 64}: the baked widths, the AVX2 loops' passes of four
-//!   planes with a last pass of one to four, the scalar loop's written-out steps and its loop,
-//!   no planes at all, and `MAX_WAVELENGTHS`.
+//! - N ∈ {0, 1, 2, 3, 4, 5, 6, 8, 12, 16, 28, 64}: the baked widths, the AVX2 loops' passes of
+//!   four planes with a last pass of one to four, the scalar loop's written-out steps and its
+//!   loop, no planes at all, the first width at which `linear_rgb_batch` and `ac1c2_batch` run
+//!   four pixels side by side on x86-64, and `MAX_WAVELENGTHS`.
 //! - 0 to 4351 pixels: below a group, whole groups and chunks and partial ones, the AVX2
 //!   loops' blocks of 1024 pixels and their ends.
 //! - Every plane and output in an allocation of its own that ends where it ends (so that the
@@ -74,7 +75,7 @@ pub fn run(level: Loops, data: &[u8]) {
         }
         return;
     }
-    match pick % 11 {
+    match pick % 12 {
         0 => shape::<0>(level, &mut b),
         1 => shape::<1>(level, &mut b),
         2 => shape::<2>(level, &mut b),
@@ -85,6 +86,7 @@ pub fn run(level: Loops, data: &[u8]) {
         7 => shape::<8>(level, &mut b),
         8 => shape::<12>(level, &mut b),
         9 => shape::<16>(level, &mut b),
+        10 => shape::<28>(level, &mut b),
         _ => shape::<64>(level, &mut b),
     }
 }

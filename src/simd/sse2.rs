@@ -36,6 +36,56 @@ pub(crate) fn encode_srgb8_groups<const N: usize, const L: usize>(
     }
 }
 
+/// `pixel::mat_vec(weights, s)` for every pixel `s` of `samples` into `out` (the same length),
+/// four pixels at a time: each pixel's channels in the lanes of its own register, its sums
+/// started from 0.0 and its products added in index order, as `mat_vec` adds them, so every
+/// pixel gets the same bits. The four chains of additions are independent, so while one waits
+/// for its last addition the others go on. Returns how many pixels it converted: all but fewer
+/// than four. The weights' columns are built once, on the stack (N · 16 bytes; the caller
+/// keeps N within `MAX_WAVELENGTHS`).
+#[inline]
+pub(crate) fn mat_vec_batch<const N: usize>(
+    weights: &[[f32; N]; 3],
+    samples: &[[f32; N]],
+    out: &mut [[f32; 3]],
+) -> usize {
+    // SAFETY: SSE2 is part of x86-64: every x86-64 CPU has it.
+    unsafe { mat_vec_batch_sse2(weights, samples, out) }
+}
+
+#[inline]
+#[target_feature(enable = "sse2")]
+fn mat_vec_batch_sse2<const N: usize>(
+    weights: &[[f32; N]; 3],
+    samples: &[[f32; N]],
+    out: &mut [[f32; 3]],
+) -> usize {
+    let [w0, w1, w2] = weights;
+    // Column i of the weights, built once for every pixel.
+    let cols: [__m128; N] = core::array::from_fn(|i| _mm_setr_ps(w0[i], w1[i], w2[i], 0.0));
+    let rgb = |a: __m128| {
+        let mut v = [0.0f32; 4];
+        // SAFETY: `v` has room for the four lanes; `storeu` takes any alignment.
+        unsafe { _mm_storeu_ps(v.as_mut_ptr(), a) };
+        [v[0], v[1], v[2]]
+    };
+    let mut done = 0;
+    for (s, o) in samples.chunks_exact(4).zip(out.chunks_exact_mut(4)) {
+        let [s0, s1, s2, s3] = [&s[0], &s[1], &s[2], &s[3]];
+        let zero = _mm_setzero_ps();
+        let (mut a0, mut a1, mut a2, mut a3) = (zero, zero, zero, zero);
+        for (i, &col) in cols.iter().enumerate() {
+            a0 = _mm_add_ps(a0, _mm_mul_ps(col, _mm_set1_ps(s0[i])));
+            a1 = _mm_add_ps(a1, _mm_mul_ps(col, _mm_set1_ps(s1[i])));
+            a2 = _mm_add_ps(a2, _mm_mul_ps(col, _mm_set1_ps(s2[i])));
+            a3 = _mm_add_ps(a3, _mm_mul_ps(col, _mm_set1_ps(s3[i])));
+        }
+        o.copy_from_slice(&[rgb(a0), rgb(a1), rgb(a2), rgb(a3)]);
+        done += 4;
+    }
+    done
+}
+
 /// `weights · samples` with the channels in lanes 0, 1, 2 (lane 3 is 0): each lane is the
 /// first product, then the others added in index order, exactly as
 /// `pixel::mat_vec_for_encoding`. Column by column: column i of the weights times sample i

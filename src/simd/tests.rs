@@ -615,6 +615,65 @@ fn each_loop_through_the_public_functions_at_small_sizes() {
     }
 }
 
+/// `FoldedSet::linear_rgb_batch` and `WavelengthSet::ac1c2_batch` give every pixel the bits of
+/// the per-pixel functions (`mat_vec`), with every level of loops forced in turn (at the scalar
+/// level pixel by pixel; above it, from `batch::INTERLEAVED_FROM` wavelengths, four pixels side
+/// by side on x86-64): at sizes either side of that bound and at `MAX_WAVELENGTHS`, on pixel
+/// counts around multiples of four, with every edge value (NaN, ±Inf, subnormals, huge) in every
+/// position of the first pixels.
+#[test]
+fn the_linear_batches_give_each_pixel_the_per_pixel_bits() {
+    fn at<const N: usize>(seed: u64) {
+        let folded = random_set::<N>(seed);
+        let set = crate::WavelengthSet::new(
+            folded.wavelengths_nm(),
+            *folded.weights_ref(),
+            crate::Samples::Radiance,
+        )
+        .unwrap();
+        let edges = EDGES.len() * N;
+        let counts: &[usize] = if cfg!(miri) {
+            &[0, 5]
+        } else {
+            &[0, 1, 3, 4, 5, 7, 8, 9]
+        };
+        for &pixels in counts.iter().chain(&[edges + 3]) {
+            if cfg!(miri) && pixels > 5 {
+                continue;
+            }
+            let px: std::vec::Vec<[f32; N]> = random_pixels::<N, 1>(pixels, seed)
+                .into_iter()
+                .map(|[p]| p)
+                .collect();
+            for level in Loops::ALL {
+                with_loops(level, || {
+                    let mut lin = std::vec![[-7.5f32; 3]; pixels];
+                    assert_eq!(folded.linear_rgb_batch(&px, &mut lin), Ok(()));
+                    let mut ac = std::vec![[-7.5f32; 3]; pixels];
+                    assert_eq!(set.ac1c2_batch(&px, &mut ac), Ok(()));
+                    for (p, s) in px.iter().enumerate() {
+                        let one = mat_vec(folded.weights_ref(), s);
+                        for c in 0..3 {
+                            assert!(
+                                same_f32(lin[p][c], one[c]) && same_f32(ac[p][c], one[c]),
+                                "{level:?}, N = {N}, {pixels} pixels, pixel {p}, channel {c}: \
+                                 {:?} and {:?} against {one:?}",
+                                lin[p],
+                                ac[p]
+                            );
+                        }
+                    }
+                });
+            }
+        }
+    }
+    at::<4>(61);
+    at::<27>(62);
+    at::<28>(63);
+    at::<33>(64);
+    at::<{ crate::MAX_WAVELENGTHS }>(65);
+}
+
 /// N = 0: no planes, so the outputs say how many pixels there are; every path, forced in turn,
 /// gives black (linear: +0.0), as the interleaved path and the per-pixel functions do.
 #[test]
