@@ -635,8 +635,9 @@ pub fn pixel_rng(seed: u64, parts: &[u64]) -> Pcg64Mcg {
 /// of `spp` (its first samples) is compared with the exact colour, each sample estimated by an
 /// [`Estimator`] prepared for the targets' grid. Trial t of target k draws from the stream
 /// `[stream, t, k]` of `seed`, so a trial's result depends neither on the trials run with it
-/// nor on how they are spread over `threads` threads ([`Trials::append`] joins ranges). Errors when `spp` is empty or not ascending, `config` draws no wavelengths, or its
-/// sampler does not cover a target's integrand (which would bias it).
+/// nor on how they are spread over `threads` threads ([`Trials::append`] joins ranges). Errors
+/// when `spp` is empty or not ascending, `config` draws no wavelengths, or its sampler does not
+/// cover a target's integrand (which would bias it).
 pub fn run_trials(
     config: Config,
     targets: &[Target],

@@ -49,9 +49,9 @@ fn every_default_search_of_the_report_finds_its_entry_and_every_entry_is_used() 
 /// Slow (every node search of the report's default run: 146-152 s in CI's test build before
 /// section 8's were added, 82 s in a release build with them), so ignored by `cargo test`: the
 /// file is what the searches find today, line for line. CI makes the same comparison in its
-/// release build (`tables --report-cache` against the file, `.ci/run`). The searches are deterministic (fixed
-/// starts, no threads within one), so any difference is a changed input or a changed search,
-/// which no fingerprint sees.
+/// release build (`tables --report-cache` against the file, `.ci/run`). The searches are
+/// deterministic (fixed starts, no threads within one), so any difference is a changed input or
+/// a changed search, which no fingerprint sees.
 #[test]
 #[ignore = "slow (every report search): CI compares `tables --report-cache` with the file"]
 fn a_fresh_search_of_every_report_search_writes_the_checked_in_file() {
